@@ -1,0 +1,74 @@
+//! Typed solver errors. Every failure says when (`t`), where (the worst component, if known) and
+//! why; [`SolveFailure`] also carries everything computed before the failure.
+
+use crate::solver::Solution;
+
+/// What went wrong.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ErrorKind {
+    /// The step size fell below `Options::h_min` (or round-off level) while the error test or
+    /// Newton kept failing.
+    #[error("step size {h:e} too small")]
+    StepSizeTooSmall {
+        /// The step size at failure.
+        h: f64,
+    },
+    /// Newton's method did not converge even after Jacobian refresh and step reductions.
+    #[error("Newton iteration failed to converge")]
+    NewtonFailure,
+    /// The iteration matrix could not be factorised (zero pivot).
+    #[error("singular iteration matrix (zero pivot in column {column})")]
+    SingularMatrix {
+        /// Column of the zero pivot.
+        column: usize,
+    },
+    /// A residual, Jacobian or state value was NaN or infinite.
+    #[error("non-finite value")]
+    NonFinite,
+    /// More than `Options::max_steps` steps.
+    #[error("maximum number of steps ({0}) exceeded")]
+    TooManySteps(usize),
+    /// The problem's residual reported a fatal error.
+    #[error("residual error: {0}")]
+    Residual(String),
+    /// Consistent initial ẏ (or algebraic y) could not be found.
+    #[error("consistent initialisation failed: {0}")]
+    Initialisation(String),
+    /// The method cannot handle this problem (e.g. Dormand–Prince with algebraic components).
+    #[error("method not applicable: {0}")]
+    NotApplicable(String),
+    /// Invalid input (dimensions, tolerances, output times).
+    #[error("invalid input: {0}")]
+    InvalidInput(String),
+}
+
+/// A solver error with its location in time and state.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("at t = {t}: {kind}{}", component.map(|c| format!(" (worst component {c})")).unwrap_or_default())]
+pub struct SolverError {
+    /// What went wrong.
+    pub kind: ErrorKind,
+    /// Time of failure (the start of the failing step).
+    pub t: f64,
+    /// Component with the largest weighted error or residual, if known.
+    pub component: Option<usize>,
+}
+
+impl SolverError {
+    /// Creates an error at time `t`.
+    pub fn new(kind: ErrorKind, t: f64, component: Option<usize>) -> Self {
+        Self { kind, t, component }
+    }
+}
+
+/// A failed solve: the error and the partial solution up to the failure.
+#[derive(Clone, Debug, thiserror::Error)]
+#[error("{error}")]
+pub struct SolveFailure {
+    /// The error.
+    pub error: SolverError,
+    /// Output produced before the failure (outputs at requested times already passed, events,
+    /// statistics, and the last accepted state).
+    pub partial: Box<Solution>,
+}

@@ -1,0 +1,84 @@
+//! Solver options: tolerances, step limits, Jacobian reuse.
+
+/// Options shared by every method.
+///
+/// ```
+/// let o = integrators::Options { rtol: 1e-8, ..Default::default() };
+/// assert!(o.validate().is_ok());
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Options {
+    /// Relative tolerance (> 0).
+    pub rtol: f64,
+    /// Absolute tolerance for every component unless the problem gives per-component ones (> 0).
+    pub atol: f64,
+    /// Initial step size; `None` = estimated.
+    pub h0: Option<f64>,
+    /// Largest step size.
+    pub h_max: f64,
+    /// Smallest step size before failing with `StepSizeTooSmall`.
+    pub h_min: f64,
+    /// Maximum number of steps.
+    pub max_steps: usize,
+    /// Maximum BDF order (1..=5).
+    pub max_order: usize,
+    /// Exclude algebraic components from the local error test (as IDA's `suppressalg`).
+    pub suppress_algebraic: bool,
+    /// Event location tolerance on t (absolute).
+    pub event_tol: f64,
+    /// Use a finite-difference Jacobian even if the problem provides exact ones.
+    pub force_fd_jacobian: bool,
+    /// Maximum Newton iterations per nonlinear solve.
+    pub max_newton_iters: usize,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            rtol: 1e-6,
+            atol: 1e-8,
+            h0: None,
+            h_max: f64::INFINITY,
+            h_min: 0.0,
+            max_steps: 1_000_000,
+            max_order: 5,
+            suppress_algebraic: true,
+            event_tol: 1e-12,
+            force_fd_jacobian: false,
+            max_newton_iters: 4,
+        }
+    }
+}
+
+impl Options {
+    /// Checks ranges; the error names the field and its valid range.
+    pub fn validate(&self) -> Result<(), String> {
+        if !(self.rtol > 0.0 && self.rtol < 1.0) {
+            return Err(format!("rtol = {} must be in (0, 1)", self.rtol));
+        }
+        if !(self.atol > 0.0 && self.atol.is_finite()) {
+            return Err(format!("atol = {} must be positive and finite", self.atol));
+        }
+        if let Some(h0) = self.h0 {
+            if !(h0 > 0.0 && h0.is_finite()) {
+                return Err(format!("h0 = {h0} must be positive and finite"));
+            }
+        }
+        if !(self.h_max > 0.0) {
+            return Err(format!("h_max = {} must be positive", self.h_max));
+        }
+        if !(self.h_min >= 0.0 && self.h_min < self.h_max) {
+            return Err(format!("h_min = {} must be in [0, h_max)", self.h_min));
+        }
+        if !(1..=5).contains(&self.max_order) {
+            return Err(format!("max_order = {} must be in 1..=5", self.max_order));
+        }
+        if self.max_newton_iters == 0 {
+            return Err("max_newton_iters must be at least 1".into());
+        }
+        if !(self.event_tol > 0.0) {
+            return Err(format!("event_tol = {} must be positive", self.event_tol));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,139 @@
+//! The user's side of the contract: a residual-form DAE `F(t, y, ẏ) = 0` with declared
+//! structure, tolerances, algebraic flags and events (which may stop, modify or resize it).
+
+use crate::linalg::Matrix;
+use crate::pattern::Pattern;
+
+/// Where a user-supplied Jacobian is written: a matrix already shaped by the declared
+/// [`Pattern`]; call [`Matrix::add`] for each structural nonzero.
+pub type JacobianSink = Matrix;
+
+/// Why a residual could not be evaluated.
+///
+/// `Recoverable` makes the integrator reject the current step (or Newton iterate) and retry with
+/// a smaller step — use it for states outside the model's domain (e.g. a non-positive cell
+/// length). `Fatal` aborts the solve with the message.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ResidualError {
+    /// The state is outside the domain; a smaller step may avoid it.
+    Recoverable {
+        /// Human-readable reason.
+        reason: String,
+        /// Component (unknown index) responsible, if known.
+        component: Option<usize>,
+    },
+    /// Evaluation cannot succeed; stop.
+    Fatal(String),
+}
+
+/// What the driver does after an event function changes sign.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum EventAction {
+    /// Nothing changed; keep integrating.
+    Continue,
+    /// Stop the integration at the event time (the solution is returned as a success).
+    Stop,
+    /// `y` (and possibly parameters) were modified in place; dimension unchanged. The driver
+    /// recomputes a consistent `ẏ` and restarts the method.
+    Modified,
+    /// The problem changed dimension: `y` has the new length, and `dim()`, `pattern()`,
+    /// `atol()`, `algebraic()` and `num_events()` now describe the new problem. The driver
+    /// rebuilds its linear-algebra workspace for the new pattern, recomputes a consistent `ẏ`
+    /// and restarts the method cleanly.
+    Resized,
+}
+
+/// An index-1 DAE in residual form `F(t, y, ẏ) = 0`.
+///
+/// Only [`dim`](Problem::dim) and [`residual`](Problem::residual) are required. Everything
+/// else has a default: a dense pattern, finite-difference Jacobians, scalar tolerances from
+/// [`crate::Options`], all components differential, and no events.
+///
+/// ```
+/// use integrators::{Problem, ResidualError};
+/// /// ẏ = -y
+/// struct Decay;
+/// impl Problem for Decay {
+///     fn dim(&self) -> usize { 1 }
+///     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64])
+///         -> Result<(), ResidualError> { r[0] = yp[0] + y[0]; Ok(()) }
+/// }
+/// ```
+pub trait Problem {
+    /// Number of unknowns.
+    fn dim(&self) -> usize;
+
+    /// Evaluates `r = F(t, y, ẏ)`.
+    fn residual(&mut self, t: f64, y: &[f64], yp: &[f64], r: &mut [f64])
+        -> Result<(), ResidualError>;
+
+    /// The structure of `∂F/∂y + c·∂F/∂ẏ` (default dense).
+    fn pattern(&self) -> Pattern {
+        Pattern::Dense
+    }
+
+    /// Exact directional derivative, e.g. by forward-mode AD: writes `r = F(t, y, ẏ)` and
+    /// `dr = ∂F/∂y·v + c·∂F/∂ẏ·v`. Return `Ok(false)` (the default) if not provided; the
+    /// Jacobian is then built from coloured finite differences.
+    #[allow(clippy::too_many_arguments)]
+    fn directional(
+        &mut self,
+        _t: f64,
+        _y: &[f64],
+        _yp: &[f64],
+        _v: &[f64],
+        _c: f64,
+        _r: &mut [f64],
+        _dr: &mut [f64],
+    ) -> Result<bool, ResidualError> {
+        Ok(false)
+    }
+
+    /// Full iteration matrix `J = ∂F/∂y + c·∂F/∂ẏ`, added into `jac` (which is zeroed and shaped
+    /// by [`pattern`](Problem::pattern)). Return `Ok(false)` (the default) if not provided.
+    fn jacobian(
+        &mut self,
+        _t: f64,
+        _y: &[f64],
+        _yp: &[f64],
+        _c: f64,
+        _jac: &mut JacobianSink,
+    ) -> Result<bool, ResidualError> {
+        Ok(false)
+    }
+
+    /// Per-component absolute tolerances (length `dim()`), or `None` to use
+    /// [`crate::Options::atol`] for every component.
+    fn atol(&self) -> Option<Vec<f64>> {
+        None
+    }
+
+    /// Which components are algebraic (no `ẏ_i` in `F`). Algebraic components are excluded from
+    /// the local error test when [`crate::Options::suppress_algebraic`] is set, and consistent
+    /// initialisation solves for them instead of for their derivatives. Default: none.
+    fn algebraic(&self) -> Vec<bool> {
+        vec![false; self.dim()]
+    }
+
+    /// Number of event functions (may change after a resize).
+    fn num_events(&self) -> usize {
+        0
+    }
+
+    /// Evaluates the event functions `g_i(t, y)` into `g` (length `num_events()`).
+    fn events(&mut self, _t: f64, _y: &[f64], _g: &mut [f64]) {}
+
+    /// Called at a located event time `t` with the indices of the functions that changed sign
+    /// there (in increasing index order). The problem may modify `y` in place or replace it by a
+    /// vector of a new length (then return [`EventAction::Resized`]). `yp` is the interpolated
+    /// derivative at `t`, for information (the driver recomputes a consistent one).
+    fn handle_event(
+        &mut self,
+        _t: f64,
+        _fired: &[usize],
+        _y: &mut Vec<f64>,
+        _yp: &[f64],
+    ) -> Result<EventAction, ResidualError> {
+        Ok(EventAction::Stop)
+    }
+}

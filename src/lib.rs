@@ -1,0 +1,15 @@
+//! # celltissue — discrete-to-continuum mechanics of cells in tissues
+//!
+//! Soft tissue as arrays of incompressible hyperelastic cells (Kelvin–Voigt viscosity, substrate
+//! drag `K·κ`, `κ = (A/A₀)^m`), and the continuum PDEs that the same cell laws upscale to. The
+//! canonical equations are in `shared/MODEL.md`; module docs cite its sections.
+//!
+//! Data flow: scenario file → validated scenario → (cell array, cell laws, boundary conditions)
+//! → discrete or continuum builder → [`integrators`] problem → integrator → observers → writers.
+#![warn(missing_docs)]
+
+pub mod energy;
+pub mod scalar;
+
+pub use energy::StrainEnergy;
+pub use scalar::Scalar;
