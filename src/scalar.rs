@@ -18,7 +18,7 @@ use num_dual::{Dual64, DualNum};
 /// let s = x.lift(0.5f64.sin(), 0.5f64.cos());
 /// assert!((s.eps - 0.5f64.cos()).abs() < 1e-15);
 /// ```
-pub trait Scalar: DualNum<f64> + num_traits::Float + Copy {
+pub trait Scalar: DualNum<Primitive = f64> + Copy + Send + Sync {
     /// Applies a scalar function whose value `f` and derivative `df` at `self.re()` are known.
     fn lift(self, f: f64, df: f64) -> Self;
     /// The derivative part (0 for `f64`).

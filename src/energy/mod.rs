@@ -50,13 +50,13 @@ pub struct ShearResponse {
 /// An incompressible hyperelastic law given by its strain energy `W(λ₁, λ₂, λ₃)` in the principal
 /// stretches (for fibre laws: the stretches along the cell axes).
 ///
-/// Implement [`energy`](StrainEnergy::energy) generically over `D: DualNum<f64>` and
+/// Implement [`energy`](StrainEnergy::energy) generically over `D: DualNum<Primitive = f64>` and
 /// [`shear_modulus`](StrainEnergy::shear_modulus); the responses used by the cell arrays are then
 /// derived by forward-mode AD. Override them with closed forms if you want speed; tests check
 /// they agree with AD.
 pub trait StrainEnergy: Send + Sync {
     /// `W(λ₁, λ₂, λ₃)`, generic over the scalar so AD can differentiate it.
-    fn energy<D: DualNum<f64> + Copy>(&self, l: [D; 3]) -> D;
+    fn energy<D: DualNum<Primitive = f64> + Copy>(&self, l: [D; 3]) -> D;
 
     /// Small-strain shear modulus `μ` (so `dσ_el/da(1) = 4μ` in the line).
     fn shear_modulus(&self) -> f64;
