@@ -9,6 +9,7 @@
 #![warn(missing_docs)]
 
 pub mod energy;
+pub mod observe;
 pub mod scalar;
 
 pub use energy::StrainEnergy;

@@ -1,0 +1,120 @@
+//! Observations: what a run records at its output times, in the shape of `summary.json`
+//! (issue #3 schema; keys may be added, never renamed). Builders and drivers fill a
+//! [`RunRecord`]; writers in `output/` turn records into JSON, CSV and plots.
+
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// Which model produced a run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ModelKind {
+    /// N cells, one ODE per boundary.
+    Discrete,
+    /// The continuum PDE on n grid points.
+    Continuum,
+}
+
+/// Scalar time series, one entry per output time. Standard keys are fields; model-specific
+/// series (e.g. `"cells"`, `"mean_pressure"`, `"top_displacement"`) go in `extra` and are
+/// flattened into the same JSON object.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Series {
+    /// Output times.
+    pub t: Vec<f64>,
+    /// Array length `l(t)` (line) or extent in x (sheet).
+    pub length: Vec<f64>,
+    /// Maximum cell pressure.
+    pub max_pressure: Vec<f64>,
+    /// Minimum cell pressure.
+    pub min_pressure: Vec<f64>,
+    /// Maximum (elastic) axial stretch.
+    pub max_stretch: Vec<f64>,
+    /// Minimum (elastic) axial stretch.
+    pub min_stretch: Vec<f64>,
+    /// Further series by name.
+    #[serde(flatten)]
+    pub extra: BTreeMap<String, Vec<f64>>,
+}
+
+/// A per-cell (discrete) or per-node (continuum) snapshot at one time.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Profile {
+    /// Time.
+    pub t: f64,
+    /// Reference position (initial cell centre, or node/segment centre).
+    #[serde(rename = "X")]
+    pub x_ref: Vec<f64>,
+    /// Current position (cell centre or node).
+    pub x: Vec<f64>,
+    /// Axial stretch (elastic stretch α when growing).
+    pub stretch: Vec<f64>,
+    /// Pressure.
+    pub pressure: Vec<f64>,
+    /// Further per-cell fields by name (e.g. `"g"`, `"sigma"`, `"width"`).
+    #[serde(flatten)]
+    pub extra: BTreeMap<String, Vec<f64>>,
+}
+
+/// Integrator work for a run.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct RunStats {
+    /// Accepted steps.
+    pub steps: usize,
+    /// Residual evaluations.
+    pub residual_calls: usize,
+    /// Jacobian evaluations.
+    pub jacobians: usize,
+    /// Wall-clock seconds.
+    pub wall_seconds: f64,
+    /// Further counters by name (rejections, factorisations, Newton iterations, events…).
+    #[serde(flatten)]
+    pub extra: BTreeMap<String, f64>,
+}
+
+/// One division event (issue #4 schema).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct DivisionRecord {
+    /// Time of division.
+    pub t: f64,
+    /// Index (1-based, as in MODEL.md) of the parent cell before division.
+    pub parent: usize,
+    /// Position of the new boundary.
+    pub x: f64,
+    /// `x / l(t)`.
+    pub x_over_length: f64,
+    /// Number of cells after the division.
+    pub cells_after: usize,
+}
+
+/// Everything one run (one model at one parameter set) produced.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RunRecord {
+    /// Label shown in legends, e.g. `"discrete K=0.01"`.
+    pub label: String,
+    /// Discrete or continuum.
+    pub model: ModelKind,
+    /// Parameters of this run (as resolved from the scenario).
+    pub parameters: serde_json::Value,
+    /// Scalar series.
+    pub series: Series,
+    /// Snapshots at the requested profile times.
+    pub profiles: Vec<Profile>,
+    /// Work counters.
+    pub stats: RunStats,
+    /// Division events (empty without division).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub divisions: Vec<DivisionRecord>,
+    /// If the solver failed: its message (the record holds what was computed before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+}
+
+/// The whole `summary.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    /// Scenario name.
+    pub scenario: String,
+    /// Runs in scenario order.
+    pub runs: Vec<RunRecord>,
+}
