@@ -8,9 +8,11 @@
 //! → discrete or continuum builder → [`integrators`] problem → integrator → observers → writers.
 #![warn(missing_docs)]
 
+pub mod array;
 pub mod energy;
 pub mod observe;
 pub mod scalar;
 
+pub use array::{ArrayProblem, CellArray};
 pub use energy::StrainEnergy;
 pub use scalar::Scalar;

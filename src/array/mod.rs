@@ -1,0 +1,174 @@
+//! The [`CellArray`] trait — a deformation mode of an array of cells (line, sheet, shear
+//! column…) written once as a residual generic over the [`Scalar`] — and [`ArrayProblem`], the
+//! one generic adapter that turns any cell array into an [`integrators::Problem`]:
+//! plain `f64` residuals, and exact directional derivatives by forward-mode AD (`Dual64`), from
+//! which the integrators assemble the declared banded/sparse Jacobian by column colouring
+//! (a handful of seeds, independent of the number of cells).
+//!
+//! Discrete and continuum builders both produce cell arrays: the conservative continuum scheme
+//! is the same array with `n` segments of reference size `h` (MODEL.md §3.3a, §4.3), so new
+//! cell laws and deformation modes plug in here without touching the integrators.
+
+use crate::scalar::Scalar;
+use integrators::{EventAction, Pattern, Problem, ResidualError};
+use num_dual::Dual64;
+
+/// A deformation mode of an array of cells, as a residual-form DAE `F(t, y, ẏ) = 0`.
+///
+/// Implementors write [`residual`](CellArray::residual) once, generically over the scalar; the
+/// framework evaluates it in `f64` and in dual numbers. Events (e.g. cell division) may resize
+/// the array.
+///
+/// ```ignore
+/// struct MyArray { /* per-cell fields */ }
+/// impl CellArray for MyArray {
+///     fn dim(&self) -> usize { /* unknowns */ }
+///     fn pattern(&self) -> Pattern { Pattern::Banded { lower: 1, upper: 1 } }
+///     fn residual<S: Scalar>(&self, t: f64, y: &[S], yp: &[S], r: &mut [S])
+///         -> Result<(), ResidualError> { /* force balance per boundary */ }
+/// }
+/// let problem = ArrayProblem::new(MyArray { .. });
+/// ```
+pub trait CellArray {
+    /// Number of unknowns.
+    fn dim(&self) -> usize;
+
+    /// Jacobian structure (banded for lines, sparse for sheets).
+    fn pattern(&self) -> Pattern;
+
+    /// `r = F(t, y, ẏ)`, generic over the scalar. Return `ResidualError::Recoverable` naming the
+    /// unknown for states outside the model's domain (e.g. non-positive stretch), so the
+    /// integrator rejects the step instead of converging on a mirror branch.
+    fn residual<S: Scalar>(
+        &self,
+        t: f64,
+        y: &[S],
+        yp: &[S],
+        r: &mut [S],
+    ) -> Result<(), ResidualError>;
+
+    /// Per-unknown absolute tolerances (cell-sized quantities), or `None` for the solver's.
+    fn atol(&self) -> Option<Vec<f64>> {
+        None
+    }
+
+    /// Algebraic unknowns (no `ẏ` in their residual), e.g. positions when `K = η = 0`.
+    fn algebraic(&self) -> Vec<bool> {
+        vec![false; self.dim()]
+    }
+
+    /// Number of event functions (e.g. one per cell for division).
+    fn num_events(&self) -> usize {
+        0
+    }
+
+    /// Event functions `g_i(t, y)`.
+    fn events(&mut self, _t: f64, _y: &[f64], _g: &mut [f64]) {}
+
+    /// Acts on the events that fired at `t` (may resize `y`; see [`integrators::EventAction`]).
+    fn handle_event(
+        &mut self,
+        _t: f64,
+        _fired: &[usize],
+        _y: &mut Vec<f64>,
+        _yp: &[f64],
+    ) -> Result<EventAction, ResidualError> {
+        Ok(EventAction::Stop)
+    }
+}
+
+/// Adapter: any [`CellArray`] as an [`integrators::Problem`] with exact AD directional
+/// derivatives. Reuses its dual-number buffers across calls (no allocation per residual once
+/// warmed up, except after a resize).
+pub struct ArrayProblem<A: CellArray> {
+    /// The wrapped array (public so observers can read cell fields).
+    pub array: A,
+    yd: Vec<Dual64>,
+    ypd: Vec<Dual64>,
+    rd: Vec<Dual64>,
+}
+
+impl<A: CellArray> ArrayProblem<A> {
+    /// Wraps a cell array.
+    pub fn new(array: A) -> Self {
+        Self {
+            array,
+            yd: Vec::new(),
+            ypd: Vec::new(),
+            rd: Vec::new(),
+        }
+    }
+}
+
+impl<A: CellArray> Problem for ArrayProblem<A> {
+    fn dim(&self) -> usize {
+        self.array.dim()
+    }
+
+    fn residual(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        r: &mut [f64],
+    ) -> Result<(), ResidualError> {
+        self.array.residual(t, y, yp, r)
+    }
+
+    fn pattern(&self) -> Pattern {
+        self.array.pattern()
+    }
+
+    fn directional(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        v: &[f64],
+        c: f64,
+        r: &mut [f64],
+        dr: &mut [f64],
+    ) -> Result<bool, ResidualError> {
+        let n = y.len();
+        self.yd.clear();
+        self.yd
+            .extend(y.iter().zip(v).map(|(&a, &b)| Dual64::new(a, b)));
+        self.ypd.clear();
+        self.ypd
+            .extend(yp.iter().zip(v).map(|(&a, &b)| Dual64::new(a, c * b)));
+        self.rd.clear();
+        self.rd.resize(n, Dual64::new(0.0, 0.0));
+        self.array.residual(t, &self.yd, &self.ypd, &mut self.rd)?;
+        for i in 0..n {
+            r[i] = self.rd[i].re;
+            dr[i] = self.rd[i].eps;
+        }
+        Ok(true)
+    }
+
+    fn atol(&self) -> Option<Vec<f64>> {
+        self.array.atol()
+    }
+
+    fn algebraic(&self) -> Vec<bool> {
+        self.array.algebraic()
+    }
+
+    fn num_events(&self) -> usize {
+        self.array.num_events()
+    }
+
+    fn events(&mut self, t: f64, y: &[f64], g: &mut [f64]) {
+        self.array.events(t, y, g)
+    }
+
+    fn handle_event(
+        &mut self,
+        t: f64,
+        fired: &[usize],
+        y: &mut Vec<f64>,
+        yp: &[f64],
+    ) -> Result<EventAction, ResidualError> {
+        self.array.handle_event(t, fired, y, yp)
+    }
+}
