@@ -30,6 +30,10 @@ pub struct Options {
     pub force_fd_jacobian: bool,
     /// Maximum Newton iterations per nonlinear solve.
     pub max_newton_iters: usize,
+    /// Fixed-step mode (for order-of-accuracy studies): when `Some(h)`, the one-step methods
+    /// (ESDIRK, Radau IIA, Dormand–Prince) take steps of exactly `h` (the last one shortened to
+    /// land on the stop time) and skip the local error test. `None` (default): adaptive steps.
+    pub fixed_step: Option<f64>,
 }
 
 impl Default for Options {
@@ -46,6 +50,7 @@ impl Default for Options {
             event_tol: 1e-12,
             force_fd_jacobian: false,
             max_newton_iters: 4,
+            fixed_step: None,
         }
     }
 }
@@ -75,6 +80,11 @@ impl Options {
         }
         if self.max_newton_iters == 0 {
             return Err("max_newton_iters must be at least 1".into());
+        }
+        if let Some(h) = self.fixed_step {
+            if !(h > 0.0 && h.is_finite()) {
+                return Err(format!("fixed_step = {h} must be positive and finite"));
+            }
         }
         if !(self.event_tol > 0.0) {
             return Err(format!("event_tol = {} must be positive", self.event_tol));
