@@ -34,6 +34,10 @@ pub struct Options {
     /// (ESDIRK, Radau IIA, Dormand–Prince) take steps of exactly `h` (the last one shortened to
     /// land on the stop time) and skip the local error test. `None` (default): adaptive steps.
     pub fixed_step: Option<f64>,
+    /// BDF only: use exactly this order (reached as soon as the history allows after each
+    /// start) instead of selecting it; step-size control stays on. `None` (default): variable
+    /// order up to [`Options::max_order`]. Used for tolerance-sweep order studies of the BDF.
+    pub fixed_order: Option<usize>,
 }
 
 impl Default for Options {
@@ -51,6 +55,7 @@ impl Default for Options {
             force_fd_jacobian: false,
             max_newton_iters: 4,
             fixed_step: None,
+            fixed_order: None,
         }
     }
 }
@@ -84,6 +89,14 @@ impl Options {
         if let Some(h) = self.fixed_step {
             if !(h > 0.0 && h.is_finite()) {
                 return Err(format!("fixed_step = {h} must be positive and finite"));
+            }
+        }
+        if let Some(k) = self.fixed_order {
+            if !(1..=self.max_order).contains(&k) {
+                return Err(format!(
+                    "fixed_order = {k} must be in 1..=max_order ({})",
+                    self.max_order
+                ));
             }
         }
         if !(self.event_tol > 0.0) {
