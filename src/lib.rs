@@ -14,5 +14,8 @@ pub mod observe;
 pub mod scalar;
 
 pub use array::{ArrayProblem, CellArray};
-pub use energy::StrainEnergy;
+pub use energy::{
+    EnergyError, LineResponse, MooneyRivlin, NeoHookean, Ogden, ShearResponse, SheetResponse,
+    StrainEnergy,
+};
 pub use scalar::Scalar;

@@ -6,13 +6,40 @@
 //! * [`SheetResponse`]: quasi-3D uniaxial sheet cell (§1.4), `σ₁₁, σ₂₂, p` and the 2×2 tangent;
 //! * [`ShearResponse`]: simple-shear cell (§1.5), `τ(T)` and `dτ/dT`.
 //!
-//! SKELETON: trait contract fixed; provided methods and the sample laws are filled in by the
-//! energy work item.
+//! The AD plumbing lives in [`ad`]; its functions are public so a law with hand-written
+//! overrides can still be checked against AD. Every response is allocation-free: one nested-dual
+//! evaluation of `W` for the line ([`num_dual::Dual2`]`<`[`num_dual::Dual64`]`>`), one
+//! [`num_dual::Dual2SVec64`]`<3>` evaluation for the sheet, one [`num_dual::Dual2_64`] for shear.
+//!
+//! ```
+//! use celltissue::{NeoHookean, StrainEnergy};
+//! let law = NeoHookean::new(1.0).unwrap();
+//! let r = law.line(1.0);
+//! assert_eq!(r.sigma, 0.0);
+//! assert!((r.dsigma - 4.0).abs() < 1e-14); // dσ_el/da(1) = 4μ
+//! ```
+
+pub mod ad;
+mod error;
+mod mooney_rivlin;
+mod neo_hookean;
+mod ogden;
+
+pub use error::EnergyError;
+pub use mooney_rivlin::MooneyRivlin;
+pub use neo_hookean::NeoHookean;
+pub use ogden::Ogden;
 
 use num_dual::DualNum;
 
 /// Plane-strain response of a line cell at axial stretch `a` (deformation `diag(a, 1/a, 1)`,
 /// `σ₂₂ = 0`), MODEL.md §1.2.
+///
+/// ```
+/// use celltissue::{NeoHookean, StrainEnergy};
+/// let r = NeoHookean::new(2.0).unwrap().line(2.0);
+/// assert!((r.sigma - 2.0 * (4.0 - 0.25)).abs() < 1e-12); // μ(a² − a⁻²)
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LineResponse {
     /// Axial elastic Cauchy stress `σ_el(a) = a·Ŵ'(a)` (tension positive).
@@ -26,6 +53,12 @@ pub struct LineResponse {
 }
 
 /// Quasi-3D sheet-cell response at `(λ₁, λ₂)`, `λ₃ = 1/(λ₁λ₂)`, `σ₃₃ = 0` (MODEL.md §1.4).
+///
+/// ```
+/// use celltissue::{NeoHookean, StrainEnergy};
+/// let r = NeoHookean::new(1.0).unwrap().sheet(1.0, 1.0);
+/// assert!((r.tangent[0][0] - 4.0).abs() < 1e-14 && (r.tangent[0][1] - 2.0).abs() < 1e-14);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SheetResponse {
     /// `σ₁₁ = λ₁ ∂₁Ŵ`.
@@ -39,6 +72,12 @@ pub struct SheetResponse {
 }
 
 /// Simple-shear response at amount of shear `T = tan θ` (MODEL.md §1.5).
+///
+/// ```
+/// use celltissue::{NeoHookean, StrainEnergy};
+/// let r = NeoHookean::new(3.0).unwrap().shear(0.5);
+/// assert!((r.tau - 1.5).abs() < 1e-14 && (r.dtau - 3.0).abs() < 1e-14); // τ = μT
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShearResponse {
     /// Shear stress `τ = dŴ/dT`.
@@ -52,8 +91,26 @@ pub struct ShearResponse {
 ///
 /// Implement [`energy`](StrainEnergy::energy) generically over `D: DualNum<Primitive = f64>` and
 /// [`shear_modulus`](StrainEnergy::shear_modulus); the responses used by the cell arrays are then
-/// derived by forward-mode AD. Override them with closed forms if you want speed; tests check
-/// they agree with AD.
+/// derived by forward-mode AD ([`ad`]). Override them with closed forms if you want speed; tests
+/// check they agree with AD.
+///
+/// ```
+/// use celltissue::StrainEnergy;
+/// use num_dual::DualNum;
+///
+/// /// Yeoh-type law W = C₁(I₁−3) + C₂(I₁−3)², μ = 2C₁.
+/// struct Yeoh { c1: f64, c2: f64 }
+/// impl StrainEnergy for Yeoh {
+///     fn energy<D: DualNum<Primitive = f64> + Copy>(&self, l: [D; 3]) -> D {
+///         let j1 = l[0] * l[0] + l[1] * l[1] + l[2] * l[2] - 3.0;
+///         j1 * self.c1 + j1 * j1 * self.c2
+///     }
+///     fn shear_modulus(&self) -> f64 { 2.0 * self.c1 }
+/// }
+/// let law = Yeoh { c1: 0.5, c2: 0.1 };
+/// assert!((law.line(1.0).dsigma - 4.0 * law.shear_modulus()).abs() < 1e-12);
+/// assert!((law.shear(0.0).dtau - law.shear_modulus()).abs() < 1e-12);
+/// ```
 pub trait StrainEnergy: Send + Sync {
     /// `W(λ₁, λ₂, λ₃)`, generic over the scalar so AD can differentiate it.
     fn energy<D: DualNum<Primitive = f64> + Copy>(&self, l: [D; 3]) -> D;
@@ -61,12 +118,44 @@ pub trait StrainEnergy: Send + Sync {
     /// Small-strain shear modulus `μ` (so `dσ_el/da(1) = 4μ` in the line).
     fn shear_modulus(&self) -> f64;
 
-    /// Plane-strain line response at axial stretch `a > 0` (AD by default).
-    fn line(&self, a: f64) -> LineResponse;
+    /// Plane-strain line response at axial stretch `a > 0` (AD by default, [`ad::line`]).
+    #[inline]
+    fn line(&self, a: f64) -> LineResponse {
+        ad::line(self, a)
+    }
 
-    /// Sheet response at `(λ₁, λ₂)` (AD by default).
-    fn sheet(&self, l1: f64, l2: f64) -> SheetResponse;
+    /// Sheet response at `(λ₁, λ₂)` (AD by default, [`ad::sheet`]).
+    #[inline]
+    fn sheet(&self, l1: f64, l2: f64) -> SheetResponse {
+        ad::sheet(self, l1, l2)
+    }
 
-    /// Simple-shear response at `T` (AD by default).
-    fn shear(&self, t: f64) -> ShearResponse;
+    /// Simple-shear response at `T` (AD by default, [`ad::shear`]).
+    #[inline]
+    fn shear(&self, t: f64) -> ShearResponse {
+        ad::shear(self, t)
+    }
+}
+
+impl<E: StrainEnergy + ?Sized> StrainEnergy for &E {
+    #[inline]
+    fn energy<D: DualNum<Primitive = f64> + Copy>(&self, l: [D; 3]) -> D {
+        (**self).energy(l)
+    }
+    #[inline]
+    fn shear_modulus(&self) -> f64 {
+        (**self).shear_modulus()
+    }
+    #[inline]
+    fn line(&self, a: f64) -> LineResponse {
+        (**self).line(a)
+    }
+    #[inline]
+    fn sheet(&self, l1: f64, l2: f64) -> SheetResponse {
+        (**self).sheet(l1, l2)
+    }
+    #[inline]
+    fn shear(&self, t: f64) -> ShearResponse {
+        (**self).shear(t)
+    }
 }
