@@ -12,6 +12,7 @@ pub mod array;
 pub mod energy;
 pub mod observe;
 pub mod scalar;
+pub mod sheet;
 
 pub use array::{ArrayProblem, CellArray};
 pub use energy::{

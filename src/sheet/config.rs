@@ -1,0 +1,273 @@
+//! Serde configurations of the Chapter 4 runs, with range-checked validation whose errors name
+//! the key and its valid range. Defaults are MODEL.md's (§0.3, §5.6): `N = M = 10`,
+//! `γ₀ = β₀ = 1`, `K_th = 1` (boundary-form `K = ½`), `m = 0`, `k₁ = 0.1`, exponential ramp,
+//! free top; shear `F_A = 1`.
+//!
+//! The strain-energy law is not part of these configs: it is shared by every model of a
+//! scenario, so it is passed to [`super::run_sheet`] / [`super::run_shear`] as any
+//! [`crate::StrainEnergy`].
+//!
+//! ```
+//! use celltissue::sheet::SheetConfig;
+//! let cfg: SheetConfig = toml::from_str("cells_x = 20\ntop = \"periodic\"").unwrap();
+//! assert_eq!(cfg.drag(), 0.5);
+//! assert!(cfg.validate().is_ok());
+//! assert!(toml::from_str::<SheetConfig>("cellz = 3").is_err());
+//! ```
+
+use super::ramp::Ramp;
+use super::shear::ShearParams;
+use super::uniaxial::SheetParams;
+use integrators::{MethodKind, Options};
+use serde::{Deserialize, Serialize};
+
+/// The side `y = w₀` of the sheet.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TopBoundary {
+    /// Zero traction, `K κ ẏ_b(j,M) = −H L σ₂₂` ((4.34)–(4.37)).
+    #[default]
+    Free,
+    /// Periodic in y, `y_b(j,M) = y_b(j,0) + w₀` ((4.38)).
+    Periodic,
+}
+
+/// Which form of the shear column to integrate.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ShearForm {
+    /// Canonical edge form (MODEL.md §4.4).
+    #[default]
+    Edge,
+    /// The thesis's cell-centre form (4.85)–(4.98), discrete only (MODEL.md §4.5).
+    CellCentre,
+}
+
+/// A configuration value outside its valid range.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{key} = {value}: {expected}")]
+pub struct ConfigError {
+    /// The offending key.
+    pub key: String,
+    /// Its value, as text.
+    pub value: String,
+    /// The valid range or rule.
+    pub expected: String,
+}
+
+fn need(ok: bool, key: &str, value: impl ToString, expected: &str) -> Result<(), ConfigError> {
+    if ok {
+        Ok(())
+    } else {
+        Err(ConfigError {
+            key: key.into(),
+            value: value.to_string(),
+            expected: expected.into(),
+        })
+    }
+}
+
+fn pos(key: &str, v: f64) -> Result<(), ConfigError> {
+    need(v > 0.0 && v.is_finite(), key, v, "must be positive and finite")
+}
+
+fn drag_from(k_th: Option<f64>, drag: Option<f64>) -> f64 {
+    match (drag, k_th) {
+        (Some(k), _) => k,
+        (None, Some(kt)) => 0.5 * kt,
+        (None, None) => 0.5,
+    }
+}
+
+fn check_drag(k_th: Option<f64>, drag: Option<f64>, allow_zero: bool) -> Result<(), ConfigError> {
+    need(
+        !(k_th.is_some() && drag.is_some()),
+        "drag",
+        drag.unwrap_or_default(),
+        "give either k_th (thesis Ch. 4 drag) or drag (boundary form K = k_th/2), not both",
+    )?;
+    for (key, v) in [("k_th", k_th), ("drag", drag)] {
+        if let Some(v) = v {
+            if allow_zero {
+                need(v >= 0.0 && v.is_finite(), key, v, "must be >= 0 and finite")?;
+            } else {
+                pos(key, v)?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Configuration of a uniaxial sheet run (MODEL.md §4.1–4.3).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SheetConfig {
+    /// Cells in x, `N >= 1` (default 10).
+    pub cells_x: usize,
+    /// Rows of cells, `M >= 1` (default 10).
+    pub cells_y: usize,
+    /// Planar aspect ratio `γ₀ > 0` (default 1).
+    pub gamma0: f64,
+    /// Height aspect ratio `β₀ > 0` (default 1).
+    pub beta0: f64,
+    /// Thesis Chapter 4 drag `K_th >= 0` (default 1); the boundary form uses `K = K_th/2`.
+    pub k_th: Option<f64>,
+    /// Boundary-form drag `K >= 0` directly (exclusive with `k_th`).
+    pub drag: Option<f64>,
+    /// Drag–area exponent `m >= 0` in `κ = (λ₁λ₂)^m` (thesis: 0 or 1).
+    pub drag_exponent: f64,
+    /// Fractional shortening `k₁ ∈ (−1, 1)` (default 0.1).
+    pub k1: f64,
+    /// Ramp of `l(t)` (default exponential, `t_ramp = 1`).
+    pub ramp: Ramp,
+    /// `"free"` (default) or `"periodic"` side.
+    pub top: TopBoundary,
+}
+
+impl Default for SheetConfig {
+    fn default() -> Self {
+        Self {
+            cells_x: 10,
+            cells_y: 10,
+            gamma0: 1.0,
+            beta0: 1.0,
+            k_th: None,
+            drag: None,
+            drag_exponent: 0.0,
+            k1: 0.1,
+            ramp: Ramp::default(),
+            top: TopBoundary::Free,
+        }
+    }
+}
+
+impl SheetConfig {
+    /// Boundary-form drag `K` (`k_th/2`, or `drag`, default ½).
+    pub fn drag(&self) -> f64 {
+        drag_from(self.k_th, self.drag)
+    }
+
+    /// Checks every key; the error names the key and its valid range.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        need(self.cells_x >= 1, "cells_x", self.cells_x, "must be >= 1")?;
+        need(self.cells_y >= 1, "cells_y", self.cells_y, "must be >= 1")?;
+        pos("gamma0", self.gamma0)?;
+        pos("beta0", self.beta0)?;
+        check_drag(self.k_th, self.drag, true)?;
+        need(
+            self.drag_exponent >= 0.0 && self.drag_exponent.is_finite(),
+            "drag_exponent",
+            self.drag_exponent,
+            "must be >= 0 and finite (thesis: 0 or 1)",
+        )?;
+        need(self.k1 > -1.0 && self.k1 < 1.0, "k1", self.k1, "must be in (-1, 1)")?;
+        pos("ramp.t_ramp", self.ramp.t_ramp())?;
+        need(
+            !(self.top == TopBoundary::Periodic && self.drag() == 0.0),
+            "k_th",
+            self.drag() * 2.0,
+            "must be > 0 with a periodic side (rigid y-translation is a null mode)",
+        )?;
+        Ok(())
+    }
+
+    /// The model parameters.
+    pub fn params(&self) -> SheetParams {
+        SheetParams {
+            cells_x: self.cells_x,
+            cells_y: self.cells_y,
+            gamma0: self.gamma0,
+            beta0: self.beta0,
+            drag: self.drag(),
+            drag_exponent: self.drag_exponent,
+            k1: self.k1,
+            ramp: self.ramp,
+            top: self.top,
+        }
+    }
+}
+
+/// Configuration of a shear-column run (MODEL.md §4.4–4.6).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ShearConfig {
+    /// Number of cells `M >= 1` (default 10).
+    pub cells: usize,
+    /// Planar aspect ratio `γ₀ > 0` (default 1).
+    pub gamma0: f64,
+    /// Height aspect ratio `β₀ > 0` (default 1).
+    pub beta0: f64,
+    /// Thesis drag `K_th > 0` (default 1); edge form `K = K_th/2`.
+    pub k_th: Option<f64>,
+    /// Edge-form drag `K > 0` directly (exclusive with `k_th`).
+    pub drag: Option<f64>,
+    /// Applied shear force `F_A` (default 1).
+    pub force: f64,
+    /// `"edge"` (default, canonical) or `"cell_centre"` (thesis form, discrete only).
+    pub form: ShearForm,
+}
+
+impl Default for ShearConfig {
+    fn default() -> Self {
+        Self {
+            cells: 10,
+            gamma0: 1.0,
+            beta0: 1.0,
+            k_th: None,
+            drag: None,
+            force: 1.0,
+            form: ShearForm::Edge,
+        }
+    }
+}
+
+impl ShearConfig {
+    /// Edge-form drag `K`.
+    pub fn drag(&self) -> f64 {
+        drag_from(self.k_th, self.drag)
+    }
+
+    /// Checks every key; the error names the key and its valid range.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        need(self.cells >= 1, "cells", self.cells, "must be >= 1")?;
+        pos("gamma0", self.gamma0)?;
+        pos("beta0", self.beta0)?;
+        check_drag(self.k_th, self.drag, false)?;
+        need(self.force.is_finite(), "force", self.force, "must be finite")?;
+        Ok(())
+    }
+
+    /// The model parameters.
+    pub fn params(&self) -> ShearParams {
+        ShearParams {
+            cells: self.cells,
+            gamma0: self.gamma0,
+            beta0: self.beta0,
+            drag: self.drag(),
+            force: self.force,
+        }
+    }
+}
+
+/// Integrator choice for a run: method and options (tolerances etc.).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolverSettings {
+    /// Time-stepping method.
+    pub method: MethodKind,
+    /// Tolerances and limits. For the sheet, `atol` is applied in cell units (× `h_X`, `h_Y`).
+    pub options: Options,
+}
+
+impl Default for SolverSettings {
+    /// BDF with `rtol = 1e-8`, `atol = 1e-10`.
+    fn default() -> Self {
+        Self {
+            method: MethodKind::Bdf,
+            options: Options {
+                rtol: 1e-8,
+                atol: 1e-10,
+                ..Options::default()
+            },
+        }
+    }
+}

@@ -1,0 +1,245 @@
+//! Chapter 4 observables (MODEL.md §6) and their [`RunRecord`](crate::observe::RunRecord)
+//! series/profile keys.
+//!
+//! Sheet: `max p`, mean `p`, mean height `H`, `mean λ₃ / mean λ₂`, and the shared-boundary
+//! mismatch `W_err = |W_{j+1/2,k} − W_s|` with the overlap
+//! `W_s = min(y_b(j,k), y_b(j+1,k)) − max(y_b(j,k−1), y_b(j+1,k−1))` ((4.76)–(4.77), overlap
+//! corrected), mean and max over the interior x-faces. Shear: `x_e`, `T_k`, `θ_k`, spread
+//! `max tan θ − min tan θ`, mean `θ` and the top displacement `x_{e,M}`.
+
+use super::shear::ShearFields;
+use super::uniaxial::{SheetCell, UniaxialSheet};
+use crate::energy::StrainEnergy;
+use crate::observe::{Profile, Series};
+
+/// Series key: mean cell pressure.
+pub const MEAN_PRESSURE: &str = "mean_pressure";
+/// Series key: mean cell height `H = β₀λ₃`.
+pub const MEAN_HEIGHT: &str = "mean_height";
+/// Series key: `mean λ₃ / mean λ₂`.
+pub const MEAN_STRETCH_Z_OVER_Y: &str = "mean_stretch_z_over_y";
+/// Series key: mean shared-boundary mismatch `W_err`.
+pub const BOUNDARY_MISMATCH_MEAN: &str = "boundary_mismatch_mean";
+/// Series key: max shared-boundary mismatch `W_err`.
+pub const BOUNDARY_MISMATCH_MAX: &str = "boundary_mismatch_max";
+/// Series key: x-position of the shear column's top edge.
+pub const TOP_DISPLACEMENT: &str = "top_displacement";
+/// Series key: `max tan θ − min tan θ` over the column.
+pub const SHEAR_SPREAD: &str = "shear_spread";
+/// Series key: mean shear angle θ (radians).
+pub const MEAN_SHEAR_ANGLE: &str = "mean_shear_angle";
+/// Series key: max over cells of the transverse stretch λ₂.
+pub const MAX_STRETCH_Y: &str = "max_stretch_y";
+/// Series key: min over cells of the transverse stretch λ₂.
+pub const MIN_STRETCH_Y: &str = "min_stretch_y";
+
+/// Scalar observables of one sheet snapshot.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SheetObservables {
+    /// Time.
+    pub t: f64,
+    /// Prescribed length `l(t)`.
+    pub length: f64,
+    /// Max / min / mean pressure.
+    pub pressure: [f64; 3],
+    /// Max / min `λ₁`.
+    pub stretch_x: [f64; 2],
+    /// Max / min `λ₂`.
+    pub stretch_y: [f64; 2],
+    /// Mean height `H`.
+    pub mean_height: f64,
+    /// `mean λ₃ / mean λ₂`.
+    pub stretch_z_over_y: f64,
+    /// Mean and max `W_err` over interior x-faces (0 for a single column).
+    pub mismatch: [f64; 2],
+}
+
+/// `W_err` (mean, max) over the interior x-faces of the sheet at state `y`.
+pub fn boundary_mismatch<E: StrainEnergy>(sheet: &UniaxialSheet<E>, y: &[f64]) -> [f64; 2] {
+    let (n, m) = sheet.grid();
+    let (mut sum, mut max, mut count) = (0.0, 0.0f64, 0usize);
+    for j in 1..n {
+        for k in 1..=m {
+            let (a0, a1) = (sheet.yb(y, j, k - 1), sheet.yb(y, j, k));
+            let (b0, b1) = (sheet.yb(y, j + 1, k - 1), sheet.yb(y, j + 1, k));
+            let w = 0.5 * ((a1 - a0) + (b1 - b0));
+            let ws = a1.min(b1) - a0.max(b0);
+            let e = (w - ws).abs();
+            sum += e;
+            max = max.max(e);
+            count += 1;
+        }
+    }
+    if count == 0 {
+        [0.0, 0.0]
+    } else {
+        [sum / count as f64, max]
+    }
+}
+
+/// Observables from the per-cell fields (and the state, for `W_err`).
+pub fn sheet_observables<E: StrainEnergy>(
+    sheet: &UniaxialSheet<E>,
+    t: f64,
+    y: &[f64],
+    cells: &[SheetCell],
+) -> SheetObservables {
+    let nc = cells.len() as f64;
+    let mut o = SheetObservables {
+        t,
+        length: sheet.length(t),
+        pressure: [f64::NEG_INFINITY, f64::INFINITY, 0.0],
+        stretch_x: [f64::NEG_INFINITY, f64::INFINITY],
+        stretch_y: [f64::NEG_INFINITY, f64::INFINITY],
+        ..Default::default()
+    };
+    let (mut l2s, mut l3s) = (0.0, 0.0);
+    for c in cells {
+        o.pressure[0] = o.pressure[0].max(c.pressure);
+        o.pressure[1] = o.pressure[1].min(c.pressure);
+        o.pressure[2] += c.pressure / nc;
+        o.stretch_x[0] = o.stretch_x[0].max(c.stretch[0]);
+        o.stretch_x[1] = o.stretch_x[1].min(c.stretch[0]);
+        o.stretch_y[0] = o.stretch_y[0].max(c.stretch[1]);
+        o.stretch_y[1] = o.stretch_y[1].min(c.stretch[1]);
+        o.mean_height += c.height / nc;
+        l2s += c.stretch[1];
+        l3s += c.stretch[2];
+    }
+    o.stretch_z_over_y = l3s / l2s;
+    o.mismatch = boundary_mismatch(sheet, y);
+    o
+}
+
+/// Appends one snapshot's observables to a sheet [`Series`].
+pub fn push_sheet_series(s: &mut Series, o: &SheetObservables) {
+    s.t.push(o.t);
+    s.length.push(o.length);
+    s.max_pressure.push(o.pressure[0]);
+    s.min_pressure.push(o.pressure[1]);
+    s.max_stretch.push(o.stretch_x[0]);
+    s.min_stretch.push(o.stretch_x[1]);
+    let mut put = |k: &str, v: f64| s.extra.entry(k.to_string()).or_default().push(v);
+    put(MEAN_PRESSURE, o.pressure[2]);
+    put(MEAN_HEIGHT, o.mean_height);
+    put(MEAN_STRETCH_Z_OVER_Y, o.stretch_z_over_y);
+    put(BOUNDARY_MISMATCH_MEAN, o.mismatch[0]);
+    put(BOUNDARY_MISMATCH_MAX, o.mismatch[1]);
+    put(MAX_STRETCH_Y, o.stretch_y[0]);
+    put(MIN_STRETCH_Y, o.stretch_y[1]);
+}
+
+/// A per-cell sheet [`Profile`]: `X`/`x` are reference/current centre x, `stretch` is `λ₁`;
+/// `extra` holds `Y`, `y`, `stretch_y` (λ₂), `stretch_z` (λ₃), `height`, `sigma11`, `sigma22`,
+/// `kappa`, `column` (j), `row` (k). Cells are listed column by column.
+pub fn sheet_profile(t: f64, cells: &[SheetCell]) -> Profile {
+    let mut p = Profile {
+        t,
+        ..Default::default()
+    };
+    let keys = [
+        "Y",
+        "y",
+        "stretch_y",
+        "stretch_z",
+        "height",
+        "sigma11",
+        "sigma22",
+        "kappa",
+        "column",
+        "row",
+    ];
+    let mut cols: Vec<Vec<f64>> = vec![Vec::with_capacity(cells.len()); keys.len()];
+    for c in cells {
+        p.x_ref.push(c.reference[0]);
+        p.x.push(0.5 * (c.x[0] + c.x[1]));
+        p.stretch.push(c.stretch[0]);
+        p.pressure.push(c.pressure);
+        let v = [
+            c.reference[1],
+            0.5 * (c.y[0] + c.y[1]),
+            c.stretch[1],
+            c.stretch[2],
+            c.height,
+            c.s11,
+            c.s22,
+            c.kappa,
+            c.j as f64,
+            c.k as f64,
+        ];
+        for (col, x) in cols.iter_mut().zip(v) {
+            col.push(x);
+        }
+    }
+    for (k, col) in keys.iter().zip(cols) {
+        p.extra.insert(k.to_string(), col);
+    }
+    p
+}
+
+/// Scalar observables of one shear snapshot.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ShearObservables {
+    /// Time.
+    pub t: f64,
+    /// Top displacement `x_{e,M}`.
+    pub top: f64,
+    /// `max tan θ − min tan θ`.
+    pub spread: f64,
+    /// Mean `θ` (radians).
+    pub mean_theta: f64,
+    /// Max / min `tan θ`.
+    pub tan_theta: [f64; 2],
+    /// Max / min pressure.
+    pub pressure: [f64; 2],
+}
+
+/// Shear observables from the per-cell fields.
+pub fn shear_observables(t: f64, f: &ShearFields) -> ShearObservables {
+    let mx = f.tan_theta.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    let mn = f.tan_theta.iter().cloned().fold(f64::INFINITY, f64::min);
+    ShearObservables {
+        t,
+        top: *f.x_edge.last().unwrap_or(&0.0),
+        spread: mx - mn,
+        mean_theta: f.theta.iter().sum::<f64>() / f.theta.len().max(1) as f64,
+        tan_theta: [mx, mn],
+        pressure: [
+            f.pressure.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
+            f.pressure.iter().cloned().fold(f64::INFINITY, f64::min),
+        ],
+    }
+}
+
+/// Appends one snapshot to a shear [`Series`]: `length` is the top displacement, `max/min_stretch`
+/// are `max/min tan θ`; extra keys [`TOP_DISPLACEMENT`], [`SHEAR_SPREAD`], [`MEAN_SHEAR_ANGLE`].
+pub fn push_shear_series(s: &mut Series, o: &ShearObservables) {
+    s.t.push(o.t);
+    s.length.push(o.top);
+    s.max_pressure.push(o.pressure[0]);
+    s.min_pressure.push(o.pressure[1]);
+    s.max_stretch.push(o.tan_theta[0]);
+    s.min_stretch.push(o.tan_theta[1]);
+    let mut put = |k: &str, v: f64| s.extra.entry(k.to_string()).or_default().push(v);
+    put(TOP_DISPLACEMENT, o.top);
+    put(SHEAR_SPREAD, o.spread);
+    put(MEAN_SHEAR_ANGLE, o.mean_theta);
+}
+
+/// A per-cell shear [`Profile`] against height: `X` is the reference centre height `y`, `x` the
+/// centre position `x_c`, `stretch` is `tan θ`; extra: `theta`, `tau` (σ₁₂), `x_edge` (top edge
+/// of each cell).
+pub fn shear_profile(t: f64, f: &ShearFields) -> Profile {
+    let mut p = Profile {
+        t,
+        x_ref: f.y_ref.clone(),
+        x: f.x_centre.clone(),
+        stretch: f.tan_theta.clone(),
+        pressure: f.pressure.clone(),
+        ..Default::default()
+    };
+    p.extra.insert("theta".into(), f.theta.clone());
+    p.extra.insert("tau".into(), f.tau.clone());
+    p.extra.insert("x_edge".into(), f.x_edge[1..].to_vec());
+    p
+}

@@ -1,0 +1,58 @@
+//! Prescribed length of the sheet, `x_b(N, k) = l(t)` (MODEL.md §2.6, §4.1; (4.75) corrected to
+//! `l₀(1 − k₁ + k₁e^{−t})`).
+
+use serde::{Deserialize, Serialize};
+
+/// Shape of the prescribed shortening `l(t) = l₀(1 − k₁ s(t))`.
+///
+/// ```
+/// use celltissue::sheet::Ramp;
+/// let r = Ramp::Exponential { t_ramp: 1.0 };
+/// assert!((r.length(10.0, 0.1, 0.0) - 10.0).abs() < 1e-15);
+/// assert!((r.length(10.0, 0.1, 1e9) - 9.0).abs() < 1e-12);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
+pub enum Ramp {
+    /// `s(t) = 1 − e^{−t/t_ramp}` (2.80), the Chapter 4 default.
+    Exponential {
+        /// Ramp time `t_ramp > 0`.
+        t_ramp: f64,
+    },
+    /// `s(τ) = 3τ² − 2τ³` for `τ = t/t_ramp ≤ 1`, then 1 (2.81).
+    Polynomial {
+        /// Ramp time `t_ramp > 0`.
+        t_ramp: f64,
+    },
+}
+
+impl Default for Ramp {
+    fn default() -> Self {
+        Ramp::Exponential { t_ramp: 1.0 }
+    }
+}
+
+impl Ramp {
+    /// The ramp time.
+    pub fn t_ramp(&self) -> f64 {
+        match *self {
+            Ramp::Exponential { t_ramp } | Ramp::Polynomial { t_ramp } => t_ramp,
+        }
+    }
+
+    /// Fraction `s(t) ∈ [0, 1]` of the final shortening applied at time `t`.
+    pub fn fraction(&self, t: f64) -> f64 {
+        match *self {
+            Ramp::Exponential { t_ramp } => 1.0 - (-t / t_ramp).exp(),
+            Ramp::Polynomial { t_ramp } => {
+                let tau = (t / t_ramp).clamp(0.0, 1.0);
+                tau * tau * (3.0 - 2.0 * tau)
+            }
+        }
+    }
+
+    /// `l(t) = l₀(1 − k₁ s(t))`.
+    pub fn length(&self, l0: f64, k1: f64, t: f64) -> f64 {
+        l0 * (1.0 - k1 * self.fraction(t))
+    }
+}

@@ -1,0 +1,392 @@
+//! Entry points for the scenario layer: [`run_sheet`] and [`run_shear`] build the model
+//! (discrete, or continuum on a grid), integrate it, and return a [`RunRecord`] with the Chapter 4
+//! series and profiles (keys in [`super::observe`]); optionally they write VTK (`.vtu` + `.pvd`)
+//! and PNG snapshots of the sheet.
+//!
+//! ```ignore
+//! use celltissue::sheet::{run_sheet, SheetConfig, SolverSettings, run::Outputs};
+//! let law = celltissue::NeoHookean::new(1.0)?;
+//! let rec = run_sheet(&SheetConfig::default(), &law, ModelKind::Discrete, None,
+//!                     &SolverSettings::default(), &Outputs::at(&[1.0, 2.0, 5.0, 10.0]))?;
+//! ```
+
+use super::config::{ConfigError, ShearConfig, ShearForm, SheetConfig, SolverSettings};
+use super::observe::{
+    push_shear_series, push_sheet_series, shear_observables, shear_profile, sheet_observables,
+    sheet_profile,
+};
+use super::shear::{ShearCellCentre, ShearColumn, ShearFields};
+use super::uniaxial::UniaxialSheet;
+use super::{plot, vtk};
+use crate::array::{ArrayProblem, CellArray};
+use crate::energy::StrainEnergy;
+use crate::observe::{ModelKind, RunRecord, RunStats, Series};
+use integrators::{SolveFailure, Solution, Solver, Stats};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// What to record and write.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Outputs {
+    /// Times of the scalar series (increasing, `>= 0`; `t = 0` is the initial state).
+    pub times: Vec<f64>,
+    /// Times of the per-cell profiles (and of VTK/PNG snapshots).
+    pub profile_times: Vec<f64>,
+    /// If set, VTK (`<prefix>_NNNN.vtu` + `<prefix>.pvd`) and PNG (`<prefix>_pressure_NNNN.png`)
+    /// snapshots of the sheet at `profile_times` are written here (sheet runs only).
+    pub dir: Option<PathBuf>,
+    /// File-name prefix for written files (default `"sheet"`).
+    pub prefix: Option<String>,
+}
+
+impl Outputs {
+    /// Series at `times`, no profiles, no files.
+    pub fn at(times: &[f64]) -> Self {
+        Self {
+            times: times.to_vec(),
+            ..Default::default()
+        }
+    }
+}
+
+/// Why a run could not start. (Integrator failures do not raise this: they are reported in
+/// [`RunRecord::error`] together with everything computed before the failure.)
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// Invalid configuration (names the key and its valid range).
+    #[error("invalid configuration: {0}")]
+    Config(#[from] ConfigError),
+    /// Invalid output request.
+    #[error("invalid output request: {0}")]
+    Outputs(String),
+    /// Writing output files failed.
+    #[error("writing {path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The error.
+        source: std::io::Error,
+    },
+}
+
+fn cfg_err(key: &str, value: impl ToString, expected: &str) -> RunError {
+    RunError::Config(ConfigError {
+        key: key.into(),
+        value: value.to_string(),
+        expected: expected.into(),
+    })
+}
+
+/// All output times (series ∪ profiles), sorted and deduplicated, after checking them.
+fn all_times(out: &Outputs) -> Result<Vec<f64>, RunError> {
+    let mut t: Vec<f64> = out.times.iter().chain(&out.profile_times).copied().collect();
+    if let Some(bad) = t.iter().find(|v| !(v.is_finite() && **v >= 0.0)) {
+        return Err(RunError::Outputs(format!(
+            "output time {bad} must be finite and >= 0"
+        )));
+    }
+    t.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    t.dedup();
+    Ok(t)
+}
+
+fn contains(ts: &[f64], t: f64) -> bool {
+    ts.iter().any(|&s| s == t)
+}
+
+/// Integrates a cell array from `t = 0` and returns the states at `times` (`t = 0` answered from
+/// `y0` without integrating). On failure returns the partial solution and the error message.
+pub fn integrate<A: CellArray>(
+    problem: &mut ArrayProblem<A>,
+    y0: &[f64],
+    times: &[f64],
+    solver: &SolverSettings,
+) -> (Vec<(f64, Vec<f64>)>, Stats, Option<String>) {
+    let mut states = Vec::new();
+    if contains(times, 0.0) {
+        states.push((0.0, y0.to_vec()));
+    }
+    let t_out: Vec<f64> = times.iter().copied().filter(|&t| t > 0.0).collect();
+    if t_out.is_empty() {
+        return (states, Stats::default(), None);
+    }
+    let result: Result<Solution, SolveFailure> = solve(problem, y0, &t_out, solver);
+    match result {
+        Ok(sol) => {
+            states.extend(sol.t.into_iter().zip(sol.y));
+            (states, sol.stats, None)
+        }
+        Err(fail) => {
+            let p = *fail.partial;
+            states.extend(p.t.into_iter().zip(p.y));
+            (states, p.stats, Some(fail.error.to_string()))
+        }
+    }
+}
+
+/// The integrator call.
+fn solve<A: CellArray>(
+    problem: &mut ArrayProblem<A>,
+    y0: &[f64],
+    t_out: &[f64],
+    solver: &SolverSettings,
+) -> Result<Solution, SolveFailure> {
+    Solver::new(solver.method, solver.options.clone()).solve(problem, 0.0, y0, t_out)
+}
+
+fn run_stats(s: &Stats, wall: f64) -> RunStats {
+    let mut r = RunStats {
+        steps: s.steps,
+        residual_calls: s.residual_calls,
+        jacobians: s.jacobian_evals,
+        wall_seconds: wall,
+        ..Default::default()
+    };
+    for (k, v) in [
+        ("rejected_steps", s.rejected_steps),
+        ("error_test_failures", s.error_test_failures),
+        ("newton_failures", s.newton_failures),
+        ("directional_calls", s.directional_calls),
+        ("factorizations", s.factorizations),
+        ("symbolic_factorizations", s.symbolic_factorizations),
+        ("linear_solves", s.linear_solves),
+        ("newton_iterations", s.newton_iterations),
+    ] {
+        r.extra.insert(k.into(), v as f64);
+    }
+    r
+}
+
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
+    move |source| RunError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// Runs the uniaxial sheet (MODEL.md §4.1–4.3).
+///
+/// * `model`: [`ModelKind::Discrete`] (`N × M` cells) or [`ModelKind::Continuum`] (conservative
+///   scheme on `grid = (n, m)`; default `(2N, 2M)`). `grid` with a discrete model must be `None`
+///   or `(N, M)`.
+/// * `solver`: method and tolerances (`atol` in cell units, scaled by `h_X`, `h_Y`).
+/// * `out`: series/profile times and an optional directory for `.vtu`/`.pvd`/`.png` files.
+///
+/// Series extra keys: `mean_pressure`, `mean_height`, `mean_stretch_z_over_y`,
+/// `boundary_mismatch_mean`, `boundary_mismatch_max`, `max_stretch_y`, `min_stretch_y`.
+pub fn run_sheet<E: StrainEnergy>(
+    cfg: &SheetConfig,
+    law: &E,
+    model: ModelKind,
+    grid: Option<(usize, usize)>,
+    solver: &SolverSettings,
+    out: &Outputs,
+) -> Result<RunRecord, RunError> {
+    cfg.validate()?;
+    solver
+        .options
+        .validate()
+        .map_err(|e| cfg_err("solver", "options", &e))?;
+    let (n, m) = match (model, grid) {
+        (ModelKind::Discrete, None) => (cfg.cells_x, cfg.cells_y),
+        (ModelKind::Discrete, Some(g)) if g == (cfg.cells_x, cfg.cells_y) => g,
+        (ModelKind::Discrete, Some(g)) => {
+            return Err(cfg_err(
+                "grid",
+                format!("{g:?}"),
+                "a discrete sheet has the grid (cells_x, cells_y); use model = continuum",
+            ))
+        }
+        (ModelKind::Continuum, None) => (2 * cfg.cells_x, 2 * cfg.cells_y),
+        (ModelKind::Continuum, Some((a, b))) if a >= 1 && b >= 1 => (a, b),
+        (ModelKind::Continuum, Some(g)) => {
+            return Err(cfg_err("grid", format!("{g:?}"), "both sizes must be >= 1"))
+        }
+    };
+    let times = all_times(out)?;
+    let sheet = UniaxialSheet::continuum(law, &cfg.params(), n, m)
+        .map_err(|e| cfg_err("sheet", "", &e.to_string()))?
+        .with_cell_atol(solver.options.atol);
+    let y0 = sheet.initial_state();
+    let mut problem = ArrayProblem::new(sheet);
+    let start = Instant::now();
+    let (states, stats, error) = integrate(&mut problem, &y0, &times, solver);
+    let wall = start.elapsed().as_secs_f64();
+    let sheet = &problem.array;
+
+    let mut series = Series::default();
+    let mut profiles = Vec::new();
+    let prefix = out.prefix.clone().unwrap_or_else(|| "sheet".into());
+    let mut pvd = Vec::new();
+    if let Some(d) = &out.dir {
+        std::fs::create_dir_all(d).map_err(io_err(d))?;
+    }
+    for (t, y) in &states {
+        let cells = sheet.cells(*t, y);
+        if contains(&out.times, *t) {
+            push_sheet_series(&mut series, &sheet_observables(sheet, *t, y, &cells));
+        }
+        if contains(&out.profile_times, *t) {
+            profiles.push(sheet_profile(*t, &cells));
+            if let Some(d) = &out.dir {
+                let i = pvd.len();
+                let name = format!("{prefix}_{i:04}.vtu");
+                let path = d.join(&name);
+                vtk::write_vtu(&path, *t, &cells).map_err(io_err(&path))?;
+                pvd.push((*t, name));
+                let png = d.join(format!("{prefix}_pressure_{i:04}.png"));
+                let title = format!("pressure, t = {t}");
+                plot::write_sheet_png(&png, &cells, &title, None)
+                    .map_err(|e| RunError::Io {
+                        path: png.clone(),
+                        source: std::io::Error::other(e.to_string()),
+                    })?;
+            }
+        }
+    }
+    if let Some(d) = &out.dir {
+        if !pvd.is_empty() {
+            let path = d.join(format!("{prefix}.pvd"));
+            vtk::write_pvd(&path, &pvd).map_err(io_err(&path))?;
+        }
+    }
+    let parameters = serde_json::json!({
+        "config": cfg,
+        "drag_K": cfg.drag(),
+        "grid": [n, m],
+        "spacing": [sheet.spacing().0, sheet.spacing().1],
+        "shear_modulus": law.shear_modulus(),
+        "method": solver.method.name(),
+        "rtol": solver.options.rtol,
+        "atol": solver.options.atol,
+    });
+    let label = format!(
+        "{} sheet {}x{} {:?} m={} K={}",
+        match model {
+            ModelKind::Discrete => "discrete",
+            ModelKind::Continuum => "continuum",
+        },
+        n,
+        m,
+        cfg.top,
+        cfg.drag_exponent,
+        cfg.drag()
+    )
+    .to_lowercase();
+    Ok(RunRecord {
+        label,
+        model,
+        parameters,
+        series,
+        profiles,
+        stats: run_stats(&stats, wall),
+        divisions: Vec::new(),
+        error,
+    })
+}
+
+/// Runs the shear column (MODEL.md §4.4–4.6).
+///
+/// * `model`: discrete (`M` cells, edge or cell-centre form per `cfg.form`) or continuum
+///   (edge-form conservative scheme on `grid` segments, default `4M`; cell-centre form is
+///   discrete only).
+///
+/// Series: `length` = top displacement, `max/min_stretch` = `max/min tan θ`; extra keys
+/// `top_displacement`, `shear_spread` (max − min tan θ), `mean_shear_angle`. Profiles against the
+/// reference height: `stretch` = `tan θ`, extra `theta`, `tau`, `x_edge`.
+pub fn run_shear<E: StrainEnergy>(
+    cfg: &ShearConfig,
+    law: &E,
+    model: ModelKind,
+    grid: Option<usize>,
+    solver: &SolverSettings,
+    out: &Outputs,
+) -> Result<RunRecord, RunError> {
+    cfg.validate()?;
+    solver
+        .options
+        .validate()
+        .map_err(|e| cfg_err("solver", "options", &e))?;
+    let times = all_times(out)?;
+    let params = cfg.params();
+    let m = match (model, grid, cfg.form) {
+        (ModelKind::Continuum, _, ShearForm::CellCentre) => {
+            return Err(cfg_err(
+                "form",
+                "cell_centre",
+                "the cell-centre form is discrete only; use form = \"edge\" for the continuum",
+            ))
+        }
+        (ModelKind::Discrete, None, _) => cfg.cells,
+        (ModelKind::Discrete, Some(g), _) if g == cfg.cells => g,
+        (ModelKind::Discrete, Some(g), _) => {
+            return Err(cfg_err("grid", g, "a discrete column has grid = cells"))
+        }
+        (ModelKind::Continuum, None, _) => 4 * cfg.cells,
+        (ModelKind::Continuum, Some(g), _) if g >= 1 => g,
+        (ModelKind::Continuum, Some(g), _) => return Err(cfg_err("grid", g, "must be >= 1")),
+    };
+    let start = Instant::now();
+    let bad = |e: super::shear::ShearBuildError| cfg_err("shear", "", &e.to_string());
+    let (states, stats, error, fields): (_, _, _, Box<dyn Fn(&[f64]) -> ShearFields + '_>) =
+        match cfg.form {
+            ShearForm::Edge => {
+                let col = ShearColumn::continuum(law, &params, m).map_err(bad)?;
+                let y0 = col.initial_state();
+                let mut problem = ArrayProblem::new(col);
+                let (s, st, e) = integrate(&mut problem, &y0, &times, solver);
+                let col = problem.array;
+                (s, st, e, Box::new(move |y| col.fields(y)))
+            }
+            ShearForm::CellCentre => {
+                let col = ShearCellCentre::new(law, &params).map_err(bad)?;
+                let y0 = col.initial_state();
+                let mut problem = ArrayProblem::new(col);
+                let (s, st, e) = integrate(&mut problem, &y0, &times, solver);
+                let col = problem.array;
+                (s, st, e, Box::new(move |y| col.fields(y)))
+            }
+        };
+    let wall = start.elapsed().as_secs_f64();
+    let mut series = Series::default();
+    let mut profiles = Vec::new();
+    for (t, y) in &states {
+        let f = fields(y);
+        if contains(&out.times, *t) {
+            push_shear_series(&mut series, &shear_observables(*t, &f));
+        }
+        if contains(&out.profile_times, *t) {
+            profiles.push(shear_profile(*t, &f));
+        }
+    }
+    let parameters = serde_json::json!({
+        "config": cfg,
+        "drag_K": cfg.drag(),
+        "grid": m,
+        "shear_modulus": law.shear_modulus(),
+        "method": solver.method.name(),
+        "rtol": solver.options.rtol,
+        "atol": solver.options.atol,
+    });
+    let label = format!(
+        "{} shear M={} m={} {:?}",
+        match model {
+            ModelKind::Discrete => "discrete",
+            ModelKind::Continuum => "continuum",
+        },
+        cfg.cells,
+        m,
+        cfg.form
+    )
+    .to_lowercase();
+    Ok(RunRecord {
+        label,
+        model,
+        parameters,
+        series,
+        profiles,
+        stats: run_stats(&stats, wall),
+        divisions: Vec::new(),
+        error,
+    })
+}

@@ -1,0 +1,337 @@
+//! The simple-shear column (MODEL.md §1.5, §4.4–4.6).
+//!
+//! * [`ShearColumn`] — the canonical **edge form**: state `x_{e,k}`, the x-position of the top
+//!   edge of cell `k` (base `x_{e,0} = 0` fixed), `T_k = (x_{e,k} − x_{e,k−1})/h`,
+//!   `D ẋ_{e,k} = β₀(τ_{k+1} − τ_k)` and `D ẋ_{e,m} = F_A − β₀ τ_m`; tridiagonal Jacobian. On `M`
+//!   cells (`h = γ₀`, `D = K`) it is the discrete model; on `m` segments (`h = Mγ₀/m`,
+//!   `D = K h/γ₀`) it is the conservative scheme for `K x_t = β₀γ₀ ∂_y(τ(x_y))`.
+//! * [`ShearCellCentre`] — the thesis's cell-centre form (4.85)–(4.98): state `x_{c,k}`,
+//!   `K_th ẋ_{c,k} = F_{k−1/2} + F_{k+1/2}` with `F_{1/2} = 0`, edges rebuilt by the alternating
+//!   sums `x_{e,k} = 2x_{c,k} − x_{e,k−1}`. Every `T_k` depends on all centres below it, so the
+//!   Jacobian is dense lower-Hessenberg (declared [`Pattern::Dense`]: fine for the small `M` of
+//!   the thesis, `O(M³)` per factorisation). It is exactly the edge form with `K = K_th/2`.
+
+use crate::array::CellArray;
+use crate::energy::StrainEnergy;
+use crate::scalar::Scalar;
+use integrators::{Pattern, ResidualError};
+use num_dual::Dual64;
+
+/// Physical parameters of the shear column (MODEL.md §4.4).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShearParams {
+    /// Number of cells `M` (so `w₀ = Mγ₀`).
+    pub cells: usize,
+    /// Planar aspect ratio `γ₀` (cell height in the column's y direction).
+    pub gamma0: f64,
+    /// Height aspect ratio `β₀` (each x-face has area `β₀`).
+    pub beta0: f64,
+    /// Drag per edge `K` (edge form; `K = K_th/2`).
+    pub drag: f64,
+    /// Applied shear force `F_A` on the top edge.
+    pub force: f64,
+}
+
+impl Default for ShearParams {
+    /// `M = 10`, `γ₀ = β₀ = 1`, `K = ½` (`K_th = 1`), `F_A = 1` (MODEL.md §5.6).
+    fn default() -> Self {
+        Self {
+            cells: 10,
+            gamma0: 1.0,
+            beta0: 1.0,
+            drag: 0.5,
+            force: 1.0,
+        }
+    }
+}
+
+/// Per-cell shear quantities in `f64`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ShearFields {
+    /// Reference centre heights `y` of the cells (or segments).
+    pub y_ref: Vec<f64>,
+    /// Edge positions `x_{e,0..m}` (length `m + 1`, `x_{e,0} = 0`).
+    pub x_edge: Vec<f64>,
+    /// Centre positions `x_{c,k} = (x_{e,k−1} + x_{e,k})/2`.
+    pub x_centre: Vec<f64>,
+    /// Amount of shear `T_k = tan θ_k`.
+    pub tan_theta: Vec<f64>,
+    /// Shear angle `θ_k` (radians).
+    pub theta: Vec<f64>,
+    /// Shear stress `σ₁₂ = τ(T_k)`.
+    pub tau: Vec<f64>,
+    /// Pressure from `σ₂₂ = 0` (`= μ` for neo-Hookean).
+    pub pressure: Vec<f64>,
+}
+
+/// Pressure of a simple-shear cell from `σ₂₂ = 0` (MODEL.md §1.5): with principal stretches
+/// `λ± = √(1+T²/4) ± T/2`, `λ₃ = 1`, principal stresses `t_i = λ_i ∂W/∂λ_i` and Eulerian
+/// principal directions `n±` (eigenvectors of `B = FFᵀ`), `p = t₊ n₊,₂² + t₋ n₋,₂²`.
+/// Neo-Hookean gives `p = μ`.
+pub fn shear_pressure<E: StrainEnergy>(law: &E, t: f64) -> f64 {
+    let s = (1.0 + 0.25 * t * t).sqrt();
+    let (lp, lm) = (s + 0.5 * t, s - 0.5 * t);
+    let d = |i: usize| {
+        let mut l = [Dual64::from(lp), Dual64::from(lm), Dual64::from(1.0)];
+        l[i].eps = 1.0;
+        law.energy(l).eps
+    };
+    let (tp, tm) = (lp * d(0), lm * d(1));
+    // B = [[1+T², T], [T, 1]]; eigenvector for eigenvalue λ² is (T, λ² − 1 − T²) or (λ² − 1, T).
+    let n2 = |lam2: f64| {
+        let v = (lam2 - 1.0, t);
+        let nrm = (v.0 * v.0 + v.1 * v.1).sqrt();
+        if nrm == 0.0 {
+            None
+        } else {
+            Some((v.1 / nrm).powi(2))
+        }
+    };
+    match (n2(lp * lp), n2(lm * lm)) {
+        (Some(a), Some(b)) => tp * a + tm * b,
+        // T = 0: B = I, any basis; σ₂₂ = t₂ − p with t₂ the in-plane stretch stress (both equal).
+        _ => tm,
+    }
+}
+
+/// The canonical edge form of the shear column as a [`CellArray`] (tridiagonal Jacobian).
+///
+/// ```ignore
+/// use celltissue::sheet::shear::{ShearColumn, ShearParams};
+/// let col = ShearColumn::discrete(NeoHookean::new(1.0)?, &ShearParams::default())?;
+/// ```
+pub struct ShearColumn<E: StrainEnergy> {
+    law: E,
+    params: ShearParams,
+    m: usize,
+    h: f64,
+    edge_drag: f64,
+}
+
+/// Why a shear column could not be built.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ShearBuildError {
+    /// A parameter is out of range.
+    #[error("{key} = {value} is out of range: {expected}")]
+    Range {
+        /// Parameter name.
+        key: &'static str,
+        /// Offending value.
+        value: f64,
+        /// Valid range.
+        expected: &'static str,
+    },
+}
+
+fn check_params(p: &ShearParams, m: usize) -> Result<(), ShearBuildError> {
+    let bad = |key, value, expected| Err(ShearBuildError::Range { key, value, expected });
+    if p.cells < 1 {
+        return bad("cells", p.cells as f64, ">= 1");
+    }
+    if m < 1 {
+        return bad("grid m", m as f64, ">= 1");
+    }
+    if !(p.gamma0 > 0.0 && p.gamma0.is_finite()) {
+        return bad("gamma0", p.gamma0, "> 0");
+    }
+    if !(p.beta0 > 0.0 && p.beta0.is_finite()) {
+        return bad("beta0", p.beta0, "> 0");
+    }
+    if !(p.drag > 0.0 && p.drag.is_finite()) {
+        return bad("drag", p.drag, "> 0");
+    }
+    if !p.force.is_finite() {
+        return bad("force", p.force, "finite");
+    }
+    Ok(())
+}
+
+impl<E: StrainEnergy> ShearColumn<E> {
+    /// The discrete column of `M` cells.
+    pub fn discrete(law: E, params: &ShearParams) -> Result<Self, ShearBuildError> {
+        Self::continuum(law, params, params.cells)
+    }
+
+    /// The conservative continuum scheme on `m` segments of height `h = Mγ₀/m`, edge drag
+    /// `K h/γ₀` (MODEL.md §4.6). With `m = M` this is the discrete model.
+    pub fn continuum(law: E, params: &ShearParams, m: usize) -> Result<Self, ShearBuildError> {
+        check_params(params, m)?;
+        let h = params.cells as f64 * params.gamma0 / m as f64;
+        Ok(Self {
+            law,
+            params: params.clone(),
+            m,
+            h,
+            edge_drag: params.drag * h / params.gamma0,
+        })
+    }
+
+    /// The physical parameters.
+    pub fn params(&self) -> &ShearParams {
+        &self.params
+    }
+    /// Number of cells or segments.
+    pub fn segments(&self) -> usize {
+        self.m
+    }
+    /// Segment height `h`.
+    pub fn spacing(&self) -> f64 {
+        self.h
+    }
+    /// The law.
+    pub fn law(&self) -> &E {
+        &self.law
+    }
+    /// Initial state `x_e ≡ 0` (MODEL.md §4.4, (4.89)).
+    pub fn initial_state(&self) -> Vec<f64> {
+        vec![0.0; self.m]
+    }
+
+    /// Per-cell fields from the edge state `y = x_{e,1..m}`.
+    pub fn fields(&self, y: &[f64]) -> ShearFields {
+        let mut xe = Vec::with_capacity(self.m + 1);
+        xe.push(0.0);
+        xe.extend_from_slice(y);
+        fields_from_edges(&self.law, &xe, self.h)
+    }
+}
+
+/// Per-cell fields from edge positions `x_{e,0..m}` and segment height `h`.
+pub fn fields_from_edges<E: StrainEnergy>(law: &E, xe: &[f64], h: f64) -> ShearFields {
+    let m = xe.len() - 1;
+    let mut f = ShearFields {
+        x_edge: xe.to_vec(),
+        ..Default::default()
+    };
+    for k in 1..=m {
+        let t = (xe[k] - xe[k - 1]) / h;
+        f.y_ref.push((k as f64 - 0.5) * h);
+        f.x_centre.push(0.5 * (xe[k] + xe[k - 1]));
+        f.tan_theta.push(t);
+        f.theta.push(t.atan());
+        f.tau.push(law.shear(t).tau);
+        f.pressure.push(shear_pressure(law, t));
+    }
+    f
+}
+
+impl<E: StrainEnergy> CellArray for ShearColumn<E> {
+    fn dim(&self) -> usize {
+        self.m
+    }
+
+    fn pattern(&self) -> Pattern {
+        Pattern::Banded { lower: 1, upper: 1 }
+    }
+
+    fn residual<S: Scalar>(&self, _t: f64, y: &[S], yp: &[S], r: &mut [S]) -> Result<(), ResidualError> {
+        let m = self.m;
+        let b0 = self.params.beta0;
+        let inv_h = 1.0 / self.h;
+        let tau = |k: usize| -> S {
+            // cell k = 1..m between edges k−1 and k
+            let lo = if k == 1 { S::from(0.0) } else { y[k - 2] };
+            let tt = (y[k - 1] - lo) * inv_h;
+            let s = self.law.shear(tt.re());
+            tt.lift(s.tau, s.dtau)
+        };
+        let mut below = tau(1);
+        for k in 1..=m {
+            let force = if k < m {
+                let above = tau(k + 1);
+                let f = (above - below) * b0;
+                below = above;
+                f
+            } else {
+                -below * b0 + self.params.force
+            };
+            r[k - 1] = yp[k - 1] * self.edge_drag - force;
+        }
+        Ok(())
+    }
+}
+
+/// The thesis's cell-centre form of the shear column (MODEL.md §4.5), for comparison only.
+///
+/// State `x_{c,1..M}`; drag coefficient `K_th` (`= 2K`). Dense Jacobian: use small `M`.
+pub struct ShearCellCentre<E: StrainEnergy> {
+    law: E,
+    params: ShearParams,
+    k_th: f64,
+}
+
+impl<E: StrainEnergy> ShearCellCentre<E> {
+    /// Builds the cell-centre form with `K_th = 2 params.drag` (so it matches the edge form with
+    /// the same `params`).
+    pub fn new(law: E, params: &ShearParams) -> Result<Self, ShearBuildError> {
+        check_params(params, params.cells)?;
+        Ok(Self {
+            law,
+            params: params.clone(),
+            k_th: 2.0 * params.drag,
+        })
+    }
+
+    /// The thesis drag coefficient `K_th`.
+    pub fn k_th(&self) -> f64 {
+        self.k_th
+    }
+
+    /// Initial state `x_c ≡ 0` ((4.89); the thesis's (4.98f) `x_c = ½` is inconsistent, §7).
+    pub fn initial_state(&self) -> Vec<f64> {
+        vec![0.0; self.params.cells]
+    }
+
+    /// Edge positions `x_{e,0..M}` from centres by the alternating sums (4.93)–(4.95).
+    pub fn edges<S: Scalar>(xc: &[S]) -> Vec<S> {
+        let mut xe = Vec::with_capacity(xc.len() + 1);
+        xe.push(S::from(0.0));
+        for (k, &c) in xc.iter().enumerate() {
+            let prev = xe[k];
+            xe.push(c * 2.0 - prev);
+        }
+        xe
+    }
+
+    /// Per-cell fields from the centre state.
+    pub fn fields(&self, xc: &[f64]) -> ShearFields {
+        fields_from_edges(&self.law, &Self::edges(xc), self.params.gamma0)
+    }
+}
+
+impl<E: StrainEnergy> CellArray for ShearCellCentre<E> {
+    fn dim(&self) -> usize {
+        self.params.cells
+    }
+
+    fn pattern(&self) -> Pattern {
+        Pattern::Dense
+    }
+
+    fn residual<S: Scalar>(&self, _t: f64, y: &[S], yp: &[S], r: &mut [S]) -> Result<(), ResidualError> {
+        let m = self.params.cells;
+        let b0 = self.params.beta0;
+        let xe = Self::edges(y);
+        let tau: Vec<S> = (1..=m)
+            .map(|k| {
+                let tt = (xe[k] - xe[k - 1]) * (1.0 / self.params.gamma0);
+                let s = self.law.shear(tt.re());
+                tt.lift(s.tau, s.dtau)
+            })
+            .collect();
+        // F_{k+1/2}, k = 0..m: F_{1/2} = 0, F_{k+1/2} = β₀(τ_{k+1} − τ_k), F_{m+1/2} = F_A − β₀τ_m
+        let face = |k: usize| -> S {
+            if k == 0 {
+                S::from(0.0)
+            } else if k < m {
+                (tau[k] - tau[k - 1]) * b0
+            } else {
+                -tau[m - 1] * b0 + self.params.force
+            }
+        };
+        for k in 1..=m {
+            r[k - 1] = yp[k - 1] * self.k_th - (face(k - 1) + face(k));
+        }
+        Ok(())
+    }
+}

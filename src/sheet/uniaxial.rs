@@ -1,0 +1,545 @@
+//! The uniaxial sheet as a [`CellArray`] (MODEL.md §4.1–4.3).
+//!
+//! **Unknowns, column by column.** For every column of cells `j = 1..n`: first the `m` y-face
+//! positions of that column (`y_b(j, 1..m)` for a free top, `y_b(j, 0..m−1)` when periodic), then
+//! (for `j < n`) the `m` x-face positions `x_b(j, 1..m)` between columns `j` and `j + 1`. Every
+//! equation touches only its own and the neighbouring column blocks, so the Jacobian is
+//! block-tridiagonal with blocks of size `2m`; it is declared as a [`Pattern::Sparse`] built from
+//! its entries (no dense `dim × dim` matrix anywhere).
+//!
+//! **Equations** (per face, primes = neighbouring cell; `D = K h_X h_Y / γ₀` is the per-face drag,
+//! `= K` for the discrete model):
+//! `D κ ẋ_b(j,k) = H W (σ₁₁' − σ₁₁)`, `D κ ẏ_b(j,k) = H L (σ₂₂' − σ₂₂)`, and for a free top
+//! `D κ ẏ_b(j,m) = −H L σ₂₂(j,m)` with the top cell's own `H`, `L`.
+
+use super::config::TopBoundary;
+use super::ramp::Ramp;
+use super::lift2;
+use crate::array::CellArray;
+use crate::energy::{SheetResponse, StrainEnergy};
+use crate::scalar::Scalar;
+use integrators::{Pattern, ResidualError, SparsityPattern};
+use std::cell::RefCell;
+use std::sync::Arc;
+
+/// Physical parameters of a sheet (MODEL.md §0.3, §4.1). The grid is chosen separately
+/// ([`UniaxialSheet::discrete`] or [`UniaxialSheet::continuum`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SheetParams {
+    /// Number of cells in x, `N` (so `l₀ = N`).
+    pub cells_x: usize,
+    /// Number of rows of cells in y, `M` (so `w₀ = M γ₀`).
+    pub cells_y: usize,
+    /// Planar aspect ratio `γ₀ = W₀/L₀`.
+    pub gamma0: f64,
+    /// Height aspect ratio `β₀ = H₀/L₀`.
+    pub beta0: f64,
+    /// Substrate drag per boundary `K` (boundary form; `K = K_th/2`, MODEL.md §4.2).
+    pub drag: f64,
+    /// Drag–area exponent `m` in `κ = (λ₁λ₂)^m`.
+    pub drag_exponent: f64,
+    /// Fractional shortening `k₁` of the prescribed edge.
+    pub k1: f64,
+    /// Ramp shape of `l(t)`.
+    pub ramp: Ramp,
+    /// Free (zero-traction) or periodic side `y = w₀`.
+    pub top: TopBoundary,
+}
+
+impl Default for SheetParams {
+    /// The thesis defaults: `N = M = 10`, `γ₀ = β₀ = 1`, `K = ½` (`K_th = 1`), `m = 0`,
+    /// `k₁ = 0.1`, exponential ramp, free top.
+    fn default() -> Self {
+        Self {
+            cells_x: 10,
+            cells_y: 10,
+            gamma0: 1.0,
+            beta0: 1.0,
+            drag: 0.5,
+            drag_exponent: 0.0,
+            k1: 0.1,
+            ramp: Ramp::default(),
+            top: TopBoundary::Free,
+        }
+    }
+}
+
+/// Per-cell quantities in `f64`, for observers and writers.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SheetCell {
+    /// Column index `j = 1..n`.
+    pub j: usize,
+    /// Row index `k = 1..m`.
+    pub k: usize,
+    /// Cell extent in x: `[x_b(j−1,k), x_b(j,k)]`.
+    pub x: [f64; 2],
+    /// Cell extent in y: `[y_b(j,k−1), y_b(j,k)]`.
+    pub y: [f64; 2],
+    /// Reference centre `(X, Y)`.
+    pub reference: [f64; 2],
+    /// Stretches `λ₁, λ₂, λ₃`.
+    pub stretch: [f64; 3],
+    /// Height `H = β₀ λ₃`.
+    pub height: f64,
+    /// Pressure `p = λ₃ W₃`.
+    pub pressure: f64,
+    /// `σ₁₁`.
+    pub s11: f64,
+    /// `σ₂₂`.
+    pub s22: f64,
+    /// Drag factor `κ = (λ₁λ₂)^m`.
+    pub kappa: f64,
+}
+
+/// The state of one cell inside a residual evaluation.
+#[derive(Clone, Copy)]
+struct CellS<S> {
+    l1: S,
+    l2: S,
+    h: S,
+    kappa: S,
+    s11: S,
+    s22: S,
+}
+
+/// A uniaxial sheet of `n × m` cells (or continuum segments) as a [`CellArray`].
+///
+/// ```ignore
+/// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+/// let sheet = UniaxialSheet::discrete(NeoHookean::new(1.0), &SheetParams::default())?;
+/// let y0 = sheet.initial_state();
+/// let problem = celltissue::ArrayProblem::new(sheet);
+/// ```
+pub struct UniaxialSheet<E: StrainEnergy> {
+    law: E,
+    params: SheetParams,
+    n: usize,
+    m: usize,
+    hx: f64,
+    hy: f64,
+    face_drag: f64,
+    pattern: Pattern,
+    /// Per-cell response cache keyed by the exact `(λ₁, λ₂)` values: all colours of one AD
+    /// Jacobian share the real parts, so the law is evaluated once per cell per Jacobian.
+    cache: RefCell<Vec<(f64, f64, SheetResponse)>>,
+    atol_cell: Option<f64>,
+}
+
+/// Why a sheet could not be built.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SheetBuildError {
+    /// A parameter is out of range.
+    #[error("{key} = {value} is out of range: {expected}")]
+    Range {
+        /// Parameter name.
+        key: &'static str,
+        /// Offending value.
+        value: f64,
+        /// Valid range.
+        expected: &'static str,
+    },
+}
+
+fn check(ok: bool, key: &'static str, value: f64, expected: &'static str) -> Result<(), SheetBuildError> {
+    if ok {
+        Ok(())
+    } else {
+        Err(SheetBuildError::Range {
+            key,
+            value,
+            expected,
+        })
+    }
+}
+
+impl<E: StrainEnergy> UniaxialSheet<E> {
+    /// The discrete model: `N × M` cells of reference size `1 × γ₀`.
+    pub fn discrete(law: E, params: &SheetParams) -> Result<Self, SheetBuildError> {
+        Self::continuum(law, params, params.cells_x, params.cells_y)
+    }
+
+    /// The conservative continuum scheme on an `n × m` grid (MODEL.md §4.3): reference cells
+    /// `h_X = N/n`, `h_Y = Mγ₀/m`, per-face drag `K h_X h_Y/γ₀`. With `n = N`, `m = M` this is the
+    /// discrete model.
+    pub fn continuum(law: E, params: &SheetParams, n: usize, m: usize) -> Result<Self, SheetBuildError> {
+        let p = params;
+        check(p.cells_x >= 1, "cells_x", p.cells_x as f64, ">= 1")?;
+        check(p.cells_y >= 1, "cells_y", p.cells_y as f64, ">= 1")?;
+        check(n >= 1, "grid n", n as f64, ">= 1")?;
+        check(m >= 1, "grid m", m as f64, ">= 1")?;
+        check(p.gamma0 > 0.0 && p.gamma0.is_finite(), "gamma0", p.gamma0, "> 0")?;
+        check(p.beta0 > 0.0 && p.beta0.is_finite(), "beta0", p.beta0, "> 0")?;
+        check(p.drag >= 0.0 && p.drag.is_finite(), "drag", p.drag, ">= 0")?;
+        check(p.drag_exponent.is_finite(), "drag_exponent", p.drag_exponent, "finite")?;
+        check(p.k1 < 1.0 && p.k1 > -1.0, "k1", p.k1, "(-1, 1)")?;
+        check(p.ramp.t_ramp() > 0.0, "t_ramp", p.ramp.t_ramp(), "> 0")?;
+        check(
+            !(p.top == TopBoundary::Periodic && p.drag == 0.0),
+            "drag",
+            p.drag,
+            "> 0 for a periodic side (rigid y-translation is a null mode)",
+        )?;
+        let hx = p.cells_x as f64 / n as f64;
+        let hy = p.cells_y as f64 * p.gamma0 / m as f64;
+        let mut s = Self {
+            law,
+            params: p.clone(),
+            n,
+            m,
+            hx,
+            hy,
+            face_drag: p.drag * hx * hy / p.gamma0,
+            pattern: Pattern::Dense,
+            cache: RefCell::new(Vec::new()),
+            atol_cell: None,
+        };
+        s.pattern = Pattern::Sparse(Arc::new(s.build_pattern()));
+        s.cache = RefCell::new(vec![(f64::NAN, f64::NAN, zero_response()); n * m]);
+        Ok(s)
+    }
+
+    /// Sets per-unknown absolute tolerances to `atol × h` (cell-sized units): `h_X` for x-faces,
+    /// `h_Y` for y-faces. Without it the solver's scalar `atol` is used.
+    pub fn with_cell_atol(mut self, atol: f64) -> Self {
+        self.atol_cell = Some(atol);
+        self
+    }
+
+    /// The strain-energy law.
+    pub fn law(&self) -> &E {
+        &self.law
+    }
+    /// The physical parameters.
+    pub fn params(&self) -> &SheetParams {
+        &self.params
+    }
+    /// Grid size `(n, m)` (cells or continuum segments in x and y).
+    pub fn grid(&self) -> (usize, usize) {
+        (self.n, self.m)
+    }
+    /// Reference cell size `(h_X, h_Y)`.
+    pub fn spacing(&self) -> (f64, f64) {
+        (self.hx, self.hy)
+    }
+    /// Reference length `l₀ = N`.
+    pub fn l0(&self) -> f64 {
+        self.params.cells_x as f64
+    }
+    /// Reference width `w₀ = M γ₀`.
+    pub fn w0(&self) -> f64 {
+        self.params.cells_y as f64 * self.params.gamma0
+    }
+    /// The prescribed length `l(t)`.
+    pub fn length(&self, t: f64) -> f64 {
+        self.params.ramp.length(self.l0(), self.params.k1, t)
+    }
+
+    /// Index of the unknown `y_b(j, k)` (`j = 1..n`; `k = 1..m` free top, `k = 0..m−1` periodic).
+    pub fn iy(&self, j: usize, k: usize) -> usize {
+        let base = (j - 1) * 2 * self.m;
+        match self.params.top {
+            TopBoundary::Free => base + k - 1,
+            TopBoundary::Periodic => base + k,
+        }
+    }
+    /// Index of the unknown `x_b(j, k)` (`j = 1..n−1`, `k = 1..m`).
+    pub fn ix(&self, j: usize, k: usize) -> usize {
+        (j - 1) * 2 * self.m + self.m + k - 1
+    }
+
+    /// Whether `y_b(j,k)` is an unknown (else it is the fixed base or the periodic image).
+    fn y_is_unknown(&self, k: usize) -> bool {
+        match self.params.top {
+            TopBoundary::Free => k >= 1,
+            TopBoundary::Periodic => k < self.m,
+        }
+    }
+
+    /// The initial state `x_b = j h_X`, `y_b = k h_Y`.
+    pub fn initial_state(&self) -> Vec<f64> {
+        let mut y = vec![0.0; self.dim()];
+        for j in 1..=self.n {
+            for k in 0..=self.m {
+                if self.y_is_unknown(k) {
+                    y[self.iy(j, k)] = k as f64 * self.hy;
+                }
+            }
+            if j < self.n {
+                for k in 1..=self.m {
+                    y[self.ix(j, k)] = j as f64 * self.hx;
+                }
+            }
+        }
+        y
+    }
+
+    /// `x_b(j, k)` for `j = 0..n` (boundary values included).
+    pub fn xb(&self, y: &[f64], t: f64, j: usize, k: usize) -> f64 {
+        self.xb_s(y, self.length(t), j, k)
+    }
+    /// `y_b(j, k)` for `k = 0..m` (base / periodic image included).
+    pub fn yb(&self, y: &[f64], j: usize, k: usize) -> f64 {
+        self.yb_s(y, j, k)
+    }
+
+    #[inline]
+    fn xb_s<S: Scalar>(&self, y: &[S], lt: f64, j: usize, k: usize) -> S {
+        if j == 0 {
+            S::from(0.0)
+        } else if j == self.n {
+            S::from(lt)
+        } else {
+            y[self.ix(j, k)]
+        }
+    }
+
+    #[inline]
+    fn yb_s<S: Scalar>(&self, y: &[S], j: usize, k: usize) -> S {
+        match self.params.top {
+            TopBoundary::Free => {
+                if k == 0 {
+                    S::from(0.0)
+                } else {
+                    y[self.iy(j, k)]
+                }
+            }
+            TopBoundary::Periodic => {
+                if k == self.m {
+                    y[self.iy(j, 0)] + self.w0()
+                } else {
+                    y[self.iy(j, k)]
+                }
+            }
+        }
+    }
+
+    /// Unknown indices a cell's state depends on.
+    fn cell_deps(&self, j: usize, k: usize, out: &mut Vec<usize>) {
+        for jj in [j - 1, j] {
+            if jj >= 1 && jj < self.n {
+                out.push(self.ix(jj, k));
+            }
+        }
+        for kk in [k - 1, k] {
+            if self.y_is_unknown(kk) {
+                out.push(self.iy(j, kk));
+            } else if self.params.top == TopBoundary::Periodic && kk == self.m {
+                out.push(self.iy(j, 0));
+            }
+        }
+    }
+
+    fn build_pattern(&self) -> SparsityPattern {
+        let mut entries = Vec::with_capacity(self.dim() * 12);
+        let mut deps = Vec::with_capacity(16);
+        let mut add = |row: usize, cells: &[(usize, usize)], entries: &mut Vec<(usize, usize)>| {
+            deps.clear();
+            for &(j, k) in cells {
+                self.cell_deps(j, k, &mut deps);
+            }
+            for &c in deps.iter() {
+                entries.push((row, c));
+            }
+        };
+        for j in 1..=self.n {
+            for k in 0..=self.m {
+                if !self.y_is_unknown(k) {
+                    continue;
+                }
+                let row = self.iy(j, k);
+                match (self.params.top, k) {
+                    (TopBoundary::Free, k) if k == self.m => add(row, &[(j, k)], &mut entries),
+                    (TopBoundary::Periodic, 0) => add(row, &[(j, self.m), (j, 1)], &mut entries),
+                    _ => add(row, &[(j, k), (j, k + 1)], &mut entries),
+                }
+            }
+            if j < self.n {
+                for k in 1..=self.m {
+                    add(self.ix(j, k), &[(j, k), (j + 1, k)], &mut entries);
+                }
+            }
+        }
+        SparsityPattern::from_entries(self.dim(), &entries)
+    }
+
+    /// The law's response at `(λ₁, λ₂)` for cell `c`, cached by exact argument values.
+    #[inline]
+    fn response(&self, c: usize, l1: f64, l2: f64) -> SheetResponse {
+        let mut cache = self.cache.borrow_mut();
+        let e = &mut cache[c];
+        if e.0 == l1 && e.1 == l2 {
+            return e.2;
+        }
+        let r = self.law.sheet(l1, l2);
+        *e = (l1, l2, r);
+        r
+    }
+
+    /// State of cell `(j, k)` inside a residual; errors on a non-positive stretch.
+    #[inline]
+    fn cell_s<S: Scalar>(&self, y: &[S], lt: f64, j: usize, k: usize) -> Result<CellS<S>, ResidualError> {
+        let l1 = (self.xb_s(y, lt, j, k) - self.xb_s(y, lt, j - 1, k)) * (1.0 / self.hx);
+        let l2 = (self.yb_s(y, j, k) - self.yb_s(y, j, k - 1)) * (1.0 / self.hy);
+        let (a, b) = (l1.re(), l2.re());
+        if !(a > 0.0 && a.is_finite()) {
+            let comp = if j < self.n {
+                Some(self.ix(j, k))
+            } else if j > 1 {
+                Some(self.ix(j - 1, k))
+            } else {
+                None
+            };
+            return Err(ResidualError::Recoverable {
+                reason: format!("non-positive stretch λ₁ = {a} in sheet cell (j={j}, k={k})"),
+                component: comp,
+            });
+        }
+        if !(b > 0.0 && b.is_finite()) {
+            let kk = if self.y_is_unknown(k) { k } else { 0 };
+            return Err(ResidualError::Recoverable {
+                reason: format!("non-positive stretch λ₂ = {b} in sheet cell (j={j}, k={k})"),
+                component: Some(self.iy(j, kk)),
+            });
+        }
+        let r = self.response((j - 1) * self.m + (k - 1), a, b);
+        let area = l1 * l2;
+        let kappa = if self.params.drag_exponent == 0.0 {
+            S::from(1.0)
+        } else {
+            area.powf(self.params.drag_exponent)
+        };
+        Ok(CellS {
+            l1,
+            l2,
+            h: area.recip() * self.params.beta0,
+            kappa,
+            s11: lift2(l1, l2, r.s11, r.tangent[0][0], r.tangent[0][1]),
+            s22: lift2(l1, l2, r.s22, r.tangent[1][0], r.tangent[1][1]),
+        })
+    }
+
+    /// Per-cell fields at state `y`, time `t` (column-major: index `(j−1)·m + (k−1)`).
+    pub fn cells(&self, t: f64, y: &[f64]) -> Vec<SheetCell> {
+        let lt = self.length(t);
+        let mut out = Vec::with_capacity(self.n * self.m);
+        for j in 1..=self.n {
+            for k in 1..=self.m {
+                let x = [self.xb_s(y, lt, j - 1, k), self.xb_s(y, lt, j, k)];
+                let yy = [self.yb_s(y, j, k - 1), self.yb_s(y, j, k)];
+                let l1 = (x[1] - x[0]) / self.hx;
+                let l2 = (yy[1] - yy[0]) / self.hy;
+                let l3 = 1.0 / (l1 * l2);
+                let r = if l1 > 0.0 && l2 > 0.0 {
+                    self.law.sheet(l1, l2)
+                } else {
+                    SheetResponse {
+                        s11: f64::NAN,
+                        s22: f64::NAN,
+                        pressure: f64::NAN,
+                        tangent: [[f64::NAN; 2]; 2],
+                    }
+                };
+                out.push(SheetCell {
+                    j,
+                    k,
+                    x,
+                    y: yy,
+                    reference: [(j as f64 - 0.5) * self.hx, (k as f64 - 0.5) * self.hy],
+                    stretch: [l1, l2, l3],
+                    height: self.params.beta0 * l3,
+                    pressure: r.pressure,
+                    s11: r.s11,
+                    s22: r.s22,
+                    kappa: (l1 * l2).powf(self.params.drag_exponent),
+                });
+            }
+        }
+        out
+    }
+}
+
+fn zero_response() -> SheetResponse {
+    SheetResponse {
+        s11: 0.0,
+        s22: 0.0,
+        pressure: 0.0,
+        tangent: [[0.0; 2]; 2],
+    }
+}
+
+impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
+    fn dim(&self) -> usize {
+        (2 * self.n - 1) * self.m
+    }
+
+    fn pattern(&self) -> Pattern {
+        self.pattern.clone()
+    }
+
+    fn residual<S: Scalar>(&self, t: f64, y: &[S], yp: &[S], r: &mut [S]) -> Result<(), ResidualError> {
+        let (n, m) = (self.n, self.m);
+        let lt = self.length(t);
+        let d = self.face_drag;
+        let periodic = self.params.top == TopBoundary::Periodic;
+        let mut cur: Vec<CellS<S>> = Vec::with_capacity(m);
+        let mut next: Vec<CellS<S>> = Vec::with_capacity(m);
+        for k in 1..=m {
+            cur.push(self.cell_s(y, lt, 1, k)?);
+        }
+        for j in 1..=n {
+            // y-faces of column j
+            for k in 0..=m {
+                if !self.y_is_unknown(k) {
+                    continue;
+                }
+                let row = self.iy(j, k);
+                if !periodic && k == m {
+                    let c = &cur[m - 1];
+                    let l = c.l1 * self.hx;
+                    r[row] = yp[row] * (c.kappa * d) + c.h * l * c.s22;
+                    continue;
+                }
+                let (a, b) = if k == 0 {
+                    (&cur[m - 1], &cur[0])
+                } else {
+                    (&cur[k - 1], &cur[k])
+                };
+                let h = (a.h + b.h) * 0.5;
+                let l = (a.l1 + b.l1) * (0.5 * self.hx);
+                let kap = (a.kappa + b.kappa) * 0.5;
+                r[row] = yp[row] * (kap * d) - h * l * (b.s22 - a.s22);
+            }
+            if j < n {
+                next.clear();
+                for k in 1..=m {
+                    next.push(self.cell_s(y, lt, j + 1, k)?);
+                }
+                for k in 1..=m {
+                    let (a, b) = (&cur[k - 1], &next[k - 1]);
+                    let row = self.ix(j, k);
+                    let h = (a.h + b.h) * 0.5;
+                    let w = (a.l2 + b.l2) * (0.5 * self.hy);
+                    let kap = (a.kappa + b.kappa) * 0.5;
+                    r[row] = yp[row] * (kap * d) - h * w * (b.s11 - a.s11);
+                }
+                std::mem::swap(&mut cur, &mut next);
+            }
+        }
+        Ok(())
+    }
+
+    fn atol(&self) -> Option<Vec<f64>> {
+        let a = self.atol_cell?;
+        let mut v = vec![a * self.hy; self.dim()];
+        for j in 1..self.n {
+            for k in 1..=self.m {
+                v[self.ix(j, k)] = a * self.hx;
+            }
+        }
+        Some(v)
+    }
+
+    fn algebraic(&self) -> Vec<bool> {
+        vec![self.params.drag == 0.0; self.dim()]
+    }
+}
