@@ -9,10 +9,14 @@
 #![warn(missing_docs)]
 
 pub mod array;
+pub mod boundary;
+pub mod cell;
 pub mod energy;
+pub mod line;
 pub mod observe;
 pub mod scalar;
 pub mod sheet;
+pub mod substrate;
 
 pub use array::{ArrayProblem, CellArray};
 pub use energy::{

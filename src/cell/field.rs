@@ -1,0 +1,410 @@
+//! Heterogeneous material fields of the reference position `X` (MODEL.md §2.1): `μ(X)`, `η(X)`,
+//! `K(X)`, active amplitude. A [`Field`] is sampled once, at build time, at cell centres
+//! `X_{j−1/2}` (default) or at integer points (the left boundary `X_{j−1}` of each cell;
+//! reproduces the thesis's 2.267, MODEL.md §5.2) — see [`Sampling`].
+
+use serde::{Deserialize, Serialize};
+use std::fmt;
+use std::sync::Arc;
+
+/// A scalar field of the reference position `X ∈ [0, l₀]`.
+///
+/// ```
+/// use celltissue::cell::Field;
+/// // the stiff cluster (2.82): μ = 1 + exp(−(X−l₀/2)²/(2(l₀/10)²))
+/// let mu = Field::gaussian_bump(1.0, 1.0, 0.5, 0.1);
+/// assert!((mu.eval(50.0, 100.0) - 2.0).abs() < 1e-15);
+/// assert_eq!(Field::Constant(3.0).eval(7.0, 100.0), 3.0);
+/// ```
+///
+/// In a scenario file a field is either a number (`mu = 2.0`) or a table with a `type`:
+/// `{ type = "gaussian", base = 1, amplitude = 1, centre = 0.5, width = 0.1 }`,
+/// `{ type = "piecewise", breaks = [0.5], values = [1, 3] }`, `{ type = "per_cell", values = [..] }`,
+/// `{ type = "random", low = 0.5, high = 2, seed = 1 }`, `{ type = "constant", value = 1 }`.
+#[derive(Clone)]
+pub enum Field {
+    /// The same value everywhere.
+    Constant(f64),
+    /// `base + amplitude·exp(−(X − b)²/(2c²))` with `b = centre·l₀`, `c = width·l₀` (2.82:
+    /// base 1, amplitude 1, centre ½, width 1/10).
+    Gaussian {
+        /// Value far from the bump.
+        base: f64,
+        /// Height of the bump.
+        amplitude: f64,
+        /// Centre as a fraction of `l₀`.
+        centre: f64,
+        /// Standard deviation as a fraction of `l₀`.
+        width: f64,
+    },
+    /// Piecewise constant: `values[i]` on `[breaks[i−1], breaks[i])` in units of `X/l₀`
+    /// (`breaks` has one entry fewer than `values`, increasing).
+    Piecewise {
+        /// Interior break points, as fractions of `l₀`.
+        breaks: Vec<f64>,
+        /// One value per piece.
+        values: Vec<f64>,
+    },
+    /// One value per cell (segment), in order; the number must match the cells sampled.
+    PerCell {
+        /// Values.
+        values: Vec<f64>,
+    },
+    /// Independent uniform values in `[low, high]` per sample, from a seeded generator
+    /// (splitmix64; the same seed gives the same field on every platform).
+    Random {
+        /// Lower bound.
+        low: f64,
+        /// Upper bound.
+        high: f64,
+        /// Seed.
+        seed: u64,
+    },
+    /// Any function of `(X, l₀)` (not serialisable; serialises as `"closure"`).
+    Closure(FieldFn),
+}
+
+/// The tagged (table) form of a field in scenario files.
+#[derive(Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+enum TaggedField {
+    Constant {
+        value: f64,
+    },
+    Gaussian {
+        base: f64,
+        amplitude: f64,
+        centre: f64,
+        width: f64,
+    },
+    Piecewise {
+        breaks: Vec<f64>,
+        values: Vec<f64>,
+    },
+    PerCell {
+        values: Vec<f64>,
+    },
+    Random {
+        low: f64,
+        high: f64,
+        seed: u64,
+    },
+}
+
+impl Serialize for Field {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let t = match self.clone() {
+            Field::Constant(v) => return s.serialize_f64(v),
+            Field::Gaussian {
+                base,
+                amplitude,
+                centre,
+                width,
+            } => TaggedField::Gaussian {
+                base,
+                amplitude,
+                centre,
+                width,
+            },
+            Field::Piecewise { breaks, values } => TaggedField::Piecewise { breaks, values },
+            Field::PerCell { values } => TaggedField::PerCell { values },
+            Field::Random { low, high, seed } => TaggedField::Random { low, high, seed },
+            Field::Closure(_) => return s.serialize_str("closure"),
+        };
+        t.serialize(s)
+    }
+}
+
+impl<'de> Deserialize<'de> for Field {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = Field;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a number or a table with `type` = constant | gaussian | piecewise | per_cell | random")
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Field, E> {
+                Ok(Field::Constant(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Field, E> {
+                Ok(Field::Constant(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Field, E> {
+                Ok(Field::Constant(v as f64))
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, m: A) -> Result<Field, A::Error> {
+                let t = TaggedField::deserialize(serde::de::value::MapAccessDeserializer::new(m))?;
+                Ok(match t {
+                    TaggedField::Constant { value } => Field::Constant(value),
+                    TaggedField::Gaussian {
+                        base,
+                        amplitude,
+                        centre,
+                        width,
+                    } => Field::Gaussian {
+                        base,
+                        amplitude,
+                        centre,
+                        width,
+                    },
+                    TaggedField::Piecewise { breaks, values } => {
+                        Field::Piecewise { breaks, values }
+                    }
+                    TaggedField::PerCell { values } => Field::PerCell { values },
+                    TaggedField::Random { low, high, seed } => Field::Random { low, high, seed },
+                })
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// A user field function `f(X, l₀)`.
+#[derive(Clone)]
+pub struct FieldFn(pub Arc<dyn Fn(f64, f64) -> f64 + Send + Sync>);
+
+impl fmt::Debug for Field {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Field::Constant(v) => write!(f, "Constant({v})"),
+            Field::Gaussian {
+                base,
+                amplitude,
+                centre,
+                width,
+            } => write!(
+                f,
+                "Gaussian {{ base: {base}, amplitude: {amplitude}, centre: {centre}, width: {width} }}"
+            ),
+            Field::Piecewise { breaks, values } => {
+                write!(f, "Piecewise {{ breaks: {breaks:?}, values: {values:?} }}")
+            }
+            Field::PerCell { values } => write!(f, "PerCell({} values)", values.len()),
+            Field::Random { low, high, seed } => {
+                write!(f, "Random {{ low: {low}, high: {high}, seed: {seed} }}")
+            }
+            Field::Closure(_) => write!(f, "Closure"),
+        }
+    }
+}
+
+impl PartialEq for Field {
+    fn eq(&self, other: &Self) -> bool {
+        format!("{self:?}") == format!("{other:?}")
+    }
+}
+
+impl Default for Field {
+    fn default() -> Self {
+        Field::Constant(1.0)
+    }
+}
+
+impl From<f64> for Field {
+    fn from(v: f64) -> Self {
+        Field::Constant(v)
+    }
+}
+
+/// Where a field is sampled for each cell.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Sampling {
+    /// Initial cell (segment) centres `X_{j−1/2}` (default).
+    #[default]
+    Centres,
+    /// Integer points: the initial left boundary `X_{j−1}` of each cell (thesis code's grid).
+    IntegerPoints,
+}
+
+/// splitmix64 step (public-domain reference algorithm by S. Vigna).
+fn splitmix64(state: &mut u64) -> u64 {
+    *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    let mut z = *state;
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+impl Field {
+    /// The stiff-cluster bump `base + amplitude·exp(−(X − centre·l₀)²/(2(width·l₀)²))`.
+    pub fn gaussian_bump(base: f64, amplitude: f64, centre: f64, width: f64) -> Self {
+        Field::Gaussian {
+            base,
+            amplitude,
+            centre,
+            width,
+        }
+    }
+
+    /// A field from a closure `f(X, l₀)`.
+    ///
+    /// ```
+    /// use celltissue::cell::Field;
+    /// let f = Field::closure(|x, l0| 1.0 + x / l0);
+    /// assert_eq!(f.eval(50.0, 100.0), 1.5);
+    /// ```
+    pub fn closure(f: impl Fn(f64, f64) -> f64 + Send + Sync + 'static) -> Self {
+        Field::Closure(FieldFn(Arc::new(f)))
+    }
+
+    /// Value at one point `X` for a line of reference length `l0`. `PerCell` and `Random`
+    /// have no pointwise value: they return the first value / the midpoint of the range (use
+    /// [`Field::sample`]).
+    pub fn eval(&self, x: f64, l0: f64) -> f64 {
+        match self {
+            Field::Constant(v) => *v,
+            Field::Gaussian {
+                base,
+                amplitude,
+                centre,
+                width,
+            } => {
+                let b = centre * l0;
+                let c = width * l0;
+                base + amplitude * (-(x - b) * (x - b) / (2.0 * c * c)).exp()
+            }
+            Field::Piecewise { breaks, values } => {
+                let s = x / l0;
+                let i = breaks.iter().take_while(|&&b| s >= b).count();
+                values[i.min(values.len().saturating_sub(1))]
+            }
+            Field::PerCell { values } => values.first().copied().unwrap_or(f64::NAN),
+            Field::Random { low, high, .. } => 0.5 * (low + high),
+            Field::Closure(f) => (f.0)(x, l0),
+        }
+    }
+
+    /// Samples the field at the points `xs` (one per cell) of a line of length `l0`.
+    /// `PerCell` values are resampled (nearest cell by centre) if their count differs from
+    /// `xs.len()` — so a per-cell list given for N cells also drives a continuum grid.
+    pub fn sample(&self, xs: &[f64], l0: f64) -> Vec<f64> {
+        match self {
+            Field::PerCell { values } => {
+                let nv = values.len();
+                if nv == xs.len() || nv == 0 {
+                    return values.clone();
+                }
+                xs.iter()
+                    .map(|&x| {
+                        let i = ((x / l0) * nv as f64).floor();
+                        values[(i.max(0.0) as usize).min(nv - 1)]
+                    })
+                    .collect()
+            }
+            Field::Random { low, high, seed } => {
+                let mut s = *seed;
+                xs.iter()
+                    .map(|_| {
+                        let u = (splitmix64(&mut s) >> 11) as f64 / (1u64 << 53) as f64;
+                        low + (high - low) * u
+                    })
+                    .collect()
+            }
+            _ => xs.iter().map(|&x| self.eval(x, l0)).collect(),
+        }
+    }
+
+    /// Checks the field's own parameters; `key` names it in the message. `positive` demands
+    /// every sampled value be `> 0` (else `≥ 0`).
+    pub fn validate(&self, key: &str, positive: bool) -> Result<(), String> {
+        let bad = |v: f64| !v.is_finite() || if positive { v <= 0.0 } else { v < 0.0 };
+        let range = if positive { "> 0" } else { ">= 0" };
+        match self {
+            Field::Constant(v) if bad(*v) => Err(format!("{key} = {v} must be finite and {range}")),
+            Field::Gaussian {
+                base,
+                amplitude,
+                width,
+                ..
+            } => {
+                if bad(*base) || bad(base + amplitude) {
+                    Err(format!(
+                        "{key}: gaussian base = {base}, base + amplitude = {} must be finite and {range}",
+                        base + amplitude
+                    ))
+                } else if !(*width > 0.0 && width.is_finite()) {
+                    Err(format!("{key}.width = {width} must be finite and > 0"))
+                } else {
+                    Ok(())
+                }
+            }
+            Field::Piecewise { breaks, values } => {
+                if values.len() != breaks.len() + 1 {
+                    Err(format!(
+                        "{key}: piecewise needs len(values) = len(breaks) + 1 (got {} and {})",
+                        values.len(),
+                        breaks.len()
+                    ))
+                } else if let Some(v) = values.iter().find(|v| bad(**v)) {
+                    Err(format!(
+                        "{key}: piecewise value {v} must be finite and {range}"
+                    ))
+                } else if breaks.windows(2).any(|w| w[1] <= w[0]) {
+                    Err(format!("{key}: piecewise breaks must increase"))
+                } else {
+                    Ok(())
+                }
+            }
+            Field::PerCell { values } => {
+                if values.is_empty() {
+                    Err(format!("{key}: per_cell values must not be empty"))
+                } else if let Some(v) = values.iter().find(|v| bad(**v)) {
+                    Err(format!(
+                        "{key}: per_cell value {v} must be finite and {range}"
+                    ))
+                } else {
+                    Ok(())
+                }
+            }
+            Field::Random { low, high, .. } => {
+                if bad(*low) || bad(*high) || high < low {
+                    Err(format!(
+                        "{key}: random range [{low}, {high}] must satisfy {range} and low <= high"
+                    ))
+                } else {
+                    Ok(())
+                }
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn random_is_seeded_and_in_range() {
+        let xs: Vec<f64> = (0..1000).map(|j| j as f64 + 0.5).collect();
+        let f = Field::Random {
+            low: 0.5,
+            high: 2.0,
+            seed: 7,
+        };
+        let a = f.sample(&xs, 1000.0);
+        assert_eq!(a, f.sample(&xs, 1000.0));
+        assert!(a.iter().all(|&v| (0.5..=2.0).contains(&v)));
+        let mean = a.iter().sum::<f64>() / 1000.0;
+        assert!((mean - 1.25).abs() < 0.05, "{mean}");
+    }
+
+    #[test]
+    fn piecewise_and_per_cell() {
+        let f = Field::Piecewise {
+            breaks: vec![0.5],
+            values: vec![1.0, 3.0],
+        };
+        assert_eq!(f.sample(&[10.0, 60.0], 100.0), vec![1.0, 3.0]);
+        let p = Field::PerCell {
+            values: vec![1.0, 2.0],
+        };
+        assert_eq!(
+            p.sample(&[0.25, 0.75, 1.25, 1.75], 2.0),
+            vec![1.0, 1.0, 2.0, 2.0]
+        );
+        assert!(p.validate("mu", true).is_ok());
+        assert!(Field::Constant(-1.0).validate("mu", true).is_err());
+    }
+}

@@ -1,0 +1,18 @@
+//! Cell laws (MODEL.md §1–§2.3, §2.7): everything about one cell except its strain energy
+//! (which is any [`crate::StrainEnergy`]):
+//!
+//! * [`Field`] — heterogeneous material fields of the reference position `X` (μ scale, η, K,
+//!   active amplitude), sampled at cell centres or integer points ([`Sampling`]);
+//! * [`GrowthLaw`] / [`TanhGrowth`] — stress-controlled growth `ġ = G(σ)`;
+//! * [`Active`] — the travelling active-stress wave (2.83).
+//!
+//! The line ([`crate::line`]) holds the sampled per-cell values in plain `Vec`s, so the residual
+//! loops run on `f64` slices and inserting a cell (division) is one `Vec::insert` per field.
+
+mod active;
+mod field;
+mod growth;
+
+pub use active::Active;
+pub use field::{Field, FieldFn, Sampling};
+pub use growth::{GrowthLaw, TanhGrowth};

@@ -1,0 +1,493 @@
+//! [`Line`]: the line of cells as a [`CellArray`] — the residual of MODEL.md §2.9, written once
+//! generically over the scalar (plain `f64` or dual numbers for exact Jacobian columns).
+//!
+//! The same type is the discrete model (N cells) and the conservative continuum scheme
+//! (n segments of length `h`, drag `K·h` per node; MODEL.md §3.3a); see [`crate::line::build`].
+//!
+//! Unknowns are interleaved `(g₁, x₁, g₂, x₂, …)` (growth) or just the free boundary positions;
+//! the residual streams over the cells once, keeping only the previous cell, so it allocates
+//! nothing and costs O(N).
+
+use crate::array::CellArray;
+use crate::boundary::RightEnd;
+use crate::cell::{Active, GrowthLaw};
+use crate::energy::StrainEnergy;
+use crate::scalar::Scalar;
+use crate::substrate::{drag_factor, DragForm, WidthRule};
+use integrators::{Pattern, ResidualError, SparsityPattern};
+use std::sync::Arc;
+
+/// Marker for "not an unknown" in the layout maps.
+pub const NONE: usize = usize::MAX;
+
+/// Per-cell data, one `Vec` per field, cells in order `1..=N` at index `0..N`. Inserting a cell
+/// (division) is one `insert` per field, O(N).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Cells {
+    /// Reference (resting) length `L₀,j`.
+    pub l0: Vec<f64>,
+    /// Reference centre `X_{j−1/2}` (initial centre; reported as `X`).
+    pub x_ref: Vec<f64>,
+    /// Scale factor on the strain energy (the cell's shear modulus for a unit-modulus law).
+    pub mu: Vec<f64>,
+    /// Kelvin–Voigt viscosity `η_j` (including the factor 2).
+    pub eta: Vec<f64>,
+    /// Drag coefficient of the cell, used by the cell-centre form (C).
+    pub k_cell: Vec<f64>,
+    /// Active-stress amplitude `A_j` (multiplies `b_j(t)`).
+    pub active_amp: Vec<f64>,
+    /// Active-stress phase `t_R,j = 2π X_{j−1/2}/l₀`.
+    pub phase: Vec<f64>,
+}
+
+impl Cells {
+    /// Number of cells.
+    pub fn len(&self) -> usize {
+        self.l0.len()
+    }
+    /// Whether there are no cells.
+    pub fn is_empty(&self) -> bool {
+        self.l0.is_empty()
+    }
+}
+
+/// Where each cell's `g` and each boundary's `x` live in the unknown vector (`NONE` if not an
+/// unknown). Rebuilt by [`Line::rebuild_layout`] after any change in the number of cells.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Layout {
+    /// `gi[j]` for cell `j = 1..=N` at index `j − 1`.
+    pub gi: Vec<usize>,
+    /// `xi[j]` for boundary `j = 0..=N`.
+    pub xi: Vec<usize>,
+    /// Number of unknowns.
+    pub dim: usize,
+}
+
+/// Quantities of one cell at `(t, y, ẏ)`.
+#[derive(Clone, Copy, Debug)]
+pub struct CellEval<S> {
+    /// Total stretch `λ`.
+    pub lam: S,
+    /// Elastic stretch `α = λ/g`.
+    pub alpha: S,
+    /// `α̇`.
+    pub alpha_dot: S,
+    /// Elastic stress `μ_j σ_el(α)`.
+    pub sigma_el: S,
+    /// Full axial stress `σ` (elastic + viscous + active).
+    pub sigma: S,
+    /// Width `W = γ₀ g₂/α`.
+    pub w: S,
+    /// Drag factor `κ = (g g₂)^m`.
+    pub kappa: S,
+    /// Velocity of the left boundary.
+    pub vl: S,
+    /// Velocity of the right boundary.
+    pub vr: S,
+    /// Growth stretch `g` (1 without growth).
+    pub g: S,
+}
+
+/// The line of cells (MODEL.md §2), generic over the strain energy `E`.
+///
+/// Build one with [`crate::line::build::discrete`] or [`crate::line::build::continuum`]; wrap
+/// it in [`crate::ArrayProblem`] to integrate it.
+#[derive(Clone)]
+pub struct Line<E: StrainEnergy> {
+    /// The strain energy (scaled per cell by [`Cells::mu`]).
+    pub energy: E,
+    /// Per-cell data.
+    pub cells: Cells,
+    /// Drag per boundary `K_j` (`j = 0..=N`), already multiplied by `h/L̄` on a continuum grid.
+    pub k_face: Vec<f64>,
+    /// Drag-area exponent `m`.
+    pub m: f64,
+    /// Lateral growth stretch `g₂`.
+    pub g2: f64,
+    /// Planar aspect ratio `γ₀`.
+    pub gamma0: f64,
+    /// Shared-width rule.
+    pub width: WidthRule,
+    /// Drag form.
+    pub form: DragForm,
+    /// Right-end condition.
+    pub right: RightEnd,
+    /// Active stress, if any.
+    pub active: Option<Active>,
+    /// Growth law, if growing (then `g` is in the state).
+    pub growth: Option<Arc<dyn GrowthLaw>>,
+    /// Reference length `l₀ = Σ L₀,j` (ring period).
+    pub l0_total: f64,
+    /// Absolute tolerance in cell units (positions: times the local reference cell length).
+    pub atol_cell: f64,
+    /// Unknown layout.
+    pub layout: Layout,
+}
+
+impl<E: StrainEnergy> Line<E> {
+    /// Number of cells `N`.
+    pub fn n_cells(&self) -> usize {
+        self.cells.len()
+    }
+
+    /// Whether `g` is part of the state.
+    pub fn is_growing(&self) -> bool {
+        self.growth.is_some()
+    }
+
+    /// Recomputes the unknown layout from `N`, the right end and the growth flag (call after
+    /// inserting or removing cells). Ordering: ring: `x₀` first; then per cell `g_j` (growth)
+    /// followed by `x_j` when boundary `j` is free.
+    pub fn rebuild_layout(&mut self) {
+        let n = self.n_cells();
+        let mut gi = vec![NONE; n];
+        let mut xi = vec![NONE; n + 1];
+        let mut k = 0;
+        if let RightEnd::Periodic { gauge: false } = self.right {
+            xi[0] = k;
+            k += 1;
+        }
+        let free_end = self.right.is_free();
+        for j in 1..=n {
+            if self.growth.is_some() {
+                gi[j - 1] = k;
+                k += 1;
+            }
+            if j < n || free_end {
+                xi[j] = k;
+                k += 1;
+            }
+        }
+        self.layout = Layout { gi, xi, dim: k };
+    }
+
+    /// Initial state: `x_j = Σ_{i≤j} L₀,i`, `g = 1`.
+    pub fn initial_state(&self) -> Vec<f64> {
+        let mut y = vec![0.0; self.layout.dim];
+        let mut x = 0.0;
+        if self.layout.xi[0] != NONE {
+            y[self.layout.xi[0]] = 0.0;
+        }
+        for j in 1..=self.n_cells() {
+            x += self.cells.l0[j - 1];
+            if self.layout.gi[j - 1] != NONE {
+                y[self.layout.gi[j - 1]] = 1.0;
+            }
+            if self.layout.xi[j] != NONE {
+                y[self.layout.xi[j]] = x;
+            }
+        }
+        y
+    }
+
+    /// Initial guess for `ẏ` (0 for positions, ½G_m-ish 0.5 for `g`).
+    pub fn initial_derivative_guess(&self) -> Vec<f64> {
+        let mut yp = vec![0.0; self.layout.dim];
+        if let Some(law) = &self.growth {
+            let (r0, _) = law.rate(0.0);
+            for &gi in &self.layout.gi {
+                yp[gi] = r0;
+            }
+        }
+        yp
+    }
+
+    /// Position and velocity of boundary `j` at `(t, y, ẏ)`.
+    #[inline]
+    pub fn boundary<S: Scalar>(&self, j: usize, t: f64, y: &[S], yp: &[S]) -> (S, S) {
+        let k = self.layout.xi[j];
+        if k != NONE {
+            return (y[k], yp[k]);
+        }
+        let n = self.n_cells();
+        if j == 0 {
+            return (S::from(0.0), S::from(0.0));
+        }
+        debug_assert_eq!(j, n);
+        match &self.right {
+            RightEnd::Prescribed(r) => {
+                let (l, ld) = r.eval(t);
+                (S::from(l), S::from(ld))
+            }
+            RightEnd::Periodic { .. } => {
+                let (x0, v0) = self.boundary(0, t, y, yp);
+                (x0 + self.l0_total, v0)
+            }
+            RightEnd::Free(_) => unreachable!("free end is an unknown"),
+        }
+    }
+
+    /// The unknown to blame for cell `j` (1-based): its right boundary, else left, else `g`.
+    fn blame(&self, j: usize) -> Option<usize> {
+        [
+            self.layout.xi[j],
+            self.layout.xi[j - 1],
+            self.layout.gi[j - 1],
+        ]
+        .into_iter()
+        .find(|&k| k != NONE)
+    }
+
+    /// Evaluates cell `j` (1-based). Rejects non-positive or non-finite stretch with a
+    /// recoverable error naming the cell and the unknown.
+    #[inline]
+    pub fn eval_cell<S: Scalar>(
+        &self,
+        j: usize,
+        t: f64,
+        y: &[S],
+        yp: &[S],
+    ) -> Result<CellEval<S>, ResidualError> {
+        let c = &self.cells;
+        let i = j - 1;
+        let (xl, vl) = self.boundary(j - 1, t, y, yp);
+        let (xr, vr) = self.boundary(j, t, y, yp);
+        let (g, gd) = match self.layout.gi[i] {
+            NONE => (S::from(1.0), S::from(0.0)),
+            k => (y[k], yp[k]),
+        };
+        let inv_l0 = 1.0 / c.l0[i];
+        let lam = (xr - xl) * inv_l0;
+        let alpha = lam / g;
+        let a = alpha.re();
+        if !(a > 0.0 && a.is_finite()) || !(g.re() > 0.0) {
+            return Err(ResidualError::Recoverable {
+                reason: format!(
+                    "cell {j} has non-positive or non-finite stretch (λ = {:.6e}, g = {:.6e})",
+                    lam.re(),
+                    g.re()
+                ),
+                component: self.blame(j),
+            });
+        }
+        let inv_g = g.recip();
+        let alpha_dot = (vr - vl) * inv_l0 * inv_g - alpha * gd * inv_g;
+        let resp = self.energy.line(a);
+        let mu = c.mu[i];
+        let sigma_el = alpha.lift(mu * resp.sigma, mu * resp.dsigma);
+        let inv_a = alpha.recip();
+        let mut sigma = sigma_el;
+        let eta = c.eta[i];
+        if eta != 0.0 {
+            sigma += alpha_dot * eta * (inv_a * inv_a + 1.0);
+        }
+        if let Some(act) = &self.active {
+            let amp = c.active_amp[i] * act.b(t, c.phase[i]);
+            if amp != 0.0 {
+                sigma += ((lam - 1.0) * (0.5 * act.beta) + 1.0) * amp;
+            }
+        }
+        let w = inv_a * (self.gamma0 * self.g2);
+        let kappa = drag_factor(g, self.g2, self.m);
+        Ok(CellEval {
+            lam,
+            alpha,
+            alpha_dot,
+            sigma_el,
+            sigma,
+            w,
+            kappa,
+            vl,
+            vr,
+            g,
+        })
+    }
+
+    /// Applied force on a free right end at `t` (0 if none).
+    #[inline]
+    fn f_ext(&self, t: f64) -> f64 {
+        match &self.right {
+            RightEnd::Free(Some(f)) => f(t).0,
+            _ => 0.0,
+        }
+    }
+
+    /// Structural entries `(row, col)` of the Jacobian, from the stencil.
+    pub fn jacobian_entries(&self) -> Vec<(usize, usize)> {
+        let n = self.n_cells();
+        let lay = &self.layout;
+        let periodic = self.right.is_periodic();
+        // unknowns a cell depends on
+        let cell_deps = |c: usize, out: &mut Vec<usize>| {
+            let right = if c == n && periodic { 0 } else { c };
+            for k in [lay.xi[c - 1], lay.xi[right], lay.gi[c - 1]] {
+                if k != NONE {
+                    out.push(k);
+                }
+            }
+        };
+        let wrap = |c: isize| -> Option<usize> {
+            if c >= 1 && c as usize <= n {
+                Some(c as usize)
+            } else if periodic {
+                Some(((c - 1).rem_euclid(n as isize) + 1) as usize)
+            } else {
+                None
+            }
+        };
+        let mut entries = Vec::new();
+        let mut deps = Vec::new();
+        for c in 1..=n {
+            if lay.gi[c - 1] != NONE {
+                deps.clear();
+                cell_deps(c, &mut deps);
+                entries.extend(deps.iter().map(|&k| (lay.gi[c - 1], k)));
+            }
+        }
+        for b in 0..=n {
+            let row = lay.xi[b];
+            if row == NONE {
+                continue;
+            }
+            let b = b as isize;
+            let cells: Vec<isize> = match self.form {
+                DragForm::Boundary => vec![b, b + 1],
+                DragForm::Centre => vec![b - 1, b, b + 1],
+            };
+            deps.clear();
+            for c in cells {
+                if let Some(c) = wrap(c) {
+                    cell_deps(c, &mut deps);
+                }
+            }
+            entries.extend(deps.iter().map(|&k| (row, k)));
+        }
+        entries
+    }
+}
+
+impl<E: StrainEnergy> CellArray for Line<E> {
+    fn dim(&self) -> usize {
+        self.layout.dim
+    }
+
+    fn pattern(&self) -> Pattern {
+        let entries = self.jacobian_entries();
+        if self.right.is_periodic() {
+            return Pattern::Sparse(Arc::new(SparsityPattern::from_entries(
+                self.layout.dim,
+                &entries,
+            )));
+        }
+        let (mut lower, mut upper) = (0, 0);
+        for (i, j) in entries {
+            if i > j {
+                lower = lower.max(i - j);
+            } else {
+                upper = upper.max(j - i);
+            }
+        }
+        Pattern::Banded { lower, upper }
+    }
+
+    fn residual<S: Scalar>(
+        &self,
+        t: f64,
+        y: &[S],
+        yp: &[S],
+        r: &mut [S],
+    ) -> Result<(), ResidualError> {
+        let n = self.n_cells();
+        let lay = &self.layout;
+        let periodic = self.right.is_periodic();
+        let mut prev = if periodic {
+            Some(self.eval_cell(n, t, y, yp)?)
+        } else {
+            None
+        };
+        // F_{b−1} for the cell-centre form (F₀ = 0 at the wall).
+        let mut f_prev = S::from(0.0);
+        for c in 1..=n {
+            let cur = self.eval_cell(c, t, y, yp)?;
+            let gk = lay.gi[c - 1];
+            if gk != NONE {
+                if let Some(law) = &self.growth {
+                    let (rate, drate) = law.rate(cur.sigma.re());
+                    r[gk] = yp[gk] - cur.sigma.lift(rate, drate);
+                }
+            }
+            if let Some(p) = prev {
+                let b = c - 1;
+                let f = self.width.face(p.w, cur.w) * (cur.sigma - p.sigma);
+                let row = lay.xi[b];
+                match self.form {
+                    DragForm::Boundary => {
+                        if row != NONE {
+                            let kappa = (p.kappa + cur.kappa) * 0.5;
+                            r[row] = kappa * p.vr * self.k_face[b] - f;
+                        }
+                    }
+                    DragForm::Centre => {
+                        if row != NONE {
+                            r[row] =
+                                p.kappa * (p.vl + p.vr) * self.cells.k_cell[b - 1] - f_prev - f;
+                        }
+                        f_prev = f;
+                    }
+                }
+            }
+            prev = Some(cur);
+        }
+        if self.right.is_free() {
+            let p = prev.expect("at least one cell");
+            let row = lay.xi[n];
+            let f_n = -(p.w * p.sigma) + self.f_ext(t);
+            r[row] = match self.form {
+                DragForm::Boundary => p.kappa * p.vr * self.k_face[n] - f_n,
+                DragForm::Centre => {
+                    p.kappa * (p.vl + p.vr) * self.cells.k_cell[n - 1] - f_prev - f_n
+                }
+            };
+        }
+        Ok(())
+    }
+
+    fn atol(&self) -> Option<Vec<f64>> {
+        let n = self.n_cells();
+        let lay = &self.layout;
+        let mut a = vec![self.atol_cell; lay.dim];
+        for b in 0..=n {
+            let k = lay.xi[b];
+            if k == NONE {
+                continue;
+            }
+            let left = if b >= 1 {
+                self.cells.l0[b - 1]
+            } else {
+                self.cells.l0[n - 1]
+            };
+            let right = if b < n { self.cells.l0[b] } else { left };
+            a[k] = self.atol_cell * left.min(right);
+        }
+        Some(a)
+    }
+
+    fn algebraic(&self) -> Vec<bool> {
+        let n = self.n_cells();
+        let lay = &self.layout;
+        let mut alg = vec![false; lay.dim];
+        let periodic = self.right.is_periodic();
+        let eta_at = |c: usize| -> f64 {
+            if c >= 1 && c <= n {
+                self.cells.eta[c - 1]
+            } else if periodic {
+                self.cells.eta[if c == 0 { n - 1 } else { 0 }]
+            } else {
+                0.0
+            }
+        };
+        for b in 0..=n {
+            let k = lay.xi[b];
+            if k == NONE {
+                continue;
+            }
+            let drag = match self.form {
+                DragForm::Boundary => self.k_face[b],
+                DragForm::Centre => self.cells.k_cell[b.max(1) - 1],
+            };
+            let visc = eta_at(b) != 0.0 || eta_at(b + 1) != 0.0;
+            alg[k] = drag == 0.0 && !visc;
+        }
+        alg
+    }
+}

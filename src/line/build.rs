@@ -1,0 +1,239 @@
+//! Builders: one physical description ([`LineParams`]) → a [`Line`] on either discretisation.
+//!
+//! * [`discrete`] — N cells with their own reference lengths; drag `K(X_j)` per boundary.
+//! * [`continuum`] — the conservative scheme of MODEL.md §3.3a: `n` segments of length
+//!   `h = l₀/n`, fields sampled at segment centres, drag `K·h/L̄` per node (`L̄ = l₀/N`, the mean
+//!   reference cell length, since `K` is drag per cell boundary). With `n = N` and unit cells it
+//!   *is* the discrete model (same type, same residual), so `n` is independent of `N`.
+
+use super::array::{Cells, Layout, Line};
+use super::LineError;
+use crate::boundary::RightEnd;
+use crate::cell::{Active, Field, GrowthLaw, Sampling};
+use crate::energy::StrainEnergy;
+use crate::substrate::{DragForm, WidthRule};
+use std::f64::consts::PI;
+use std::sync::Arc;
+
+/// A line independent of its discretisation: the cells' reference lengths, material fields of
+/// `X`, substrate, boundary conditions, active stress and growth.
+///
+/// ```
+/// use celltissue::line::build::{LineParams, discrete, continuum};
+/// use celltissue::boundary::{Ramp, RightEnd};
+/// use celltissue::NeoHookean;
+/// let mut p = LineParams::unit_cells(100);
+/// p.right = RightEnd::Prescribed(Ramp::Exponential { l0: 100.0, k1: 0.1, t_ramp: 1.0 });
+/// p.k = 1.0.into();
+/// let d = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+/// let c = continuum(NeoHookean::new(1.0).unwrap(), &p, 25).unwrap();
+/// assert_eq!(d.n_cells(), 100);
+/// assert_eq!(c.n_cells(), 25);
+/// ```
+#[derive(Clone)]
+pub struct LineParams {
+    /// Reference length of each cell (`N = len`).
+    pub ref_lengths: Vec<f64>,
+    /// Energy scale field `μ(X)` (the shear modulus for a unit-modulus law).
+    pub mu: Field,
+    /// Viscosity field `η(X)`.
+    pub eta: Field,
+    /// Drag field `K(X)` (per boundary).
+    pub k: Field,
+    /// Active-amplitude field `A(X)` (used only if `active` is set).
+    pub active_amp: Field,
+    /// Where fields are sampled.
+    pub sampling: Sampling,
+    /// Drag-area exponent `m`.
+    pub m: f64,
+    /// Lateral growth stretch `g₂`.
+    pub g2: f64,
+    /// Aspect ratio `γ₀`.
+    pub gamma0: f64,
+    /// Shared-width rule.
+    pub width: WidthRule,
+    /// Drag form.
+    pub form: DragForm,
+    /// Right end.
+    pub right: RightEnd,
+    /// Active stress.
+    pub active: Option<Active>,
+    /// Growth law.
+    pub growth: Option<Arc<dyn GrowthLaw>>,
+    /// Absolute tolerance in cell units.
+    pub atol_cell: f64,
+}
+
+impl LineParams {
+    /// `n` unit cells, μ = 1, η = 0, K = 0, m = 0, γ₀ = g₂ = 1, wall + fixed length `n`.
+    pub fn unit_cells(n: usize) -> Self {
+        Self {
+            ref_lengths: vec![1.0; n],
+            mu: Field::Constant(1.0),
+            eta: Field::Constant(0.0),
+            k: Field::Constant(0.0),
+            active_amp: Field::Constant(1.0),
+            sampling: Sampling::Centres,
+            m: 0.0,
+            g2: 1.0,
+            gamma0: 1.0,
+            width: WidthRule::Mean,
+            form: DragForm::Boundary,
+            right: RightEnd::Prescribed(crate::boundary::Ramp::Constant(n as f64)),
+            active: None,
+            growth: None,
+            atol_cell: 1e-8,
+        }
+    }
+
+    /// `l₀ = Σ L₀,j`.
+    pub fn total_length(&self) -> f64 {
+        self.ref_lengths.iter().sum()
+    }
+
+    fn check(&self) -> Result<(), LineError> {
+        if self.ref_lengths.is_empty() {
+            return Err(LineError::invalid("cells", "0", ">= 1"));
+        }
+        if let Some(l) = self
+            .ref_lengths
+            .iter()
+            .find(|l| !(**l > 0.0 && l.is_finite()))
+        {
+            return Err(LineError::invalid("ref_lengths", l, "finite and > 0"));
+        }
+        if self.form == DragForm::Centre && self.right.is_periodic() {
+            return Err(LineError::CentreFormPeriodic);
+        }
+        if !(self.gamma0 > 0.0 && self.gamma0.is_finite()) {
+            return Err(LineError::invalid("gamma0", self.gamma0, "finite and > 0"));
+        }
+        if !(self.g2 > 0.0 && self.g2.is_finite()) {
+            return Err(LineError::invalid("g2", self.g2, "finite and > 0"));
+        }
+        if !self.m.is_finite() {
+            return Err(LineError::invalid("m", self.m, "finite"));
+        }
+        self.mu.validate("mu", true).map_err(LineError::Field)?;
+        self.eta.validate("eta", false).map_err(LineError::Field)?;
+        self.k.validate("K", false).map_err(LineError::Field)?;
+        Ok(())
+    }
+}
+
+/// Builds a line of `lengths.len()` cells with drag scaled by `drag_scale` per boundary.
+fn assemble<E: StrainEnergy>(
+    energy: E,
+    p: &LineParams,
+    lengths: Vec<f64>,
+    drag_scale: f64,
+) -> Result<Line<E>, LineError> {
+    let n = lengths.len();
+    let l0_total: f64 = lengths.iter().sum();
+    let mut bounds = Vec::with_capacity(n + 1);
+    bounds.push(0.0);
+    let mut acc = 0.0;
+    for l in &lengths {
+        acc += l;
+        bounds.push(acc);
+    }
+    let centres: Vec<f64> = (0..n).map(|i| 0.5 * (bounds[i] + bounds[i + 1])).collect();
+    let samples: &[f64] = match p.sampling {
+        Sampling::Centres => &centres,
+        Sampling::IntegerPoints => &bounds[..n],
+    };
+    let mu = p.mu.sample(samples, l0_total);
+    let eta = p.eta.sample(samples, l0_total);
+    let k_cell: Vec<f64> =
+        p.k.sample(samples, l0_total)
+            .into_iter()
+            .map(|k| k * drag_scale)
+            .collect();
+    let k_face: Vec<f64> = match &p.k {
+        // a per-cell list has no boundary values: average the neighbours
+        Field::PerCell { .. } | Field::Random { .. } => (0..=n)
+            .map(|b| {
+                let l = if b >= 1 { k_cell[b - 1] } else { k_cell[0] };
+                let r = if b < n { k_cell[b] } else { k_cell[n - 1] };
+                0.5 * (l + r)
+            })
+            .collect(),
+        f => bounds
+            .iter()
+            .map(|&x| f.eval(x, l0_total) * drag_scale)
+            .collect(),
+    };
+    let active_amp = p.active_amp.sample(samples, l0_total);
+    let phase = centres.iter().map(|&x| 2.0 * PI * x / l0_total).collect();
+    for (key, v) in [("mu", &mu), ("eta", &eta), ("K", &k_cell)] {
+        if let Some(bad) = v.iter().find(|x| !x.is_finite() || **x < 0.0) {
+            return Err(LineError::invalid(
+                key,
+                bad,
+                "finite and >= 0 at every cell",
+            ));
+        }
+    }
+    if let Some(bad) = mu.iter().find(|x| **x <= 0.0) {
+        return Err(LineError::invalid("mu", bad, "> 0 at every cell"));
+    }
+    let right = match &p.right {
+        RightEnd::Prescribed(r) => RightEnd::Prescribed(r.clone()),
+        other => other.clone(),
+    };
+    let mut line = Line {
+        energy,
+        cells: Cells {
+            l0: lengths,
+            x_ref: centres,
+            mu,
+            eta,
+            k_cell,
+            active_amp,
+            phase,
+        },
+        k_face,
+        m: p.m,
+        g2: p.g2,
+        gamma0: p.gamma0,
+        width: p.width,
+        form: p.form,
+        right,
+        active: p.active,
+        growth: p.growth.clone(),
+        l0_total,
+        atol_cell: p.atol_cell,
+        layout: Layout::default(),
+    };
+    line.rebuild_layout();
+    if line.layout.dim == 0 {
+        return Err(LineError::invalid(
+            "cells",
+            n,
+            ">= 2 for a prescribed right end without growth (no unknowns otherwise)",
+        ));
+    }
+    Ok(line)
+}
+
+/// The discrete model: one cell per entry of `p.ref_lengths`.
+pub fn discrete<E: StrainEnergy>(energy: E, p: &LineParams) -> Result<Line<E>, LineError> {
+    p.check()?;
+    assemble(energy, p, p.ref_lengths.clone(), 1.0)
+}
+
+/// The conservative continuum scheme with `n` segments of length `h = l₀/n` (MODEL.md §3.3a).
+pub fn continuum<E: StrainEnergy>(
+    energy: E,
+    p: &LineParams,
+    n: usize,
+) -> Result<Line<E>, LineError> {
+    p.check()?;
+    if n == 0 {
+        return Err(LineError::invalid("nodes", n, ">= 1"));
+    }
+    let l0 = p.total_length();
+    let h = l0 / n as f64;
+    let mean_cell = l0 / p.ref_lengths.len() as f64;
+    assemble(energy, p, vec![h; n], h / mean_cell)
+}

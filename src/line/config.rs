@@ -1,0 +1,312 @@
+//! [`LineConfig`]: the line section of a scenario file (serde, unknown keys rejected), with the
+//! thesis defaults of MODEL.md §0.3, [`LineConfig::validate`] (errors name the key and its valid
+//! range), and the translation into the builders' [`LineParams`].
+//!
+//! ```
+//! use celltissue::line::LineConfig;
+//! let cfg: LineConfig = toml::from_str(r#"
+//!     cells = 100
+//!     K = 0.01
+//!     mu = { type = "gaussian", base = 1, amplitude = 1, centre = 0.5, width = 0.1 }
+//! "#).unwrap();
+//! assert!(cfg.validate().is_ok());
+//! let bad: LineConfig = toml::from_str("k1 = 1.5").unwrap();
+//! assert!(bad.validate().unwrap_err().to_string().contains("k1"));
+//! assert!(toml::from_str::<LineConfig>("kay = 1").is_err());
+//! ```
+
+use super::build::LineParams;
+use super::LineError;
+use crate::boundary::{Ramp, RampKind, RightEnd};
+use crate::cell::{Active, Field, Sampling, TanhGrowth};
+use crate::energy::{MooneyRivlin, NeoHookean, Ogden};
+use crate::substrate::{DragForm, WidthRule};
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+/// The strain energy of the line's cells (scaled per cell by the `mu` field).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum LineLaw {
+    /// Neo-Hookean `{ type = "neo_hookean", mu = 1 }`.
+    NeoHookean(NeoHookean),
+    /// Mooney–Rivlin `{ type = "mooney_rivlin", c1, c2 }`.
+    MooneyRivlin(MooneyRivlin),
+    /// Ogden `{ type = "ogden", terms = [[mu_p, alpha_p], ...] }`.
+    Ogden(Ogden),
+}
+
+impl Default for LineLaw {
+    fn default() -> Self {
+        LineLaw::NeoHookean(NeoHookean::new(1.0).expect("valid"))
+    }
+}
+
+/// The right-end condition named in a scenario.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RightEndKind {
+    /// `x_N = l(t)` by the ramp.
+    #[default]
+    Prescribed,
+    /// Free end with applied force `force`.
+    Free,
+    /// Ring.
+    Periodic,
+}
+
+/// The continuum discretisation.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContinuumScheme {
+    /// Conservative scheme, `n` segments (MODEL.md §3.3a; recommended).
+    #[default]
+    Conservative,
+    /// The thesis's finite-difference scheme, `n` nodes (§3.3b; reproduction mode, no growth,
+    /// prescribed end).
+    Thesis,
+}
+
+/// Growth parameters (`[growth]` table; absent = no growth).
+pub type GrowthConfig = TanhGrowth;
+
+/// The line of cells as configured in a scenario. Every key has the thesis default.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct LineConfig {
+    /// Number of cells `N` (≥ 1).
+    pub cells: usize,
+    /// Reference length of every cell (> 0).
+    pub cell_length: f64,
+    /// Optional per-cell reference lengths (overrides `cells` and `cell_length`).
+    pub ref_lengths: Option<Vec<f64>>,
+    /// Fractional shortening `k₁` of the prescribed end (< 1).
+    pub k1: f64,
+    /// Ramp time (> 0).
+    pub t_ramp: f64,
+    /// Ramp shape: `"exponential"` (2.80) or `"polynomial"` (2.81).
+    pub ramp: RampKind,
+    /// Substrate drag per boundary `K(X)` (≥ 0).
+    #[serde(rename = "K")]
+    pub k: Field,
+    /// Drag–area exponent `m` (any real).
+    pub m: f64,
+    /// Viscosity `η(X)` (≥ 0, including the factor 2).
+    pub eta: Field,
+    /// Shear-modulus scale `μ(X)` (> 0) multiplying the law's energy.
+    pub mu: Field,
+    /// Where fields are sampled: `"centres"` (default) or `"integer_points"`.
+    pub sampling: Sampling,
+    /// Aspect ratio `γ₀` (> 0).
+    pub gamma0: f64,
+    /// Lateral growth stretch `g₂` (> 0).
+    pub g2: f64,
+    /// `"boundary"` (B, canonical) or `"centre"` (C, thesis code).
+    pub drag_form: DragForm,
+    /// Shared width: `"mean"` or `"min"`.
+    pub width: WidthRule,
+    /// `"prescribed"`, `"free"` or `"periodic"`.
+    pub right_end: RightEndKind,
+    /// Constant applied force on a free right end.
+    pub force: f64,
+    /// Pin `x₀ = 0` on a ring (required when `K = 0`).
+    pub gauge: bool,
+    /// Active stress `{ beta, omega }` (absent = none; thesis: `beta = -1`, `omega = 1/l₀`).
+    pub active: Option<Active>,
+    /// Active amplitude field `A(X)` (used with `active`).
+    pub active_amplitude: Field,
+    /// Growth `{ sigma0, gm }` (absent = no growth).
+    pub growth: Option<GrowthConfig>,
+    /// The strain energy.
+    pub law: LineLaw,
+    /// Continuum discretisation used when the continuum model is run.
+    pub continuum_scheme: ContinuumScheme,
+}
+
+impl Default for LineConfig {
+    fn default() -> Self {
+        Self {
+            cells: 100,
+            cell_length: 1.0,
+            ref_lengths: None,
+            k1: 0.1,
+            t_ramp: 1.0,
+            ramp: RampKind::Exponential,
+            k: Field::Constant(1.0),
+            m: 0.0,
+            eta: Field::Constant(0.0),
+            mu: Field::Constant(1.0),
+            sampling: Sampling::Centres,
+            gamma0: 1.0,
+            g2: 1.0,
+            drag_form: DragForm::Boundary,
+            width: WidthRule::Mean,
+            right_end: RightEndKind::Prescribed,
+            force: 0.0,
+            gauge: false,
+            active: None,
+            active_amplitude: Field::Constant(1.0),
+            growth: None,
+            law: LineLaw::default(),
+            continuum_scheme: ContinuumScheme::Conservative,
+        }
+    }
+}
+
+fn finite_pos(key: &str, v: f64) -> Result<(), LineError> {
+    if v > 0.0 && v.is_finite() {
+        Ok(())
+    } else {
+        Err(LineError::invalid(key, v, "finite and > 0"))
+    }
+}
+
+impl LineConfig {
+    /// Number of cells (from `ref_lengths` if given).
+    pub fn n_cells(&self) -> usize {
+        self.ref_lengths.as_ref().map_or(self.cells, |v| v.len())
+    }
+
+    /// Reference lengths of the cells.
+    pub fn lengths(&self) -> Vec<f64> {
+        self.ref_lengths
+            .clone()
+            .unwrap_or_else(|| vec![self.cell_length; self.cells])
+    }
+
+    /// `l₀`.
+    pub fn l0(&self) -> f64 {
+        self.lengths().iter().sum()
+    }
+
+    /// Checks every key; the error names the key and its valid range.
+    pub fn validate(&self) -> Result<(), LineError> {
+        if self.n_cells() == 0 {
+            return Err(LineError::invalid("cells", 0, "an integer >= 1"));
+        }
+        finite_pos("cell_length", self.cell_length)?;
+        if let Some(v) = &self.ref_lengths {
+            if let Some(l) = v.iter().find(|l| !(**l > 0.0 && l.is_finite())) {
+                return Err(LineError::invalid(
+                    "ref_lengths",
+                    l,
+                    "finite and > 0 for every cell",
+                ));
+            }
+        }
+        if !(self.k1 < 1.0 && self.k1 > -1e6 && self.k1.is_finite()) {
+            return Err(LineError::invalid("k1", self.k1, "finite and < 1"));
+        }
+        finite_pos("t_ramp", self.t_ramp)?;
+        self.k.validate("K", false).map_err(LineError::Field)?;
+        self.eta.validate("eta", false).map_err(LineError::Field)?;
+        self.mu.validate("mu", true).map_err(LineError::Field)?;
+        self.active_amplitude
+            .validate("active_amplitude", false)
+            .map_err(LineError::Field)?;
+        if !self.m.is_finite() {
+            return Err(LineError::invalid("m", self.m, "a finite real number"));
+        }
+        finite_pos("gamma0", self.gamma0)?;
+        finite_pos("g2", self.g2)?;
+        if !self.force.is_finite() {
+            return Err(LineError::invalid("force", self.force, "finite"));
+        }
+        if let Some(a) = &self.active {
+            if !a.beta.is_finite() {
+                return Err(LineError::invalid("active.beta", a.beta, "finite"));
+            }
+            if !a.omega.is_finite() {
+                return Err(LineError::invalid("active.omega", a.omega, "finite"));
+            }
+        }
+        if let Some(g) = &self.growth {
+            finite_pos("growth.sigma0", g.sigma0)?;
+            finite_pos("growth.gm", g.gm)?;
+        }
+        let periodic = self.right_end == RightEndKind::Periodic;
+        if periodic && self.drag_form == DragForm::Centre {
+            return Err(LineError::CentreFormPeriodic);
+        }
+        let k_zero = matches!(self.k, Field::Constant(v) if v == 0.0);
+        let eta_zero = matches!(self.eta, Field::Constant(v) if v == 0.0);
+        if periodic && k_zero && !self.gauge {
+            return Err(LineError::Combination(
+                "`right_end` = \"periodic\" with `K` = 0: rigid translation is a null mode; set K > 0 or `gauge` = true".into(),
+            ));
+        }
+        if self.right_end == RightEndKind::Free && k_zero && eta_zero && self.growth.is_none() {
+            return Err(LineError::Combination(
+                "`right_end` = \"free\" with `K` = 0 and `eta` = 0 and no growth: nothing drives the line (only the trivial static state); set K > 0, eta > 0 or add [growth]".into(),
+            ));
+        }
+        if self.right_end == RightEndKind::Prescribed && self.n_cells() < 2 && self.growth.is_none()
+        {
+            return Err(LineError::invalid(
+                "cells",
+                self.n_cells(),
+                ">= 2 with a prescribed right end and no growth",
+            ));
+        }
+        if self.continuum_scheme == ContinuumScheme::Thesis
+            && (self.growth.is_some() || self.right_end != RightEndKind::Prescribed)
+        {
+            return Err(LineError::Combination(
+                "`continuum_scheme` = \"thesis\" supports only a prescribed right end without growth; use \"conservative\"".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The prescribed length `l(t)`.
+    pub fn ramp(&self) -> Ramp {
+        let l0 = self.l0();
+        match self.ramp {
+            RampKind::Exponential => Ramp::Exponential {
+                l0,
+                k1: self.k1,
+                t_ramp: self.t_ramp,
+            },
+            RampKind::Polynomial => Ramp::Polynomial {
+                l0,
+                k1: self.k1,
+                t_ramp: self.t_ramp,
+            },
+        }
+    }
+
+    /// The builders' description (validate first).
+    pub fn params(&self, atol_cell: f64) -> LineParams {
+        let right = match self.right_end {
+            RightEndKind::Prescribed => RightEnd::Prescribed(self.ramp()),
+            RightEndKind::Free => {
+                if self.force != 0.0 {
+                    let f = self.force;
+                    RightEnd::Free(Some(Arc::new(move |_t| (f, 0.0))))
+                } else {
+                    RightEnd::Free(None)
+                }
+            }
+            RightEndKind::Periodic => RightEnd::Periodic { gauge: self.gauge },
+        };
+        LineParams {
+            ref_lengths: self.lengths(),
+            mu: self.mu.clone(),
+            eta: self.eta.clone(),
+            k: self.k.clone(),
+            active_amp: self.active_amplitude.clone(),
+            sampling: self.sampling,
+            m: self.m,
+            g2: self.g2,
+            gamma0: self.gamma0,
+            width: self.width,
+            form: self.drag_form,
+            right,
+            active: self.active,
+            growth: self
+                .growth
+                .map(|g| Arc::new(g) as Arc<dyn crate::cell::GrowthLaw>),
+            atol_cell,
+        }
+    }
+}

@@ -1,0 +1,61 @@
+//! The line of cells (thesis Ch. 2 and the growth part of Ch. 3; MODEL.md §2–§3), discrete and
+//! continuum, from a [`crate::StrainEnergy`] to a [`crate::observe::RunRecord`]:
+//!
+//! * [`array`] — [`Line`], the residual (MODEL.md §2.9) as a [`crate::CellArray`];
+//! * [`build`] — discrete and conservative-continuum builders from one [`LineParams`];
+//! * [`thesis_scheme`] — the thesis's non-conservative finite-difference scheme (reproduction
+//!   mode, Table 2.1);
+//! * [`static_solve`] — static equilibrium by a bracketing solve for the uniform stress, and a
+//!   Newton solve of the static problem;
+//! * [`observe`] — per-cell snapshots and the observables of MODEL.md §6;
+//! * [`config`] — the serde scenario section [`LineConfig`] with validation;
+//! * [`run`] — [`run_line`]: config → problem → integrator → `RunRecord`.
+
+pub mod array;
+pub mod build;
+pub mod config;
+pub mod observe;
+pub mod run;
+pub mod static_solve;
+pub mod thesis_scheme;
+
+pub use array::{CellEval, Cells, Layout, Line};
+pub use build::{continuum, discrete, LineParams};
+pub use config::LineConfig;
+pub use run::{run_line, OutputTimes, SolveSettings};
+
+/// Errors building or configuring a line. Messages name the key and its valid range.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum LineError {
+    /// A parameter is out of range.
+    #[error("invalid `{key}` = {value}: must be {range}")]
+    Invalid {
+        /// The scenario key.
+        key: String,
+        /// The offending value.
+        value: String,
+        /// The valid range.
+        range: String,
+    },
+    /// A field description is invalid (message names the key).
+    #[error("invalid field: {0}")]
+    Field(String),
+    /// The cell-centre drag form is singular on a ring (MODEL.md §2.5).
+    #[error("invalid `drag_form` = \"centre\" with `right_end` = \"periodic\": the cell-centre form is singular on a ring (zig-zag null mode); use drag_form = \"boundary\"")]
+    CentreFormPeriodic,
+    /// A combination with no well-posed dynamics.
+    #[error("invalid combination: {0}")]
+    Combination(String),
+}
+
+impl LineError {
+    /// An [`LineError::Invalid`] from displayable parts.
+    pub fn invalid(key: &str, value: impl std::fmt::Display, range: &str) -> Self {
+        LineError::Invalid {
+            key: key.to_string(),
+            value: value.to_string(),
+            range: range.to_string(),
+        }
+    }
+}

@@ -1,0 +1,153 @@
+//! Observables of the line (MODEL.md §6): a per-cell [`Snapshot`] at `(t, y, ẏ)` and its
+//! reductions (length, end reaction, pressure/stretch extremes), turned into
+//! [`crate::observe::Profile`]s and series rows.
+
+use super::array::Line;
+use crate::array::CellArray;
+use crate::boundary::RightEnd;
+use crate::energy::StrainEnergy;
+use crate::observe::Profile;
+use integrators::ResidualError;
+use std::collections::BTreeMap;
+
+/// Every per-cell quantity at one time (cells `1..=N` at index `0..N`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Snapshot {
+    /// Time.
+    pub t: f64,
+    /// Boundary positions `x₀..x_N`.
+    pub x: Vec<f64>,
+    /// Reference centres `X_{j−1/2}`.
+    pub x_ref: Vec<f64>,
+    /// Current centres.
+    pub centre: Vec<f64>,
+    /// Total stretch `λ`.
+    pub lambda: Vec<f64>,
+    /// Elastic stretch `α`.
+    pub alpha: Vec<f64>,
+    /// Full axial stress `σ`.
+    pub sigma: Vec<f64>,
+    /// Elastic stress `σ_el`.
+    pub sigma_el: Vec<f64>,
+    /// Pressure `p = p_el(α) − η α̇ α⁻²`.
+    pub pressure: Vec<f64>,
+    /// Width `W`.
+    pub width: Vec<f64>,
+    /// Drag factor `κ`.
+    pub kappa: Vec<f64>,
+    /// Growth stretch `g`.
+    pub g: Vec<f64>,
+    /// Growth rate `ġ`.
+    pub g_dot: Vec<f64>,
+    /// Energy scale `μ`.
+    pub mu: Vec<f64>,
+}
+
+impl Snapshot {
+    /// Current length `l = x_N − x₀`.
+    pub fn length(&self) -> f64 {
+        self.x[self.x.len() - 1] - self.x[0]
+    }
+    /// End reaction `W_N σ_N` (force needed to hold the right end).
+    pub fn end_reaction(&self) -> f64 {
+        let n = self.sigma.len();
+        self.width[n - 1] * self.sigma[n - 1]
+    }
+    /// Maximum pressure.
+    pub fn max_pressure(&self) -> f64 {
+        self.pressure
+            .iter()
+            .copied()
+            .fold(f64::NEG_INFINITY, f64::max)
+    }
+    /// Minimum pressure.
+    pub fn min_pressure(&self) -> f64 {
+        self.pressure.iter().copied().fold(f64::INFINITY, f64::min)
+    }
+    /// Maximum elastic stretch.
+    pub fn max_stretch(&self) -> f64 {
+        self.alpha.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+    }
+    /// Minimum elastic stretch.
+    pub fn min_stretch(&self) -> f64 {
+        self.alpha.iter().copied().fold(f64::INFINITY, f64::min)
+    }
+
+    /// The profile record (X, x = current centres, stretch = α, pressure, plus `g`, `sigma`,
+    /// `width`, `lambda`, `kappa`, `mu` in `extra`).
+    pub fn profile(&self) -> Profile {
+        let mut extra = BTreeMap::new();
+        extra.insert("sigma".to_string(), self.sigma.clone());
+        extra.insert("width".to_string(), self.width.clone());
+        extra.insert("lambda".to_string(), self.lambda.clone());
+        extra.insert("kappa".to_string(), self.kappa.clone());
+        extra.insert("mu".to_string(), self.mu.clone());
+        if self.g.iter().any(|&g| g != 1.0) || self.g_dot.iter().any(|&g| g != 0.0) {
+            extra.insert("g".to_string(), self.g.clone());
+            extra.insert("g_dot".to_string(), self.g_dot.clone());
+        }
+        Profile {
+            t: self.t,
+            x_ref: self.x_ref.clone(),
+            x: self.centre.clone(),
+            stretch: self.alpha.clone(),
+            pressure: self.pressure.clone(),
+            extra,
+        }
+    }
+}
+
+impl<E: StrainEnergy> Line<E> {
+    /// All per-cell quantities at `(t, y, ẏ)`.
+    ///
+    /// ```
+    /// use celltissue::line::build::{LineParams, discrete};
+    /// use celltissue::NeoHookean;
+    /// let line = discrete(NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(4)).unwrap();
+    /// let y = line.initial_state();
+    /// let s = line.snapshot(0.0, &y, &vec![0.0; y.len()]).unwrap();
+    /// assert_eq!(s.length(), 4.0);
+    /// assert_eq!(s.max_pressure(), 1.0); // p = μ α⁻² at rest
+    /// ```
+    pub fn snapshot(&self, t: f64, y: &[f64], yp: &[f64]) -> Result<Snapshot, ResidualError> {
+        let n = self.n_cells();
+        let mut s = Snapshot {
+            t,
+            x_ref: self.cells.x_ref.clone(),
+            mu: self.cells.mu.clone(),
+            ..Default::default()
+        };
+        s.x = (0..=n).map(|j| self.boundary(j, t, y, yp).0).collect();
+        for j in 1..=n {
+            let c = self.eval_cell(j, t, y, yp)?;
+            let i = j - 1;
+            let resp = self.energy.line(c.alpha);
+            let p = self.cells.mu[i] * resp.pressure
+                - self.cells.eta[i] * c.alpha_dot / (c.alpha * c.alpha);
+            s.centre.push(0.5 * (s.x[j - 1] + s.x[j]));
+            s.lambda.push(c.lam);
+            s.alpha.push(c.alpha);
+            s.sigma.push(c.sigma);
+            s.sigma_el.push(c.sigma_el);
+            s.pressure.push(p);
+            s.width.push(c.w);
+            s.kappa.push(c.kappa);
+            s.g.push(c.g);
+            s.g_dot.push(match self.layout.gi[i] {
+                super::array::NONE => 0.0,
+                k => yp[k],
+            });
+        }
+        Ok(s)
+    }
+
+    /// Whether the right end is prescribed (then [`Snapshot::end_reaction`] is the holding force).
+    pub fn has_prescribed_end(&self) -> bool {
+        matches!(self.right, RightEnd::Prescribed(_))
+    }
+
+    /// `dim()` shortcut usable without importing [`CellArray`].
+    pub fn num_unknowns(&self) -> usize {
+        CellArray::dim(self)
+    }
+}

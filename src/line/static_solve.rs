@@ -1,0 +1,328 @@
+//! Static equilibrium of a line with fixed or prescribed ends (MODEL.md §5.2).
+//!
+//! * [`static_equilibrium`] — at rest every cell carries the same stress `S`
+//!   (`μ_j σ_el(λ_j) = S`) and the stretches add up to the length (`Σ L₀,j λ_j = l`). Each cell is
+//!   inverted for `λ_j(S)` (closed form for neo-Hookean: [`neo_hookean_stretch`]; safeguarded
+//!   Newton for any other law: [`invert_stretch`]), and `S` is found by a bracketing solve, since
+//!   `Σ L₀λ(S)` increases with `S`. O(N) per iteration.
+//! * [`static_newton`] — Newton on the static residual `F(t, y, ẏ = 0) = 0` of any line without
+//!   growth, with the banded Jacobian from AD and a banded LU (active stress at a frozen time,
+//!   width rules, …).
+
+use super::array::Line;
+use super::LineError;
+use crate::array::CellArray;
+use crate::energy::StrainEnergy;
+use integrators::{Pattern, ResidualError};
+use num_dual::Dual64;
+
+/// `λ` with `σ_el(λ)/μ = s` for neo-Hookean: `λ² = ½(s + √(s² + 4))`.
+///
+/// ```
+/// use celltissue::line::static_solve::neo_hookean_stretch;
+/// let l = neo_hookean_stretch(0.9f64.powi(2) - 0.9f64.powi(-2));
+/// assert!((l - 0.9).abs() < 1e-14);
+/// ```
+pub fn neo_hookean_stretch(s: f64) -> f64 {
+    // stable form for s < 0: λ² = 2 / (√(s²+4) − s)
+    let r = (s * s + 4.0).sqrt();
+    let l2 = if s >= 0.0 {
+        0.5 * (s + r)
+    } else {
+        2.0 / (r - s)
+    };
+    l2.sqrt()
+}
+
+/// Solves `scale·σ_el(λ) = s` for `λ > 0` (σ_el strictly increasing) by Newton with a bracket.
+///
+/// ```
+/// use celltissue::line::static_solve::invert_stretch;
+/// use celltissue::NeoHookean;
+/// let l = invert_stretch(&NeoHookean::new(1.0).unwrap(), 2.0, -0.5).unwrap();
+/// assert!((2.0 * (l * l - 1.0 / (l * l)) + 0.5).abs() < 1e-12);
+/// ```
+pub fn invert_stretch<E: StrainEnergy>(energy: &E, scale: f64, s: f64) -> Result<f64, LineError> {
+    let f = |l: f64| {
+        let r = energy.line(l);
+        (scale * r.sigma - s, scale * r.dsigma)
+    };
+    // bracket [lo, hi] with f(lo) < 0 < f(hi)
+    let (mut lo, mut hi) = (1.0, 1.0);
+    if f(1.0).0 > 0.0 {
+        while f(lo).0 > 0.0 {
+            lo *= 0.5;
+            if lo < 1e-300 {
+                return Err(LineError::Combination(format!(
+                    "cannot invert the cell law for stress {s}"
+                )));
+            }
+        }
+    } else {
+        while f(hi).0 < 0.0 {
+            hi *= 2.0;
+            if hi > 1e300 {
+                return Err(LineError::Combination(format!(
+                    "cannot invert the cell law for stress {s}"
+                )));
+            }
+        }
+    }
+    let mut l = 0.5 * (lo + hi);
+    for _ in 0..200 {
+        let (v, d) = f(l);
+        if v == 0.0 {
+            return Ok(l);
+        }
+        if v < 0.0 {
+            lo = l;
+        } else {
+            hi = l;
+        }
+        let mut next = l - v / d;
+        if !(next > lo && next < hi) || !next.is_finite() {
+            next = 0.5 * (lo + hi);
+        }
+        if (next - l).abs() <= 1e-15 * l {
+            return Ok(next);
+        }
+        l = next;
+    }
+    Ok(l)
+}
+
+/// A static equilibrium.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StaticSolution {
+    /// Uniform axial stress `S`.
+    pub stress: f64,
+    /// Cell stretches.
+    pub lambda: Vec<f64>,
+    /// Cell pressures `μ_j p_el(λ_j)`.
+    pub pressure: Vec<f64>,
+    /// Boundary positions `x₀ = 0 .. x_N = l`.
+    pub x: Vec<f64>,
+}
+
+impl StaticSolution {
+    /// Maximum pressure.
+    pub fn max_pressure(&self) -> f64 {
+        self.pressure
+            .iter()
+            .copied()
+            .fold(f64::NEG_INFINITY, f64::max)
+    }
+    /// Minimum stretch.
+    pub fn min_stretch(&self) -> f64 {
+        self.lambda.iter().copied().fold(f64::INFINITY, f64::min)
+    }
+}
+
+/// Static equilibrium of `line` (elastic cells, no growth or active stress) held at length `l`.
+///
+/// ```
+/// use celltissue::line::build::{LineParams, discrete};
+/// use celltissue::line::static_solve::static_equilibrium;
+/// use celltissue::NeoHookean;
+/// let line = discrete(NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(100)).unwrap();
+/// let s = static_equilibrium(&line, 90.0).unwrap();
+/// assert!((s.stress + 0.424568).abs() < 1e-6);          // MODEL.md §5.2 uniform
+/// assert!((s.max_pressure() - 1.234568).abs() < 1e-6);
+/// ```
+pub fn static_equilibrium<E: StrainEnergy>(
+    line: &Line<E>,
+    l: f64,
+) -> Result<StaticSolution, LineError> {
+    if !(l > 0.0 && l.is_finite()) {
+        return Err(LineError::invalid("length", l, "finite and > 0"));
+    }
+    let c = &line.cells;
+    let n = c.len();
+    let stretches = |s: f64| -> Result<Vec<f64>, LineError> {
+        (0..n)
+            .map(|i| invert_stretch(&line.energy, c.mu[i], s))
+            .collect()
+    };
+    let excess = |s: f64| -> Result<f64, LineError> {
+        let lam = stretches(s)?;
+        Ok(lam.iter().zip(&c.l0).map(|(a, b)| a * b).sum::<f64>() - l)
+    };
+    // bracket S
+    let (mut a, mut b) = (-1.0, 1.0);
+    let (mut fa, mut fb) = (excess(a)?, excess(b)?);
+    let mut k = 0;
+    while fa > 0.0 {
+        a *= 2.0;
+        fa = excess(a)?;
+        k += 1;
+        if k > 200 {
+            return Err(LineError::Combination(
+                "no static equilibrium bracket".into(),
+            ));
+        }
+    }
+    while fb < 0.0 {
+        b *= 2.0;
+        fb = excess(b)?;
+        k += 1;
+        if k > 400 {
+            return Err(LineError::Combination(
+                "no static equilibrium bracket".into(),
+            ));
+        }
+    }
+    // Illinois regula falsi
+    let mut side = 0;
+    let mut s = 0.5 * (a + b);
+    for _ in 0..300 {
+        s = (a * fb - b * fa) / (fb - fa);
+        let fs = excess(s)?;
+        if fs.abs() <= 1e-14 * l || (b - a).abs() <= 1e-16 * (1.0 + s.abs()) {
+            break;
+        }
+        if fs * fb > 0.0 {
+            b = s;
+            fb = fs;
+            if side == 1 {
+                fa *= 0.5;
+            }
+            side = 1;
+        } else {
+            a = s;
+            fa = fs;
+            if side == -1 {
+                fb *= 0.5;
+            }
+            side = -1;
+        }
+    }
+    let lambda = stretches(s)?;
+    let pressure = (0..n)
+        .map(|i| c.mu[i] * line.energy.line(lambda[i]).pressure)
+        .collect();
+    let mut x = Vec::with_capacity(n + 1);
+    x.push(0.0);
+    let mut acc = 0.0;
+    for i in 0..n {
+        acc += c.l0[i] * lambda[i];
+        x.push(acc);
+    }
+    Ok(StaticSolution {
+        stress: s,
+        lambda,
+        pressure,
+        x,
+    })
+}
+
+/// Newton solve of the static problem `F(t, y, 0) = 0` for a line without growth, from the
+/// guess `y` (e.g. [`Line::initial_state`]); damped so every iterate keeps all cells positive.
+/// Returns the converged unknowns (`max |ΔF|` below `tol` times the largest stress scale).
+pub fn static_newton<E: StrainEnergy>(
+    line: &Line<E>,
+    t: f64,
+    y: &[f64],
+    tol: f64,
+) -> Result<Vec<f64>, LineError> {
+    if line.is_growing() {
+        return Err(LineError::Combination(
+            "static_newton: growing lines have no static state".into(),
+        ));
+    }
+    let (lower, upper) = match line.pattern() {
+        Pattern::Banded { lower, upper } => (lower, upper),
+        _ => {
+            return Err(LineError::Combination(
+                "static_newton: ring (periodic) lines have a translation null mode; use static_equilibrium".into(),
+            ))
+        }
+    };
+    let n = y.len();
+    let mut y = y.to_vec();
+    let zero = vec![0.0; n];
+    let mut r = vec![0.0; n];
+    let res =
+        |y: &[f64], r: &mut [f64]| -> Result<(), ResidualError> { line.residual(t, y, &zero, r) };
+    let to_err = |e: ResidualError| LineError::Combination(format!("static_newton: {e:?}"));
+    res(&y, &mut r).map_err(to_err)?;
+    let w = lower + upper + 1;
+    let zd = vec![Dual64::new(0.0, 0.0); n];
+    let mut yd = vec![Dual64::new(0.0, 0.0); n];
+    let mut rd = vec![Dual64::new(0.0, 0.0); n];
+    for _iter in 0..100 {
+        let norm = r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        if norm <= tol {
+            return Ok(y);
+        }
+        // banded Jacobian by colouring: band[(i, j)] stored at i*(lower+upper+1) + (j + lower - i)
+        let mut band = vec![0.0; n * w];
+        for colour in 0..w.min(n) {
+            for j in 0..n {
+                yd[j] = Dual64::new(y[j], if j % w == colour { 1.0 } else { 0.0 });
+            }
+            line.residual(t, &yd, &zd, &mut rd).map_err(to_err)?;
+            for j in (colour..n).step_by(w) {
+                for i in j.saturating_sub(upper)..(j + lower + 1).min(n) {
+                    band[i * w + (j + lower - i)] = rd[i].eps;
+                }
+            }
+        }
+        let mut dy: Vec<f64> = r.iter().map(|v| -v).collect();
+        band_solve(&mut band, n, lower, upper, &mut dy).ok_or_else(|| {
+            LineError::Combination("static_newton: singular static Jacobian".into())
+        })?;
+        // damping: keep residual evaluable and decreasing
+        let mut step = 1.0;
+        loop {
+            let trial: Vec<f64> = y.iter().zip(&dy).map(|(a, b)| a + step * b).collect();
+            let mut rt = vec![0.0; n];
+            let ok = res(&trial, &mut rt).is_ok();
+            let nt = rt.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            if ok && (nt < norm || step < 1e-3) {
+                y = trial;
+                r = rt;
+                break;
+            }
+            step *= 0.5;
+            if step < 1e-10 {
+                return Err(LineError::Combination(
+                    "static_newton: line search failed (cells would invert)".into(),
+                ));
+            }
+        }
+    }
+    Err(LineError::Combination(
+        "static_newton: no convergence in 100 iterations".into(),
+    ))
+}
+
+/// Gaussian elimination without pivoting on a band matrix (row-major band storage, fill-free
+/// because no rows are swapped). Returns `None` on a zero pivot.
+fn band_solve(a: &mut [f64], n: usize, lower: usize, upper: usize, b: &mut [f64]) -> Option<()> {
+    let w = lower + upper + 1;
+    let idx = |i: usize, j: usize| i * w + (j + lower - i);
+    for k in 0..n {
+        let piv = a[idx(k, k)];
+        if piv == 0.0 || !piv.is_finite() {
+            return None;
+        }
+        for i in k + 1..(k + lower + 1).min(n) {
+            let f = a[idx(i, k)] / piv;
+            if f == 0.0 {
+                continue;
+            }
+            for j in k..(k + upper + 1).min(n) {
+                a[idx(i, j)] -= f * a[idx(k, j)];
+            }
+            b[i] -= f * b[k];
+        }
+    }
+    for k in (0..n).rev() {
+        let mut s = b[k];
+        for j in k + 1..(k + upper + 1).min(n) {
+            s -= a[idx(k, j)] * b[j];
+        }
+        b[k] = s / a[idx(k, k)];
+    }
+    Some(())
+}
