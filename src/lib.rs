@@ -20,7 +20,7 @@ pub mod substrate;
 
 pub use array::{ArrayProblem, CellArray};
 pub use energy::{
-    EnergyError, LineResponse, MooneyRivlin, NeoHookean, Ogden, ShearResponse, SheetResponse,
-    StrainEnergy,
+    AnyEnergy, EnergyError, Hgo, LineResponse, MooneyRivlin, NeoHookean, Ogden, Scaled,
+    ShearResponse, SheetResponse, StrainEnergy,
 };
 pub use scalar::Scalar;

@@ -20,15 +20,23 @@
 //! ```
 
 pub mod ad;
+mod any;
 mod error;
+mod hgo;
 mod mooney_rivlin;
 mod neo_hookean;
 mod ogden;
+mod scaled;
+#[cfg(test)]
+mod tests;
 
+pub use any::AnyEnergy;
 pub use error::EnergyError;
+pub use hgo::Hgo;
 pub use mooney_rivlin::MooneyRivlin;
 pub use neo_hookean::NeoHookean;
 pub use ogden::Ogden;
+pub use scaled::Scaled;
 
 use num_dual::DualNum;
 
