@@ -1,2 +1,360 @@
 //! Adapters onto the residual form: explicit ODEs `ẏ = f(t, y)` and mass-matrix systems
 //! `M(t, y)·ẏ = f(t, y)`.
+//!
+//! * [`OdeProblem`] + [`Ode`]: `F(t, y, ẏ) = ẏ − f(t, y)`. The iteration matrix is
+//!   `c·I − ∂f/∂y`; if the problem gives `∂f/∂y` ([`OdeProblem::jacobian`]) it is used directly,
+//!   otherwise the driver builds it by coloured finite differences from the declared pattern.
+//! * [`MassProblem`] + [`Mass`]: `F(t, y, ẏ) = M(t, y)·ẏ − f(t, y)`. Rows of `M` that are zero
+//!   make the corresponding components algebraic (declare them with
+//!   [`MassProblem::algebraic`]). With a constant mass matrix and `∂f/∂y` given, the iteration
+//!   matrix `c·M − ∂f/∂y` is assembled exactly; otherwise finite differences are used.
+//!
+//! Per-component absolute tolerances, patterns and events pass straight through.
+
+use crate::linalg::Matrix;
+use crate::pattern::Pattern;
+use crate::problem::{EventAction, JacobianSink, Problem, ResidualError};
+
+/// An explicit ODE `ẏ = f(t, y)`. Wrap it in [`Ode`] to solve it.
+///
+/// ```
+/// use integrators::adapters::{Ode, OdeProblem};
+/// use integrators::{MethodKind, Options, ResidualError, Solver};
+/// /// ẏ = -2y
+/// struct Decay;
+/// impl OdeProblem for Decay {
+///     fn dim(&self) -> usize { 1 }
+///     fn rhs(&mut self, _t: f64, y: &[f64], f: &mut [f64]) -> Result<(), ResidualError> {
+///         f[0] = -2.0 * y[0];
+///         Ok(())
+///     }
+/// }
+/// let sol = Solver::new(MethodKind::Bdf, Options { rtol: 1e-8, atol: 1e-10, ..Default::default() })
+///     .solve(&mut Ode(Decay), 0.0, &[1.0], &[1.0])
+///     .unwrap();
+/// assert!((sol.y[0][0] - (-2.0f64).exp()).abs() < 1e-6);
+/// ```
+pub trait OdeProblem {
+    /// Number of unknowns.
+    fn dim(&self) -> usize;
+
+    /// Evaluates `f = f(t, y)`.
+    fn rhs(&mut self, t: f64, y: &[f64], f: &mut [f64]) -> Result<(), ResidualError>;
+
+    /// Adds `∂f/∂y` at `(t, y)` into `jac` (zeroed, shaped by [`pattern`](OdeProblem::pattern)).
+    /// Return `Ok(false)` (the default) if not provided.
+    fn jacobian(&mut self, _t: f64, _y: &[f64], _jac: &mut Matrix) -> Result<bool, ResidualError> {
+        Ok(false)
+    }
+
+    /// Structure of `∂f/∂y` (the diagonal is always included). Default dense.
+    fn pattern(&self) -> Pattern {
+        Pattern::Dense
+    }
+
+    /// Per-component absolute tolerances, or `None` for [`crate::Options::atol`].
+    fn atol(&self) -> Option<Vec<f64>> {
+        None
+    }
+
+    /// Number of event functions (may change after a resize).
+    fn num_events(&self) -> usize {
+        0
+    }
+
+    /// Event functions `g_i(t, y)`.
+    fn events(&mut self, _t: f64, _y: &[f64], _g: &mut [f64]) {}
+
+    /// Event handler; see [`Problem::handle_event`].
+    fn handle_event(
+        &mut self,
+        _t: f64,
+        _fired: &[usize],
+        _y: &mut Vec<f64>,
+        _yp: &[f64],
+    ) -> Result<EventAction, ResidualError> {
+        Ok(EventAction::Stop)
+    }
+}
+
+/// Residual-form wrapper of an [`OdeProblem`]: `F = ẏ − f(t, y)`. The wrapped problem is
+/// public (`ode.0`) so that callers and observers can read model state.
+#[derive(Clone, Debug, Default)]
+pub struct Ode<P>(pub P);
+
+/// Multiplies every stored value of `m` by `s`.
+fn scale_matrix(m: &mut Matrix, s: f64) {
+    match m {
+        Matrix::Dense(d) => d.data.iter_mut().for_each(|v| *v *= s),
+        Matrix::Banded(b) => b.data.iter_mut().for_each(|v| *v *= s),
+        Matrix::Sparse(sp) => sp.values.iter_mut().for_each(|v| *v *= s),
+    }
+}
+
+impl<P: OdeProblem> Problem for Ode<P> {
+    fn dim(&self) -> usize {
+        self.0.dim()
+    }
+
+    fn residual(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        r: &mut [f64],
+    ) -> Result<(), ResidualError> {
+        // f is written into r, then r = ẏ − f
+        self.0.rhs(t, y, r)?;
+        for (ri, &ypi) in r.iter_mut().zip(yp) {
+            *ri = ypi - *ri;
+        }
+        Ok(())
+    }
+
+    fn pattern(&self) -> Pattern {
+        self.0.pattern()
+    }
+
+    fn jacobian(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        _yp: &[f64],
+        c: f64,
+        jac: &mut JacobianSink,
+    ) -> Result<bool, ResidualError> {
+        if !self.0.jacobian(t, y, jac)? {
+            return Ok(false);
+        }
+        scale_matrix(jac, -1.0);
+        for i in 0..self.0.dim() {
+            jac.add(i, i, c);
+        }
+        Ok(true)
+    }
+
+    fn atol(&self) -> Option<Vec<f64>> {
+        self.0.atol()
+    }
+
+    fn num_events(&self) -> usize {
+        self.0.num_events()
+    }
+
+    fn events(&mut self, t: f64, y: &[f64], g: &mut [f64]) {
+        self.0.events(t, y, g)
+    }
+
+    fn handle_event(
+        &mut self,
+        t: f64,
+        fired: &[usize],
+        y: &mut Vec<f64>,
+        yp: &[f64],
+    ) -> Result<EventAction, ResidualError> {
+        self.0.handle_event(t, fired, y, yp)
+    }
+}
+
+/// A mass-matrix system `M(t, y)·ẏ = f(t, y)`. Wrap it in [`Mass`] to solve it.
+///
+/// ```
+/// use integrators::adapters::{Mass, MassProblem};
+/// use integrators::{MethodKind, Options, ResidualError, Solver};
+/// /// 2·ẏ0 = -y0 (differential), 0 = y1 - y0 (algebraic)
+/// struct Dae;
+/// impl MassProblem for Dae {
+///     fn dim(&self) -> usize { 2 }
+///     fn rhs(&mut self, _t: f64, y: &[f64], f: &mut [f64]) -> Result<(), ResidualError> {
+///         f[0] = -y[0];
+///         f[1] = y[1] - y[0];
+///         Ok(())
+///     }
+///     fn mass_times(&mut self, _t: f64, _y: &[f64], v: &[f64], out: &mut [f64])
+///         -> Result<(), ResidualError> {
+///         out[0] = 2.0 * v[0];
+///         out[1] = 0.0;
+///         Ok(())
+///     }
+///     fn algebraic(&self) -> Vec<bool> { vec![false, true] }
+/// }
+/// let sol = Solver::new(MethodKind::Bdf, Options { rtol: 1e-8, atol: 1e-10, ..Default::default() })
+///     .solve(&mut Mass::new(Dae), 0.0, &[1.0, 1.0], &[2.0])
+///     .unwrap();
+/// assert!((sol.y[0][0] - (-1.0f64).exp()).abs() < 1e-6);
+/// assert!((sol.y[0][1] - sol.y[0][0]).abs() < 1e-9);
+/// ```
+pub trait MassProblem {
+    /// Number of unknowns.
+    fn dim(&self) -> usize;
+
+    /// Evaluates `f = f(t, y)`.
+    fn rhs(&mut self, t: f64, y: &[f64], f: &mut [f64]) -> Result<(), ResidualError>;
+
+    /// Evaluates `out = M(t, y)·v`.
+    fn mass_times(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        v: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), ResidualError>;
+
+    /// Whether `M` is constant (independent of `t` and `y`). Only then is the exact iteration
+    /// matrix assembled from [`mass_matrix`](MassProblem::mass_matrix) and
+    /// [`jacobian`](MassProblem::jacobian); a state-dependent `M` adds `∂(M ẏ)/∂y`, which is left
+    /// to finite differences. Default `false`.
+    fn mass_is_constant(&self) -> bool {
+        false
+    }
+
+    /// Adds `M` into `m` (zeroed, shaped by the pattern). `Ok(false)` (default): not provided.
+    fn mass_matrix(&mut self, _t: f64, _y: &[f64], _m: &mut Matrix) -> Result<bool, ResidualError> {
+        Ok(false)
+    }
+
+    /// Adds `∂f/∂y` into `jac`. `Ok(false)` (default): not provided.
+    fn jacobian(&mut self, _t: f64, _y: &[f64], _jac: &mut Matrix) -> Result<bool, ResidualError> {
+        Ok(false)
+    }
+
+    /// Structure of `c·M − ∂f/∂y`. Default dense.
+    fn pattern(&self) -> Pattern {
+        Pattern::Dense
+    }
+
+    /// Components with a zero row in `M` (algebraic). Default none.
+    fn algebraic(&self) -> Vec<bool> {
+        vec![false; self.dim()]
+    }
+
+    /// Per-component absolute tolerances, or `None` for [`crate::Options::atol`].
+    fn atol(&self) -> Option<Vec<f64>> {
+        None
+    }
+
+    /// Number of event functions (may change after a resize).
+    fn num_events(&self) -> usize {
+        0
+    }
+
+    /// Event functions `g_i(t, y)`.
+    fn events(&mut self, _t: f64, _y: &[f64], _g: &mut [f64]) {}
+
+    /// Event handler; see [`Problem::handle_event`].
+    fn handle_event(
+        &mut self,
+        _t: f64,
+        _fired: &[usize],
+        _y: &mut Vec<f64>,
+        _yp: &[f64],
+    ) -> Result<EventAction, ResidualError> {
+        Ok(EventAction::Stop)
+    }
+}
+
+/// Residual-form wrapper of a [`MassProblem`]: `F = M(t, y)·ẏ − f(t, y)`.
+#[derive(Clone, Debug, Default)]
+pub struct Mass<P> {
+    /// The wrapped problem.
+    pub inner: P,
+    f: Vec<f64>,
+    scratch: Option<(Pattern, Matrix)>,
+}
+
+impl<P: MassProblem> Mass<P> {
+    /// Wraps `inner`.
+    pub fn new(inner: P) -> Self {
+        Self {
+            inner,
+            f: Vec::new(),
+            scratch: None,
+        }
+    }
+}
+
+impl<P: MassProblem> Problem for Mass<P> {
+    fn dim(&self) -> usize {
+        self.inner.dim()
+    }
+
+    fn residual(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        r: &mut [f64],
+    ) -> Result<(), ResidualError> {
+        self.f.resize(r.len(), 0.0);
+        self.inner.rhs(t, y, &mut self.f)?;
+        self.inner.mass_times(t, y, yp, r)?;
+        for (ri, fi) in r.iter_mut().zip(&self.f) {
+            *ri -= fi;
+        }
+        Ok(())
+    }
+
+    fn pattern(&self) -> Pattern {
+        self.inner.pattern()
+    }
+
+    fn jacobian(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        _yp: &[f64],
+        c: f64,
+        jac: &mut JacobianSink,
+    ) -> Result<bool, ResidualError> {
+        if !self.inner.mass_is_constant() {
+            return Ok(false);
+        }
+        let n = self.inner.dim();
+        let pattern = self.inner.pattern();
+        let fresh = match &self.scratch {
+            Some((p, m)) => m.n() != n || *p != pattern,
+            None => true,
+        };
+        if fresh {
+            let m = Matrix::zeros(n, &pattern);
+            self.scratch = Some((pattern, m));
+        }
+        let mm = &mut self.scratch.as_mut().expect("allocated").1;
+        mm.set_zero();
+        if !self.inner.mass_matrix(t, y, mm)? {
+            return Ok(false);
+        }
+        if !self.inner.jacobian(t, y, jac)? {
+            return Ok(false);
+        }
+        // jac = c·M − ∂f/∂y
+        jac.axpby(-1.0, c, mm);
+        Ok(true)
+    }
+
+    fn algebraic(&self) -> Vec<bool> {
+        self.inner.algebraic()
+    }
+
+    fn atol(&self) -> Option<Vec<f64>> {
+        self.inner.atol()
+    }
+
+    fn num_events(&self) -> usize {
+        self.inner.num_events()
+    }
+
+    fn events(&mut self, t: f64, y: &[f64], g: &mut [f64]) {
+        self.inner.events(t, y, g)
+    }
+
+    fn handle_event(
+        &mut self,
+        t: f64,
+        fired: &[usize],
+        y: &mut Vec<f64>,
+        yp: &[f64],
+    ) -> Result<EventAction, ResidualError> {
+        self.inner.handle_event(t, fired, y, yp)
+    }
+}

@@ -1,8 +1,53 @@
 //! The driver: consistent initialisation, stepping, output at requested times, event location
 //! and actions (stop / modify / resize), statistics and errors with the partial solution.
+//!
+//! # Flow of a solve
+//!
+//! 1. Validate the options, `y0` (length, finiteness) and the output times (finite, sorted,
+//!    `≥ t0`, non-empty); errors are [`ErrorKind::InvalidInput`].
+//! 2. Build the per-dimension cache, compute a consistent `ẏ0` (and algebraic `y0`) with
+//!    [`System::consistent_init`], start the method.
+//! 3. Step towards the last output time. After each accepted step `[t_prev, t]`, event functions
+//!    are evaluated at `t` and compared with their values at the previous accepted point; the
+//!    earliest sign change is located on the method's dense output by an Illinois-safeguarded
+//!    secant iteration to [`Options::event_tol`]. Outputs in `(t_prev, t]` come from the dense
+//!    output.
+//! 4. At a located event `t*`, outputs before `t*` are emitted, the problem's
+//!    [`Problem::handle_event`] is called with the interpolated state, and the action is applied.
+//!
+//! # Event conventions
+//!
+//! * A function *fires* when it changes sign between two points, including a change to exactly
+//!   zero from a nonzero value. A function that is exactly zero at the earlier point does not fire
+//!   when it leaves zero.
+//! * The located time `t*` is the right end of the final bracket, so the fired functions already
+//!   have their post-crossing sign (or are zero) at `t*`. Functions whose roots lie within
+//!   `event_tol` of each other fire together (indices in increasing order).
+//! * After an event, each fired function that is zero or still has its post-crossing sign at the
+//!   (possibly modified) state is treated as exactly zero until it moves away from zero, so the
+//!   same root never fires twice (a bouncing ball left at height `-1e-15` does not bounce again
+//!   immediately). A function reset to its pre-crossing side fires normally at its next crossing.
+//! * [`EventAction::Continue`]: the step is kept and the rest of it is searched for further
+//!   events; changes the handler made to `y` are ignored.
+//! * [`EventAction::Modified`] / [`EventAction::Resized`]: the step after `t*` is discarded, the
+//!   cache is rebuilt (resize), `ẏ` is made consistent at `t*`, and the method restarts at `t*`
+//!   with the last step size as a hint.
+//! * [`EventAction::Stop`]: the solve ends successfully at `t*`; `(t*, y, ẏ)` (after the handler)
+//!   is appended to the outputs (once, even if `t*` is also a requested output time).
+//!
+//! **Outputs at an event time** (requested times within `event_tol` before `t*`, or equal to it)
+//! are emitted *after* the event is handled (right-continuous convention): they report the
+//! modified / resized state and its consistent `ẏ` (labelled with the requested time). For a
+//! `Stop` they are replaced by the stop entry.
 
-use crate::problem::EventAction;
+use std::cell::RefCell;
+
+use crate::error::{ErrorKind, SolveFailure, SolverError};
+use crate::method::{Method, MethodKind};
+use crate::options::Options;
+use crate::problem::{EventAction, Problem, ResidualError};
 use crate::stats::Stats;
+use crate::system::{System, SystemCache};
 
 /// One handled event.
 #[derive(Clone, Debug, PartialEq)]
@@ -36,5 +81,627 @@ pub struct Solution {
     pub y_last: Vec<f64>,
 }
 
-/// SKELETON: `Solver` is filled in by the driver/BDF work item.
-pub struct Solver;
+/// Where the solver gets its method from.
+enum MethodSource {
+    Kind(MethodKind),
+    Boxed(RefCell<Box<dyn Method>>),
+}
+
+/// The integration driver: a method plus options.
+///
+/// ```
+/// use integrators::{MethodKind, Options, Problem, ResidualError, Solver};
+/// /// ẏ = -y
+/// struct Decay;
+/// impl Problem for Decay {
+///     fn dim(&self) -> usize { 1 }
+///     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64])
+///         -> Result<(), ResidualError> { r[0] = yp[0] + y[0]; Ok(()) }
+/// }
+/// let solver = Solver::new(MethodKind::Bdf, Options { rtol: 1e-8, atol: 1e-10, ..Default::default() });
+/// let sol = solver.solve(&mut Decay, 0.0, &[1.0], &[1.0, 2.0]).unwrap();
+/// assert!((sol.y[1][0] - (-2.0f64).exp()).abs() < 1e-6);
+/// ```
+pub struct Solver {
+    opts: Options,
+    source: MethodSource,
+}
+
+impl std::fmt::Debug for Solver {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Solver")
+            .field("method", &self.method_name())
+            .field("opts", &self.opts)
+            .finish()
+    }
+}
+
+impl Solver {
+    /// A solver using a built-in method (a fresh method object per solve).
+    pub fn new(kind: MethodKind, opts: Options) -> Self {
+        Self {
+            opts,
+            source: MethodSource::Kind(kind),
+        }
+    }
+
+    /// A solver using the caller's own [`Method`] implementation. The method object is reused
+    /// (restarted with [`Method::start`]) by every solve; a solve started from inside the
+    /// observer of another solve with the same `Solver` fails with `InvalidInput`.
+    pub fn with_method(method: Box<dyn Method>, opts: Options) -> Self {
+        Self {
+            opts,
+            source: MethodSource::Boxed(RefCell::new(method)),
+        }
+    }
+
+    /// The options.
+    pub fn options(&self) -> &Options {
+        &self.opts
+    }
+
+    /// Name of the method (`"bdf"`, …, or the custom method's name).
+    pub fn method_name(&self) -> &'static str {
+        match &self.source {
+            MethodSource::Kind(k) => k.name(),
+            MethodSource::Boxed(m) => m.try_borrow().map(|m| m.name()).unwrap_or("custom"),
+        }
+    }
+
+    /// Integrates `problem` from `(t0, y0)` and returns the state at every time of `t_out`
+    /// (sorted, `≥ t0`; the last one is the end of the integration).
+    pub fn solve<P: Problem>(
+        &self,
+        problem: &mut P,
+        t0: f64,
+        y0: &[f64],
+        t_out: &[f64],
+    ) -> Result<Solution, SolveFailure> {
+        self.solve_with(problem, t0, y0, t_out, |_, _, _, _| {})
+    }
+
+    /// As [`solve`](Solver::solve), calling `observer(problem, t, y, ẏ)` at every output (after
+    /// it is stored) — the place to record model observables such as the number of cells after
+    /// resizes.
+    pub fn solve_with<P, O>(
+        &self,
+        problem: &mut P,
+        t0: f64,
+        y0: &[f64],
+        t_out: &[f64],
+        observer: O,
+    ) -> Result<Solution, SolveFailure>
+    where
+        P: Problem,
+        O: FnMut(&P, f64, &[f64], &[f64]),
+    {
+        match &self.source {
+            MethodSource::Kind(k) => {
+                let mut m = k.build();
+                run(&self.opts, m.as_mut(), problem, t0, y0, t_out, observer)
+            }
+            MethodSource::Boxed(cell) => match cell.try_borrow_mut() {
+                Ok(mut m) => run(&self.opts, m.as_mut(), problem, t0, y0, t_out, observer),
+                Err(_) => Err(SolveFailure {
+                    error: SolverError::new(
+                        ErrorKind::InvalidInput("solver already in use by another solve".into()),
+                        t0,
+                        None,
+                    ),
+                    partial: Box::default(),
+                }),
+            },
+        }
+    }
+}
+
+/// Sign-change test: `a` nonzero and `b` zero or of the other sign.
+fn fires(a: f64, b: f64) -> bool {
+    a != 0.0 && (b == 0.0 || (a > 0.0) != (b > 0.0))
+}
+
+/// The state of one run, bundled so that failures can return everything computed so far.
+struct Run<'o, O> {
+    t_out: &'o [f64],
+    next_out: usize,
+    sol: Solution,
+    stats: Stats,
+    cache: SystemCache,
+    observer: O,
+    ybuf: Vec<f64>,
+    ypbuf: Vec<f64>,
+}
+
+impl<O> Run<'_, O> {
+    fn fail(mut self, kind: ErrorKind, t: f64, component: Option<usize>) -> SolveFailure {
+        self.sol.stats = self.stats;
+        SolveFailure {
+            error: SolverError::new(kind, t, component),
+            partial: Box::new(self.sol),
+        }
+    }
+
+    fn fail_err(mut self, error: SolverError) -> SolveFailure {
+        self.sol.stats = self.stats;
+        SolveFailure {
+            error,
+            partial: Box::new(self.sol),
+        }
+    }
+}
+
+impl<O> Run<'_, O> {
+    fn push<P: Problem>(&mut self, p: &P, t: f64, y: &[f64], yp: &[f64])
+    where
+        O: FnMut(&P, f64, &[f64], &[f64]),
+    {
+        self.sol.t.push(t);
+        self.sol.y.push(y.to_vec());
+        self.sol.yp.push(yp.to_vec());
+        (self.observer)(p, t, y, yp);
+    }
+
+    /// Emits outputs with `t_out < limit` (or `≤` if `inclusive`) from the method's dense output.
+    fn emit_interp<P: Problem>(&mut self, p: &P, m: &dyn Method, limit: f64, inclusive: bool)
+    where
+        O: FnMut(&P, f64, &[f64], &[f64]),
+    {
+        while self.next_out < self.t_out.len() {
+            let to = self.t_out[self.next_out];
+            if to < limit || (inclusive && to == limit) {
+                let n = m.y().len();
+                self.ybuf.resize(n, 0.0);
+                self.ypbuf.resize(n, 0.0);
+                if to == m.t() {
+                    self.ybuf.copy_from_slice(m.y());
+                    self.ypbuf.copy_from_slice(m.yp());
+                } else {
+                    m.interpolate(to, &mut self.ybuf, &mut self.ypbuf);
+                }
+                let (yb, ypb) = (
+                    std::mem::take(&mut self.ybuf),
+                    std::mem::take(&mut self.ypbuf),
+                );
+                self.push(p, to, &yb, &ypb);
+                self.ybuf = yb;
+                self.ypbuf = ypb;
+                self.next_out += 1;
+            } else {
+                break;
+            }
+        }
+    }
+
+    /// Emits outputs at exactly `t` (and any earlier ones) with the given state.
+    fn emit_at<P: Problem>(&mut self, p: &P, t: f64, y: &[f64], yp: &[f64])
+    where
+        O: FnMut(&P, f64, &[f64], &[f64]),
+    {
+        while self.next_out < self.t_out.len() && self.t_out[self.next_out] <= t {
+            let to = self.t_out[self.next_out];
+            self.push(p, to, y, yp);
+            self.next_out += 1;
+        }
+    }
+}
+
+/// Evaluates the event functions, checking their number and finiteness.
+fn eval_events<P: Problem>(p: &mut P, t: f64, y: &[f64], g: &mut Vec<f64>) -> Result<(), String> {
+    let ne = p.num_events();
+    g.clear();
+    g.resize(ne, 0.0);
+    if ne == 0 {
+        return Ok(());
+    }
+    p.events(t, y, g);
+    if let Some(i) = g.iter().position(|v| !v.is_finite()) {
+        return Err(format!("event function {i} is not finite at t = {t}"));
+    }
+    Ok(())
+}
+
+/// Locates the earliest sign change in `(a, b]` on the dense output. Returns `t*`, the fired
+/// indices and `g(t*)`, plus the post-crossing signs of the fired functions.
+#[allow(clippy::too_many_arguments)]
+fn locate<P: Problem>(
+    p: &mut P,
+    m: &dyn Method,
+    tol: f64,
+    mut a: f64,
+    mut ga: Vec<f64>,
+    mut b: f64,
+    mut gb: Vec<f64>,
+    ybuf: &mut Vec<f64>,
+    ypbuf: &mut Vec<f64>,
+) -> Result<(f64, Vec<usize>, Vec<f64>, Vec<f64>), String> {
+    let n = m.y().len();
+    ybuf.resize(n, 0.0);
+    ypbuf.resize(n, 0.0);
+    let mut gm = Vec::new();
+    // Illinois weights on the retained endpoint values
+    let (mut wa, mut wb) = (1.0f64, 1.0f64);
+    let mut last_side = 0i8; // -1: a retained last time, +1: b retained
+    for _ in 0..200 {
+        let width = b - a;
+        let tol_eff = tol.max(4.0 * f64::EPSILON * a.abs().max(b.abs()));
+        if width <= tol_eff {
+            break;
+        }
+        // earliest secant root among the functions changing sign in [a, b]
+        let mut tm = b;
+        for i in 0..ga.len() {
+            if fires(ga[i], gb[i]) {
+                let fa = ga[i] * wa;
+                let fb = gb[i] * wb;
+                let s = if fa != fb {
+                    a + width * fa / (fa - fb)
+                } else {
+                    a + 0.5 * width
+                };
+                if s.is_finite() {
+                    tm = tm.min(s);
+                }
+            }
+        }
+        // keep the point strictly inside, at least tol/2 from either end
+        let margin = (0.5 * tol_eff).min(0.25 * width);
+        tm = tm.clamp(a + margin, b - margin);
+        if !(tm > a && tm < b) {
+            tm = a + 0.5 * width;
+            if !(tm > a && tm < b) {
+                break;
+            }
+        }
+        m.interpolate(tm, ybuf, ypbuf);
+        eval_events(p, tm, ybuf, &mut gm)?;
+        if gm.len() != ga.len() {
+            return Err("number of event functions changed during root finding".into());
+        }
+        let left = (0..ga.len()).any(|i| fires(ga[i], gm[i]));
+        if left {
+            b = tm;
+            std::mem::swap(&mut gb, &mut gm);
+            wb = 1.0;
+            if last_side == -1 {
+                wa *= 0.5;
+            } else {
+                wa = 1.0;
+            }
+            last_side = -1;
+        } else {
+            a = tm;
+            std::mem::swap(&mut ga, &mut gm);
+            wa = 1.0;
+            if last_side == 1 {
+                wb *= 0.5;
+            } else {
+                wb = 1.0;
+            }
+            last_side = 1;
+        }
+    }
+    let fired: Vec<usize> = (0..ga.len()).filter(|&i| fires(ga[i], gb[i])).collect();
+    let post: Vec<f64> = (0..ga.len())
+        .map(|i| {
+            if gb[i] != 0.0 {
+                gb[i].signum()
+            } else {
+                -ga[i].signum()
+            }
+        })
+        .collect();
+    Ok((b, fired, gb, post))
+}
+
+/// Masks fired functions that sit at zero or on their post-crossing side after an event.
+fn mask_fired(g: &mut [f64], fired: &[usize], post: &[f64]) {
+    for &i in fired {
+        if i < g.len() && i < post.len() && (g[i] == 0.0 || g[i].signum() == post[i]) {
+            g[i] = 0.0;
+        }
+    }
+}
+
+fn residual_error_kind(e: ResidualError) -> ErrorKind {
+    match e {
+        ResidualError::Recoverable { reason, .. } => {
+            ErrorKind::Residual(format!("event handler: {reason}"))
+        }
+        ResidualError::Fatal(msg) => ErrorKind::Residual(format!("event handler: {msg}")),
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn run<P, O>(
+    opts: &Options,
+    method: &mut dyn Method,
+    p: &mut P,
+    t0: f64,
+    y0: &[f64],
+    t_out: &[f64],
+    observer: O,
+) -> Result<Solution, SolveFailure>
+where
+    P: Problem,
+    O: FnMut(&P, f64, &[f64], &[f64]),
+{
+    let mut run = Run {
+        t_out,
+        next_out: 0,
+        sol: Solution {
+            t_last: t0,
+            y_last: y0.to_vec(),
+            ..Default::default()
+        },
+        stats: Stats::default(),
+        cache: SystemCache::default(),
+        observer,
+        ybuf: Vec::new(),
+        ypbuf: Vec::new(),
+    };
+    let invalid =
+        |run: Run<'_, O>, msg: String| Err(run.fail(ErrorKind::InvalidInput(msg), t0, None));
+
+    // ---- input validation
+    if let Err(e) = opts.validate() {
+        return invalid(run, e);
+    }
+    if !t0.is_finite() {
+        return invalid(run, format!("t0 = {t0} is not finite"));
+    }
+    if t_out.is_empty() {
+        return invalid(run, "t_out is empty: give at least the final time".into());
+    }
+    if let Some(i) = t_out.iter().position(|t| !t.is_finite()) {
+        return invalid(run, format!("t_out[{i}] = {} is not finite", t_out[i]));
+    }
+    if let Some(i) = (1..t_out.len()).find(|&i| t_out[i] < t_out[i - 1]) {
+        return invalid(run, format!("t_out is not sorted at index {i}"));
+    }
+    if t_out[0] < t0 {
+        return invalid(
+            run,
+            format!(
+                "t_out[0] = {} is before t0 = {t0} (backward integration is not supported)",
+                t_out[0]
+            ),
+        );
+    }
+    let n = p.dim();
+    if y0.len() != n {
+        return invalid(
+            run,
+            format!(
+                "y0 has length {} but the problem dimension is {n}",
+                y0.len()
+            ),
+        );
+    }
+    if let Some(i) = y0.iter().position(|v| !v.is_finite()) {
+        return Err(run.fail(
+            ErrorKind::InvalidInput(format!("y0[{i}] = {} is not finite", y0[i])),
+            t0,
+            Some(i),
+        ));
+    }
+    if let Err(e) = run.cache.rebuild(p, opts) {
+        return invalid(run, e);
+    }
+
+    // ---- consistent initialisation
+    let mut y = y0.to_vec();
+    let mut yp = vec![0.0; n];
+    {
+        let mut sys = System::new(p, opts, &mut run.stats, &mut run.cache);
+        if let Err(e) = sys.consistent_init(t0, &mut y, &mut yp) {
+            return Err(run.fail_err(e));
+        }
+    }
+    run.sol.y_last = y.clone();
+    let mut g_prev = Vec::new();
+    if let Err(e) = eval_events(p, t0, &y, &mut g_prev) {
+        return Err(run.fail(ErrorKind::Residual(e), t0, None));
+    }
+    run.emit_at(p, t0, &y, &yp);
+    let t_end = *t_out.last().expect("non-empty");
+    if run.next_out == t_out.len() {
+        run.sol.stats = run.stats;
+        return Ok(run.sol);
+    }
+    {
+        let mut sys = System::new(p, opts, &mut run.stats, &mut run.cache);
+        if let Err(e) = method.start(&mut sys, t0, &y, &yp, opts.h0) {
+            return Err(run.fail_err(e));
+        }
+    }
+
+    let mut g_new = Vec::new();
+    loop {
+        if run.stats.steps >= opts.max_steps {
+            let t = method.t();
+            return Err(run.fail(ErrorKind::TooManySteps(opts.max_steps), t, None));
+        }
+        {
+            let mut sys = System::new(p, opts, &mut run.stats, &mut run.cache);
+            if let Err(e) = method.step(&mut sys, t_end) {
+                run.sol.t_last = method.t();
+                run.sol.y_last = method.y().to_vec();
+                return Err(run.fail_err(e));
+            }
+        }
+        let t = method.t();
+        run.sol.t_last = t;
+        run.sol.y_last.clear();
+        run.sol.y_last.extend_from_slice(method.y());
+        if let Some(i) = method.y().iter().position(|v| !v.is_finite()) {
+            return Err(run.fail(ErrorKind::NonFinite, t, Some(i)));
+        }
+
+        // ---- events in (a, t]
+        let mut a = method.t_prev();
+        let mut restarted = false;
+        if !g_prev.is_empty() {
+            if let Err(e) = eval_events(p, t, method.y(), &mut g_new) {
+                return Err(run.fail(ErrorKind::Residual(e), t, None));
+            }
+            if g_new.len() != g_prev.len() {
+                return Err(run.fail(
+                    ErrorKind::InvalidInput("num_events() changed without a Resized event".into()),
+                    t,
+                    None,
+                ));
+            }
+            while (0..g_prev.len()).any(|i| fires(g_prev[i], g_new[i])) {
+                let (mut yb, mut ypb) = (
+                    std::mem::take(&mut run.ybuf),
+                    std::mem::take(&mut run.ypbuf),
+                );
+                let located = locate(
+                    p,
+                    method,
+                    opts.event_tol,
+                    a,
+                    g_prev.clone(),
+                    t,
+                    g_new.clone(),
+                    &mut yb,
+                    &mut ypb,
+                );
+                run.ybuf = yb;
+                run.ypbuf = ypb;
+                let (ts, fired, g_star, post) = match located {
+                    Ok(v) => v,
+                    Err(e) => return Err(run.fail(ErrorKind::Residual(e), t, None)),
+                };
+                // outputs before the event (those within event_tol of it count as at it)
+                run.emit_interp(p, method, ts - opts.event_tol, false);
+                let nn = method.y().len();
+                let mut ye = vec![0.0; nn];
+                let mut ype = vec![0.0; nn];
+                if ts == t {
+                    ye.copy_from_slice(method.y());
+                    ype.copy_from_slice(method.yp());
+                } else {
+                    method.interpolate(ts, &mut ye, &mut ype);
+                }
+                let mut ynew = ye.clone();
+                let action = match p.handle_event(ts, &fired, &mut ynew, &ype) {
+                    Ok(a) => a,
+                    Err(e) => {
+                        run.sol.t_last = ts;
+                        run.sol.y_last = ye;
+                        return Err(run.fail(residual_error_kind(e), ts, None));
+                    }
+                };
+                run.stats.events += 1;
+                let dim_after = p.dim();
+                run.sol.events.push(EventRecord {
+                    t: ts,
+                    fired: fired.clone(),
+                    action: action.clone(),
+                    dim_after,
+                });
+                match action {
+                    EventAction::Stop => {
+                        // the stop entry (replaces a requested output at exactly ts)
+                        while run.next_out < t_out.len() && t_out[run.next_out] <= ts {
+                            run.next_out += 1;
+                        }
+                        let yp_out = if ynew.len() == ype.len() {
+                            ype.clone()
+                        } else {
+                            vec![0.0; ynew.len()]
+                        };
+                        run.push(p, ts, &ynew, &yp_out);
+                        run.sol.t_last = ts;
+                        run.sol.y_last = ynew;
+                        run.sol.stats = run.stats;
+                        return Ok(run.sol);
+                    }
+                    EventAction::Continue => {
+                        a = ts;
+                        g_prev = g_star;
+                        mask_fired(&mut g_prev, &fired, &post);
+                        continue;
+                    }
+                    EventAction::Modified | EventAction::Resized => {
+                        let resized = action == EventAction::Resized;
+                        let expected = if resized { p.dim() } else { nn };
+                        if !resized && p.dim() != nn {
+                            return Err(run.fail(
+                                ErrorKind::InvalidInput(format!(
+                                    "event handler changed the dimension ({nn} -> {}) but returned Modified; return Resized",
+                                    p.dim()
+                                )),
+                                ts,
+                                None,
+                            ));
+                        }
+                        if ynew.len() != expected {
+                            return Err(run.fail(
+                                ErrorKind::InvalidInput(format!(
+                                    "event handler left y with length {} but the problem dimension is {expected}",
+                                    ynew.len()
+                                )),
+                                ts,
+                                None,
+                            ));
+                        }
+                        if let Some(i) = ynew.iter().position(|v| !v.is_finite()) {
+                            return Err(run.fail(ErrorKind::NonFinite, ts, Some(i)));
+                        }
+                        if resized {
+                            run.stats.resizes += 1;
+                            if let Err(e) = run.cache.rebuild(p, opts) {
+                                return Err(run.fail(ErrorKind::InvalidInput(e), ts, None));
+                            }
+                        }
+                        let mut ypnew = ype.clone();
+                        ypnew.resize(ynew.len(), 0.0);
+                        {
+                            let mut sys = System::new(p, opts, &mut run.stats, &mut run.cache);
+                            if let Err(e) = sys.consistent_init(ts, &mut ynew, &mut ypnew) {
+                                run.sol.t_last = ts;
+                                run.sol.y_last = ynew;
+                                return Err(run.fail_err(e));
+                            }
+                        }
+                        if let Err(e) = eval_events(p, ts, &ynew, &mut g_prev) {
+                            return Err(run.fail(ErrorKind::Residual(e), ts, None));
+                        }
+                        mask_fired(&mut g_prev, &fired, &post);
+                        run.sol.t_last = ts;
+                        run.sol.y_last = ynew.clone();
+                        run.emit_at(p, ts, &ynew, &ypnew);
+                        if run.next_out == t_out.len() {
+                            run.sol.stats = run.stats;
+                            return Ok(run.sol);
+                        }
+                        let hint = method.h_next();
+                        let hint = if hint > 0.0 && hint.is_finite() {
+                            Some(hint)
+                        } else {
+                            None
+                        };
+                        let mut sys = System::new(p, opts, &mut run.stats, &mut run.cache);
+                        if let Err(e) = method.start(&mut sys, ts, &ynew, &ypnew, hint) {
+                            drop(sys);
+                            return Err(run.fail_err(e));
+                        }
+                        restarted = true;
+                        break;
+                    }
+                }
+            }
+        }
+        if restarted {
+            continue;
+        }
+        std::mem::swap(&mut g_prev, &mut g_new);
+        run.emit_interp(p, method, t, true);
+        if t >= t_end {
+            run.sol.stats = run.stats;
+            return Ok(run.sol);
+        }
+    }
+}

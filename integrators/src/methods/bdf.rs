@@ -1,0 +1,821 @@
+//! Variable-order (1–5), variable-step BDF in residual form — the DASSL / IDA / ode15s family.
+//!
+//! # Formulation
+//!
+//! The method keeps the last few accepted points `(t_j, y_j)` (newest first) and works with the
+//! polynomials that interpolate them, so step-size changes need no re-interpolation of the
+//! history (the *variable-coefficient* form of DASSL). A step of order `k` from `t_n` to
+//! `t_{n+1} = t_n + h`:
+//!
+//! * **Predictor**: the degree-`k` polynomial through `t_n, …, t_{n-k}` evaluated (value and
+//!   derivative) at `t_{n+1}` gives `y⁽⁰⁾, ẏ⁽⁰⁾`.
+//! * **Corrector**: the degree-`k` polynomial through `t_{n+1}, t_n, …, t_{n+1-k}` differs from
+//!   the predictor by `δ·Π(t - t_{n+1-j})/Π(t_{n+1} - t_{n+1-j})`, so with `δ = y_{n+1} - y⁽⁰⁾`
+//!   the BDF derivative is `ẏ_{n+1} = ẏ⁽⁰⁾ + α·δ`, `α = Σ_{j=1..k} 1/ψ_j`,
+//!   `ψ_j = t_{n+1} - t_{n+1-j}` (exactly IDA's `α_s`). The nonlinear system
+//!   `F(t_{n+1}, y⁽⁰⁾+δ, ẏ⁽⁰⁾+α·δ) = 0` is solved by simplified Newton with the iteration
+//!   matrix `J = ∂F/∂y + α·∂F/∂ẏ`.
+//! * **Local error**: `LTE_k ≈ ‖δ‖ / (α·ψ_{k+1})` — the ratio of the BDF error constant to the
+//!   predictor's on the actual (non-uniform) mesh; `1/2` for backward Euler, `2/9` for BDF2 on a
+//!   uniform mesh. The step is accepted when the weighted RMS norm is `≤ 1`. The same
+//!   construction with the order-`k±1` predictors gives the error estimates used for order
+//!   selection (IDA's rules: lower when the lower-order estimate is not larger, raise only after
+//!   `k+1` steps at the current order and when the higher-order estimate is smaller).
+//! * **Start**: the history starts with the double node `(t₀, y₀, ẏ₀)` (Hermite data), so the
+//!   first step is backward Euler with the Taylor predictor `y₀ + h·ẏ₀`.
+//!
+//! # Linear algebra reuse
+//!
+//! `∂F/∂y` and `∂F/∂ẏ` are stored separately (two [`System::jacobian`] evaluations at `c = 0`
+//! and `c = 1`), so a change of `α` (step or order change) costs only a refactorisation, done
+//! when `α` moved by more than 25% since the last one; in between, Newton corrections are scaled
+//! by `2/(1 + α/α_fact)` as in IDA. The Jacobian is re-evaluated only after a Newton convergence
+//! failure with a stale Jacobian, or after 50 steps.
+//!
+//! # Step control
+//!
+//! Step growth is at most ×2 and only taken when the estimate allows at least ×2 (otherwise the
+//! step is kept), reductions are to `[0.5, 0.9]×` after a successful step; after an error-test
+//! failure `[0.25, 0.9]×` (then ×0.25, then ×0.25 at order 1); after a Newton failure or a
+//! recoverable residual error ×0.25. The step never passes `t_stop`.
+
+use std::collections::VecDeque;
+
+use crate::error::{ErrorKind, SolverError};
+use crate::linalg::{LinearSolver, Matrix};
+use crate::method::Method;
+use crate::pattern::Pattern;
+use crate::system::{StepFailure, System};
+
+/// Maximum number of stored history nodes (order 5 needs 6; one spare for the start's double
+/// node).
+const MAX_NODES: usize = 7;
+/// Size of coefficient arrays (nodes + the derivative item).
+const NC: usize = MAX_NODES + 1;
+/// Newton convergence tolerance on the weighted norm (IDA's `epsNewt`).
+const EPS_NEWT: f64 = 0.33;
+/// Maximum error-test failures in one step.
+const MAX_ERR_FAILS: usize = 10;
+/// Maximum Newton / recoverable failures in one step.
+const MAX_CONV_FAILS: usize = 10;
+/// Steps after which the Jacobian is refreshed even if Newton converges.
+const MAX_JAC_AGE: usize = 50;
+
+/// Why the last attempt failed (for the error reported when retries run out).
+#[derive(Clone, Debug)]
+enum LastFailure {
+    ErrorTest(Option<usize>),
+    Newton(Option<usize>),
+    Recoverable(String, Option<usize>),
+}
+
+/// Outcome of a failed Newton solve.
+enum NewtonFail {
+    /// Did not converge (rate too large or iteration limit).
+    NoConvergence(Option<usize>),
+    /// The residual/Jacobian/factorisation reported a recoverable failure.
+    Recoverable(String, Option<usize>),
+    /// Abort.
+    Fatal(SolverError),
+}
+
+/// Variable-order, variable-step BDF (orders 1 to [`crate::Options::max_order`]) for residual
+/// DAEs `F(t, y, ẏ) = 0`.
+///
+/// ```
+/// use integrators::{Method, methods::bdf::Bdf};
+/// let m = Bdf::new();
+/// assert_eq!(m.name(), "bdf");
+/// ```
+pub struct Bdf {
+    n: usize,
+    pattern: Option<Pattern>,
+    t: f64,
+    t_prev: f64,
+    /// Step size to try next.
+    h: f64,
+    /// Whether `h` must be estimated at the next step (needs `t_stop`).
+    h_pending: bool,
+    /// Order for the next step.
+    k: usize,
+    /// Order of the last accepted step (dense output).
+    k_last: usize,
+    steps_at_order: usize,
+    started: bool,
+    times: VecDeque<f64>,
+    vals: VecDeque<Vec<f64>>,
+    /// `ẏ` at the start's double node.
+    yp0: Vec<f64>,
+    y: Vec<f64>,
+    yp: Vec<f64>,
+    jy: Option<Matrix>,
+    jyp: Option<Matrix>,
+    iter: Option<Matrix>,
+    lin: Option<LinearSolver>,
+    jac_valid: bool,
+    jac_current: bool,
+    /// `α` of the current factorisation (0: none).
+    c_fact: f64,
+    steps_since_jac: usize,
+    /// Newton convergence-rate factor `ρ/(1-ρ)`.
+    ss: f64,
+    ypred: Vec<f64>,
+    yppred: Vec<f64>,
+    ycur: Vec<f64>,
+    ypcur: Vec<f64>,
+    ee: Vec<f64>,
+    res: Vec<f64>,
+    ewt: Vec<f64>,
+    nwt: Vec<f64>,
+    tmp: Vec<f64>,
+}
+
+impl Default for Bdf {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// Newton-form interpolation through the nodes `z` (newest first; two equal adjacent nodes mean
+/// the second carries the derivative item, index `z.len()`): coefficients over the items of
+/// `p(t)` and `p'(t)`.
+fn interp_coeffs(z: &[f64], t: f64, p: &mut [f64; NC], dp: &mut [f64; NC]) {
+    let m = z.len();
+    debug_assert!(m >= 1 && m < NC);
+    let mut table = [[0.0; NC]; NC];
+    for (i, row) in table.iter_mut().enumerate().take(m) {
+        row[i] = 1.0;
+    }
+    *p = [0.0; NC];
+    *dp = [0.0; NC];
+    let mut w = 1.0;
+    let mut dw = 0.0;
+    for level in 0..m {
+        for q in 0..=m {
+            p[q] += table[0][q] * w;
+            dp[q] += table[0][q] * dw;
+        }
+        if level + 1 == m {
+            break;
+        }
+        dw = dw * (t - z[level]) + w;
+        w *= t - z[level];
+        for i in 0..m - level - 1 {
+            let den = z[i + level + 1] - z[i];
+            if den == 0.0 {
+                let mut e = [0.0; NC];
+                e[m] = 1.0;
+                table[i] = e;
+            } else {
+                for q in 0..=m {
+                    table[i][q] = (table[i + 1][q] - table[i][q]) / den;
+                }
+            }
+        }
+    }
+}
+
+/// Weighted RMS norm (0 for empty vectors).
+fn wrms(v: &[f64], w: &[f64]) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    let s: f64 = v.iter().zip(w).map(|(a, b)| (a * b) * (a * b)).sum();
+    (s / v.len() as f64).sqrt()
+}
+
+/// Index of the largest `|v_i w_i|`.
+fn worst(v: &[f64], w: &[f64]) -> Option<usize> {
+    let mut best = None;
+    let mut bv = -1.0;
+    for (i, (a, b)) in v.iter().zip(w).enumerate() {
+        let x = (a * b).abs();
+        if x > bv || x.is_nan() {
+            bv = x;
+            best = Some(i);
+            if x.is_nan() {
+                break;
+            }
+        }
+    }
+    best
+}
+
+impl Bdf {
+    /// A BDF method; state is set by [`Method::start`].
+    pub fn new() -> Self {
+        Self {
+            n: 0,
+            pattern: None,
+            t: 0.0,
+            t_prev: 0.0,
+            h: 0.0,
+            h_pending: true,
+            k: 1,
+            k_last: 1,
+            steps_at_order: 0,
+            started: false,
+            times: VecDeque::new(),
+            vals: VecDeque::new(),
+            yp0: Vec::new(),
+            y: Vec::new(),
+            yp: Vec::new(),
+            jy: None,
+            jyp: None,
+            iter: None,
+            lin: None,
+            jac_valid: false,
+            jac_current: false,
+            c_fact: 0.0,
+            steps_since_jac: 0,
+            ss: 20.0,
+            ypred: Vec::new(),
+            yppred: Vec::new(),
+            ycur: Vec::new(),
+            ypcur: Vec::new(),
+            ee: Vec::new(),
+            res: Vec::new(),
+            ewt: Vec::new(),
+            nwt: Vec::new(),
+            tmp: Vec::new(),
+        }
+    }
+
+    /// Order used for the last accepted step.
+    pub fn order(&self) -> usize {
+        self.k_last
+    }
+
+    /// `out = Σ c_j·vals[j] (j < m) + c_m·ẏ₀`.
+    fn combine(&self, c: &[f64; NC], m: usize, out: &mut [f64]) {
+        out.iter_mut().for_each(|o| *o = 0.0);
+        for (j, &cj) in c.iter().enumerate().take(m + 1) {
+            if cj == 0.0 {
+                continue;
+            }
+            let v = if j < m { &self.vals[j] } else { &self.yp0 };
+            for (o, &x) in out.iter_mut().zip(v) {
+                *o += cj * x;
+            }
+        }
+    }
+
+    /// Value and derivative at `t` of the polynomial through the first `m` history nodes.
+    fn poly(&self, m: usize, t: f64, y: &mut [f64], yp: &mut [f64]) {
+        let z: Vec<f64> = self.times.iter().take(m).copied().collect();
+        let mut p = [0.0; NC];
+        let mut dp = [0.0; NC];
+        interp_coeffs(&z, t, &mut p, &mut dp);
+        self.combine(&p, m, y);
+        self.combine(&dp, m, yp);
+    }
+
+    /// `α_m = Σ_{j=1..m} 1/(t_new - t_{j-1})` over the stored history.
+    fn alpha(&self, m: usize, t_new: f64) -> f64 {
+        self.times
+            .iter()
+            .take(m)
+            .map(|&tj| 1.0 / (t_new - tj))
+            .sum()
+    }
+
+    /// Local error estimate and normalised "scaled derivative" for order `m`, from
+    /// `d = y_new - predictor_m(t_new)` (weighted norm `dn`): returns `(err_m, terr_m)`.
+    fn estimates(&self, m: usize, t_new: f64, h: f64, dn: f64) -> (f64, f64) {
+        let alpha = self.alpha(m, t_new);
+        let psi_last = t_new - self.times[m];
+        let err = dn / (alpha * psi_last);
+        // terr ≈ ‖h^{m+1} y^{(m+1)}‖ = ‖d‖·(m+1)!·h^{m+1}/Π ψ_j
+        let mut scale = 1.0;
+        for j in 0..=m {
+            scale *= (j + 1) as f64 * h / (t_new - self.times[j]);
+        }
+        (err, dn * scale)
+    }
+
+    /// Weighted norm of `y_new - predictor_m(t_new)`, using `tmp` and `res` as scratch.
+    fn pred_diff_norm(&mut self, m: usize, t_new: f64) -> f64 {
+        let mut a = std::mem::take(&mut self.tmp);
+        let mut b = std::mem::take(&mut self.res);
+        self.poly(m + 1, t_new, &mut a, &mut b);
+        for (ai, yi) in a.iter_mut().zip(&self.ycur) {
+            *ai = yi - *ai;
+        }
+        let nrm = wrms(&a, &self.ewt);
+        self.tmp = a;
+        self.res = b;
+        nrm
+    }
+
+    fn ensure_linalg(&mut self, sys: &System<'_>) {
+        if self.jy.is_none() {
+            self.jy = Some(sys.new_matrix());
+            self.jyp = Some(sys.new_matrix());
+            self.iter = Some(sys.new_matrix());
+            self.lin = Some(sys.new_linear_solver());
+        }
+    }
+
+    /// Jacobian (if needed) and factorisation for `α`, then simplified Newton from the predictor.
+    fn newton(&mut self, sys: &mut System<'_>, t_new: f64, alpha: f64) -> Result<(), NewtonFail> {
+        let n = self.n;
+        self.ensure_linalg(sys);
+        let mut new_fact = false;
+        if !self.jac_valid || self.steps_since_jac >= MAX_JAC_AGE {
+            let jy = self.jy.as_mut().expect("allocated");
+            let jyp = self.jyp.as_mut().expect("allocated");
+            let r = sys
+                .jacobian(t_new, &self.ypred, &self.yppred, 0.0, jy)
+                .and_then(|_| sys.jacobian(t_new, &self.ypred, &self.yppred, 1.0, jyp));
+            match r {
+                Ok(()) => {}
+                Err(StepFailure::Recoverable { reason, component }) => {
+                    self.jac_valid = false;
+                    return Err(NewtonFail::Recoverable(reason, component));
+                }
+                Err(StepFailure::Fatal(e)) => return Err(NewtonFail::Fatal(e)),
+            }
+            // jyp = J(1) - J(0) = ∂F/∂ẏ
+            jyp.axpby(1.0, -1.0, jy);
+            self.jac_valid = true;
+            self.jac_current = true;
+            self.steps_since_jac = 0;
+            new_fact = true;
+        }
+        if new_fact || self.c_fact == 0.0 || (alpha / self.c_fact - 1.0).abs() > 0.25 {
+            let iter = self.iter.as_mut().expect("allocated");
+            iter.set_zero();
+            iter.axpby(1.0, 1.0, self.jy.as_ref().expect("allocated"));
+            iter.axpby(1.0, alpha, self.jyp.as_ref().expect("allocated"));
+            match sys.factor(self.lin.as_mut().expect("allocated"), iter) {
+                Ok(()) => {}
+                Err(StepFailure::Recoverable { reason, component }) => {
+                    self.c_fact = 0.0;
+                    return Err(NewtonFail::Recoverable(reason, component));
+                }
+                Err(StepFailure::Fatal(e)) => {
+                    self.c_fact = 0.0;
+                    return Err(NewtonFail::Fatal(e));
+                }
+            }
+            self.c_fact = alpha;
+            self.ss = 20.0;
+        }
+        let scale = if alpha == self.c_fact {
+            1.0
+        } else {
+            2.0 / (1.0 + alpha / self.c_fact)
+        };
+
+        self.ycur.copy_from_slice(&self.ypred);
+        self.ypcur.copy_from_slice(&self.yppred);
+        self.ee.iter_mut().for_each(|e| *e = 0.0);
+        let mut oldnrm = 0.0;
+        let maxit = sys.opts.max_newton_iters;
+        for m in 0..maxit {
+            match sys.residual(t_new, &self.ycur, &self.ypcur, &mut self.res) {
+                Ok(()) => {}
+                Err(StepFailure::Recoverable { reason, component }) => {
+                    return Err(NewtonFail::Recoverable(reason, component))
+                }
+                Err(StepFailure::Fatal(e)) => return Err(NewtonFail::Fatal(e)),
+            }
+            sys.stats.newton_iterations += 1;
+            for r in self.res.iter_mut() {
+                *r = -*r;
+            }
+            sys.solve(self.lin.as_ref().expect("allocated"), &mut self.res);
+            if scale != 1.0 {
+                self.res.iter_mut().for_each(|d| *d *= scale);
+            }
+            for i in 0..n {
+                let d = self.res[i];
+                self.ycur[i] += d;
+                self.ypcur[i] += alpha * d;
+                self.ee[i] += d;
+            }
+            let delnrm = wrms(&self.res, &self.nwt);
+            if !delnrm.is_finite() {
+                return Err(NewtonFail::NoConvergence(worst(&self.res, &self.nwt)));
+            }
+            if m == 0 {
+                oldnrm = delnrm;
+                if delnrm <= 1e-4 * EPS_NEWT {
+                    return Ok(());
+                }
+            } else {
+                let rate = (delnrm / oldnrm).powf(1.0 / m as f64);
+                if rate > 0.9 {
+                    return Err(NewtonFail::NoConvergence(worst(&self.res, &self.nwt)));
+                }
+                self.ss = rate / (1.0 - rate);
+            }
+            if self.ss * delnrm <= EPS_NEWT {
+                return Ok(());
+            }
+        }
+        Err(NewtonFail::NoConvergence(worst(&self.res, &self.nwt)))
+    }
+
+    fn give_up(&self, last: &LastFailure, h: f64) -> SolverError {
+        let (kind, comp) = match last {
+            LastFailure::ErrorTest(c) => (ErrorKind::StepSizeTooSmall { h }, *c),
+            LastFailure::Newton(c) => (ErrorKind::NewtonFailure, *c),
+            LastFailure::Recoverable(reason, c) => {
+                let r = reason.to_ascii_lowercase();
+                if r.contains("finite") || r.contains("nan") {
+                    (ErrorKind::NonFinite, *c)
+                } else if r.contains("singular") || r.contains("pivot") {
+                    (
+                        ErrorKind::SingularMatrix {
+                            column: c.unwrap_or(0),
+                        },
+                        *c,
+                    )
+                } else {
+                    (ErrorKind::StepSizeTooSmall { h }, *c)
+                }
+            }
+        };
+        SolverError::new(kind, self.t, comp)
+    }
+}
+
+impl Method for Bdf {
+    fn name(&self) -> &'static str {
+        "bdf"
+    }
+
+    fn start(
+        &mut self,
+        sys: &mut System<'_>,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        h: Option<f64>,
+    ) -> Result<(), SolverError> {
+        let n = sys.dim();
+        if y.len() != n || yp.len() != n {
+            return Err(SolverError::new(
+                ErrorKind::InvalidInput(format!(
+                    "state length {} / derivative length {} differ from the problem dimension {n}",
+                    y.len(),
+                    yp.len()
+                )),
+                t,
+                None,
+            ));
+        }
+        let pattern_changed = self.pattern.as_ref() != Some(sys.pattern());
+        if n != self.n || pattern_changed {
+            self.n = n;
+            self.pattern = Some(sys.pattern().clone());
+            self.jy = None;
+            self.jyp = None;
+            self.iter = None;
+            self.lin = None;
+            for v in [
+                &mut self.ypred,
+                &mut self.yppred,
+                &mut self.ycur,
+                &mut self.ypcur,
+                &mut self.ee,
+                &mut self.res,
+                &mut self.ewt,
+                &mut self.nwt,
+                &mut self.tmp,
+            ] {
+                v.clear();
+                v.resize(n, 0.0);
+            }
+        }
+        self.jac_valid = false;
+        self.jac_current = false;
+        self.c_fact = 0.0;
+        self.ss = 20.0;
+        self.t = t;
+        self.t_prev = t;
+        self.y = y.to_vec();
+        self.yp = yp.to_vec();
+        self.yp0 = yp.to_vec();
+        self.times.clear();
+        self.vals.clear();
+        self.times.push_back(t);
+        self.times.push_back(t);
+        self.vals.push_back(y.to_vec());
+        self.vals.push_back(y.to_vec());
+        self.k = 1;
+        self.k_last = 1;
+        self.steps_at_order = 0;
+        self.started = true;
+        match h.or(sys.opts.h0) {
+            Some(h) if h > 0.0 && h.is_finite() => {
+                self.h = h.min(sys.opts.h_max);
+                self.h_pending = false;
+            }
+            _ => {
+                self.h = 0.0;
+                self.h_pending = true;
+            }
+        }
+        Ok(())
+    }
+
+    fn step(&mut self, sys: &mut System<'_>, t_stop: f64) -> Result<(), SolverError> {
+        if !self.started {
+            return Err(SolverError::new(
+                ErrorKind::InvalidInput("BDF step before start".into()),
+                self.t,
+                None,
+            ));
+        }
+        if !(t_stop > self.t) {
+            return Err(SolverError::new(
+                ErrorKind::InvalidInput(format!("t_stop = {t_stop} is not after t = {}", self.t)),
+                self.t,
+                None,
+            ));
+        }
+        let opts = sys.opts;
+        let n = self.n;
+        // weights from the state at the start of the step
+        sys.error_weights(&self.y, &mut self.ewt);
+        {
+            let atol = sys.atol();
+            for i in 0..n {
+                self.nwt[i] = 1.0 / (opts.rtol * self.y[i].abs() + atol[i]);
+            }
+        }
+        if self.h_pending {
+            let span = t_stop - self.t;
+            let mut h = 1e-3 * span;
+            let ypn = wrms(&self.yp0, &self.ewt);
+            if ypn * h > 0.5 {
+                h = 0.5 / ypn;
+            }
+            self.h = h.min(opts.h_max).max(opts.h_min);
+            self.h_pending = false;
+        }
+        let fixed = opts.fixed_step;
+        if let Some(hf) = fixed {
+            self.h = hf;
+        }
+
+        let mut nef = 0usize;
+        let mut ncf = 0usize;
+        let mut last = LastFailure::ErrorTest(None);
+        let mut h = self.h;
+        loop {
+            let h_floor = opts.h_min.max(1e-14 * self.t.abs());
+            let remaining = t_stop - self.t;
+            let (h_try, t_new) = if h >= remaining * (1.0 - 1e-12) {
+                (remaining, t_stop)
+            } else {
+                (h, self.t + h)
+            };
+            let k = self.k.min(self.times.len() - 1);
+            self.k = k;
+            let m = k + 1;
+            // predictor
+            {
+                let mut a = std::mem::take(&mut self.ypred);
+                let mut b = std::mem::take(&mut self.yppred);
+                self.poly(m, t_new, &mut a, &mut b);
+                self.ypred = a;
+                self.yppred = b;
+            }
+            let alpha = self.alpha(k, t_new);
+            self.jac_current = false;
+            let mut outcome = self.newton(sys, t_new, alpha);
+            if let Err(NewtonFail::NoConvergence(_)) = outcome {
+                if !self.jac_current {
+                    // stale Jacobian: refresh and retry the same step
+                    self.jac_valid = false;
+                    outcome = self.newton(sys, t_new, alpha);
+                }
+            }
+            let fail_factor = match outcome {
+                Ok(()) => None,
+                Err(NewtonFail::Fatal(mut e)) => {
+                    e.t = self.t;
+                    return Err(e);
+                }
+                Err(NewtonFail::NoConvergence(c)) => {
+                    sys.stats.newton_failures += 1;
+                    last = LastFailure::Newton(c);
+                    Some(0.25)
+                }
+                Err(NewtonFail::Recoverable(reason, c)) => {
+                    last = LastFailure::Recoverable(reason, c);
+                    // the matrix may be bad near the failure point
+                    Some(0.25)
+                }
+            };
+            if let Some(f) = fail_factor {
+                sys.stats.rejected_steps += 1;
+                ncf += 1;
+                h = h_try * f;
+                if fixed.is_some() || ncf >= MAX_CONV_FAILS || h < h_floor {
+                    return Err(self.give_up(&last, h_try));
+                }
+                continue;
+            }
+
+            // local error test
+            let een = wrms(&self.ee, &self.ewt);
+            let (err_k, terr_k) = self.estimates(k, t_new, h_try, een);
+            let mut knew = k;
+            let mut terr_km1 = f64::INFINITY;
+            let mut err_km1 = f64::INFINITY;
+            if k > 1 {
+                let d1 = self.pred_diff_norm(k - 1, t_new);
+                let (e1, te1) = self.estimates(k - 1, t_new, h_try, d1);
+                err_km1 = e1;
+                terr_km1 = te1;
+                if k > 2 {
+                    let d2 = self.pred_diff_norm(k - 2, t_new);
+                    let (_, te2) = self.estimates(k - 2, t_new, h_try, d2);
+                    if te1.max(te2) <= terr_k {
+                        knew = k - 1;
+                    }
+                } else if te1 <= 0.5 * terr_k {
+                    knew = k - 1;
+                }
+            }
+            if let Some(fo) = opts.fixed_order {
+                knew = k.min(fo);
+            }
+
+            if fixed.is_none() && !(err_k <= 1.0) {
+                nef += 1;
+                sys.stats.error_test_failures += 1;
+                sys.stats.rejected_steps += 1;
+                last = LastFailure::ErrorTest(worst(&self.ee, &self.ewt));
+                let (r, kk) = if nef == 1 {
+                    let e = if knew < k { err_km1 } else { err_k };
+                    let r = 0.9 * (2.0 * e + 1e-4).powf(-1.0 / (knew as f64 + 1.0));
+                    (r.clamp(0.25, 0.9), knew)
+                } else if nef == 2 {
+                    (0.25, knew)
+                } else {
+                    (0.25, 1)
+                };
+                let r = if r.is_finite() { r } else { 0.25 };
+                self.k = kk;
+                if kk != k {
+                    self.steps_at_order = 0;
+                }
+                h = h_try * r;
+                if nef >= MAX_ERR_FAILS || h < h_floor {
+                    return Err(self.give_up(&last, h_try));
+                }
+                continue;
+            }
+
+            // accepted: choose the next order (IDA's rules)
+            let had_failures = nef > 0 || ncf > 0;
+            let mut err_new = if knew < k { err_km1 } else { err_k };
+            let mut action_order = knew;
+            let can_raise = opts.fixed_order.is_none()
+                && knew == k
+                && k < opts.max_order
+                && self.steps_at_order + 1 > k
+                && self.times.len() >= k + 2
+                && !had_failures;
+            if can_raise {
+                let d = self.pred_diff_norm(k + 1, t_new);
+                let (err_kp1, terr_kp1) = self.estimates(k + 1, t_new, h_try, d);
+                if k == 1 {
+                    if terr_kp1 < 0.5 * terr_k {
+                        action_order = 2;
+                        err_new = err_kp1;
+                    }
+                } else if terr_km1 <= terr_k.min(terr_kp1) {
+                    action_order = k - 1;
+                    err_new = err_km1;
+                } else if terr_kp1 < terr_k {
+                    action_order = k + 1;
+                    err_new = err_kp1;
+                }
+            }
+            if let Some(fo) = opts.fixed_order {
+                // climb to the fixed order as soon as the history allows
+                action_order = fo.min(opts.max_order).min(self.times.len());
+            }
+
+            // accept
+            self.t_prev = self.t;
+            self.t = t_new;
+            let buf = if self.times.len() >= MAX_NODES {
+                self.times.pop_back();
+                self.vals.pop_back().expect("history")
+            } else {
+                vec![0.0; n]
+            };
+            let mut buf = buf;
+            buf.copy_from_slice(&self.ycur);
+            self.times.push_front(t_new);
+            self.vals.push_front(buf);
+            self.y.copy_from_slice(&self.ycur);
+            self.yp.copy_from_slice(&self.ypcur);
+            self.k_last = k;
+            sys.stats.steps += 1;
+            self.steps_since_jac += 1;
+            if action_order != k {
+                self.steps_at_order = 0;
+            } else {
+                self.steps_at_order += 1;
+            }
+            self.k = action_order.max(1);
+
+            // next step size
+            if fixed.is_none() {
+                let r = (2.0 * err_new + 1e-4).powf(-1.0 / (self.k as f64 + 1.0));
+                let mut hn = if r >= 2.0 {
+                    2.0 * h_try
+                } else if r <= 1.0 {
+                    h_try * r.clamp(0.5, 0.9)
+                } else {
+                    h_try
+                };
+                if !r.is_finite() {
+                    hn = h_try;
+                }
+                if had_failures {
+                    hn = hn.min(h_try);
+                }
+                // don't let a step shortened to hit t_stop shrink the next one
+                if t_new == t_stop && h_try < h && hn < h {
+                    hn = h.min(hn.max(h_try));
+                }
+                self.h = hn.min(opts.h_max);
+            }
+            return Ok(());
+        }
+    }
+
+    fn t(&self) -> f64 {
+        self.t
+    }
+
+    fn t_prev(&self) -> f64 {
+        self.t_prev
+    }
+
+    fn y(&self) -> &[f64] {
+        &self.y
+    }
+
+    fn yp(&self) -> &[f64] {
+        &self.yp
+    }
+
+    fn h_next(&self) -> f64 {
+        self.h
+    }
+
+    fn interpolate(&self, t: f64, y: &mut [f64], yp: &mut [f64]) {
+        if self.t == self.t_prev || t == self.t {
+            y.copy_from_slice(&self.y);
+            yp.copy_from_slice(&self.yp);
+            return;
+        }
+        let m = (self.k_last + 1).min(self.times.len());
+        self.poly(m, t, y, yp);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn interpolation_reproduces_polynomials() {
+        // cubic through 4 nodes: exact value and derivative
+        let f = |t: f64| 1.0 + 2.0 * t - t * t + 0.5 * t * t * t;
+        let df = |t: f64| 2.0 - 2.0 * t + 1.5 * t * t;
+        let z = [1.0, 0.7, 0.2, -0.4];
+        let mut p = [0.0; NC];
+        let mut dp = [0.0; NC];
+        interp_coeffs(&z, 1.3, &mut p, &mut dp);
+        let v: f64 = (0..4).map(|i| p[i] * f(z[i])).sum();
+        let d: f64 = (0..4).map(|i| dp[i] * f(z[i])).sum();
+        assert!((v - f(1.3)).abs() < 1e-12);
+        assert!((d - df(1.3)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn confluent_node_uses_the_derivative() {
+        // quadratic through (1, f(1)), and the double node (0, f(0), f'(0))
+        let f = |t: f64| 3.0 - t + 2.0 * t * t;
+        let df = |t: f64| -1.0 + 4.0 * t;
+        let z = [1.0, 0.0, 0.0];
+        let mut p = [0.0; NC];
+        let mut dp = [0.0; NC];
+        interp_coeffs(&z, 0.6, &mut p, &mut dp);
+        let v = p[0] * f(1.0) + p[1] * f(0.0) + p[2] * f(0.0) + p[3] * df(0.0);
+        let d = dp[0] * f(1.0) + dp[1] * f(0.0) + dp[2] * f(0.0) + dp[3] * df(0.0);
+        assert!((v - f(0.6)).abs() < 1e-12);
+        assert!((d - df(0.6)).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,171 @@
+//! Driver behaviour: input validation, typed errors with partial solutions, observers, custom
+//! methods, method selection by name.
+
+mod common;
+
+use common::Decay;
+use integrators::methods::bdf::Bdf;
+use integrators::{ErrorKind, MethodKind, Options, Problem, ResidualError, Solver};
+
+fn bdf() -> Solver {
+    Solver::new(MethodKind::Bdf, Options::default())
+}
+
+#[test]
+fn invalid_inputs_are_typed_errors() {
+    let cases: Vec<(f64, Vec<f64>, Vec<f64>)> = vec![
+        (0.0, vec![1.0, 2.0], vec![1.0]), // wrong y0 length
+        (0.0, vec![f64::NAN], vec![1.0]), // non-finite y0
+        (0.0, vec![1.0], vec![]),         // no output times
+        (0.0, vec![1.0], vec![2.0, 1.0]), // unsorted
+        (1.0, vec![1.0], vec![0.5]),      // before t0
+        (0.0, vec![1.0], vec![f64::INFINITY]),
+    ];
+    for (t0, y0, t_out) in cases {
+        let e = bdf().solve(&mut Decay, t0, &y0, &t_out).unwrap_err();
+        assert!(
+            matches!(e.error.kind, ErrorKind::InvalidInput(_)),
+            "{y0:?} {t_out:?}: {e}"
+        );
+    }
+    let bad = Options {
+        rtol: -1.0,
+        ..Default::default()
+    };
+    let e = Solver::new(MethodKind::Bdf, bad)
+        .solve(&mut Decay, 0.0, &[1.0], &[1.0])
+        .unwrap_err();
+    assert!(matches!(e.error.kind, ErrorKind::InvalidInput(_)));
+}
+
+#[test]
+fn outputs_at_t0_and_repeated_times() {
+    let sol = bdf()
+        .solve(&mut Decay, 0.0, &[1.0], &[0.0, 1.0, 1.0, 2.0])
+        .unwrap();
+    assert_eq!(sol.t, vec![0.0, 1.0, 1.0, 2.0]);
+    assert_eq!(sol.y[0], vec![1.0]);
+    assert!((sol.yp[0][0] + 1.0).abs() < 1e-12, "consistent ẏ0");
+    assert!((sol.y[3][0] - (-2f64).exp()).abs() < 1e-5);
+    assert_eq!(sol.t_last, 2.0);
+}
+
+/// Fatal residual error after t = 0.5.
+struct Fatal;
+
+impl Problem for Fatal {
+    fn dim(&self) -> usize {
+        1
+    }
+    fn residual(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        r: &mut [f64],
+    ) -> Result<(), ResidualError> {
+        if t > 0.5 {
+            return Err(ResidualError::Fatal("model broke".into()));
+        }
+        r[0] = yp[0] + y[0];
+        Ok(())
+    }
+}
+
+#[test]
+fn fatal_residual_error_aborts_with_partial_solution() {
+    let e = bdf()
+        .solve(&mut Fatal, 0.0, &[1.0], &[0.25, 1.0])
+        .unwrap_err();
+    assert!(
+        matches!(e.error.kind, ErrorKind::Residual(ref m) if m.contains("model broke")),
+        "{e}"
+    );
+    assert_eq!(e.partial.t, vec![0.25]);
+    assert!(e.partial.t_last <= 0.5);
+}
+
+/// A residual that is out of its domain (Recoverable) for y < 0.2 while the solution decays
+/// through it: the solver must fail cleanly, not loop or panic.
+struct Domain;
+
+impl Problem for Domain {
+    fn dim(&self) -> usize {
+        1
+    }
+    fn residual(
+        &mut self,
+        _t: f64,
+        y: &[f64],
+        yp: &[f64],
+        r: &mut [f64],
+    ) -> Result<(), ResidualError> {
+        if y[0] < 0.2 {
+            return Err(ResidualError::Recoverable {
+                reason: "negative length".into(),
+                component: Some(0),
+            });
+        }
+        r[0] = yp[0] + y[0];
+        Ok(())
+    }
+}
+
+#[test]
+fn recoverable_domain_error_fails_cleanly_at_the_boundary() {
+    let e = bdf()
+        .solve(&mut Domain, 0.0, &[1.0], &[1.0, 5.0])
+        .unwrap_err();
+    eprintln!("{e}");
+    assert_eq!(e.error.component, Some(0));
+    // y = e^{-t} reaches 0.2 at t = ln 5
+    assert!((e.error.t - 5f64.ln()).abs() < 1e-3, "{}", e.error.t);
+    assert_eq!(e.partial.t, vec![1.0]);
+}
+
+#[test]
+fn too_many_steps() {
+    let o = Options {
+        max_steps: 5,
+        ..Default::default()
+    };
+    let e = Solver::new(MethodKind::Bdf, o)
+        .solve(&mut Decay, 0.0, &[1.0], &[100.0])
+        .unwrap_err();
+    assert_eq!(e.error.kind, ErrorKind::TooManySteps(5));
+    assert_eq!(e.partial.stats.steps, 5);
+}
+
+#[test]
+fn custom_boxed_method_and_observer() {
+    let solver = Solver::with_method(Box::new(Bdf::new()), Options::default());
+    assert_eq!(solver.method_name(), "bdf");
+    let mut seen = Vec::new();
+    let sol = solver
+        .solve_with(&mut Decay, 0.0, &[1.0], &[0.5, 1.0], |p, t, y, yp| {
+            seen.push((p.dim(), t, y[0], yp[0]))
+        })
+        .unwrap();
+    assert_eq!(seen.len(), 2);
+    assert_eq!(seen[1].1, 1.0);
+    assert_eq!(seen[1].2, sol.y[1][0]);
+    // the boxed method is reusable
+    let again = solver.solve(&mut Decay, 0.0, &[2.0], &[1.0]).unwrap();
+    assert!((again.y[0][0] - 2.0 * (-1f64).exp()).abs() < 1e-5);
+}
+
+#[test]
+fn methods_by_name() {
+    for name in ["bdf", "esdirk", "radau"] {
+        let kind: MethodKind = name.parse().unwrap();
+        let o = Options {
+            rtol: 1e-8,
+            atol: 1e-10,
+            ..Default::default()
+        };
+        let sol = Solver::new(kind, o)
+            .solve(&mut Decay, 0.0, &[1.0], &[1.0])
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!((sol.y[0][0] - (-1f64).exp()).abs() < 1e-6, "{name}");
+    }
+}

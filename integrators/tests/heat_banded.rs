@@ -1,0 +1,67 @@
+//! 1D heat equation u_t = u_xx on (0, 1), Dirichlet, central differences → banded (1, 1)
+//! Jacobian; u(x, 0) = sin(πx), exact u = e^{−π² t} sin(πx).
+//!
+//! The semi-discrete system has the exact solution e^{−λt} sin(πx_i) with
+//! λ = (4/Δx²) sin²(πΔx/2) = π²(1 − (πΔx)²/12 + …), so at t the spatial (discretisation) error
+//! relative to the PDE solution is ≈ π² t (πΔx)²/12 — at t = 0.1 about (πΔx)²/12. The time
+//! integration error is measured against the semi-discrete exact solution.
+
+mod common;
+
+use common::Heat;
+use integrators::adapters::Ode;
+use integrators::{MethodKind, Options, Solver};
+
+#[test]
+fn bdf_heat_banded_matches_exact_solution() {
+    for (n, exact_jac) in [(100, true), (1000, false)] {
+        let mut p = Ode(Heat {
+            n,
+            exact_jacobian: exact_jac,
+        });
+        let y0 = p.0.initial();
+        let rtol = 1e-7;
+        let o = Options {
+            rtol,
+            atol: 1e-10,
+            ..Default::default()
+        };
+        let t = 0.1;
+        let sol = Solver::new(MethodKind::Bdf, o)
+            .solve(&mut p, 0.0, &y0, &[t])
+            .unwrap();
+        let y = &sol.y[0];
+        let amp = (-std::f64::consts::PI.powi(2) * t).exp();
+        let time_err = (0..n)
+            .map(|i| (y[i] - p.0.exact_semidiscrete(t, i)).abs())
+            .fold(0.0, f64::max)
+            / amp;
+        let pde_err = (0..n)
+            .map(|i| (y[i] - p.0.exact_pde(t, i)).abs())
+            .fold(0.0, f64::max)
+            / amp;
+        let dx = 1.0 / (n + 1) as f64;
+        let pi = std::f64::consts::PI;
+        let spatial_pred = pi * pi * t * (pi * dx).powi(2) / 12.0;
+        eprintln!(
+            "n={n}: time err {time_err:.3e}, pde err {pde_err:.3e}, predicted spatial {spatial_pred:.3e}, {:?}",
+            sol.stats
+        );
+        // time error: a small multiple of the tolerance
+        assert!(time_err < 20.0 * rtol, "time error {time_err}");
+        // total error = spatial error (predicted to 2 digits) + time error
+        assert!(
+            (pde_err - spatial_pred).abs() < 0.01 * spatial_pred + time_err,
+            "pde error {pde_err} vs predicted {spatial_pred}"
+        );
+        // banded finite differences: 3 colours per Jacobian, never n residual calls
+        if !exact_jac {
+            assert!(
+                sol.stats.residual_calls
+                    < sol.stats.newton_iterations + 3 * sol.stats.jacobian_evals + 50,
+                "{:?}",
+                sol.stats
+            );
+        }
+    }
+}
