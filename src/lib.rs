@@ -14,7 +14,9 @@ pub mod cell;
 pub mod energy;
 pub mod line;
 pub mod observe;
+pub mod output;
 pub mod scalar;
+pub mod scenario;
 pub mod sheet;
 pub mod substrate;
 

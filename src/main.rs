@@ -1,5 +1,10 @@
-//! `celltissue` command-line interface (filled in by the CLI work item).
+//! `celltissue` command-line interface: `run`, `validate` and `list` scenario files
+//! (see `models/README.md`). Exit codes: 0 success, 1 a run or an output failed (results that
+//! were computed are still written), 2 bad scenario input (nothing is written).
+#![warn(missing_docs)]
+
+mod cli;
+
 fn main() {
-    eprintln!("celltissue: CLI not built yet");
-    std::process::exit(2);
+    std::process::exit(cli::main());
 }

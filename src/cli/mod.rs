@@ -1,0 +1,74 @@
+//! Argument parsing (clap) and the three commands.
+
+mod catalogue;
+mod commands;
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+
+/// Exit code: success.
+pub const OK: i32 = 0;
+/// Exit code: a run failed or outputs could not be written (computed results are kept).
+pub const RUN_FAILED: i32 = 1;
+/// Exit code: the scenario or the command line is invalid (nothing was written).
+pub const BAD_INPUT: i32 = 2;
+
+/// Discrete and continuum mechanics of cells in tissues: run the thesis scenarios.
+#[derive(Debug, Parser)]
+#[command(name = "celltissue", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Run a scenario: writes DIR/summary.json, CSV series and profiles, and PNG plots.
+    Run {
+        /// Scenario file (or the name of a bundled scenario, e.g. fig2_5).
+        scenario: PathBuf,
+        /// Output directory (created if missing).
+        #[arg(long, short)]
+        out: PathBuf,
+        /// Override a key before validation, e.g. --set model.K=0.1 --set solver.method=radau.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
+        /// No progress lines on stderr.
+        #[arg(long, short)]
+        quiet: bool,
+    },
+    /// Parse and validate a scenario (and overrides) without running it.
+    Validate {
+        /// Scenario file (or bundled scenario name).
+        scenario: PathBuf,
+        /// Override a key before validation.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        sets: Vec<String>,
+    },
+    /// List the bundled scenarios (models/*.toml beside the crate and in the current directory).
+    List,
+}
+
+/// Parses the command line and runs the command; returns the exit code.
+pub fn main() -> i32 {
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            let code = if e.use_stderr() { BAD_INPUT } else { OK };
+            let _ = e.print();
+            return code;
+        }
+    };
+    match cli.command {
+        Command::Run {
+            scenario,
+            out,
+            sets,
+            quiet,
+        } => commands::run(&catalogue::resolve(&scenario), &out, &sets, quiet),
+        Command::Validate { scenario, sets } => {
+            commands::validate(&catalogue::resolve(&scenario), &sets)
+        }
+        Command::List => commands::list(),
+    }
+}

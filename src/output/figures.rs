@@ -1,0 +1,426 @@
+//! The PNG set of a scenario run, laid out like the thesis's Chapter 2 figures (discrete runs as
+//! symbols, continuum runs as lines):
+//!
+//! * `series_<quantity>.png` — `max p`, `min λ`, `l` (and model-specific series such as
+//!   `cells`, `mean_pressure`, `top_displacement`) against `t`, every run (Figs 2.5c–d style
+//!   time courses, 2.7c–d, 2.8c–d, 2.9a–b), colour = swept value;
+//! * `profiles_pressure[_<value>].png`, `profiles_stretch[_<value>].png` — `p` and `λ` against
+//!   `X` (or `x`) at each profile time, one pair per swept value (Figs 2.5a–b, 2.7a–b, 2.8a–b,
+//!   2.10a–b), colour = time;
+//! * `sweep_pressure.png`, `sweep_stretch.png` — `max p`/`min λ` at each profile time, and the
+//!   peaks and troughs over all series times, against the swept value (Figs 2.5c–d, 2.10c–d);
+//! * with `plots.position`: `profiles_position[_<value>].png` — `x` against `X` with the
+//!   uniform-strain line `x = (l/l₀)X` dashed (Fig 2.6);
+//! * with `plots.rectangles`: `cells_<label>.png` — cell rectangles coloured by pressure, one
+//!   row per profile time (Fig 2.10e).
+
+use super::files::slug;
+use super::plot::{plot_chart, plot_rectangles, Axis, Chart, Curve, PlotError, Style};
+use crate::observe::{ModelKind, Profile, RunRecord, Summary};
+use crate::scenario::{format_number, ProfileAxis, RunSpec, Scale, Scenario};
+use std::path::{Path, PathBuf};
+
+fn axis(s: Scale) -> Axis {
+    match s {
+        Scale::Linear => Axis::Linear,
+        Scale::Log => Axis::Log,
+    }
+}
+
+fn style(m: ModelKind) -> Style {
+    match m {
+        ModelKind::Discrete => Style::Markers,
+        ModelKind::Continuum => Style::Line,
+    }
+}
+
+/// Runs grouped by swept value (one group without a sweep), in scenario order.
+struct Group<'a> {
+    /// The value's label (`None`: no sweep).
+    label: Option<String>,
+    runs: Vec<(&'a RunRecord, Option<&'a RunSpec>)>,
+}
+
+fn groups<'a>(scenario: &'a Scenario, summary: &'a Summary) -> Vec<Group<'a>> {
+    let mut out: Vec<Group<'a>> = Vec::new();
+    for (i, rec) in summary.runs.iter().enumerate() {
+        let spec = scenario.runs.get(i).filter(|s| s.label == rec.label);
+        let label = spec.and_then(|s| s.sweep.as_ref()).map(|p| p.label.clone());
+        match out.iter_mut().find(|g| g.label == label) {
+            Some(g) => g.runs.push((rec, spec)),
+            None => out.push(Group {
+                label,
+                runs: vec![(rec, spec)],
+            }),
+        }
+    }
+    out
+}
+
+/// Writes every figure; returns each path with its outcome ([`PlotError::NoData`] = skipped).
+pub fn write_figures(
+    dir: &Path,
+    scenario: &Scenario,
+    summary: &Summary,
+) -> Vec<(PathBuf, Result<(), PlotError>)> {
+    let mut out = Vec::new();
+    let groups = groups(scenario, summary);
+    let sweep_name = scenario.sweep.as_ref().map(|s| s.name.clone());
+    let title = |what: &str| match &scenario.figure {
+        Some(f) => format!("Fig {f} ({}): {what}", scenario.name),
+        None => format!("{}: {what}", scenario.name),
+    };
+    let mut emit = |name: String, r: Result<(), PlotError>| out.push((dir.join(name), r));
+
+    // time courses
+    let mut series: Vec<(&str, &str, &str)> = vec![
+        ("max_pressure", "max_x p", "maximum pressure"),
+        ("min_stretch", "min_x λ", "minimum stretch"),
+        ("length", "l", "length"),
+    ];
+    let extras = [
+        ("cells", "N", "number of cells"),
+        ("mean_pressure", "mean p", "mean pressure"),
+        ("mean_height", "mean H", "mean height"),
+        (
+            "mean_stretch_z_over_y",
+            "mean λ3 / mean λ2",
+            "mean λ3 / mean λ2",
+        ),
+        (
+            "boundary_mismatch_mean",
+            "mean W_err",
+            "shared-boundary mismatch",
+        ),
+        ("top_displacement", "x_e,M", "top displacement"),
+        ("shear_spread", "max tanθ − min tanθ", "shear spread"),
+    ];
+    for e in extras {
+        if summary
+            .runs
+            .iter()
+            .any(|r| r.series.extra.contains_key(e.0))
+        {
+            series.push(e);
+        }
+    }
+    for (key, ylabel, what) in series {
+        let mut curves = Vec::new();
+        for (gi, g) in groups.iter().enumerate() {
+            for (rec, _) in &g.runs {
+                let y = series_values(rec, key);
+                let pts = rec
+                    .series
+                    .t
+                    .iter()
+                    .copied()
+                    .zip(y.iter().copied())
+                    .collect();
+                curves.push(Curve::new(rec.label.clone(), style(rec.model), gi, pts));
+            }
+        }
+        let chart = Chart {
+            title: title(&format!("{what} against time")),
+            x_label: "t".into(),
+            y_label: ylabel.into(),
+            x_axis: axis(scenario.plots.time_axis),
+            y_axis: if key == "cells" && scenario.plots.time_axis == Scale::Log {
+                Axis::Log
+            } else {
+                Axis::Linear
+            },
+            curves,
+        };
+        emit(
+            format!("series_{key}.png"),
+            plot_chart(&dir.join(format!("series_{key}.png")), &chart),
+        );
+    }
+
+    // profiles per swept value
+    let (xname, xdesc) = match scenario.plots.profile_axis {
+        ProfileAxis::Reference => ("X", "reference position X"),
+        ProfileAxis::Current => ("x", "current position x"),
+    };
+    for g in &groups {
+        let suffix = match (&g.label, &sweep_name) {
+            (Some(l), Some(n)) => format!("_{}", slug(&format!("{n}={l}"))),
+            _ => String::new(),
+        };
+        let at = match (&g.label, &sweep_name) {
+            (Some(l), Some(n)) => format!(" ({n} = {l})"),
+            _ => String::new(),
+        };
+        let mut quantities: Vec<(&str, &str, &str)> =
+            vec![("pressure", "p", "pressure"), ("stretch", "λ", "stretch")];
+        if scenario.plots.position {
+            quantities.push(("position", "x", "current position"));
+        }
+        for (key, ylabel, what) in quantities {
+            let mut curves = Vec::new();
+            let times = profile_times(g);
+            for (rec, _) in &g.runs {
+                for p in &rec.profiles {
+                    let ti = times.iter().position(|t| close(*t, p.t)).unwrap_or(0);
+                    let xs = match scenario.plots.profile_axis {
+                        ProfileAxis::Reference => &p.x_ref,
+                        ProfileAxis::Current => &p.x,
+                    };
+                    let ys = match key {
+                        "pressure" => &p.pressure,
+                        "stretch" => &p.stretch,
+                        _ => &p.x,
+                    };
+                    let pts = xs.iter().copied().zip(ys.iter().copied()).collect();
+                    let label = format!("{} t={}", model_word(rec.model), format_number(p.t));
+                    curves.push(Curve::new(label, style(rec.model), ti, pts));
+                }
+            }
+            if key == "position" {
+                for (ti, t) in times.iter().enumerate() {
+                    if let Some(c) = uniform_line(g, *t) {
+                        let label = format!("uniform x=(l/l0)X t={}", format_number(*t));
+                        curves.push(Curve::new(label, Style::Dashed, ti, c));
+                    }
+                }
+            }
+            let chart = Chart {
+                title: title(&format!("{what} profiles{at}")),
+                x_label: xdesc.into(),
+                y_label: ylabel.into(),
+                x_axis: Axis::Linear,
+                y_axis: Axis::Linear,
+                curves,
+            };
+            let name = format!("profiles_{key}{suffix}.png");
+            emit(name.clone(), plot_chart(&dir.join(&name), &chart));
+        }
+        let _ = xname;
+    }
+
+    // extremes against the swept value
+    if let Some(name) = &sweep_name {
+        let numeric = scenario
+            .runs
+            .iter()
+            .all(|r| r.sweep.as_ref().and_then(|p| p.value).is_some());
+        if numeric && groups.len() >= 2 {
+            for (key, ylabel) in [("pressure", "p"), ("stretch", "λ")] {
+                let chart = Chart {
+                    title: title(&format!("{key} extremes against {name}")),
+                    x_label: name.clone(),
+                    y_label: ylabel.into(),
+                    x_axis: axis(scenario.plots.sweep_axis),
+                    y_axis: Axis::Linear,
+                    curves: sweep_curves(scenario, summary, key),
+                };
+                let file = format!("sweep_{key}.png");
+                emit(file.clone(), plot_chart(&dir.join(&file), &chart));
+            }
+        }
+    }
+
+    // cell rectangles
+    if scenario.plots.rectangles {
+        for rec in summary
+            .runs
+            .iter()
+            .filter(|r| r.model == ModelKind::Discrete)
+        {
+            let rects = rectangles(&rec.profiles);
+            let times: Vec<String> = rec.profiles.iter().map(|p| format_number(p.t)).collect();
+            let t = format!(
+                "{}: cells coloured by pressure, t = {} (top to bottom)",
+                rec.label,
+                times.join(", ")
+            );
+            let file = format!("cells_{}.png", slug(&rec.label));
+            emit(
+                file.clone(),
+                plot_rectangles(&dir.join(&file), &t, &rects, "pressure p"),
+            );
+        }
+    }
+    out
+}
+
+fn model_word(m: ModelKind) -> &'static str {
+    crate::scenario::load::model_name(m)
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-9 * (1.0 + a.abs())
+}
+
+fn series_values<'a>(rec: &'a RunRecord, key: &str) -> &'a [f64] {
+    let s = &rec.series;
+    match key {
+        "length" => &s.length,
+        "max_pressure" => &s.max_pressure,
+        "min_pressure" => &s.min_pressure,
+        "max_stretch" => &s.max_stretch,
+        "min_stretch" => &s.min_stretch,
+        other => s.extra.get(other).map_or(&[], |v| v.as_slice()),
+    }
+}
+
+/// All profile times in a group, sorted.
+fn profile_times(g: &Group<'_>) -> Vec<f64> {
+    let mut t: Vec<f64> = g
+        .runs
+        .iter()
+        .flat_map(|(r, _)| r.profiles.iter().map(|p| p.t))
+        .collect();
+    t.sort_by(f64::total_cmp);
+    t.dedup_by(|a, b| close(*a, *b));
+    t
+}
+
+/// `x = (l(t)/l(0))·X` over the X range of the group's first profile at `t`.
+fn uniform_line(g: &Group<'_>, t: f64) -> Option<Vec<(f64, f64)>> {
+    let (rec, p) = g
+        .runs
+        .iter()
+        .find_map(|(r, _)| r.profiles.iter().find(|p| close(p.t, t)).map(|p| (*r, p)))?;
+    let s = &rec.series;
+    let l0 = *s.length.first().filter(|_| s.t.first() == Some(&0.0))?;
+    let k = s.t.iter().position(|st| close(*st, t))?;
+    let ratio = s.length[k] / l0;
+    let (lo, hi) = (p.x_ref.first()?, p.x_ref.last()?);
+    Some(vec![(*lo, ratio * lo), (*hi, ratio * hi)])
+}
+
+/// Curves of extremes against the swept value, per model: at each profile time, and over all
+/// series times (peaks and troughs).
+fn sweep_curves(scenario: &Scenario, summary: &Summary, key: &str) -> Vec<Curve> {
+    let mut curves = Vec::new();
+    let mut times: Vec<f64> = scenario
+        .runs
+        .iter()
+        .flat_map(|r| r.times.profiles.iter().copied())
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times.dedup_by(|a, b| close(*a, *b));
+    for model in [ModelKind::Discrete, ModelKind::Continuum] {
+        let runs: Vec<(f64, &RunRecord)> = summary
+            .runs
+            .iter()
+            .zip(&scenario.runs)
+            .filter(|(r, _)| r.model == model)
+            .filter_map(|(r, s)| Some((s.sweep.as_ref()?.value?, r)))
+            .collect();
+        if runs.is_empty() {
+            continue;
+        }
+        let word = model_word(model);
+        let mut color = 0;
+        for &t in times.iter().filter(|t| **t > 0.0) {
+            let pts: Vec<(f64, f64)> = runs
+                .iter()
+                .filter_map(|(v, r)| {
+                    let p = r.profiles.iter().find(|p| close(p.t, t))?;
+                    let y = if key == "pressure" {
+                        p.pressure.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+                    } else {
+                        p.stretch.iter().copied().fold(f64::INFINITY, f64::min)
+                    };
+                    Some((*v, y))
+                })
+                .collect();
+            let what = if key == "pressure" { "max p" } else { "min λ" };
+            curves.push(Curve::new(
+                format!("{word} {what} at t={}", format_number(t)),
+                style(model),
+                color,
+                pts,
+            ));
+            color += 1;
+        }
+        let (hi_key, lo_key) = if key == "pressure" {
+            ("max_pressure", "min_pressure")
+        } else {
+            ("max_stretch", "min_stretch")
+        };
+        let peaks: Vec<(f64, f64)> = runs
+            .iter()
+            .map(|(v, r)| {
+                (
+                    *v,
+                    series_values(r, hi_key)
+                        .iter()
+                        .copied()
+                        .fold(f64::NEG_INFINITY, f64::max),
+                )
+            })
+            .collect();
+        let troughs: Vec<(f64, f64)> = runs
+            .iter()
+            .map(|(v, r)| {
+                (
+                    *v,
+                    series_values(r, lo_key)
+                        .iter()
+                        .copied()
+                        .fold(f64::INFINITY, f64::min),
+                )
+            })
+            .collect();
+        curves.push(Curve::new(
+            format!("{word} peaks (max over t)"),
+            style(model),
+            color,
+            peaks,
+        ));
+        curves.push(Curve::new(
+            format!("{word} troughs (min over t)"),
+            style(model),
+            color + 1,
+            troughs,
+        ));
+    }
+    curves
+}
+
+/// Cell rectangles `[x − L/2, x + L/2] × [−W/2, W/2]` per profile, one row per profile (the
+/// first on top); `L = λ·ΔX` with ΔX the reference spacing, `W` from the profile's `"width"`
+/// field or `1/λ` (incompressible unit cell).
+pub fn rectangles(profiles: &[Profile]) -> Vec<(f64, f64, f64, f64, f64)> {
+    let mut out = Vec::new();
+    let max_w = profiles
+        .iter()
+        .flat_map(|p| (0..p.stretch.len()).map(move |j| width(p, j)))
+        .fold(0.0_f64, f64::max);
+    let gap = 1.4 * max_w.max(1e-9);
+    for (row, p) in profiles.iter().enumerate() {
+        let yc = -(row as f64) * gap;
+        let n = p.x_ref.len();
+        for j in 0..n.min(p.x.len()).min(p.stretch.len()).min(p.pressure.len()) {
+            let dx = if n < 2 {
+                1.0
+            } else if j == 0 {
+                p.x_ref[1] - p.x_ref[0]
+            } else if j == n - 1 {
+                p.x_ref[n - 1] - p.x_ref[n - 2]
+            } else {
+                0.5 * (p.x_ref[j + 1] - p.x_ref[j - 1])
+            };
+            let len = p.stretch[j] * dx;
+            let w = width(p, j);
+            out.push((
+                p.x[j] - 0.5 * len,
+                yc - 0.5 * w,
+                p.x[j] + 0.5 * len,
+                yc + 0.5 * w,
+                p.pressure[j],
+            ));
+        }
+    }
+    out
+}
+
+fn width(p: &Profile, j: usize) -> f64 {
+    p.extra
+        .get("width")
+        .and_then(|w| w.get(j).copied())
+        .unwrap_or_else(|| 1.0 / p.stretch[j])
+}

@@ -1,0 +1,138 @@
+//! No NaN in any output: `serde_json` would silently write `null`. [`sanitize`] cuts a record
+//! back to its last finite data and says so in its `error`; [`check_summary`] is the final guard
+//! before `summary.json` is written.
+
+use crate::observe::{RunRecord, Summary};
+
+/// Where the first non-finite number of a record is, e.g. `series.max_pressure[12]`.
+pub fn first_non_finite(rec: &RunRecord) -> Option<String> {
+    let s = &rec.series;
+    let mut named: Vec<(&str, &Vec<f64>)> = vec![
+        ("t", &s.t),
+        ("length", &s.length),
+        ("max_pressure", &s.max_pressure),
+        ("min_pressure", &s.min_pressure),
+        ("max_stretch", &s.max_stretch),
+        ("min_stretch", &s.min_stretch),
+    ];
+    named.extend(s.extra.iter().map(|(k, v)| (k.as_str(), v)));
+    for (k, v) in named {
+        if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+            return Some(format!("series.{k}[{i}]"));
+        }
+    }
+    for (p, prof) in rec.profiles.iter().enumerate() {
+        if !prof.t.is_finite() {
+            return Some(format!("profiles[{p}].t"));
+        }
+        let mut named: Vec<(&str, &Vec<f64>)> = vec![
+            ("X", &prof.x_ref),
+            ("x", &prof.x),
+            ("stretch", &prof.stretch),
+            ("pressure", &prof.pressure),
+        ];
+        named.extend(prof.extra.iter().map(|(k, v)| (k.as_str(), v)));
+        for (k, v) in named {
+            if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+                return Some(format!("profiles[{p}].{k}[{i}]"));
+            }
+        }
+    }
+    let st = &rec.stats;
+    if !st.wall_seconds.is_finite() || st.extra.values().any(|v| !v.is_finite()) {
+        return Some("stats".into());
+    }
+    for (i, d) in rec.divisions.iter().enumerate() {
+        if !(d.t.is_finite() && d.x.is_finite() && d.x_over_length.is_finite()) {
+            return Some(format!("divisions[{i}]"));
+        }
+    }
+    None
+}
+
+/// Removes non-finite data: series are cut before the first output time with a non-finite
+/// value, profiles and division records with one are dropped, non-finite counters are
+/// dropped. Returns `true` (and appends to `error`) if anything was removed.
+///
+/// ```
+/// use celltissue::observe::*;
+/// let mut rec = RunRecord { label: "r".into(), model: ModelKind::Discrete,
+///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
+///     stats: RunStats::default(), divisions: vec![], error: None };
+/// rec.series.t = vec![0.0, 1.0];
+/// rec.series.length = vec![1.0, f64::NAN];
+/// rec.series.max_pressure = vec![1.0, 1.0];
+/// rec.series.min_pressure = vec![1.0, 1.0];
+/// rec.series.max_stretch = vec![1.0, 1.0];
+/// rec.series.min_stretch = vec![1.0, 1.0];
+/// assert!(celltissue::output::finite::sanitize(&mut rec));
+/// assert_eq!(rec.series.t, vec![0.0]);
+/// assert!(rec.error.unwrap().contains("series.length[1]"));
+/// ```
+pub fn sanitize(rec: &mut RunRecord) -> bool {
+    let Some(first) = first_non_finite(rec) else {
+        return false;
+    };
+    let s = &mut rec.series;
+    let n = s.t.len();
+    let mut cut = n;
+    {
+        let cols = [
+            &s.t,
+            &s.length,
+            &s.max_pressure,
+            &s.min_pressure,
+            &s.max_stretch,
+            &s.min_stretch,
+        ];
+        for v in cols.into_iter().chain(s.extra.values()) {
+            if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+                cut = cut.min(i);
+            }
+        }
+    }
+    for v in [
+        &mut s.t,
+        &mut s.length,
+        &mut s.max_pressure,
+        &mut s.min_pressure,
+        &mut s.max_stretch,
+        &mut s.min_stretch,
+    ]
+    .into_iter()
+    .chain(s.extra.values_mut())
+    {
+        v.truncate(cut);
+    }
+    let finite = |v: &Vec<f64>| v.iter().all(|x| x.is_finite());
+    rec.profiles.retain(|p| {
+        p.t.is_finite()
+            && finite(&p.x_ref)
+            && finite(&p.x)
+            && finite(&p.stretch)
+            && finite(&p.pressure)
+            && p.extra.values().all(finite)
+    });
+    rec.divisions
+        .retain(|d| d.t.is_finite() && d.x.is_finite() && d.x_over_length.is_finite());
+    if !rec.stats.wall_seconds.is_finite() {
+        rec.stats.wall_seconds = 0.0;
+    }
+    rec.stats.extra.retain(|_, v| v.is_finite());
+    let note = format!("non-finite value at {first}; output cut back to the last finite data");
+    rec.error = Some(match rec.error.take() {
+        Some(e) => format!("{e}; {note}"),
+        None => note,
+    });
+    true
+}
+
+/// `Err(path)` naming the first non-finite number in the summary.
+pub fn check_summary(summary: &Summary) -> Result<(), String> {
+    for rec in &summary.runs {
+        if let Some(p) = first_non_finite(rec) {
+            return Err(format!("run `{}`: {p}", rec.label));
+        }
+    }
+    Ok(())
+}
