@@ -1,0 +1,248 @@
+//! Validation of the simple-shear column (MODEL.md §4.4–4.6, §5.6): Ref top displacements and
+//! spreads, the exact discrete solution, the steady state `tan θ = F_A/(β₀μ)`, the cell-centre
+//! form, the continuum series solution against the continuum solver, and discrete → continuum
+//! convergence.
+
+use celltissue::array::ArrayProblem;
+use celltissue::observe::{ModelKind, RunRecord};
+use celltissue::sheet::exact::{shear_series, ShearDiscreteExact};
+use celltissue::sheet::shear::{ShearCellCentre, ShearColumn, ShearParams};
+use celltissue::sheet::{run::Outputs, run_shear, ShearConfig, ShearForm, SolverSettings};
+use celltissue::{NeoHookean, Ogden, StrainEnergy};
+use integrators::{MethodKind, Options, Solver};
+
+fn nh(mu: f64) -> NeoHookean {
+    NeoHookean::new(mu).unwrap()
+}
+
+fn solver(rtol: f64) -> SolverSettings {
+    SolverSettings {
+        method: MethodKind::Bdf,
+        options: Options {
+            rtol,
+            atol: rtol * 1e-2,
+            ..Options::default()
+        },
+    }
+}
+
+fn run(cfg: &ShearConfig, law: &impl StrainEnergy, model: ModelKind, grid: Option<usize>, times: &[f64], rtol: f64) -> RunRecord {
+    let rec = run_shear(cfg, law, model, grid, &solver(rtol), &Outputs::at(times)).unwrap();
+    assert!(rec.error.is_none(), "{:?}", rec.error);
+    rec
+}
+
+fn series<'a>(rec: &'a RunRecord, key: &str) -> &'a [f64] {
+    &rec.series.extra[key]
+}
+
+#[test]
+fn edge_form_reproduces_ref_top_displacements_and_spread_m10() {
+    let t = [1.0, 10.0, 50.0, 100.0, 150.0];
+    let rec = run(&ShearConfig::default(), &nh(1.0), ModelKind::Discrete, None, &t, 1e-10);
+    let top = series(&rec, "top_displacement");
+    for (i, r) in [1.14651, 4.55847, 9.09173, 9.90271, 9.98958].iter().enumerate() {
+        assert!((top[i] - r).abs() < 5e-6, "x_e,M(t={}) = {} vs Ref {r}", t[i], top[i]);
+    }
+    let spread = series(&rec, "shear_spread");
+    for (i, r) in [(1, 0.6783), (2, 0.1155), (3, 0.0124)] {
+        assert!((spread[i] - r).abs() < 5e-5, "spread(t={}) = {} vs Ref {r}", t[i], spread[i]);
+    }
+}
+
+#[test]
+fn edge_form_reproduces_ref_top_displacements_m50() {
+    let cfg = ShearConfig {
+        cells: 50,
+        ..Default::default()
+    };
+    let t = [10.0, 50.0, 100.0];
+    let rec = run(&cfg, &nh(1.0), ModelKind::Discrete, None, &t, 1e-10);
+    let top = series(&rec, "top_displacement");
+    for (i, r) in [4.56206, 10.79085, 15.46268].iter().enumerate() {
+        assert!((top[i] - r).abs() < 5e-6, "x_e,M(t={}) = {} vs Ref {r}", t[i], top[i]);
+    }
+}
+
+#[test]
+fn edge_form_matches_the_exact_discrete_solution() {
+    // MODEL.md §4.6: eigen-expansion with q_j = (2j+1)π/(2M+1); integrator-limited accuracy.
+    for (m, beta0, gamma0, mu, drag, force) in [(10, 1.0, 1.0, 1.0, 0.5, 1.0), (7, 2.0, 0.5, 1.5, 0.3, -0.4)] {
+        let p = ShearParams {
+            cells: m,
+            gamma0,
+            beta0,
+            drag,
+            force,
+        };
+        let col = ShearColumn::discrete(nh(mu), &p).unwrap();
+        let y0 = col.initial_state();
+        let times = [0.5, 1.0, 10.0, 50.0, 100.0];
+        let mut prob = ArrayProblem::new(col);
+        let opts = Options {
+            rtol: 1e-12,
+            atol: 1e-14,
+            ..Options::default()
+        };
+        let sol = Solver::new(MethodKind::Bdf, opts).solve(&mut prob, 0.0, &y0, &times).unwrap();
+        let ex = ShearDiscreteExact::new(m, gamma0, beta0, mu, drag, force);
+        let mut worst = 0.0f64;
+        for (t, y) in sol.t.iter().zip(&sol.y) {
+            for (a, b) in y.iter().zip(ex.edges(*t)) {
+                worst = worst.max((a - b).abs());
+            }
+        }
+        eprintln!("M = {m}: max |x_e − exact| = {worst:.2e}");
+        assert!(worst < 1e-9, "M = {m}: {worst:e}");
+    }
+}
+
+#[test]
+fn steady_shear_angle_is_force_over_beta0_mu() {
+    // tan θ = F_A/(β₀μ) in every cell (MODEL.md §4.4)
+    let cfg = ShearConfig {
+        beta0: 2.0,
+        force: 0.5,
+        ..Default::default()
+    };
+    let rec = run(&cfg, &nh(0.5), ModelKind::Discrete, None, &[2000.0], 1e-10);
+    let expect = 0.5 / (2.0 * 0.5);
+    assert!((rec.series.max_stretch[0] - expect).abs() < 1e-8);
+    assert!((rec.series.min_stretch[0] - expect).abs() < 1e-8);
+    assert!((series(&rec, "top_displacement")[0] - 10.0 * expect).abs() < 1e-7);
+    assert!((series(&rec, "mean_shear_angle")[0] - expect.atan()).abs() < 1e-8);
+}
+
+#[test]
+fn nonlinear_law_steady_shear_solves_tau_equals_force_over_beta0() {
+    // Ogden (α = 3, 1.5): τ(T) is nonlinear; the steady state has τ(T) = F_A/β₀ in every cell.
+    let law = Ogden::new(vec![(0.4, 3.0), (0.4, 1.5)]).unwrap();
+    let cfg = ShearConfig {
+        force: 1.5,
+        ..Default::default()
+    };
+    let rec = run(&cfg, &law, ModelKind::Discrete, None, &[4000.0], 1e-10);
+    let t = rec.series.max_stretch[0];
+    assert!((rec.series.min_stretch[0] - t).abs() < 1e-8);
+    assert!((law.shear(t).tau - 1.5).abs() < 1e-8, "τ({t}) = {}", law.shear(t).tau);
+    assert!((t - 1.5 / law.shear_modulus()).abs() > 1e-2, "law is effectively linear here");
+}
+
+#[test]
+fn cell_centre_form_gives_identical_trajectories_to_edge_form() {
+    // MODEL.md §4.5: the thesis form with K_th = 1 is exactly the edge form with K = ½.
+    for m in [10, 50] {
+        let times: Vec<f64> = [0.5, 1.0, 10.0, 50.0, 100.0].to_vec();
+        let mk = |form| ShearConfig {
+            cells: m,
+            form,
+            ..Default::default()
+        };
+        let edge = run_shear(&mk(ShearForm::Edge), &nh(1.0), ModelKind::Discrete, None, &solver(1e-11), &Outputs { times: vec![], profile_times: times.clone(), ..Default::default() }).unwrap();
+        let cc = run_shear(&mk(ShearForm::CellCentre), &nh(1.0), ModelKind::Discrete, None, &solver(1e-11), &Outputs { times: vec![], profile_times: times.clone(), ..Default::default() }).unwrap();
+        let mut worst = 0.0f64;
+        for (a, b) in edge.profiles.iter().zip(&cc.profiles) {
+            for (u, v) in a.extra["x_edge"].iter().zip(&b.extra["x_edge"]) {
+                worst = worst.max((u - v).abs());
+            }
+        }
+        eprintln!("M = {m}: max |x_e(edge) − x_e(cell-centre)| = {worst:.2e}");
+        assert!(worst < 1e-8, "M = {m}: {worst:e}");
+    }
+}
+
+#[test]
+fn continuum_solver_converges_to_the_series_solution() {
+    // K x_t = β₀γ₀μ x_yy on (0, w₀ = 10), β₀μ x_y(w₀) = F_A: conservative scheme on m segments
+    // against the closed-form series (MODEL.md §4.6); error falls as m grows (first order: the
+    // top segment's lumped drag K h/γ₀ acts like a width increase h/2).
+    let cfg = ShearConfig::default();
+    let (s, d, w0) = (1.0, 2.0, 10.0);
+    let times = [1.0, 10.0, 50.0];
+    let mut errs = Vec::new();
+    for m in [20, 40, 80, 160] {
+        let rec = run_shear(&cfg, &nh(1.0), ModelKind::Continuum, Some(m), &solver(1e-11), &Outputs { times: vec![], profile_times: times.to_vec(), ..Default::default() }).unwrap();
+        let h = w0 / m as f64;
+        let (mut worst, mut worst_eff) = (0.0f64, 0.0f64);
+        for p in &rec.profiles {
+            for (k, xe) in p.extra["x_edge"].iter().enumerate() {
+                let y = (k + 1) as f64 * h;
+                worst = worst.max((xe - shear_series(s, d, w0, y, p.t, 4000).0).abs());
+                let eff = shear_series(s, d, w0 + 0.5 * h, y, p.t, 4000).0;
+                worst_eff = worst_eff.max((xe - eff).abs());
+            }
+        }
+        errs.push((worst, worst_eff));
+    }
+    eprintln!("continuum vs series (w0, w0 + h/2), m = 20, 40, 80, 160: {errs:?}");
+    for w in errs.windows(2) {
+        let r = w[0].0 / w[1].0;
+        assert!(r > 1.8 && r < 2.2, "convergence ratio {r} ({errs:?})");
+        let r2 = w[0].1 / w[1].1;
+        assert!(r2 > 3.5, "w_eff convergence ratio {r2} ({errs:?})");
+    }
+}
+
+#[test]
+fn discrete_column_matches_series_with_effective_width() {
+    // MODEL.md §4.6: with w_eff = (M + ½)γ₀ the series matches the discrete model to ≤ 1.2e-2 at
+    // t = 1 and ≤ 3e-3 for t ≥ 10 (M = 10).
+    let times = [1.0, 10.0, 50.0, 100.0];
+    let rec = run_shear(&ShearConfig::default(), &nh(1.0), ModelKind::Discrete, None, &solver(1e-11), &Outputs { times: vec![], profile_times: times.to_vec(), ..Default::default() }).unwrap();
+    for p in &rec.profiles {
+        let mut worst = 0.0f64;
+        for (k, xe) in p.extra["x_edge"].iter().enumerate() {
+            let y = (k + 1) as f64;
+            worst = worst.max((xe - shear_series(1.0, 2.0, 10.5, y, p.t, 4000).0).abs());
+        }
+        eprintln!("t = {}: max |x_e − series(w_eff)| = {worst:.2e}", p.t);
+        if p.t < 5.0 {
+            // MODEL.md quotes the t = 1 value to two digits (measured 1.2047e-2)
+            assert!((worst - 1.2e-2).abs() < 0.05e-2, "t = {}: {worst}", p.t);
+        } else {
+            assert!(worst <= 3e-3, "t = {}: {worst}", p.t);
+        }
+    }
+}
+
+#[test]
+fn discrete_converges_to_continuum_as_cells_shrink() {
+    // Fixed macroscale: w₀ = 1 (γ₀ = 1/M), edge drag K = K̂γ₀ with K̂ = ½ so D = β₀μ/K̂ = 2,
+    // F_A = 1. The discrete column of M cells approaches the continuum series; the error is
+    // O(1/M) (lumped top drag: w_eff = w₀ + γ₀/2).
+    let times = [0.02, 0.1, 0.5];
+    let mut errs = Vec::new();
+    for m in [10, 20, 40, 80] {
+        let g = 1.0 / m as f64;
+        let cfg = ShearConfig {
+            cells: m,
+            gamma0: g,
+            drag: Some(0.5 * g),
+            ..Default::default()
+        };
+        let rec = run_shear(&cfg, &nh(1.0), ModelKind::Discrete, None, &solver(1e-11), &Outputs { times: vec![], profile_times: times.to_vec(), ..Default::default() }).unwrap();
+        let mut worst = 0.0f64;
+        for p in &rec.profiles {
+            for (k, xe) in p.extra["x_edge"].iter().enumerate() {
+                let y = (k + 1) as f64 * g;
+                worst = worst.max((xe - shear_series(1.0, 2.0, 1.0, y, p.t, 4000).0).abs());
+            }
+        }
+        errs.push(worst);
+    }
+    eprintln!("discrete vs continuum series, M = 10, 20, 40, 80: {errs:?}");
+    for w in errs.windows(2) {
+        let r = w[0] / w[1];
+        assert!(r > 1.7 && r < 2.3, "convergence ratio {r} ({errs:?})");
+    }
+}
+
+#[test]
+fn cell_centre_form_is_discrete_only() {
+    let cfg = ShearConfig {
+        form: ShearForm::CellCentre,
+        ..Default::default()
+    };
+    let err = run_shear(&cfg, &nh(1.0), ModelKind::Continuum, None, &solver(1e-8), &Outputs::at(&[1.0])).unwrap_err();
+    assert!(err.to_string().contains("form"), "{err}");
+}
