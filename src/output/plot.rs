@@ -183,20 +183,32 @@ pub fn plot_chart(path: &Path, chart: &Chart) -> Result<(), PlotError> {
     .ok_or(PlotError::NoData)?;
     let root = BitMapBackend::new(path, CHART_SIZE).into_drawing_area();
     root.fill(&WHITE).map_err(draw_err)?;
+    let norm = (Norm::new(xr, chart.x_axis), Norm::new(yr, chart.y_axis));
     match (chart.x_axis, chart.y_axis) {
-        (Axis::Linear, Axis::Linear) => draw(&root, chart, &curves, xr.0..xr.1, yr.0..yr.1),
-        (Axis::Log, Axis::Linear) => {
-            draw(&root, chart, &curves, (xr.0..xr.1).log_scale(), yr.0..yr.1)
-        }
-        (Axis::Linear, Axis::Log) => {
-            draw(&root, chart, &curves, xr.0..xr.1, (yr.0..yr.1).log_scale())
-        }
+        (Axis::Linear, Axis::Linear) => draw(&root, chart, &curves, xr.0..xr.1, yr.0..yr.1, norm),
+        (Axis::Log, Axis::Linear) => draw(
+            &root,
+            chart,
+            &curves,
+            (xr.0..xr.1).log_scale(),
+            yr.0..yr.1,
+            norm,
+        ),
+        (Axis::Linear, Axis::Log) => draw(
+            &root,
+            chart,
+            &curves,
+            xr.0..xr.1,
+            (yr.0..yr.1).log_scale(),
+            norm,
+        ),
         (Axis::Log, Axis::Log) => draw(
             &root,
             chart,
             &curves,
             (xr.0..xr.1).log_scale(),
             (yr.0..yr.1).log_scale(),
+            norm,
         ),
     }?;
     root.present().map_err(draw_err)
@@ -208,6 +220,7 @@ fn draw<'b, X, Y>(
     curves: &[(Curve, Vec<(f64, f64)>)],
     xr: X,
     yr: Y,
+    norm: (Norm, Norm),
 ) -> Result<(), PlotError>
 where
     X: plotters::coord::ranged1d::AsRangedCoord<Value = f64>,
@@ -230,6 +243,7 @@ where
         .light_line_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(draw_err)?;
+    let (xr_norm, yr_norm) = norm;
     let mut labelled = false;
     for (curve, points) in curves {
         let c = color(curve.color);
@@ -285,11 +299,61 @@ where
             .background_style(WHITE.mix(0.85))
             .border_style(RGBColor(180, 180, 180))
             .label_font(("sans-serif", 13))
-            .position(SeriesLabelPosition::UpperRight)
+            .position(legend_corner(curves, &xr_norm, &yr_norm))
             .draw()
             .map_err(draw_err)?;
     }
     Ok(())
+}
+
+/// Maps a data coordinate to `[0, 1]` across the plotted range.
+#[derive(Clone, Copy, Debug)]
+struct Norm {
+    lo: f64,
+    hi: f64,
+    log: bool,
+}
+
+impl Norm {
+    fn new(r: (f64, f64), axis: Axis) -> Self {
+        let log = axis == Axis::Log;
+        let f = |v: f64| if log { v.ln() } else { v };
+        Self {
+            lo: f(r.0),
+            hi: f(r.1),
+            log,
+        }
+    }
+    fn map(&self, v: f64) -> f64 {
+        let v = if self.log { v.ln() } else { v };
+        (v - self.lo) / (self.hi - self.lo)
+    }
+}
+
+/// The corner whose legend box (about 40 % × 40 % of the plot) covers the fewest points.
+fn legend_corner(curves: &[(Curve, Vec<(f64, f64)>)], x: &Norm, y: &Norm) -> SeriesLabelPosition {
+    let corners = [
+        (SeriesLabelPosition::UpperRight, true, true),
+        (SeriesLabelPosition::UpperLeft, false, true),
+        (SeriesLabelPosition::LowerRight, true, false),
+        (SeriesLabelPosition::LowerLeft, false, false),
+    ];
+    let count = |right: bool, upper: bool| {
+        curves
+            .iter()
+            .flat_map(|(_, p)| p.iter())
+            .filter(|&&(px, py)| {
+                let (u, v) = (x.map(px), y.map(py));
+                (if right { u > 0.55 } else { u < 0.45 })
+                    && (if upper { v > 0.55 } else { v < 0.45 })
+            })
+            .count()
+    };
+    corners
+        .into_iter()
+        .min_by_key(|&(_, r, u)| count(r, u))
+        .map(|c| c.0)
+        .unwrap_or(SeriesLabelPosition::UpperRight)
 }
 
 /// Viridis-like colour map on `[0, 1]`.

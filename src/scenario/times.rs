@@ -84,7 +84,7 @@ impl TimeRange {
                 }
                 let (a, b) = (self.start.ln(), self.stop.ln());
                 (0..=n)
-                    .map(|k| (a + (b - a) * k as f64 / n as f64).exp())
+                    .map(|k| round_sig((a + (b - a) * k as f64 / n as f64).exp()))
                     .collect()
             }
         };
@@ -96,6 +96,12 @@ impl TimeRange {
         }
         Ok(t)
     }
+}
+
+/// `v` rounded to 12 significant digits, so that log-spaced times hit decades exactly
+/// (`10`, not `9.999999999999993`) and match profile times.
+fn round_sig(v: f64) -> f64 {
+    format!("{v:.11e}").parse().unwrap_or(v)
 }
 
 /// Parses a list or range at `key` into increasing, finite, non-negative times.
@@ -175,7 +181,13 @@ mod tests {
         .unwrap();
         assert_eq!(t.len(), 7);
         assert_eq!((t[0], t[6]), (1e-3, 1e3));
-        assert!((t[3] - 1.0).abs() < 1e-12);
+        assert_eq!(t[3], 1.0);
+        let t = parse_times(
+            "k",
+            &value("{ start = 1e-3, stop = 1e3, count = 121, spacing = \"log\" }"),
+        )
+        .unwrap();
+        assert!(t.contains(&10.0) && t.contains(&1.0) && t.contains(&0.01));
     }
 
     #[test]
