@@ -242,8 +242,21 @@ impl<O> Run<'_, O> {
     }
 
     /// Emits outputs with `t_out < limit` (or `≤` if `inclusive`) from the method's dense output.
-    fn emit_interp<P: Problem>(&mut self, p: &P, m: &dyn Method, limit: f64, inclusive: bool)
-    where
+    ///
+    /// For problems with algebraic components the interpolated state is projected back onto the
+    /// constraints: [`System::consistent_init`] at the output time recomputes the algebraic
+    /// components (and a consistent `ẏ`) from the interpolated differential ones. Without this,
+    /// algebraic outputs carry the interpolation error of a component that is not error-controlled
+    /// when [`Options::suppress_algebraic`] is set. (Counted in the statistics; if the projection
+    /// fails the interpolated values are kept.)
+    fn emit_interp<P: Problem>(
+        &mut self,
+        p: &mut P,
+        opts: &Options,
+        m: &dyn Method,
+        limit: f64,
+        inclusive: bool,
+    ) where
         O: FnMut(&P, f64, &[f64], &[f64]),
     {
         while self.next_out < self.t_out.len() {
@@ -257,6 +270,17 @@ impl<O> Run<'_, O> {
                     self.ypbuf.copy_from_slice(m.yp());
                 } else {
                     m.interpolate(to, &mut self.ybuf, &mut self.ypbuf);
+                    if self.cache.algebraic.iter().any(|&a| a) {
+                        let (y0, yp0) = (self.ybuf.clone(), self.ypbuf.clone());
+                        let mut sys = System::new(p, opts, &mut self.stats, &mut self.cache);
+                        if sys
+                            .consistent_init(to, &mut self.ybuf, &mut self.ypbuf)
+                            .is_err()
+                        {
+                            self.ybuf = y0;
+                            self.ypbuf = yp0;
+                        }
+                    }
                 }
                 let (yb, ypb) = (
                     std::mem::take(&mut self.ybuf),
@@ -574,7 +598,7 @@ where
                     Err(e) => return Err(run.fail(ErrorKind::Residual(e), t, None)),
                 };
                 // outputs before the event (those within event_tol of it count as at it)
-                run.emit_interp(p, method, ts - opts.event_tol, false);
+                run.emit_interp(p, opts, method, ts - opts.event_tol, false);
                 let nn = method.y().len();
                 let mut ye = vec![0.0; nn];
                 let mut ype = vec![0.0; nn];
@@ -697,8 +721,10 @@ where
         if restarted {
             continue;
         }
-        std::mem::swap(&mut g_prev, &mut g_new);
-        run.emit_interp(p, method, t, true);
+        if !g_prev.is_empty() {
+            std::mem::swap(&mut g_prev, &mut g_new);
+        }
+        run.emit_interp(p, opts, method, t, true);
         if t >= t_end {
             run.sol.stats = run.stats;
             return Ok(run.sol);

@@ -39,7 +39,7 @@ fn slope(xs: &[f64], ys: &[f64]) -> f64 {
 
 #[test]
 fn bdf_fixed_order_tolerance_sweep_observed_order() {
-    let t_end = 40.0;
+    let t_end: f64 = 40.0;
     let exact = [t_end.cos(), -t_end.sin()];
     // tolerance ranges per order: errors well above round-off, steps well above start-up
     let ranges: [(f64, f64); 5] = [

@@ -49,10 +49,8 @@ fn bdf_robertson_ode_matches_reference_at_1e11() {
             "ode exact_jac={exact}: y = {y:?}, scaled err {e:.3}, {:?}",
             sol.stats
         );
-        // global error within a few tolerance units (local control, long horizon)
-        assert!(e < 20.0, "scaled error {e}");
-        assert!((y[0] - REF_1E11[0]).abs() < 2e-10);
-        assert!((y[1] - REF_1E11[1]).abs() < 1e-15);
+        // global error below the tolerance scale (observed ≈ 0.1–0.2)
+        assert!(e < 1.0, "scaled error {e}");
         // mass conservation at every output (linear invariant: BDF preserves it up to Newton
         // and round-off error)
         for yi in &sol.y {
@@ -71,23 +69,34 @@ fn bdf_robertson_dae_matches_reference_at_1e11() {
     let y = sol.y.last().unwrap();
     let e = scaled_err(y, rtol);
     eprintln!("dae: y = {y:?}, scaled err {e:.3}, {:?}", sol.stats);
-    assert!(e < 20.0, "scaled error {e}");
+    assert!(e < 1.0, "scaled error {e}");
     // the algebraic constraint holds to round-off
     for yi in &sol.y {
         assert!((yi.iter().sum::<f64>() - 1.0).abs() < 1e-12);
     }
-    // IDA's idaRoberts_dns example prints y(4e10) = (4.8641e-08, 1.9456e-13, 1.0000e+00) at
-    // rtol = 1e-4; agreement to its 3 printed digits
-    assert!(
-        (sol.y[0][0] - 4.8641e-8).abs() < 0.01 * 4.8641e-8,
-        "{}",
-        sol.y[0][0]
-    );
-    assert!(
-        (sol.y[0][1] - 1.9456e-13).abs() < 0.01 * 1.9456e-13,
-        "{}",
-        sol.y[0][1]
-    );
+    // cross-check at 4e10 against the ODE form solved much more tightly. (IDA's
+    // idaRoberts_dns example prints y1(4e10) = 4.8641e-08, but at rtol = 1e-4: that value is
+    // itself ~1.5% off and is not a reference.)
+    let tight = Options {
+        rtol: 1e-10,
+        atol: 1e-12,
+        ..Default::default()
+    };
+    let mut ode = Ode(Robertson {
+        exact_jacobian: true,
+    });
+    let r = Solver::new(MethodKind::Bdf, tight)
+        .solve(&mut ode, 0.0, &[1.0, 0.0, 0.0], &[4e10])
+        .unwrap();
+    eprintln!("tight ODE y(4e10) = {:?}, DAE {:?}", r.y[0], sol.y[0]);
+    // y1 ≈ 5e-8 is controlled by atol_1 = 1e-8 (observed error 2.8e-9, 0.28 units), and y2 is
+    // slaved to it (y2 ≈ 4e-6·y1 on this time scale), so y2's error is ≈ 4e-6 × y1's: observed
+    // 1.1e-14 = 1.13 units of its own atol_2 = 1e-14. Hence the bound of 2 units.
+    let atol = [1e-8, 1e-14, 1e-8];
+    for i in 0..3 {
+        let d = (sol.y[0][i] - r.y[0][i]).abs() / (rtol * r.y[0][i].abs() + atol[i]);
+        assert!(d < 2.0, "component {i}: {} vs {}", sol.y[0][i], r.y[0][i]);
+    }
 }
 
 #[test]

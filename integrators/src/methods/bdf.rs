@@ -58,6 +58,8 @@ const EPS_NEWT: f64 = 0.33;
 const MAX_ERR_FAILS: usize = 10;
 /// Maximum Newton / recoverable failures in one step.
 const MAX_CONV_FAILS: usize = 10;
+/// Smallest worthwhile step-size increase (smaller suggested increases keep `h`).
+const GROW_THRESHOLD: f64 = 1.5;
 /// Steps after which the Jacobian is refreshed even if Newton converges.
 const MAX_JAC_AGE: usize = 50;
 
@@ -101,6 +103,8 @@ pub struct Bdf {
     /// Order of the last accepted step (dense output).
     k_last: usize,
     steps_at_order: usize,
+    /// Accepted steps since the last start.
+    steps_since_start: usize,
     started: bool,
     times: VecDeque<f64>,
     vals: VecDeque<Vec<f64>>,
@@ -214,6 +218,7 @@ impl Bdf {
             k: 1,
             k_last: 1,
             steps_at_order: 0,
+            steps_since_start: 0,
             started: false,
             times: VecDeque::new(),
             vals: VecDeque::new(),
@@ -507,6 +512,7 @@ impl Method for Bdf {
         self.k = 1;
         self.k_last = 1;
         self.steps_at_order = 0;
+        self.steps_since_start = 0;
         self.started = true;
         match h.or(sys.opts.h0) {
             Some(h) if h > 0.0 && h.is_finite() => {
@@ -651,10 +657,17 @@ impl Method for Bdf {
                 sys.stats.error_test_failures += 1;
                 sys.stats.rejected_steps += 1;
                 last = LastFailure::ErrorTest(worst(&self.ee, &self.ewt));
-                let (r, kk) = if nef == 1 {
+                let (r, kk) = if nef == 1 || self.steps_since_start == 0 {
+                    // on the first step after a (re)start the step size is a guess (or the
+                    // hint from before an event): trust the estimate for large reductions
                     let e = if knew < k { err_km1 } else { err_k };
                     let r = 0.9 * (2.0 * e + 1e-4).powf(-1.0 / (knew as f64 + 1.0));
-                    (r.clamp(0.25, 0.9), knew)
+                    let lo = if self.steps_since_start == 0 {
+                        1e-3
+                    } else {
+                        0.25
+                    };
+                    (r.clamp(lo, 0.9), knew)
                 } else if nef == 2 {
                     (0.25, knew)
                 } else {
@@ -721,6 +734,7 @@ impl Method for Bdf {
             self.k_last = k;
             sys.stats.steps += 1;
             self.steps_since_jac += 1;
+            self.steps_since_start += 1;
             if action_order != k {
                 self.steps_at_order = 0;
             } else {
@@ -731,8 +745,8 @@ impl Method for Bdf {
             // next step size
             if fixed.is_none() {
                 let r = (2.0 * err_new + 1e-4).powf(-1.0 / (self.k as f64 + 1.0));
-                let mut hn = if r >= 2.0 {
-                    2.0 * h_try
+                let mut hn = if r >= GROW_THRESHOLD {
+                    r.min(2.0) * h_try
                 } else if r <= 1.0 {
                     h_try * r.clamp(0.5, 0.9)
                 } else {
