@@ -1,0 +1,311 @@
+//! [`Dividing`]: a growing [`Line`] whose cells divide by a [`DivisionRule`] — one event
+//! function per cell, located by the integrator on its dense output; at an event the fired cells
+//! are split in *decreasing* index order (pending indices stay valid), the log is written, and
+//! [`EventAction::Resized`] tells the driver to rebuild its banded workspace for the new size
+//! and restart with a consistent `ẏ` (MODEL.md §2.8–2.9).
+//!
+//! Per-cell rule state (birth time, random threshold) and the material width `ΔX` of each cell
+//! (in initial reference coordinates, halved at each division, so daughters are reported at
+//! their material centres `X ∓ ΔX/4`) follow their cells through every insertion.
+
+use super::division::{CellView, DivisionRule, SplitMix64};
+use super::log::DivisionLog;
+use super::EventError;
+use crate::array::CellArray;
+use crate::energy::StrainEnergy;
+use crate::line::array::NONE;
+use crate::line::observe::Snapshot;
+use crate::line::run::LineModel;
+use crate::line::Line;
+use crate::observe::DivisionRecord;
+use crate::scalar::Scalar;
+use integrators::{EventAction, Pattern, ResidualError};
+
+/// Largest change of the division invariants (MODEL.md §5.5) seen over all events, measured
+/// just before and just after each split (enable with [`Dividing::check_invariants`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct InvariantReport {
+    /// Events checked.
+    pub events: usize,
+    /// `max |x_b(after) − x_b(before)|` over existing boundaries.
+    pub boundary_shift: f64,
+    /// `|l(after) − l(before)|`.
+    pub length_change: f64,
+    /// `|Σ L₀g(after) − Σ L₀g(before)| / Σ L₀g`.
+    pub sum_l0g_rel: f64,
+    /// `max |α(daughter) − α(parent)|` and over unchanged cells.
+    pub alpha_jump: f64,
+    /// Same for the elastic stress `σ_el`.
+    pub sigma_el_jump: f64,
+    /// Same for the elastic pressure `p_el`.
+    pub p_el_jump: f64,
+}
+
+/// A growing line with cell division (see the module docs).
+///
+/// ```no_run
+/// use celltissue::events::{AreaDoubling, Dividing};
+/// use celltissue::line::build::{discrete, LineParams};
+/// use celltissue::line::run::{integrate, SolveSettings};
+/// use celltissue::boundary::RightEnd;
+/// use celltissue::cell::TanhGrowth;
+/// use celltissue::{ArrayProblem, NeoHookean};
+/// use std::sync::Arc;
+/// let mut p = LineParams::unit_cells(100);
+/// p.right = RightEnd::Free(None);
+/// p.k = 1e-5.into();
+/// p.growth = Some(Arc::new(TanhGrowth::default()));
+/// let line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+/// let div = Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap();
+/// let mut prob = ArrayProblem::new(div);
+/// let traj = integrate(&mut prob, &SolveSettings::default(), &[0.0, 3.0]);
+/// assert_eq!(prob.array.line.n_cells(), 200);
+/// ```
+pub struct Dividing<E: StrainEnergy> {
+    /// The line (its size changes at every division).
+    pub line: Line<E>,
+    /// The division rule.
+    pub rule: Box<dyn DivisionRule>,
+    /// Birth time of each cell.
+    pub birth: Vec<f64>,
+    /// Threshold of each cell drawn at birth (`NaN` for deterministic rules).
+    pub threshold: Vec<f64>,
+    /// Material width `ΔX` of each cell in initial reference coordinates.
+    pub dx_ref: Vec<f64>,
+    /// The event log.
+    pub log: DivisionLog,
+    /// No division once `N` reaches this (default none).
+    pub max_cells: Option<usize>,
+    /// Initial number of cells.
+    pub n0: usize,
+    /// Invariant measurements (`Some` to enable; costs O(N) extra per event).
+    pub check_invariants: Option<InvariantReport>,
+    rng: SplitMix64,
+}
+
+impl<E: StrainEnergy> Dividing<E> {
+    /// Wraps a growing, non-periodic line; `seed` seeds the rule's random thresholds.
+    pub fn new(line: Line<E>, rule: Box<dyn DivisionRule>, seed: u64) -> Result<Self, EventError> {
+        if !line.is_growing() {
+            return Err(EventError::Unsupported(
+                "division without growth: add a growth law".into(),
+            ));
+        }
+        if line.right.is_periodic() {
+            return Err(EventError::Unsupported(
+                "division on a periodic line (the ring period would change)".into(),
+            ));
+        }
+        let n = line.n_cells();
+        let mut rng = SplitMix64::new(seed);
+        let threshold = (0..n).map(|_| rule.draw_threshold(&mut rng)).collect();
+        Ok(Self {
+            birth: vec![0.0; n],
+            threshold,
+            dx_ref: line.cells.l0.clone(),
+            log: DivisionLog::default(),
+            max_cells: None,
+            n0: n,
+            check_invariants: None,
+            rng,
+            rule,
+            line,
+        })
+    }
+
+    /// Whether the cap on the number of cells has been reached.
+    fn capped(&self) -> bool {
+        self.max_cells.is_some_and(|m| self.line.n_cells() >= m)
+    }
+
+    /// Length `x_N − x₀` of state `y`.
+    fn length(&self, t: f64, y: &[f64]) -> f64 {
+        let n = self.line.n_cells();
+        self.line.boundary(n, t, y, y).0 - self.line.boundary(0, t, y, y).0
+    }
+
+    /// Boundaries, `Σ L₀g` and per-cell `(α, σ_el, p_el)` (elastic: independent of `ẏ`).
+    fn elastic(&self, t: f64, y: &[f64]) -> (Vec<f64>, f64, Vec<[f64; 3]>) {
+        let line = &self.line;
+        let n = line.n_cells();
+        let zero = vec![0.0; y.len()];
+        let xs = (0..=n).map(|b| line.boundary(b, t, y, &zero).0).collect();
+        let mut sum = 0.0;
+        let mut cells = Vec::with_capacity(n);
+        for j in 1..=n {
+            let g = y[line.layout.gi[j - 1]];
+            sum += line.cells.l0[j - 1] * g;
+            if let Ok(c) = line.eval_cell(j, t, y, &zero) {
+                let r = line.energy.line(c.alpha);
+                let mu = line.cells.mu[j - 1];
+                cells.push([c.alpha, mu * r.sigma, mu * r.pressure]);
+            } else {
+                cells.push([f64::NAN; 3]);
+            }
+        }
+        (xs, sum, cells)
+    }
+
+    /// Splits cell `j` (1-based) and logs it.
+    fn divide(&mut self, j: usize, t: f64, y: &mut Vec<f64>) -> Result<(), EventError> {
+        let s = self.line.split_cell(j, t, y)?;
+        let i = j - 1;
+        let ta = self.rule.draw_threshold(&mut self.rng);
+        let tb = self.rule.draw_threshold(&mut self.rng);
+        self.birth[i] = t;
+        self.birth.insert(i + 1, t);
+        self.threshold[i] = ta;
+        self.threshold.insert(i + 1, tb);
+        let d = 0.5 * self.dx_ref[i];
+        let x = self.line.cells.x_ref[i];
+        self.dx_ref[i] = d;
+        self.dx_ref.insert(i + 1, d);
+        self.line.cells.x_ref[i] = x - 0.5 * d;
+        self.line.cells.x_ref[i + 1] = x + 0.5 * d;
+        let l = self.length(t, y);
+        self.log.push(DivisionRecord {
+            t,
+            parent: j,
+            x: s.x_new,
+            x_over_length: s.x_new / l,
+            cells_after: self.line.n_cells(),
+        });
+        Ok(())
+    }
+
+    fn record_invariants(
+        &mut self,
+        t: f64,
+        fired_asc: &[usize],
+        before: (Vec<f64>, f64, Vec<[f64; 3]>),
+        y: &[f64],
+    ) {
+        let (xb, sb, cb) = before;
+        let (xa, sa, ca) = self.elastic(t, y);
+        let Some(rep) = self.check_invariants.as_mut() else {
+            return;
+        };
+        rep.events += 1;
+        let nb = cb.len();
+        rep.length_change = rep
+            .length_change
+            .max(((xa[xa.len() - 1] - xa[0]) - (xb[nb] - xb[0])).abs());
+        rep.sum_l0g_rel = rep.sum_l0g_rel.max((sa - sb).abs() / sb.abs());
+        // old boundary b -> new index b + #(fired cells with index <= b) (1-based cells)
+        let mut shift = 0;
+        let mut f = fired_asc.iter().peekable();
+        for (b, x) in xb.iter().enumerate() {
+            if b >= 1 {
+                // cell b ends at boundary b; if it divided, the boundaries after it shift
+                if f.peek().is_some_and(|&&c| c == b) {
+                    f.next();
+                    shift += 1;
+                }
+            }
+            rep.boundary_shift = rep.boundary_shift.max((xa[b + shift] - x).abs());
+        }
+        // old cell c (1-based) -> new c + #(fired < c), daughters at that index and the next
+        let mut shift = 0;
+        for (c0, old) in cb.iter().enumerate() {
+            let c = c0 + 1;
+            let divided = fired_asc.binary_search(&c).is_ok();
+            let news: &[usize] = if divided { &[0, 1] } else { &[0] };
+            for &k in news {
+                let new = &ca[c0 + shift + k];
+                rep.alpha_jump = rep.alpha_jump.max((new[0] - old[0]).abs());
+                rep.sigma_el_jump = rep.sigma_el_jump.max((new[1] - old[1]).abs());
+                rep.p_el_jump = rep.p_el_jump.max((new[2] - old[2]).abs());
+            }
+            if divided {
+                shift += 1;
+            }
+        }
+    }
+}
+
+impl<E: StrainEnergy> CellArray for Dividing<E> {
+    fn dim(&self) -> usize {
+        self.line.dim()
+    }
+    fn pattern(&self) -> Pattern {
+        self.line.pattern()
+    }
+    fn residual<S: Scalar>(
+        &self,
+        t: f64,
+        y: &[S],
+        yp: &[S],
+        r: &mut [S],
+    ) -> Result<(), ResidualError> {
+        self.line.residual(t, y, yp, r)
+    }
+    fn atol(&self) -> Option<Vec<f64>> {
+        self.line.atol()
+    }
+    fn algebraic(&self) -> Vec<bool> {
+        self.line.algebraic()
+    }
+    fn num_events(&self) -> usize {
+        self.line.n_cells()
+    }
+    fn events(&mut self, t: f64, y: &[f64], g: &mut [f64]) {
+        if self.capped() {
+            g.iter_mut().for_each(|v| *v = -1.0);
+            return;
+        }
+        let g2 = self.line.g2;
+        for (j, out) in g.iter_mut().enumerate() {
+            let k = self.line.layout.gi[j];
+            let gj = if k == NONE { 1.0 } else { y[k] };
+            *out = self.rule.event(&CellView {
+                area_ratio: gj * g2,
+                age: t - self.birth[j],
+                threshold: self.threshold[j],
+            });
+        }
+    }
+    fn handle_event(
+        &mut self,
+        t: f64,
+        fired: &[usize],
+        y: &mut Vec<f64>,
+        _yp: &[f64],
+    ) -> Result<EventAction, ResidualError> {
+        let mut order: Vec<usize> = fired.iter().map(|&i| i + 1).collect();
+        order.sort_unstable();
+        order.dedup();
+        let before = self.check_invariants.map(|_| self.elastic(t, y));
+        let mut done = Vec::with_capacity(order.len());
+        for &j in order.iter().rev() {
+            if self.capped() {
+                break;
+            }
+            self.divide(j, t, y)
+                .map_err(|e| ResidualError::Fatal(e.to_string()))?;
+            done.push(j);
+        }
+        if done.is_empty() {
+            return Ok(EventAction::Continue);
+        }
+        if let Some(b) = before {
+            done.reverse();
+            self.record_invariants(t, &done, b, y);
+        }
+        Ok(EventAction::Resized)
+    }
+}
+
+impl<E: StrainEnergy> LineModel for Dividing<E> {
+    fn initial_state(&self) -> Vec<f64> {
+        self.line.initial_state()
+    }
+    fn initial_derivative_guess(&self) -> Vec<f64> {
+        self.line.initial_derivative_guess()
+    }
+    fn observe(&self, t: f64, y: &[f64], yp: &[f64]) -> Result<Snapshot, ResidualError> {
+        self.line.snapshot(t, y, yp)
+    }
+    fn unknown_name(&self, k: usize) -> String {
+        self.line.unknown_name(k)
+    }
+}

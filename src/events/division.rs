@@ -1,0 +1,286 @@
+//! Division rules: when does a cell divide? A [`DivisionRule`] is an event function of one
+//! cell's state that crosses zero *upwards* when the cell should divide; the integrator locates
+//! the crossing on its dense output (MODEL.md §2.8).
+//!
+//! * [`AreaDoubling`] (default, thesis §3.1.8): `A/A₀ − r = g g₂ − r`, `r = 2`;
+//! * [`AgeRule`]: `t − t_birth − T` (fixed cycle time);
+//! * [`RandomThreshold`]: `g g₂ − θ_j` with a per-cell threshold drawn **at birth** from
+//!   `θ ~ Uniform[r − w, r + w]` by a seeded [`SplitMix64`] generator (draws happen in event
+//!   order — daughter with the lower index first — so a run is reproducible from its seed).
+
+use serde::{Deserialize, Serialize};
+
+/// What a rule sees of one cell.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CellView {
+    /// Area ratio `A/A₀ = g·g₂`.
+    pub area_ratio: f64,
+    /// Time since the cell was born (since `t = 0` for the initial cells).
+    pub age: f64,
+    /// The cell's threshold drawn at birth ([`DivisionRule::draw_threshold`]; `NaN` if unused).
+    pub threshold: f64,
+}
+
+/// A division rule: an event function that crosses zero upwards when a cell should divide.
+///
+/// ```
+/// use celltissue::events::{AreaDoubling, CellView, DivisionRule};
+/// let rule = AreaDoubling::default();
+/// let cell = CellView { area_ratio: 1.5, age: 1.0, threshold: f64::NAN };
+/// assert_eq!(rule.event(&cell), -0.5); // divides when g g₂ reaches 2
+/// ```
+pub trait DivisionRule: Send + Sync {
+    /// Event value for a cell (negative before division, crosses zero upwards at division).
+    fn event(&self, cell: &CellView) -> f64;
+
+    /// Per-cell threshold drawn when a cell is born (default: none, `NaN`).
+    fn draw_threshold(&self, _rng: &mut SplitMix64) -> f64 {
+        f64::NAN
+    }
+
+    /// Short name for logs.
+    fn name(&self) -> String;
+}
+
+/// Division when the footprint area reaches `ratio` times its reference value (default 2).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AreaDoubling {
+    /// Area ratio at division, > 1 (default 2).
+    #[serde(default = "two")]
+    pub ratio: f64,
+}
+
+fn two() -> f64 {
+    2.0
+}
+
+impl Default for AreaDoubling {
+    fn default() -> Self {
+        Self { ratio: 2.0 }
+    }
+}
+
+impl DivisionRule for AreaDoubling {
+    fn event(&self, c: &CellView) -> f64 {
+        c.area_ratio - self.ratio
+    }
+    fn name(&self) -> String {
+        format!("area ratio {}", self.ratio)
+    }
+}
+
+/// Division at a fixed age `period` after birth (cell-cycle clock; independent of growth).
+///
+/// Daughters still get half the parent's *grown* length `L₀g/2`, so a cell that divides
+/// before `g = 2` produces daughters with a smaller reference length than its own.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AgeRule {
+    /// Cycle time `T > 0`.
+    pub period: f64,
+}
+
+impl DivisionRule for AgeRule {
+    fn event(&self, c: &CellView) -> f64 {
+        c.age - self.period
+    }
+    fn name(&self) -> String {
+        format!("age {}", self.period)
+    }
+}
+
+/// Stochastic area threshold: cell `j` divides when `g g₂` reaches `θ_j`, with
+/// `θ_j ~ Uniform[mean − spread, mean + spread]` drawn at its birth (initial cells at `t = 0`).
+/// Requires `mean − spread > 1` so that a daughter (`g = 1`) never starts past its threshold.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RandomThreshold {
+    /// Mean threshold (default 2).
+    #[serde(default = "two")]
+    pub mean: f64,
+    /// Half-width of the uniform distribution (≥ 0).
+    pub spread: f64,
+    /// RNG seed.
+    #[serde(default)]
+    pub seed: u64,
+}
+
+impl DivisionRule for RandomThreshold {
+    fn event(&self, c: &CellView) -> f64 {
+        c.area_ratio - c.threshold
+    }
+    fn draw_threshold(&self, rng: &mut SplitMix64) -> f64 {
+        self.mean + self.spread * (2.0 * rng.next_f64() - 1.0)
+    }
+    fn name(&self) -> String {
+        format!(
+            "random area U[{}, {}]",
+            self.mean - self.spread,
+            self.mean + self.spread
+        )
+    }
+}
+
+/// The rule as written in a scenario: `division = { rule = "area", ratio = 2 }`,
+/// `{ rule = "age", period = 2 }` or `{ rule = "random_area", mean = 2, spread = 0.2, seed = 1 }`,
+/// plus an optional cap `max_cells` (no division once `N` reaches it).
+///
+/// ```
+/// use celltissue::events::DivisionConfig;
+/// let c: DivisionConfig = toml::from_str("rule = \"age\"\nperiod = 2.5").unwrap();
+/// assert!(c.validate().is_ok());
+/// let bad: DivisionConfig = toml::from_str("rule = \"area\"\nratio = 0.5").unwrap();
+/// assert!(bad.validate().unwrap_err().contains("division.ratio"));
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DivisionConfig {
+    /// The rule.
+    #[serde(flatten)]
+    pub rule: RuleConfig,
+    /// Stop dividing once the line has this many cells (default: no cap).
+    #[serde(default)]
+    pub max_cells: Option<usize>,
+}
+
+impl Default for DivisionConfig {
+    fn default() -> Self {
+        Self {
+            rule: RuleConfig::Area(AreaDoubling::default()),
+            max_cells: None,
+        }
+    }
+}
+
+/// The rule variants of [`DivisionConfig`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "rule", rename_all = "snake_case")]
+pub enum RuleConfig {
+    /// [`AreaDoubling`].
+    Area(AreaDoubling),
+    /// [`AgeRule`].
+    Age(AgeRule),
+    /// [`RandomThreshold`].
+    RandomArea(RandomThreshold),
+}
+
+impl DivisionConfig {
+    /// Checks the ranges; the error names the key (`division.<key>`) and its valid range.
+    pub fn validate(&self) -> Result<(), String> {
+        let bad =
+            |k: &str, v: f64, r: &str| Err(format!("invalid `division.{k}` = {v}: must be {r}"));
+        match &self.rule {
+            RuleConfig::Area(a) if !(a.ratio > 1.0 && a.ratio.is_finite()) => {
+                bad("ratio", a.ratio, "finite and > 1")
+            }
+            RuleConfig::Age(a) if !(a.period > 0.0 && a.period.is_finite()) => {
+                bad("period", a.period, "finite and > 0")
+            }
+            RuleConfig::RandomArea(r) if !(r.spread >= 0.0 && r.spread.is_finite()) => {
+                bad("spread", r.spread, "finite and >= 0")
+            }
+            RuleConfig::RandomArea(r) if !(r.mean - r.spread > 1.0 && r.mean.is_finite()) => {
+                bad("mean", r.mean, "finite with mean - spread > 1")
+            }
+            _ => match self.max_cells {
+                Some(0) => Err("invalid `division.max_cells` = 0: must be >= 1".into()),
+                _ => Ok(()),
+            },
+        }
+    }
+
+    /// The rule object.
+    pub fn build(&self) -> Box<dyn DivisionRule> {
+        match &self.rule {
+            RuleConfig::Area(a) => Box::new(*a),
+            RuleConfig::Age(a) => Box::new(*a),
+            RuleConfig::RandomArea(r) => Box::new(*r),
+        }
+    }
+
+    /// RNG seed of the rule (0 if it draws nothing).
+    pub fn seed(&self) -> u64 {
+        match &self.rule {
+            RuleConfig::RandomArea(r) => r.seed,
+            _ => 0,
+        }
+    }
+}
+
+/// SplitMix64: a tiny, fast, seedable generator (Steele, Lea & Flood 2014), enough for
+/// per-cell thresholds; the sequence is fixed for a seed on every platform.
+///
+/// ```
+/// use celltissue::events::SplitMix64;
+/// let mut a = SplitMix64::new(7);
+/// let mut b = SplitMix64::new(7);
+/// assert_eq!(a.next_u64(), b.next_u64());
+/// let u = a.next_f64();
+/// assert!((0.0..1.0).contains(&u));
+/// ```
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SplitMix64 {
+    state: u64,
+}
+
+impl SplitMix64 {
+    /// A generator from a seed.
+    pub fn new(seed: u64) -> Self {
+        Self { state: seed }
+    }
+    /// Next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    /// Uniform in `[0, 1)` (53 random bits).
+    pub fn next_f64(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rules_cross_zero_upwards_at_division() {
+        let c = |a: f64, age: f64, th: f64| CellView {
+            area_ratio: a,
+            age,
+            threshold: th,
+        };
+        assert!(AreaDoubling::default().event(&c(1.99, 0.0, 0.0)) < 0.0);
+        assert!(AreaDoubling::default().event(&c(2.01, 0.0, 0.0)) > 0.0);
+        let age = AgeRule { period: 3.0 };
+        assert!(age.event(&c(5.0, 2.9, 0.0)) < 0.0 && age.event(&c(1.0, 3.1, 0.0)) > 0.0);
+        let r = RandomThreshold {
+            mean: 2.0,
+            spread: 0.25,
+            seed: 3,
+        };
+        let mut rng = SplitMix64::new(3);
+        let th: Vec<f64> = (0..1000).map(|_| r.draw_threshold(&mut rng)).collect();
+        assert!(th.iter().all(|t| (1.75..=2.25).contains(t)));
+        let mean = th.iter().sum::<f64>() / 1000.0;
+        assert!((mean - 2.0).abs() < 0.02, "mean threshold {mean}");
+        assert_eq!(r.event(&c(2.0, 0.0, 1.9)), 2.0 - 1.9);
+    }
+
+    #[test]
+    fn config_parses_and_validates() {
+        let c: DivisionConfig = toml::from_str("rule = \"area\"").unwrap();
+        assert_eq!(c.rule, RuleConfig::Area(AreaDoubling { ratio: 2.0 }));
+        let c: DivisionConfig =
+            toml::from_str("rule = \"random_area\"\nspread = 0.5\nseed = 9\nmax_cells = 50")
+                .unwrap();
+        assert!(c.validate().is_ok());
+        assert_eq!(c.seed(), 9);
+        let c: DivisionConfig = toml::from_str("rule = \"random_area\"\nspread = 1.5").unwrap();
+        assert!(c.validate().unwrap_err().contains("division.mean"));
+        assert!(toml::from_str::<DivisionConfig>("rule = \"size\"").is_err());
+    }
+}

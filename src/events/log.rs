@@ -1,0 +1,94 @@
+//! The division event log: one [`DivisionRecord`] per division (time, parent index, position of
+//! the new boundary, position over length, `N` after), its CSV form, and summaries used by the
+//! validation tests and reports (first/last division, `N(t)`, median `x_d/l`).
+
+use crate::observe::DivisionRecord;
+use std::fmt::Write as _;
+
+/// Division records in event order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DivisionLog {
+    /// The records.
+    pub records: Vec<DivisionRecord>,
+}
+
+impl DivisionLog {
+    /// Appends a record.
+    pub fn push(&mut self, r: DivisionRecord) {
+        self.records.push(r);
+    }
+
+    /// Number of divisions.
+    pub fn len(&self) -> usize {
+        self.records.len()
+    }
+
+    /// Whether no division happened.
+    pub fn is_empty(&self) -> bool {
+        self.records.is_empty()
+    }
+
+    /// `t,parent,x,x_over_length,cells_after` with a header line.
+    ///
+    /// ```
+    /// use celltissue::events::DivisionLog;
+    /// use celltissue::observe::DivisionRecord;
+    /// let mut log = DivisionLog::default();
+    /// log.push(DivisionRecord { t: 2.0, parent: 3, x: 2.5, x_over_length: 0.5, cells_after: 6 });
+    /// assert_eq!(log.to_csv(), "t,parent,x,x_over_length,cells_after\n2,3,2.5,0.5,6\n");
+    /// ```
+    pub fn to_csv(&self) -> String {
+        let mut out = String::from("t,parent,x,x_over_length,cells_after\n");
+        for d in &self.records {
+            let _ = writeln!(
+                out,
+                "{},{},{},{},{}",
+                d.t, d.parent, d.x, d.x_over_length, d.cells_after
+            );
+        }
+        out
+    }
+
+    /// Writes [`to_csv`](Self::to_csv) to a file.
+    pub fn write_csv(&self, path: &std::path::Path) -> std::io::Result<()> {
+        std::fs::write(path, self.to_csv())
+    }
+
+    /// Number of cells at time `t` (right-continuous: divisions at `t` count), given `n0`.
+    pub fn cells_at(&self, n0: usize, t: f64) -> usize {
+        cells_at(&self.records, n0, t)
+    }
+
+    /// Median of `x_d/l` over the divisions with `t_d ∈ [t0, t1]` (`None` if there are none).
+    pub fn median_x_over_length(&self, t0: f64, t1: f64) -> Option<f64> {
+        median_x_over_length(&self.records, t0, t1)
+    }
+}
+
+/// Number of cells at `t` from division records (right-continuous), starting from `n0`.
+pub fn cells_at(records: &[DivisionRecord], n0: usize, t: f64) -> usize {
+    records
+        .iter()
+        .take_while(|r| r.t <= t)
+        .last()
+        .map_or(n0, |r| r.cells_after)
+}
+
+/// Median of `x_d/l` over records with `t_d ∈ [t0, t1]`.
+pub fn median_x_over_length(records: &[DivisionRecord], t0: f64, t1: f64) -> Option<f64> {
+    let mut v: Vec<f64> = records
+        .iter()
+        .filter(|r| r.t >= t0 && r.t <= t1)
+        .map(|r| r.x_over_length)
+        .collect();
+    if v.is_empty() {
+        return None;
+    }
+    v.sort_by(f64::total_cmp);
+    let m = v.len();
+    Some(if m % 2 == 1 {
+        v[m / 2]
+    } else {
+        0.5 * (v[m / 2 - 1] + v[m / 2])
+    })
+}

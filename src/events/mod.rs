@@ -1,0 +1,68 @@
+//! Cell division as integrator events (thesis §3.1.8, §3.3.2; MODEL.md §2.8, §5.5).
+//!
+//! * [`division`] — the [`DivisionRule`] trait and rules: [`AreaDoubling`] (default:
+//!   `A/A₀ = g g₂` reaches 2), [`AgeRule`] (fixed cycle time) and [`RandomThreshold`] (per-cell
+//!   threshold drawn at birth from a seeded [`SplitMix64`]); [`DivisionConfig`] is the
+//!   scenario's `division = { rule = … }` table;
+//! * [`reindex`] — `Line::split_cell`: two daughters of reference length `L₀g/2` with `g = 1`
+//!   and the parent's material parameters, a boundary at the midpoint, indices shifted — O(N);
+//! * [`dividing`] — [`Dividing`], the growing line with one event function per cell; fired
+//!   cells are split in decreasing index order and the driver restarts with a consistent `ẏ` and
+//!   the banded pattern rebuilt for the new size ([`integrators::EventAction::Resized`]);
+//! * [`log`] — [`DivisionLog`]: time, parent, `x_d`, `x_d/l`, `N` after; CSV; `N(t)`, median
+//!   `x_d/l`;
+//! * [`run`] — [`run_proliferation`]: a scenario run (discrete with division, or the
+//!   proliferating continuum of [`crate::proliferation`]) to a [`crate::observe::RunRecord`]
+//!   with `"cells"` series and `"divisions"`.
+//!
+//! # Validation (tests/division_*.rs; MODEL.md §5.5 Ref values, N₀ = 100, σ₀ = 0.1, free end)
+//! See the test files for the measured numbers; every division conserves `l`, the existing
+//! boundaries, `Σ L₀g`, and the daughters' `α`, `σ_el`, `p_el` to round-off.
+
+pub mod dividing;
+pub mod division;
+pub mod log;
+pub mod reindex;
+pub mod run;
+
+pub use dividing::{Dividing, InvariantReport};
+pub use division::{
+    AgeRule, AreaDoubling, CellView, DivisionConfig, DivisionRule, RandomThreshold, RuleConfig,
+    SplitMix64,
+};
+pub use log::DivisionLog;
+pub use reindex::Split;
+pub use run::{run_proliferation, ProliferationConfig};
+
+/// Errors of the division machinery (become fatal solver errors inside an event handler).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum EventError {
+    /// The cell index is out of range.
+    #[error("no cell {cell}: the line has {cells} cells (1-based)")]
+    NoSuchCell {
+        /// Requested cell.
+        cell: usize,
+        /// Number of cells.
+        cells: usize,
+    },
+    /// The state vector does not match the layout.
+    #[error("state has length {got}, expected {expected}")]
+    StateLength {
+        /// Given length.
+        got: usize,
+        /// Expected length.
+        expected: usize,
+    },
+    /// The configuration cannot divide.
+    #[error("unsupported: {0}")]
+    Unsupported(String),
+    /// The parent cell is degenerate.
+    #[error("cell {cell} cannot divide: {reason}")]
+    Degenerate {
+        /// The cell.
+        cell: usize,
+        /// Why.
+        reason: String,
+    },
+}

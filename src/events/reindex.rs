@@ -1,0 +1,120 @@
+//! Splitting one cell of a [`Line`] into two daughters (MODEL.md §2.8), in O(N):
+//!
+//! * daughters: reference length `L₀g/2` each, `g = 1`, the parent's `μ`, `η`, drag, active
+//!   amplitude and phase `t_R`;
+//! * a new boundary at the midpoint `x_new = ½(x_{j−1} + x_j)` with the mean of the parent's two
+//!   boundary drags (`K` for uniform drag);
+//! * indices `> j` shift by one (one `Vec::insert` per per-cell field and one `splice` of the
+//!   state), and the unknown layout is rebuilt.
+//!
+//! Continuous by construction: every existing boundary position (hence `l`), `Σ L₀g`, and each
+//! daughter's elastic stretch `α = λ/g` (equal to the parent's), hence elastic `σ` and `p`.
+//!
+//! This is an inherent method of [`Line`] written here (not in `line/`) so the division logic
+//! stays in one place; it uses only `Line`'s public fields and [`Line::rebuild_layout`].
+
+use super::EventError;
+use crate::energy::StrainEnergy;
+use crate::line::array::NONE;
+use crate::line::Line;
+
+/// What a split did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Split {
+    /// Position of the new boundary.
+    pub x_new: f64,
+    /// Parent's growth stretch at division.
+    pub g_parent: f64,
+    /// Daughters' reference length `L₀g/2`.
+    pub l0_daughter: f64,
+}
+
+impl<E: StrainEnergy> Line<E> {
+    /// Divides cell `j` (1-based) of the state `y` (positions and growth stretches in this
+    /// line's layout): the line gains one cell and `y` one boundary and one `g` (O(N)).
+    ///
+    /// Requires growth (`g` in the state) and a non-periodic right end.
+    ///
+    /// ```
+    /// use celltissue::line::build::{discrete, LineParams};
+    /// use celltissue::boundary::RightEnd;
+    /// use celltissue::cell::TanhGrowth;
+    /// use celltissue::NeoHookean;
+    /// use std::sync::Arc;
+    /// let mut p = LineParams::unit_cells(3);
+    /// p.right = RightEnd::Free(None);
+    /// p.k = 1e-5.into();
+    /// p.growth = Some(Arc::new(TanhGrowth::default()));
+    /// let mut line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+    /// let mut y = line.initial_state(); // (g1, x1, g2, x2, g3, x3)
+    /// y[2] = 2.0; // cell 2 has doubled
+    /// let s = line.split_cell(2, 0.0, &mut y).unwrap();
+    /// assert_eq!(line.n_cells(), 4);
+    /// assert_eq!(s.x_new, 1.5);
+    /// assert_eq!(y, vec![1.0, 1.0, 1.0, 1.5, 1.0, 2.0, 1.0, 3.0]);
+    /// assert_eq!(line.cells.l0, vec![1.0, 1.0, 1.0, 1.0]);
+    /// ```
+    pub fn split_cell(&mut self, j: usize, t: f64, y: &mut Vec<f64>) -> Result<Split, EventError> {
+        let n = self.n_cells();
+        if j == 0 || j > n {
+            return Err(EventError::NoSuchCell { cell: j, cells: n });
+        }
+        if self.right.is_periodic() {
+            return Err(EventError::Unsupported(
+                "division on a periodic line (the ring period would change)".into(),
+            ));
+        }
+        let i = j - 1;
+        let gk = self.layout.gi[i];
+        if gk == NONE {
+            return Err(EventError::Unsupported(
+                "division without growth (`g` is not in the state)".into(),
+            ));
+        }
+        if y.len() != self.layout.dim {
+            return Err(EventError::StateLength {
+                got: y.len(),
+                expected: self.layout.dim,
+            });
+        }
+        let (xl, _) = self.boundary(j - 1, t, y, y);
+        let (xr, _) = self.boundary(j, t, y, y);
+        let g = y[gk];
+        if !(g > 0.0 && g.is_finite() && xr > xl) {
+            return Err(EventError::Degenerate {
+                cell: j,
+                reason: format!("g = {g}, length = {}", xr - xl),
+            });
+        }
+        let x_new = 0.5 * (xl + xr);
+        let l0_parent = self.cells.l0[i];
+        let l0_d = 0.5 * l0_parent * g;
+        let c = &mut self.cells;
+        c.l0[i] = l0_d;
+        c.l0.insert(i + 1, l0_d);
+        for v in [
+            &mut c.mu,
+            &mut c.eta,
+            &mut c.k_cell,
+            &mut c.active_amp,
+            &mut c.phase,
+            &mut c.x_ref,
+        ] {
+            let p = v[i];
+            v.insert(i + 1, p);
+        }
+        let k_new = 0.5 * (self.k_face[j - 1] + self.k_face[j]);
+        self.k_face.insert(j, k_new);
+        self.l0_total += 2.0 * l0_d - l0_parent;
+        // (.., g_j, x_j, ..) -> (.., 1, x_new, 1, x_j, ..): boundary j is interior after the split
+        y.splice(gk..gk + 1, [1.0, x_new, 1.0]);
+        self.rebuild_layout();
+        debug_assert_eq!(y.len(), self.layout.dim);
+        debug_assert_eq!(self.layout.xi[j], gk + 1);
+        Ok(Split {
+            x_new,
+            g_parent: g,
+            l0_daughter: l0_d,
+        })
+    }
+}

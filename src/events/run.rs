@@ -1,0 +1,234 @@
+//! [`run_proliferation`]: one run of a growing line with division — the discrete
+//! [`Dividing`] line, or the proliferating continuum [`DensityContinuum`] — from a
+//! [`ProliferationConfig`] (a [`LineConfig`] plus a `division` table) to a [`RunRecord`]
+//! with the `"cells"` series (`N` at each output time) and the `"divisions"` list.
+
+use super::dividing::Dividing;
+use super::division::{DivisionConfig, RuleConfig};
+use crate::array::ArrayProblem;
+use crate::energy::StrainEnergy;
+use crate::line::config::RightEndKind;
+use crate::line::run::{integrate, record, LineModel, Trajectory};
+use crate::line::{LineConfig, OutputTimes, SolveSettings};
+use crate::observe::{DivisionRecord, ModelKind, RunRecord, RunStats, Series};
+use crate::proliferation::DensityContinuum;
+use serde::Serialize;
+use std::time::Instant;
+
+/// A proliferating line: the line's configuration (must grow, right end not periodic) and the
+/// division rule.
+///
+/// ```
+/// use celltissue::events::ProliferationConfig;
+/// let t: toml::Table = toml::from_str(r#"
+///     cells = 100
+///     right_end = "free"
+///     K = 1e-5
+///     growth = { sigma0 = 0.1 }
+///     division = { rule = "area" }
+/// "#).unwrap();
+/// let cfg = ProliferationConfig::from_table(&t).unwrap();
+/// assert!(cfg.validate().is_ok());
+/// ```
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct ProliferationConfig {
+    /// The line.
+    #[serde(flatten)]
+    pub line: LineConfig,
+    /// The division rule.
+    pub division: DivisionConfig,
+}
+
+impl ProliferationConfig {
+    /// Parses a `[model]`-style table: the `division` key is the rule (default: area
+    /// doubling), every other key belongs to [`LineConfig`]. Errors name the key.
+    pub fn from_table(table: &toml::Table) -> Result<Self, String> {
+        let mut rest = table.clone();
+        let division = match rest.remove("division") {
+            None => DivisionConfig::default(),
+            Some(v) => v
+                .try_into::<DivisionConfig>()
+                .map_err(|e| format!("invalid `division`: {e}"))?,
+        };
+        let line: LineConfig = toml::Value::Table(rest)
+            .try_into()
+            .map_err(|e| format!("invalid line configuration: {e}"))?;
+        Ok(Self { line, division })
+    }
+
+    /// Validates the line and the rule; division needs growth and a non-periodic right end.
+    pub fn validate(&self) -> Result<(), String> {
+        self.line.validate().map_err(|e| e.to_string())?;
+        self.division.validate()?;
+        if self.line.growth.is_none() {
+            return Err(
+                "invalid `growth`: division needs a growth law (add growth = { sigma0 = 0.1 })"
+                    .into(),
+            );
+        }
+        if self.line.right_end == RightEndKind::Periodic {
+            return Err(
+                "invalid `right_end` = \"periodic\": division is not supported on a ring".into(),
+            );
+        }
+        Ok(())
+    }
+}
+
+/// Runs one proliferating line (`model`: discrete with division, or the proliferating
+/// continuum on `nodes` segments — area rule only) and records series, profiles and
+/// divisions. Invalid configuration: a record with `error` naming the key.
+pub fn run_proliferation(
+    cfg: &ProliferationConfig,
+    model: ModelKind,
+    nodes: Option<usize>,
+    solver: &SolveSettings,
+    times: &OutputTimes,
+) -> RunRecord {
+    let mut parameters = serde_json::to_value(cfg).unwrap_or(serde_json::Value::Null);
+    if let (serde_json::Value::Object(m), Some(n)) = (&mut parameters, nodes) {
+        m.insert("nodes".into(), n.into());
+    }
+    let n0 = cfg.line.n_cells();
+    let label = match model {
+        ModelKind::Discrete => format!("discrete N0={n0} with division"),
+        ModelKind::Continuum => format!("proliferating continuum n={}", nodes.unwrap_or(n0)),
+    };
+    let mut rec = RunRecord {
+        label,
+        model,
+        parameters,
+        series: Series::default(),
+        profiles: Vec::new(),
+        stats: RunStats::default(),
+        divisions: Vec::new(),
+        error: None,
+    };
+    if let Err(e) = cfg.validate() {
+        rec.error = Some(e);
+        return rec;
+    }
+    if let Some(&bad) = times
+        .series
+        .iter()
+        .chain(&times.profiles)
+        .find(|t| !(t.is_finite() && **t >= 0.0))
+    {
+        rec.error = Some(format!("output time {bad} must be finite and >= 0"));
+        return rec;
+    }
+    with_law(
+        cfg,
+        cfg.line.law.clone(),
+        model,
+        nodes,
+        solver,
+        times,
+        &mut rec,
+    );
+    rec
+}
+
+fn with_law<E: StrainEnergy + Clone>(
+    cfg: &ProliferationConfig,
+    energy: E,
+    model: ModelKind,
+    nodes: Option<usize>,
+    solver: &SolveSettings,
+    times: &OutputTimes,
+    rec: &mut RunRecord,
+) {
+    let params = cfg.line.params(solver.atol);
+    let n0 = cfg.line.n_cells();
+    match model {
+        ModelKind::Discrete => {
+            let built = crate::line::build::discrete(energy, &params)
+                .map_err(|e| e.to_string())
+                .and_then(|line| {
+                    Dividing::new(line, cfg.division.build(), cfg.division.seed())
+                        .map_err(|e| e.to_string())
+                });
+            match built {
+                Ok(mut d) => {
+                    d.max_cells = cfg.division.max_cells;
+                    let (traj, prob, wall) = solve(d, solver, times);
+                    finish(rec, &traj, times, wall);
+                    rec.divisions = prob.array.log.records;
+                }
+                Err(e) => rec.error = Some(e),
+            }
+        }
+        ModelKind::Continuum => {
+            let RuleConfig::Area(a) = cfg.division.rule else {
+                rec.error = Some(
+                    "invalid `division.rule`: the proliferating continuum supports only \"area\""
+                        .into(),
+                );
+                return;
+            };
+            let n = nodes.unwrap_or(n0);
+            let built = crate::line::build::continuum(energy, &params, n)
+                .map_err(|e| e.to_string())
+                .and_then(|line| {
+                    DensityContinuum::new(line, n0, a.ratio).map_err(|e| e.to_string())
+                });
+            match built {
+                Ok(mut d) => {
+                    d.max_cells = cfg.division.max_cells.map(|m| m as f64);
+                    let (traj, prob, wall) = solve(d, solver, times);
+                    finish(rec, &traj, times, wall);
+                    // N(t) = ∫ρ dX, not the number of segments
+                    if let Some(cells) = rec.series.extra.get_mut("cells") {
+                        for (c, &t) in cells.iter_mut().zip(&rec.series.t) {
+                            *c = prob.array.cells_at(t);
+                        }
+                    }
+                    rec.divisions = prob.array.log.records;
+                }
+                Err(e) => rec.error = Some(e),
+            }
+        }
+    }
+}
+
+fn solve<A: LineModel>(
+    array: A,
+    solver: &SolveSettings,
+    times: &OutputTimes,
+) -> (Trajectory, ArrayProblem<A>, f64) {
+    let start = Instant::now();
+    let mut problem = ArrayProblem::new(array);
+    let traj = integrate(&mut problem, solver, &times.merged());
+    (traj, problem, start.elapsed().as_secs_f64())
+}
+
+fn finish(rec: &mut RunRecord, traj: &Trajectory, times: &OutputTimes, wall: f64) {
+    let s = &traj.stats;
+    rec.stats = RunStats {
+        steps: s.steps,
+        residual_calls: s.residual_calls,
+        jacobians: s.jacobian_evals,
+        wall_seconds: wall,
+        extra: [
+            ("rejected_steps", s.rejected_steps),
+            ("directional_calls", s.directional_calls),
+            ("factorizations", s.factorizations),
+            ("newton_iterations", s.newton_iterations),
+            ("events", s.events),
+            ("resizes", s.resizes),
+        ]
+        .into_iter()
+        .map(|(k, v)| (k.to_string(), v as f64))
+        .collect(),
+    };
+    rec.error = traj.error.clone();
+    record(traj, times, rec);
+}
+
+/// The divisions of a record as CSV (`t,parent,x,x_over_length,cells_after`).
+pub fn divisions_csv(divisions: &[DivisionRecord]) -> String {
+    super::log::DivisionLog {
+        records: divisions.to_vec(),
+    }
+    .to_csv()
+}
