@@ -22,13 +22,25 @@ pub fn run_spec(spec: &RunSpec) -> RunRecord {
             };
             run_line(cfg, spec.model, spec.nodes, &solver, &times)
         }
+        ModelConfig::Proliferating(cfg) => {
+            let solver = SolveSettings {
+                method: spec.solver.method,
+                rtol: spec.solver.rtol,
+                atol: spec.solver.atol,
+            };
+            let times = OutputTimes {
+                series: spec.times.series.clone(),
+                profiles: spec.times.profiles.clone(),
+            };
+            crate::events::run_proliferation(cfg, spec.model, spec.nodes, &solver, &times)
+        }
     };
     finish(spec, &mut rec);
     rec
 }
 
-/// Gives a record the spec's label and adds `"kind"`, `"sweep"` and `"solver"` to its
-/// parameters.
+/// Gives a record the spec's label, drops `null` (absent) parameters and adds `"kind"`,
+/// `"sweep"` and `"solver"` to its parameters.
 pub fn finish(spec: &RunSpec, rec: &mut RunRecord) {
     rec.label = spec.label.clone();
     rec.model = spec.model;
@@ -36,6 +48,8 @@ pub fn finish(spec: &RunSpec, rec: &mut RunRecord) {
         rec.parameters = spec.config.to_json();
     }
     if let serde_json::Value::Object(m) = &mut rec.parameters {
+        // absent options are left out rather than written as `null` (which reads like a NaN)
+        m.retain(|_, v| !v.is_null());
         m.insert("kind".into(), spec.config.kind().into());
         if let Some(n) = spec.nodes {
             m.entry("nodes").or_insert(n.into());

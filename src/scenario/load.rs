@@ -329,7 +329,9 @@ K = 1.0
         assert_eq!(s.runs[2].label, "discrete K=0.01");
         assert_eq!(s.runs[7].label, "continuum K=10");
         assert_eq!(s.runs[0].label, "discrete K=1e-5");
-        let ModelConfig::Line(cfg) = &s.runs[2].config;
+        let ModelConfig::Line(cfg) = &s.runs[2].config else {
+            panic!("a line")
+        };
         assert_eq!(cfg.k.eval(0.0, 1.0), 0.01);
         assert_eq!(s.runs[2].sweep.as_ref().unwrap().value, Some(0.01));
         assert_eq!(s.sweep.as_ref().unwrap().key, "model.K");
@@ -371,7 +373,9 @@ K = 1.0
         .unwrap();
         assert_eq!(s.runs.len(), 1);
         assert_eq!(s.runs[0].solver.method, integrators::MethodKind::Radau);
-        let ModelConfig::Line(cfg) = &s.runs[0].config;
+        let ModelConfig::Line(cfg) = &s.runs[0].config else {
+            panic!("a line")
+        };
         assert_eq!(cfg.k.eval(0.0, 1.0), 0.1);
         let e = load(BASE, &["model.Kay=0.1"]).unwrap_err();
         assert_eq!(e.key_name(), Some("model.Kay"));

@@ -28,13 +28,16 @@ pub const KINDS: [&str; 1] = ["line"];
 pub enum ModelConfig {
     /// The line of cells (thesis Chapters 2–3).
     Line(Box<LineConfig>),
+    /// A growing line with cell division: `kind = "line"` plus a `division = { rule = … }`
+    /// table (thesis §3.3.2; [`crate::events::run_proliferation`]).
+    Proliferating(Box<crate::events::ProliferationConfig>),
 }
 
 impl ModelConfig {
     /// The `kind` string.
     pub fn kind(&self) -> &'static str {
         match self {
-            ModelConfig::Line(_) => "line",
+            ModelConfig::Line(_) | ModelConfig::Proliferating(_) => "line",
         }
     }
 
@@ -42,6 +45,9 @@ impl ModelConfig {
     pub fn to_json(&self) -> serde_json::Value {
         match self {
             ModelConfig::Line(c) => serde_json::to_value(c).unwrap_or(serde_json::Value::Null),
+            ModelConfig::Proliferating(c) => {
+                serde_json::to_value(c).unwrap_or(serde_json::Value::Null)
+            }
         }
     }
 }
@@ -94,6 +100,12 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
         }
     };
     let config = match kind.as_str() {
+        "line" if rest.contains_key("division") => {
+            let cfg = crate::events::ProliferationConfig::from_table(&rest)
+                .and_then(|c| c.validate().map(|_| c))
+                .map_err(|e| ScenarioError::key(field_key(&e), e))?;
+            ModelConfig::Proliferating(Box::new(cfg))
+        }
         "line" => {
             let cfg: LineConfig = deserialize_at("model", toml::Value::Table(rest))?;
             cfg.validate().map_err(line_error)?;
@@ -192,7 +204,9 @@ mod tests {
         let m = parse("kind = \"line\"\ncells = 10").unwrap();
         assert_eq!(m.models, vec![ModelKind::Discrete, ModelKind::Continuum]);
         assert_eq!(m.nodes, None);
-        let ModelConfig::Line(cfg) = &m.config;
+        let ModelConfig::Line(cfg) = &m.config else {
+            panic!("a line")
+        };
         assert_eq!(cfg.cells, 10);
     }
 

@@ -1,0 +1,150 @@
+//! Bad scenario input through the built binary: exit code 2, the key named on stderr, no panic,
+//! and no output directory or file written.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const GOOD: &str = r#"
+name = "small"
+description = "10 cells"
+[output]
+series = [0, 0.5, 1]
+profiles = [1]
+[model]
+kind = "line"
+cells = 10
+mu = 1.0
+k1 = 0.1
+K = 1.0
+"#;
+
+fn tmp(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Runs `celltissue run` on `text` with `sets`; asserts exit code 2, `key` on stderr, no output.
+fn rejects(case: &str, text: &str, sets: &[&str], key: &str) {
+    let dir = tmp(&format!("cli_err_{case}"));
+    let file = dir.join("s.toml");
+    std::fs::write(&file, text).unwrap();
+    let out_dir = dir.join("out");
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_celltissue"));
+    cmd.arg("run").arg(&file).arg("--out").arg(&out_dir);
+    for s in sets {
+        cmd.arg("--set").arg(s);
+    }
+    let out = cmd.output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{case}: {stderr}");
+    assert!(
+        stderr.contains(key),
+        "{case}: stderr does not name `{key}`: {stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{case}: {stderr}");
+    assert!(!out_dir.exists(), "{case}: output written for bad input");
+}
+
+#[test]
+fn unknown_key_is_named() {
+    rejects(
+        "unknown",
+        &GOOD.replace("K = 1.0", "K = 1.0\nkay = 2"),
+        &[],
+        "model.kay",
+    );
+    rejects("unknown_top", &format!("colour = 1\n{GOOD}"), &[], "colour");
+}
+
+#[test]
+fn wrong_type_is_named() {
+    rejects(
+        "type",
+        &GOOD.replace("cells = 10", "cells = \"ten\""),
+        &[],
+        "model.cells",
+    );
+}
+
+#[test]
+fn zero_cells_is_rejected_with_range() {
+    rejects(
+        "cells0",
+        &GOOD.replace("cells = 10", "cells = 0"),
+        &[],
+        "model.cells",
+    );
+    rejects(
+        "cells0_range",
+        &GOOD.replace("cells = 10", "cells = 0"),
+        &[],
+        ">= 1",
+    );
+}
+
+#[test]
+fn negative_modulus_is_rejected() {
+    rejects(
+        "mu",
+        &GOOD.replace("mu = 1.0", "mu = -1.0"),
+        &[],
+        "model.mu",
+    );
+}
+
+#[test]
+fn k1_at_least_one_is_rejected() {
+    rejects("k1", &GOOD.replace("k1 = 0.1", "k1 = 1.2"), &[], "model.k1");
+    rejects(
+        "k1_range",
+        &GOOD.replace("k1 = 0.1", "k1 = 1.2"),
+        &[],
+        "< 1",
+    );
+}
+
+#[test]
+fn bad_set_path_or_value_is_named() {
+    rejects("set_unknown", GOOD, &["model.Kay=0.1"], "model.Kay");
+    rejects("set_through", GOOD, &["model.K.x=1"], "model.K.x");
+    rejects("set_value", GOOD, &["model.cells=many"], "model.cells");
+    rejects(
+        "set_method",
+        GOOD,
+        &["solver.method=euler"],
+        "solver.method",
+    );
+    rejects("set_malformed", GOOD, &["model.K"], "model.K");
+}
+
+#[test]
+fn bad_output_times_and_solver_are_named() {
+    rejects(
+        "times",
+        &GOOD.replace("series = [0, 0.5, 1]", "series = [1, 0]"),
+        &[],
+        "output.series",
+    );
+    rejects(
+        "rtol",
+        &format!("{GOOD}[solver]\nrtol = 0\n"),
+        &[],
+        "solver.rtol",
+    );
+}
+
+#[test]
+fn syntax_error_and_missing_file() {
+    rejects("syntax", "name = ", &[], "not valid TOML");
+    let dir = tmp("cli_err_missing");
+    let out = Command::new(env!("CARGO_BIN_EXE_celltissue"))
+        .args(["run", "/nonexistent/x.toml", "--out"])
+        .arg(dir.join("out"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("cannot read"));
+    assert!(!dir.join("out").exists());
+}

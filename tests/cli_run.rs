@@ -1,0 +1,161 @@
+//! The built `celltissue` binary end to end on a small scenario (10 cells, t ≤ 2): outputs have
+//! the summary.json schema, no NaN, non-trivial PNGs; `--set` overrides reach the run.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const SMALL: &str = r#"
+name = "small"
+description = "10 cells, K sweep, t <= 2"
+figure = "2.5"
+[output]
+series = { start = 0, stop = 2, count = 21 }
+profiles = [0, 1, 2]
+[model]
+kind = "line"
+models = ["discrete", "continuum"]
+nodes = 11
+cells = 10
+K = 1.0
+[sweep]
+parameter = "K"
+values = [0.1, 1]
+[plots]
+position = true
+rectangles = true
+"#;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_celltissue"))
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn run(dir: &Path, extra: &[&str]) -> Output {
+    let scenario = dir.join("small.toml");
+    std::fs::write(&scenario, SMALL).unwrap();
+    bin()
+        .arg("run")
+        .arg(&scenario)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .args(extra)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn run_writes_summary_csv_and_plots() {
+    let dir = tmp("cli_run_ok");
+    let out = run(&dir, &[]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    let text = std::fs::read_to_string(dir.join("out/summary.json")).unwrap();
+    assert!(
+        !text.contains("NaN") && !text.contains("null"),
+        "non-finite value written"
+    );
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(v["scenario"], "small");
+    let runs = v["runs"].as_array().unwrap();
+    let labels: Vec<&str> = runs.iter().map(|r| r["label"].as_str().unwrap()).collect();
+    assert_eq!(
+        labels,
+        [
+            "discrete K=0.1",
+            "continuum K=0.1",
+            "discrete K=1",
+            "continuum K=1"
+        ]
+    );
+    for r in runs {
+        assert!(r.get("error").is_none(), "{r}");
+        assert!(["discrete", "continuum"].contains(&r["model"].as_str().unwrap()));
+        let s = &r["series"];
+        for key in [
+            "t",
+            "length",
+            "max_pressure",
+            "min_pressure",
+            "max_stretch",
+            "min_stretch",
+        ] {
+            assert_eq!(s[key].as_array().unwrap().len(), 21, "series.{key}");
+        }
+        // the prescribed end: l(2) = 10 (1 - 0.1 + 0.1 e^-2)
+        let l_end = s["length"][20].as_f64().unwrap();
+        assert!(
+            (l_end - 10.0 * (0.9 + 0.1 * (-2.0f64).exp())).abs() < 1e-6,
+            "{l_end}"
+        );
+        let profiles = r["profiles"].as_array().unwrap();
+        assert_eq!(profiles.len(), 3);
+        for p in profiles {
+            for key in ["t", "X", "x", "stretch", "pressure"] {
+                assert!(p.get(key).is_some(), "profile {key}");
+            }
+        }
+        for key in ["steps", "residual_calls", "jacobians", "wall_seconds"] {
+            assert!(r["stats"][key].is_number(), "stats.{key}");
+        }
+        assert!(r["stats"]["steps"].as_u64().unwrap() > 0);
+        assert_eq!(r["parameters"]["cells"], 10);
+    }
+    for name in [
+        "series_discrete_K=1.csv",
+        "profiles_continuum_K=0.1.csv",
+        "scenario.toml",
+    ] {
+        assert!(dir.join("out").join(name).exists(), "{name}");
+    }
+    for name in [
+        "series_max_pressure.png",
+        "series_min_stretch.png",
+        "profiles_pressure_K=1.png",
+        "profiles_stretch_K=0.1.png",
+        "profiles_position_K=1.png",
+        "sweep_pressure.png",
+        "sweep_stretch.png",
+        "cells_discrete_K=1.png",
+    ] {
+        let bytes = std::fs::read(dir.join("out").join(name)).unwrap_or_else(|_| panic!("{name}"));
+        assert_eq!(&bytes[1..4], b"PNG");
+        assert!(bytes.len() > 5_000, "{name}: {} bytes", bytes.len());
+    }
+}
+
+#[test]
+fn set_overrides_reach_the_run() {
+    let dir = tmp("cli_run_set");
+    let out = run(
+        &dir,
+        &[
+            "--set",
+            "model.models=[\"discrete\"]",
+            "--set",
+            "sweep.values=[0.5]",
+            "--set",
+            "solver.method=radau",
+            "-q",
+        ],
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap())
+            .unwrap();
+    let runs = v["runs"].as_array().unwrap();
+    assert_eq!(runs.len(), 1);
+    assert_eq!(runs[0]["label"], "discrete K=0.5");
+    assert_eq!(runs[0]["parameters"]["solver"]["method"], "radau");
+    assert_eq!(runs[0]["parameters"]["K"], 0.5);
+}
