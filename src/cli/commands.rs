@@ -24,7 +24,7 @@ pub fn run(path: &Path, out: &Path, sets: &[String], quiet: bool) -> i32 {
     let summary = execute::run_all(
         &scenario,
         |spec| {
-            let mut rec = execute::run_spec(spec);
+            let mut rec = execute::run_spec_in(spec, Some(out));
             finite::sanitize(&mut rec);
             rec
         },

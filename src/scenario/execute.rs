@@ -5,11 +5,48 @@
 use super::load::{RunSpec, Scenario};
 use super::model::ModelConfig;
 use crate::line::{run_line, OutputTimes, SolveSettings};
-use crate::observe::{RunRecord, Summary};
+use crate::observe::{RunRecord, RunStats, Series, Summary};
+use crate::sheet::{run::Outputs, run_shear, run_sheet, SolverSettings};
+use std::path::Path;
 
-/// Runs one spec with the real model code.
+/// Runs one spec with the real model code (no files written).
 pub fn run_spec(spec: &RunSpec) -> RunRecord {
+    run_spec_in(spec, None)
+}
+
+/// Runs one spec; sheet runs also write their VTK and PNG snapshots into `dir` (created if
+/// needed; file prefix = the run's label as a file name).
+pub fn run_spec_in(spec: &RunSpec, dir: Option<&Path>) -> RunRecord {
+    let sheet_solver = || SolverSettings {
+        method: spec.solver.method,
+        options: integrators::Options {
+            rtol: spec.solver.rtol,
+            atol: spec.solver.atol,
+            ..Default::default()
+        },
+    };
+    let outputs = || Outputs {
+        times: spec.times.series.clone(),
+        profile_times: spec.times.profiles.clone(),
+        dir: dir.map(Path::to_path_buf),
+        prefix: Some(crate::output::files::slug(&spec.label)),
+    };
+    // grid sizes apply to the continuum only
+    let is_continuum = spec.model == crate::observe::ModelKind::Continuum;
+    let grid = spec.grid.filter(|_| is_continuum);
+    let nodes = spec.nodes.filter(|_| is_continuum);
     let mut rec = match &spec.config {
+        ModelConfig::Sheet(cfg, law) => {
+            if let Some(d) = dir {
+                let _ = std::fs::create_dir_all(d);
+            }
+            run_sheet(cfg, law, spec.model, grid, &sheet_solver(), &outputs())
+                .unwrap_or_else(|e| failed(spec, e.to_string()))
+        }
+        ModelConfig::Shear(cfg, law) => {
+            run_shear(cfg, law, spec.model, nodes, &sheet_solver(), &outputs())
+                .unwrap_or_else(|e| failed(spec, e.to_string()))
+        }
         ModelConfig::Line(cfg) => {
             let solver = SolveSettings {
                 method: spec.solver.method,
@@ -37,6 +74,20 @@ pub fn run_spec(spec: &RunSpec) -> RunRecord {
     };
     finish(spec, &mut rec);
     rec
+}
+
+/// An empty record carrying an error.
+fn failed(spec: &RunSpec, error: String) -> RunRecord {
+    RunRecord {
+        label: spec.label.clone(),
+        model: spec.model,
+        parameters: spec.config.to_json(),
+        series: Series::default(),
+        profiles: Vec::new(),
+        stats: RunStats::default(),
+        divisions: Vec::new(),
+        error: Some(error),
+    }
 }
 
 /// Gives a record the spec's label, drops `null` (absent) parameters and adds `"kind"`,

@@ -41,6 +41,8 @@ pub struct RunSpec {
     pub model: ModelKind,
     /// Continuum grid size (`None`: the model's default).
     pub nodes: Option<usize>,
+    /// Continuum grid of a sheet `(n, m)` (`None`: the model's default).
+    pub grid: Option<(usize, usize)>,
     /// The model configuration (validated).
     pub config: ModelConfig,
     /// Integrator and tolerances.
@@ -175,6 +177,7 @@ pub fn resolve(table: toml::Table) -> Result<Scenario, ScenarioError> {
                 label,
                 model,
                 nodes: section.nodes,
+                grid: section.grid,
                 config: section.config.clone(),
                 solver,
                 times: times.clone(),

@@ -11,16 +11,21 @@
 //! cells = 100                          # … the rest is LineConfig
 //! K = 1.0
 //! ```
+//!
+//! Sheets and shear columns also take `energy = { law = "neo_hookean", mu = 1.0 }` (any
+//! [`AnyEnergy`]; default neo-Hookean, μ = 1); a sheet's `nodes` is `[n, m]`.
 
 use super::error::{deserialize_at, ScenarioError};
+use crate::energy::AnyEnergy;
 use crate::line::LineConfig;
 use crate::observe::ModelKind;
+use crate::sheet::{ShearConfig, SheetConfig};
 
 /// Keys of `[model]` owned by the scenario layer (removed before the model's config is parsed).
-pub const SCENARIO_KEYS: [&str; 3] = ["kind", "models", "nodes"];
+pub const SCENARIO_KEYS: [&str; 4] = ["kind", "models", "nodes", "energy"];
 
 /// The model kinds a scenario can name.
-pub const KINDS: [&str; 1] = ["line"];
+pub const KINDS: [&str; 3] = ["line", "sheet", "shear"];
 
 /// A parsed and validated model configuration.
 #[derive(Clone, Debug, PartialEq)]
@@ -31,6 +36,10 @@ pub enum ModelConfig {
     /// A growing line with cell division: `kind = "line"` plus a `division = { rule = … }`
     /// table (thesis §3.3.2; [`crate::events::run_proliferation`]).
     Proliferating(Box<crate::events::ProliferationConfig>),
+    /// The uniaxial sheet (thesis Chapter 4.2) and its strain energy.
+    Sheet(Box<SheetConfig>, AnyEnergy),
+    /// The simple-shear column (thesis Chapter 4.3) and its strain energy.
+    Shear(Box<ShearConfig>, AnyEnergy),
 }
 
 impl ModelConfig {
@@ -38,17 +47,24 @@ impl ModelConfig {
     pub fn kind(&self) -> &'static str {
         match self {
             ModelConfig::Line(_) | ModelConfig::Proliferating(_) => "line",
+            ModelConfig::Sheet(..) => "sheet",
+            ModelConfig::Shear(..) => "shear",
         }
     }
 
     /// The configuration as JSON (for `summary.json` `"parameters"`).
     pub fn to_json(&self) -> serde_json::Value {
-        match self {
-            ModelConfig::Line(c) => serde_json::to_value(c).unwrap_or(serde_json::Value::Null),
-            ModelConfig::Proliferating(c) => {
-                serde_json::to_value(c).unwrap_or(serde_json::Value::Null)
-            }
+        let (v, energy) = match self {
+            ModelConfig::Line(c) => (serde_json::to_value(c), None),
+            ModelConfig::Proliferating(c) => (serde_json::to_value(c), None),
+            ModelConfig::Sheet(c, e) => (serde_json::to_value(c), Some(e)),
+            ModelConfig::Shear(c, e) => (serde_json::to_value(c), Some(e)),
+        };
+        let mut v = v.unwrap_or(serde_json::Value::Null);
+        if let (serde_json::Value::Object(m), Some(e)) = (&mut v, energy) {
+            m.insert("energy".into(), serde_json::to_value(e).unwrap_or_default());
         }
+        v
     }
 }
 
@@ -61,6 +77,8 @@ pub struct ModelSection {
     pub models: Vec<ModelKind>,
     /// Continuum grid size (`None`: the model's default).
     pub nodes: Option<usize>,
+    /// Continuum grid of a sheet, `[n, m]` (`None`: the model's default).
+    pub grid: Option<(usize, usize)>,
 }
 
 /// Parses and validates `[model]`. Errors name `model.<key>`.
@@ -89,15 +107,44 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
         None => vec![ModelKind::Discrete, ModelKind::Continuum],
         Some(v) => parse_models(&v)?,
     };
-    let nodes = match rest.remove("nodes") {
-        None => None,
-        Some(toml::Value::Integer(n)) if n >= 2 && n <= 100_000_000 => Some(n as usize),
+    let node_count = |v: &toml::Value| match v {
+        toml::Value::Integer(n) if (1..=100_000_000).contains(n) => Some(*n as usize),
+        _ => None,
+    };
+    let (mut nodes, mut grid) = (None, None);
+    match rest.remove("nodes") {
+        None => {}
+        Some(v) if kind == "sheet" => {
+            let g = v
+                .as_array()
+                .filter(|a| a.len() == 2)
+                .and_then(|a| Some((node_count(&a[0])?, node_count(&a[1])?)));
+            grid = Some(g.ok_or_else(|| {
+                ScenarioError::key(
+                    "model.nodes",
+                    format!("= {v} must be [n, m] with integers n, m >= 1 (continuum grid)"),
+                )
+            })?);
+        }
         Some(v) => {
+            nodes = Some(node_count(&v).ok_or_else(|| {
+                ScenarioError::key(
+                    "model.nodes",
+                    format!("= {v} must be an integer in 1..=100000000"),
+                )
+            })?);
+        }
+    }
+    let energy = match rest.remove("energy") {
+        None if kind != "line" => Some(default_energy()),
+        None => None,
+        Some(_) if kind == "line" => {
             return Err(ScenarioError::key(
-                "model.nodes",
-                format!("= {v} must be an integer in 2..=100000000"),
+                "model.energy",
+                "the line takes its strain energy from `law` (LineConfig); `energy` is for sheet and shear",
             ))
         }
+        Some(v) => Some(deserialize_at::<AnyEnergy>("model.energy", v)?),
     };
     let config = match kind.as_str() {
         "line" if rest.contains_key("division") => {
@@ -111,6 +158,16 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
             cfg.validate().map_err(line_error)?;
             ModelConfig::Line(Box::new(cfg))
         }
+        "sheet" => {
+            let cfg: SheetConfig = deserialize_at("model", toml::Value::Table(rest))?;
+            cfg.validate().map_err(sheet_error)?;
+            ModelConfig::Sheet(Box::new(cfg), energy.unwrap_or_else(default_energy))
+        }
+        "shear" => {
+            let cfg: ShearConfig = deserialize_at("model", toml::Value::Table(rest))?;
+            cfg.validate().map_err(sheet_error)?;
+            ModelConfig::Shear(Box::new(cfg), energy.unwrap_or_else(default_energy))
+        }
         other => {
             return Err(ScenarioError::key(
                 "model.kind",
@@ -122,6 +179,7 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
         config,
         models,
         nodes,
+        grid,
     })
 }
 
@@ -155,6 +213,19 @@ fn parse_models(v: &toml::Value) -> Result<Vec<ModelKind>, ScenarioError> {
         out.push(m);
     }
     Ok(out)
+}
+
+/// Neo-Hookean with μ = 1, the thesis's cell law.
+fn default_energy() -> AnyEnergy {
+    AnyEnergy::NeoHookean(crate::energy::NeoHookean::new(1.0).expect("mu = 1 is valid"))
+}
+
+/// A sheet/shear validation error as a key error under `model.`.
+fn sheet_error(e: crate::sheet::ConfigError) -> ScenarioError {
+    ScenarioError::key(
+        format!("model.{}", e.key),
+        format!("= {} is invalid: {}", e.value, e.expected),
+    )
 }
 
 /// A line validation error as a key error under `model.`.
@@ -211,6 +282,17 @@ mod tests {
     }
 
     #[test]
+    fn sheet_and_shear_parse_with_default_energy() {
+        let m = parse("kind = \"sheet\"\ncells_x = 4\ncells_y = 3\nnodes = [8, 6]").unwrap();
+        assert_eq!(m.grid, Some((8, 6)));
+        assert!(matches!(m.config, ModelConfig::Sheet(..)));
+        let m = parse("kind = \"shear\"\ncells = 5\nnodes = 20\nenergy = { law = \"mooney_rivlin\", c1 = 0.3, c2 = 0.2 }").unwrap();
+        assert_eq!(m.nodes, Some(20));
+        assert_eq!(m.config.kind(), "shear");
+        assert_eq!(m.config.to_json()["energy"]["law"], "mooney_rivlin");
+    }
+
+    #[test]
     fn errors_name_the_model_key() {
         let key = |s: &str| parse(s).unwrap_err().key_name().map(str::to_string);
         assert_eq!(key("cells = 10").as_deref(), Some("model.kind"));
@@ -236,7 +318,7 @@ mod tests {
             Some("model.mu")
         );
         assert_eq!(
-            key("kind = \"line\"\nnodes = 1").as_deref(),
+            key("kind = \"line\"\nnodes = 0").as_deref(),
             Some("model.nodes")
         );
         assert_eq!(
@@ -246,6 +328,22 @@ mod tests {
         assert_eq!(
             key("kind = \"line\"\nmodels = [\"pde\"]").as_deref(),
             Some("model.models")
+        );
+        assert_eq!(
+            key("kind = \"sheet\"\nnodes = 4").as_deref(),
+            Some("model.nodes")
+        );
+        assert_eq!(
+            key("kind = \"sheet\"\ncells_x = 0").as_deref(),
+            Some("model.cells_x")
+        );
+        assert_eq!(
+            key("kind = \"shear\"\nenergy = { law = \"neo_hookean\", mu = -1.0 }").as_deref(),
+            Some("model.energy")
+        );
+        assert_eq!(
+            key("kind = \"line\"\nenergy = { law = \"neo_hookean\" }").as_deref(),
+            Some("model.energy")
         );
     }
 }
