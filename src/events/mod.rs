@@ -11,6 +11,7 @@
 //!   the banded pattern rebuilt for the new size ([`integrators::EventAction::Resized`]);
 //! * [`log`] — [`DivisionLog`]: time, parent, `x_d`, `x_d/l`, `N` after; CSV; `N(t)`, median
 //!   `x_d/l`;
+//! * [`plots`] — the division scatter and log–log `l(t)`, `N(t)` figures (Fig. 3.3);
 //! * [`run`] — [`run_proliferation`]: a scenario run (discrete with division, or the
 //!   proliferating continuum of [`crate::proliferation`]) to a [`crate::observe::RunRecord`]
 //!   with `"cells"` series and `"divisions"`.
@@ -22,6 +23,7 @@
 pub mod dividing;
 pub mod division;
 pub mod log;
+pub mod plots;
 pub mod reindex;
 pub mod run;
 

@@ -241,6 +241,12 @@ pub fn write_figures(
             );
         }
     }
+    // division scatter and log-log l(t), N(t) (Fig 3.3; nothing without divisions)
+    out.extend(crate::events::plots::division_figures(
+        dir,
+        &title("proliferation"),
+        summary,
+    ));
     out
 }
 

@@ -1,0 +1,95 @@
+//! Proliferation cost (issue 4): a growing line with division from N₀ = 100 to ≥ 10⁴ cells
+//! (divisions per second, steps per division; each division is an O(N) split plus a resized
+//! restart), and growth with η > 0 against η = 0 at N = 10⁵ (target ≤ 3×).
+//!
+//! `cargo bench --bench proliferation` prints the one-shot report (`REPORT …` lines) and then
+//! runs the criterion groups on smaller sizes. `PROLIF_REPORT=0` skips the report.
+
+use celltissue::boundary::RightEnd;
+use celltissue::cell::TanhGrowth;
+use celltissue::events::{AreaDoubling, Dividing};
+use celltissue::line::build::{discrete, LineParams};
+use celltissue::line::run::{integrate, SolveSettings, Trajectory};
+use celltissue::{ArrayProblem, NeoHookean};
+use criterion::{criterion_group, criterion_main, Criterion};
+use std::sync::Arc;
+use std::time::Instant;
+
+fn params(n: usize, k: f64, eta: f64) -> LineParams {
+    let mut p = LineParams::unit_cells(n);
+    p.right = RightEnd::Free(None);
+    p.k = k.into();
+    p.eta = eta.into();
+    p.growth = Some(Arc::new(TanhGrowth::default()));
+    p
+}
+
+/// Proliferating run: K, t_end → (cells, divisions, trajectory).
+fn proliferate(k: f64, t_end: f64) -> (usize, usize, Trajectory) {
+    let line = discrete(NeoHookean::new(1.0).unwrap(), &params(100, k, 0.0)).unwrap();
+    let div = Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap();
+    let mut prob = ArrayProblem::new(div);
+    let traj = integrate(&mut prob, &SolveSettings::default(), &[0.0, t_end]);
+    assert!(traj.error.is_none(), "{:?}", traj.error);
+    (prob.array.line.n_cells(), prob.array.log.len(), traj)
+}
+
+fn grow(n: usize, eta: f64, t_end: f64) -> Trajectory {
+    let line = discrete(NeoHookean::new(1.0).unwrap(), &params(n, 1e-3, eta)).unwrap();
+    let mut prob = ArrayProblem::new(line);
+    let traj = integrate(&mut prob, &SolveSettings::default(), &[0.0, t_end]);
+    assert!(traj.error.is_none(), "{:?}", traj.error);
+    traj
+}
+
+fn report() {
+    if std::env::var("PROLIF_REPORT").as_deref() == Ok("0") {
+        return;
+    }
+    let start = Instant::now();
+    let (cells, divs, traj) = proliferate(1e-9, 14.5);
+    let wall = start.elapsed().as_secs_f64();
+    let s = traj.stats;
+    println!(
+        "REPORT proliferation K=1e-9 t=[0,14.5]: N 100 -> {cells}, {divs} divisions in {} events, {wall:.2} s, {:.0} divisions/s, {} steps ({:.2} steps/division), {} rejected, {} Jacobians, {} factorizations",
+        s.events,
+        divs as f64 / wall,
+        s.steps,
+        s.steps as f64 / divs as f64,
+        s.rejected_steps,
+        s.jacobian_evals,
+        s.factorizations
+    );
+    let n = 100_000;
+    let mut walls = Vec::new();
+    for eta in [0.0, 1.0] {
+        let start = Instant::now();
+        let traj = grow(n, eta, 10.0);
+        let wall = start.elapsed().as_secs_f64();
+        let s = traj.stats;
+        println!(
+            "REPORT growth N={n} K=1e-3 eta={eta} t=[0,10]: {wall:.2} s, {} steps, {} residual calls, {} Jacobians, {} factorizations, {} Newton iterations",
+            s.steps, s.residual_calls, s.jacobian_evals, s.factorizations, s.newton_iterations
+        );
+        walls.push(wall);
+    }
+    println!(
+        "REPORT growth N={n}: cost(eta=1)/cost(eta=0) = {:.2}",
+        walls[1] / walls[0]
+    );
+}
+
+fn benches(c: &mut Criterion) {
+    report();
+    let mut g = c.benchmark_group("proliferation");
+    g.sample_size(10);
+    g.bench_function("divide_100_to_800_K1e-9", |b| {
+        b.iter(|| proliferate(1e-9, 6.5))
+    });
+    g.bench_function("grow_N1e4_eta0", |b| b.iter(|| grow(10_000, 0.0, 10.0)));
+    g.bench_function("grow_N1e4_eta1", |b| b.iter(|| grow(10_000, 1.0, 10.0)));
+    g.finish();
+}
+
+criterion_group!(proliferation, benches);
+criterion_main!(proliferation);

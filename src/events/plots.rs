@@ -1,0 +1,87 @@
+//! Figures of proliferating runs (thesis Fig. 3.3), drawn with the output module's chart
+//! helpers; [`crate::output`] calls [`division_figures`] for every scenario and it draws
+//! nothing when no run has divisions:
+//!
+//! * `divisions_scatter.png` — division events `x_d/l` against `t`, one colour per run
+//!   (Figs 3.3c–d);
+//! * `series_length_loglog.png`, `series_cells_loglog.png` — `l(t)` and `N(t)` on log–log axes
+//!   for every run, with and without division (Figs 3.3a–b and insets).
+
+use crate::observe::{ModelKind, RunRecord, Summary};
+use crate::output::plot::{plot_chart, Axis, Chart, Curve, PlotError, Style};
+use std::path::{Path, PathBuf};
+
+fn style(m: ModelKind) -> Style {
+    match m {
+        ModelKind::Discrete => Style::Markers,
+        ModelKind::Continuum => Style::Line,
+    }
+}
+
+fn series<'a>(rec: &'a RunRecord, key: &str) -> &'a [f64] {
+    match key {
+        "length" => &rec.series.length,
+        k => rec.series.extra.get(k).map_or(&[], |v| v.as_slice()),
+    }
+}
+
+/// Writes the division figures into `dir` (titles prefixed by `title`); returns each path with
+/// its outcome. Empty if no run divided.
+pub fn division_figures(
+    dir: &Path,
+    title: &str,
+    summary: &Summary,
+) -> Vec<(PathBuf, Result<(), PlotError>)> {
+    let mut out = Vec::new();
+    if summary.runs.iter().all(|r| r.divisions.is_empty()) {
+        return out;
+    }
+    let scatter = Chart {
+        title: format!("{title}: division events"),
+        x_label: "t".into(),
+        y_label: "x_d / l(t)".into(),
+        x_axis: Axis::Linear,
+        y_axis: Axis::Linear,
+        curves: summary
+            .runs
+            .iter()
+            .enumerate()
+            .filter(|(_, r)| !r.divisions.is_empty())
+            .map(|(i, r)| {
+                let pts = r.divisions.iter().map(|d| (d.t, d.x_over_length)).collect();
+                Curve::new(r.label.clone(), Style::Markers, i, pts)
+            })
+            .collect(),
+    };
+    let path = dir.join("divisions_scatter.png");
+    out.push((path.clone(), plot_chart(&path, &scatter)));
+    for (key, ylabel, what) in [("length", "l", "length"), ("cells", "N", "number of cells")] {
+        let curves = summary
+            .runs
+            .iter()
+            .enumerate()
+            .map(|(i, r)| {
+                let pts = r
+                    .series
+                    .t
+                    .iter()
+                    .copied()
+                    .zip(series(r, key).iter().copied())
+                    .filter(|(t, v)| *t > 0.0 && *v > 0.0)
+                    .collect();
+                Curve::new(r.label.clone(), style(r.model), i, pts)
+            })
+            .collect();
+        let chart = Chart {
+            title: format!("{title}: {what} (log-log)"),
+            x_label: "t".into(),
+            y_label: ylabel.into(),
+            x_axis: Axis::Log,
+            y_axis: Axis::Log,
+            curves,
+        };
+        let path = dir.join(format!("series_{key}_loglog.png"));
+        out.push((path.clone(), plot_chart(&path, &chart)));
+    }
+    out
+}
