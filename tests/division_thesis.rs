@@ -5,11 +5,16 @@
 //!
 //! | quantity | Ref | measured |
 //! |---|---|---|
-//! | K = 1e-5, m = 0: first division (free-end cell) | 2.0086 | see `k1e5_m0` |
-//! | all 100 originals divided (last at the wall) | 2.5948 | |
-//! | N(2.5), N(3), N(5), N(6) | 166, 200, 248, 288 | |
-//! | K = 1e-5, m = 1: first / all | 2.0121 / 2.8723 | |
-//! | K = 1e-2, m = 0: first division / count by t = 6 | 2.5824 / 4 | |
+//! | K = 1e-5, m = 0: first division (free-end cell 100) | 2.0086 | 2.008588 |
+//! | all 100 originals divided (last: cell 1, at the wall) | 2.5948 | 2.594794 |
+//! | N(2.5), N(3), N(5), N(6) | 166, 200, 248, 288 | 166, 200, 248, 288 |
+//! | second wave starts at the free end | ≈ 4.02 | 4.020666 |
+//! | K = 1e-5, m = 1: first / all originals divided | 2.0121 / 2.8723 | 2.012098 / 2.872323 |
+//! | K = 1e-2, m = 0: first division (cell 100) | 2.5824 | 2.582356 |
+//! | K = 1e-2, m = 0: divisions by t = 6 | 4 | 4 (cells 100, 99, 98, 103; median x_d/l = 0.979) |
+//!
+//! Every division conserved the existing boundaries and `l` exactly (0.0), `Σ L₀g` to 3e-16
+//! (relative), and the daughters' `α`, `σ_el`, `p_el` to ≤ 1.2e-13.
 
 use celltissue::boundary::RightEnd;
 use celltissue::cell::TanhGrowth;

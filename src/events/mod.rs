@@ -16,9 +16,14 @@
 //!   proliferating continuum of [`crate::proliferation`]) to a [`crate::observe::RunRecord`]
 //!   with `"cells"` series and `"divisions"`.
 //!
-//! # Validation (tests/division_*.rs; MODEL.md §5.5 Ref values, N₀ = 100, σ₀ = 0.1, free end)
-//! See the test files for the measured numbers; every division conserves `l`, the existing
-//! boundaries, `Σ L₀g`, and the daughters' `α`, `σ_el`, `p_el` to round-off.
+//! # Validation (MODEL.md §5.5; N₀ = 100, σ₀ = 0.1, free end, BDF rtol 1e-8)
+//!
+//! `tests/division_thesis.rs`: K = 1e-5, m = 0: first division 2.008588 (Ref 2.0086, the
+//! free-end cell), all originals divided by 2.594794 (Ref 2.5948, last at the wall),
+//! N(2.5, 3, 5, 6) = 166, 200, 248, 288 (Ref identical); m = 1: 2.012098 / 2.872323
+//! (Ref 2.0121 / 2.8723); K = 1e-2: first 2.582356 (Ref 2.5824), 4 divisions by t = 6 (Ref 4),
+//! median `x_d/l` = 0.979 (a proliferating rim). Every division conserves the boundaries and
+//! `l` exactly, `Σ L₀g` to 3e-16, the daughters' `α`, `σ_el`, `p_el` to ≤ 1.2e-13.
 
 pub mod dividing;
 pub mod division;
