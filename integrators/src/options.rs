@@ -74,7 +74,7 @@ impl Options {
                 return Err(format!("h0 = {h0} must be positive and finite"));
             }
         }
-        if !(self.h_max > 0.0) {
+        if self.h_max.is_nan() || self.h_max <= 0.0 {
             return Err(format!("h_max = {} must be positive", self.h_max));
         }
         if !(self.h_min >= 0.0 && self.h_min < self.h_max) {
@@ -99,7 +99,7 @@ impl Options {
                 ));
             }
         }
-        if !(self.event_tol > 0.0) {
+        if self.event_tol.is_nan() || self.event_tol <= 0.0 {
             return Err(format!("event_tol = {} must be positive", self.event_tol));
         }
         Ok(())

@@ -324,8 +324,19 @@ fn eval_events<P: Problem>(p: &mut P, t: f64, y: &[f64], g: &mut Vec<f64>) -> Re
     Ok(())
 }
 
-/// Locates the earliest sign change in `(a, b]` on the dense output. Returns `t*`, the fired
-/// indices and `g(t*)`, plus the post-crossing signs of the fired functions.
+/// A located event.
+struct Located {
+    /// Event time (right end of the final bracket).
+    t: f64,
+    /// Functions that changed sign in the final bracket.
+    fired: Vec<usize>,
+    /// Event-function values at `t`.
+    g: Vec<f64>,
+    /// Sign of each function just after its crossing.
+    post: Vec<f64>,
+}
+
+/// Locates the earliest sign change in `(a, b]` on the dense output.
 #[allow(clippy::too_many_arguments)]
 fn locate<P: Problem>(
     p: &mut P,
@@ -337,7 +348,7 @@ fn locate<P: Problem>(
     mut gb: Vec<f64>,
     ybuf: &mut Vec<f64>,
     ypbuf: &mut Vec<f64>,
-) -> Result<(f64, Vec<usize>, Vec<f64>, Vec<f64>), String> {
+) -> Result<Located, String> {
     let n = m.y().len();
     ybuf.resize(n, 0.0);
     ypbuf.resize(n, 0.0);
@@ -414,7 +425,12 @@ fn locate<P: Problem>(
             }
         })
         .collect();
-    Ok((b, fired, gb, post))
+    Ok(Located {
+        t: b,
+        fired,
+        g: gb,
+        post,
+    })
 }
 
 /// Masks fired functions that sit at zero or on their post-crossing side after an event.
@@ -593,7 +609,12 @@ where
                 );
                 run.ybuf = yb;
                 run.ypbuf = ypb;
-                let (ts, fired, g_star, post) = match located {
+                let Located {
+                    t: ts,
+                    fired,
+                    g: g_star,
+                    post,
+                } = match located {
                     Ok(v) => v,
                     Err(e) => return Err(run.fail(ErrorKind::Residual(e), t, None)),
                 };
@@ -707,9 +728,11 @@ where
                         } else {
                             None
                         };
-                        let mut sys = System::new(p, opts, &mut run.stats, &mut run.cache);
-                        if let Err(e) = method.start(&mut sys, ts, &ynew, &ypnew, hint) {
-                            drop(sys);
+                        let started = {
+                            let mut sys = System::new(p, opts, &mut run.stats, &mut run.cache);
+                            method.start(&mut sys, ts, &ynew, &ypnew, hint)
+                        };
+                        if let Err(e) = started {
                             return Err(run.fail_err(e));
                         }
                         restarted = true;

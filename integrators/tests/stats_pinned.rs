@@ -1,0 +1,104 @@
+//! Work statistics pinned for canonical problems, so that a cost regression (more steps,
+//! residual calls, Jacobians or factorisations for the same answer) fails a test.
+//!
+//! HOW TO UPDATE: these numbers are exact for the current BDF and System implementation. After
+//! an intentional algorithm change, run
+//! `cargo test -p integrators --release --test stats_pinned -- --nocapture`, check that the
+//! accuracy tests (robertson, van_der_pol, heat_banded, ...) still pass and that the new counts
+//! are not worse for a reason you cannot explain, then paste the printed `Stats` below and
+//! say why in the commit message.
+
+mod common;
+
+use common::{Heat, Robertson, VanDerPolScaled};
+use integrators::adapters::Ode;
+use integrators::{MethodKind, Options, Solver, Stats};
+
+/// The counters that measure cost (events/resizes/symbolic are structural).
+fn cost(s: &Stats) -> [usize; 9] {
+    [
+        s.steps,
+        s.rejected_steps,
+        s.error_test_failures,
+        s.newton_failures,
+        s.residual_calls,
+        s.jacobian_evals,
+        s.factorizations,
+        s.linear_solves,
+        s.newton_iterations,
+    ]
+}
+
+fn check(name: &str, s: &Stats, pinned: [usize; 9]) {
+    eprintln!("{name}: {:?}", cost(s));
+    assert_eq!(
+        cost(s),
+        pinned,
+        "{name}: [steps, rejected, err-test fails, newton fails, residuals, jacobians, \
+         factorisations, solves, newton its] changed; see the module docs to update"
+    );
+}
+
+#[test]
+fn pinned_bdf_robertson_1e11() {
+    let o = Options {
+        rtol: 1e-6,
+        atol: 1e-8,
+        ..Default::default()
+    };
+    let sol = Solver::new(MethodKind::Bdf, o)
+        .solve(
+            &mut Ode(Robertson {
+                exact_jacobian: true,
+            }),
+            0.0,
+            &[1.0, 0.0, 0.0],
+            &[1e11],
+        )
+        .unwrap();
+    check(
+        "robertson",
+        &sol.stats,
+        [672, 22, 22, 0, 1019, 33, 159, 1019, 1017],
+    );
+}
+
+#[test]
+fn pinned_bdf_van_der_pol_scaled() {
+    let o = Options {
+        rtol: 1e-6,
+        atol: 1e-6,
+        ..Default::default()
+    };
+    let sol = Solver::new(MethodKind::Bdf, o)
+        .solve(
+            &mut Ode(VanDerPolScaled { eps: 1e-6 }),
+            0.0,
+            &[2.0, 0.0],
+            &[2.0],
+        )
+        .unwrap();
+    check(
+        "vdpol",
+        &sol.stats,
+        [1026, 51, 51, 0, 1734, 61, 247, 1734, 1732],
+    );
+}
+
+#[test]
+fn pinned_bdf_heat_banded_fd_jacobian() {
+    let mut p = Ode(Heat {
+        n: 200,
+        exact_jacobian: false,
+    });
+    let y0 = p.0.initial();
+    let o = Options {
+        rtol: 1e-6,
+        atol: 1e-9,
+        ..Default::default()
+    };
+    let sol = Solver::new(MethodKind::Bdf, o)
+        .solve(&mut p, 0.0, &y0, &[0.1])
+        .unwrap();
+    check("heat", &sol.stats, [27, 0, 0, 0, 44, 3, 19, 33, 31]);
+}
