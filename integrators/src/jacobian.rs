@@ -1,3 +1,579 @@
 //! Building the iteration matrix `J = ∂F/∂y + c·∂F/∂ẏ` from the declared pattern: coloured
 //! exact directional derivatives (AD) or coloured finite differences — one evaluation per
 //! colour (bandwidth+1 for banded), never one per column.
+//!
+//! The same machinery also builds the matrix of consistent initialisation, whose column `j` is
+//! `∂F/∂ẏ_j` for a differential and `∂F/∂y_j` for an algebraic component ([`Columns::Init`]).
+//!
+//! Sources, in order of preference (unless [`crate::Options::force_fd_jacobian`]):
+//! 1. [`Problem::jacobian`](crate::Problem::jacobian) if it returns `Ok(true)`;
+//! 2. [`Problem::directional`](crate::Problem::directional) with the seed
+//!    `v = Σ_{j in colour} e_j`, one call per colour;
+//! 3. finite differences: every column of a colour is perturbed at once (IDA's increment
+//!    `δ_j = max(√ε·max(|y_j|, |ẏ_j/c|), rtol·|y_j| + atol_j)`, signed like `ẏ_j/c`), one residual
+//!    call per colour plus one for the base point unless the caller supplies it.
+
+use crate::linalg::Matrix;
+use crate::system::{StepFailure, System};
+
+/// Which matrix to build.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Columns<'a> {
+    /// The iteration matrix `∂F/∂y + c·∂F/∂ẏ`.
+    Iteration {
+        /// The coefficient `c`.
+        c: f64,
+    },
+    /// Column `j` is `∂F/∂ẏ_j` (differential) or `∂F/∂y_j` (`algebraic[j]`).
+    Init {
+        /// Algebraic flags.
+        algebraic: &'a [bool],
+    },
+}
+
+/// Builds the matrix selected by `cols` at `(t, y, ẏ)` into `jac` (shaped by the system's
+/// pattern). `r0`, if given, must be `F(t, y, ẏ)`; it saves one residual call for finite
+/// differences. Does not touch `stats.jacobian_evals` (the caller counts).
+pub(crate) fn assemble(
+    sys: &mut System<'_>,
+    t: f64,
+    y: &[f64],
+    yp: &[f64],
+    cols: Columns<'_>,
+    r0: Option<&[f64]>,
+    jac: &mut Matrix,
+) -> Result<(), StepFailure> {
+    let n = sys.dim();
+    assert!(
+        y.len() == n && yp.len() == n && jac.n() == n,
+        "jacobian: dimension mismatch (n = {n}, y {}, ẏ {}, matrix {})",
+        y.len(),
+        yp.len(),
+        jac.n()
+    );
+    if n == 0 {
+        return Ok(());
+    }
+    if !sys.opts.force_fd_jacobian {
+        if user_jacobian(sys, t, y, yp, cols, jac)? {
+            return Ok(());
+        }
+        if directional(sys, t, y, yp, cols, jac)? {
+            return Ok(());
+        }
+    }
+    finite_differences(sys, t, y, yp, cols, r0, jac)
+}
+
+/// Writes `value(i)` into every structural entry of column `j`.
+fn write_column(jac: &mut Matrix, j: usize, mut value: impl FnMut(usize) -> f64) {
+    match jac {
+        Matrix::Sparse(m) => {
+            let (cp, ri) = (m.pattern.col_ptr(), m.pattern.row_idx());
+            for k in cp[j]..cp[j + 1] {
+                m.values[k] = value(ri[k]);
+            }
+        }
+        _ => {
+            for i in jac.column_rows(j) {
+                let v = value(i);
+                jac.set(i, j, v);
+            }
+        }
+    }
+}
+
+fn user_jacobian(
+    sys: &mut System<'_>,
+    t: f64,
+    y: &[f64],
+    yp: &[f64],
+    cols: Columns<'_>,
+    jac: &mut Matrix,
+) -> Result<bool, StepFailure> {
+    match cols {
+        Columns::Iteration { c } => {
+            jac.set_zero();
+            sys.problem
+                .jacobian(t, y, yp, c, jac)
+                .map_err(|e| sys.residual_failure(e, t))
+        }
+        Columns::Init { algebraic } => {
+            // J(0) = ∂F/∂y, J(1) − J(0) = ∂F/∂ẏ
+            jac.set_zero();
+            let provided = sys
+                .problem
+                .jacobian(t, y, yp, 0.0, jac)
+                .map_err(|e| sys.residual_failure(e, t))?;
+            if !provided {
+                return Ok(false);
+            }
+            let mut j1 = jac.clone();
+            j1.set_zero();
+            sys.problem
+                .jacobian(t, y, yp, 1.0, &mut j1)
+                .map_err(|e| sys.residual_failure(e, t))?;
+            for (j, &alg) in algebraic.iter().enumerate() {
+                if !alg {
+                    let j0 = jac.clone_column(j);
+                    write_column(jac, j, |i| j1.get(i, j) - j0.get(i));
+                }
+            }
+            Ok(true)
+        }
+    }
+}
+
+fn directional(
+    sys: &mut System<'_>,
+    t: f64,
+    y: &[f64],
+    yp: &[f64],
+    cols: Columns<'_>,
+    jac: &mut Matrix,
+) -> Result<bool, StepFailure> {
+    let n = y.len();
+    let mut v = vec![0.0; n];
+    let mut r = vec![0.0; n];
+    let mut d1 = vec![0.0; n];
+    let mut d0 = vec![0.0; n];
+    let groups = sys.cache.colour_cols.clone();
+    for group in groups.iter() {
+        match cols {
+            Columns::Iteration { c } => {
+                for &j in group {
+                    v[j] = 1.0;
+                }
+                let ok = call_directional(sys, t, y, yp, &v, c, &mut r, &mut d1)?;
+                if !ok {
+                    return Ok(false);
+                }
+            }
+            Columns::Init { algebraic } => {
+                // d1 = J(1)·v_d, d0 = J(0)·(v_d − v_a); d1 − d0 = ∂F/∂ẏ·v_d + ∂F/∂y·v_a
+                let has_diff = group.iter().any(|&j| !algebraic[j]);
+                if has_diff {
+                    for &j in group {
+                        v[j] = if algebraic[j] { 0.0 } else { 1.0 };
+                    }
+                    if !call_directional(sys, t, y, yp, &v, 1.0, &mut r, &mut d1)? {
+                        return Ok(false);
+                    }
+                } else {
+                    d1.iter_mut().for_each(|x| *x = 0.0);
+                }
+                for &j in group {
+                    v[j] = if algebraic[j] { -1.0 } else { 1.0 };
+                }
+                if !call_directional(sys, t, y, yp, &v, 0.0, &mut r, &mut d0)? {
+                    return Ok(false);
+                }
+                for (a, b) in d1.iter_mut().zip(&d0) {
+                    *a -= b;
+                }
+            }
+        }
+        for &j in group {
+            v[j] = 0.0;
+            write_column(jac, j, |i| d1[i]);
+        }
+    }
+    Ok(true)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn call_directional(
+    sys: &mut System<'_>,
+    t: f64,
+    y: &[f64],
+    yp: &[f64],
+    v: &[f64],
+    c: f64,
+    r: &mut [f64],
+    dr: &mut [f64],
+) -> Result<bool, StepFailure> {
+    let ok = sys
+        .problem
+        .directional(t, y, yp, v, c, r, dr)
+        .map_err(|e| sys.residual_failure(e, t))?;
+    if ok {
+        sys.stats.directional_calls += 1;
+    }
+    Ok(ok)
+}
+
+fn finite_differences(
+    sys: &mut System<'_>,
+    t: f64,
+    y: &[f64],
+    yp: &[f64],
+    cols: Columns<'_>,
+    r0: Option<&[f64]>,
+    jac: &mut Matrix,
+) -> Result<(), StepFailure> {
+    let n = y.len();
+    let base: Vec<f64> = match r0 {
+        Some(r) => {
+            assert_eq!(r.len(), n, "base residual length mismatch");
+            r.to_vec()
+        }
+        None => {
+            let mut r = vec![0.0; n];
+            sys.residual(t, y, yp, &mut r)?;
+            r
+        }
+    };
+    let srur = f64::EPSILON.sqrt();
+    let rtol = sys.opts.rtol;
+    let mut yq = y.to_vec();
+    let mut ypq = yp.to_vec();
+    let mut rq = vec![0.0; n];
+    let mut inc = vec![0.0; n];
+    let groups = sys.cache.colour_cols.clone();
+    for group in groups.iter() {
+        for &j in group {
+            let tol = rtol * y[j].abs() + sys.cache.atol[j];
+            // ẏ_j in "per unit of 1/c" (≈ h·ẏ_j for BDF), as in IDA
+            let (scaled_yp, c) = match cols {
+                Columns::Iteration { c } if c != 0.0 => (yp[j] / c, c),
+                Columns::Iteration { c } => (0.0, c),
+                Columns::Init { .. } => (yp[j], 1.0),
+            };
+            let mut d = (srur * y[j].abs().max(scaled_yp.abs())).max(tol);
+            if scaled_yp < 0.0 {
+                d = -d;
+            }
+            match cols {
+                Columns::Iteration { .. } => {
+                    yq[j] = y[j] + d;
+                    d = yq[j] - y[j];
+                    ypq[j] = yp[j] + c * d;
+                }
+                Columns::Init { algebraic } if algebraic[j] => {
+                    yq[j] = y[j] + d;
+                    d = yq[j] - y[j];
+                }
+                Columns::Init { .. } => {
+                    ypq[j] = yp[j] + d;
+                    d = ypq[j] - yp[j];
+                }
+            }
+            inc[j] = d;
+        }
+        sys.residual(t, &yq, &ypq, &mut rq)?;
+        for &j in group {
+            let dj = inc[j];
+            write_column(jac, j, |i| (rq[i] - base[i]) / dj);
+            yq[j] = y[j];
+            ypq[j] = yp[j];
+        }
+    }
+    Ok(())
+}
+
+/// A copy of one column's structural entries, for in-place column rewrites.
+trait CloneColumn {
+    fn clone_column(&self, j: usize) -> ColumnCopy;
+}
+
+struct ColumnCopy {
+    rows: Vec<usize>,
+    vals: Vec<f64>,
+}
+
+impl ColumnCopy {
+    fn get(&self, i: usize) -> f64 {
+        match self.rows.binary_search(&i) {
+            Ok(k) => self.vals[k],
+            Err(_) => 0.0,
+        }
+    }
+}
+
+impl CloneColumn for Matrix {
+    fn clone_column(&self, j: usize) -> ColumnCopy {
+        let rows = self.column_rows(j);
+        let vals = rows.iter().map(|&i| self.get(i, j)).collect();
+        ColumnCopy { rows, vals }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+
+    use crate::linalg::Matrix;
+    use crate::options::Options;
+    use crate::pattern::{Pattern, SparsityPattern};
+    use crate::problem::{JacobianSink, Problem, ResidualError};
+    use crate::stats::Stats;
+    use crate::system::{System, SystemCache};
+
+    /// Which derivative sources a test problem offers.
+    #[derive(Clone, Copy, PartialEq, Debug)]
+    enum Source {
+        Fd,
+        Directional,
+        User,
+    }
+
+    /// Discrete heat equation with a nonlinear source and a nonlinear mass term:
+    /// `F_i = (1 + y_i²/4)·ẏ_i − (y_{i−1} − 2y_i + y_{i+1}) − sin(y_i)`, banded (1, 1); or, with
+    /// `cyclic`, periodic neighbours and a sparse cyclic-tridiagonal pattern.
+    struct Heat {
+        n: usize,
+        cyclic: bool,
+        source: Source,
+    }
+
+    impl Heat {
+        fn nb(&self, i: usize) -> (Option<usize>, Option<usize>) {
+            let n = self.n;
+            if self.cyclic {
+                (Some((i + n - 1) % n), Some((i + 1) % n))
+            } else {
+                (i.checked_sub(1), (i + 1 < n).then_some(i + 1))
+            }
+        }
+        /// Exact `∂F/∂y + c·∂F/∂ẏ` as (i, j, value) triples.
+        fn exact(&self, y: &[f64], yp: &[f64], c: f64) -> Vec<(usize, usize, f64)> {
+            let mut e = Vec::new();
+            for i in 0..self.n {
+                let d = 2.0 - y[i].cos() + y[i] / 2.0 * yp[i] + c * (1.0 + y[i] * y[i] / 4.0);
+                e.push((i, i, d));
+                let (l, r) = self.nb(i);
+                for k in [l, r].into_iter().flatten() {
+                    e.push((i, k, -1.0));
+                }
+            }
+            e
+        }
+    }
+
+    impl Problem for Heat {
+        fn dim(&self) -> usize {
+            self.n
+        }
+        fn residual(
+            &mut self,
+            _t: f64,
+            y: &[f64],
+            yp: &[f64],
+            r: &mut [f64],
+        ) -> Result<(), ResidualError> {
+            for i in 0..self.n {
+                let (l, rr) = self.nb(i);
+                let lap = l.map_or(0.0, |k| y[k]) - 2.0 * y[i] + rr.map_or(0.0, |k| y[k]);
+                r[i] = (1.0 + y[i] * y[i] / 4.0) * yp[i] - lap - y[i].sin();
+            }
+            Ok(())
+        }
+        fn pattern(&self) -> Pattern {
+            if self.cyclic {
+                let mut e = Vec::new();
+                for i in 0..self.n {
+                    let (l, r) = self.nb(i);
+                    for k in [l, r].into_iter().flatten() {
+                        e.push((i, k));
+                    }
+                }
+                Pattern::Sparse(Arc::new(SparsityPattern::from_entries(self.n, &e)))
+            } else {
+                Pattern::Banded { lower: 1, upper: 1 }
+            }
+        }
+        fn directional(
+            &mut self,
+            t: f64,
+            y: &[f64],
+            yp: &[f64],
+            v: &[f64],
+            c: f64,
+            r: &mut [f64],
+            dr: &mut [f64],
+        ) -> Result<bool, ResidualError> {
+            if self.source != Source::Directional {
+                return Ok(false);
+            }
+            self.residual(t, y, yp, r)?;
+            dr.iter_mut().for_each(|x| *x = 0.0);
+            for (i, j, a) in self.exact(y, yp, c) {
+                dr[i] += a * v[j];
+            }
+            Ok(true)
+        }
+        fn jacobian(
+            &mut self,
+            _t: f64,
+            y: &[f64],
+            yp: &[f64],
+            c: f64,
+            jac: &mut JacobianSink,
+        ) -> Result<bool, ResidualError> {
+            if self.source != Source::User {
+                return Ok(false);
+            }
+            for (i, j, a) in self.exact(y, yp, c) {
+                jac.add(i, j, a);
+            }
+            Ok(true)
+        }
+    }
+
+    fn state(n: usize) -> (Vec<f64>, Vec<f64>) {
+        let y = (0..n).map(|i| 0.3 + (i as f64 * 0.7).sin()).collect();
+        let yp = (0..n).map(|i| (i as f64 * 1.3).cos() - 0.2).collect();
+        (y, yp)
+    }
+
+    /// Builds J at c = 2.5 and returns (max abs error vs exact, stats of the build alone).
+    fn check(p: &mut Heat, opts: &Options, with_r0: bool) -> (f64, Stats, usize) {
+        let mut stats = Stats::default();
+        let mut cache = SystemCache::default();
+        cache.rebuild(&*p, opts).unwrap();
+        let ncol = cache.colour_count();
+        let (y, yp) = state(p.n);
+        let exact = p.exact(&y, &yp, 2.5);
+        let mut sys = System::new(p, opts, &mut stats, &mut cache);
+        let mut jac = sys.new_matrix();
+        if with_r0 {
+            let mut r0 = vec![0.0; y.len()];
+            sys.residual(0.0, &y, &yp, &mut r0).unwrap();
+            sys.stats.residual_calls = 0;
+            sys.jacobian_with_residual(0.0, &y, &yp, 2.5, &r0, &mut jac)
+                .unwrap();
+        } else {
+            sys.jacobian(0.0, &y, &yp, 2.5, &mut jac).unwrap();
+        }
+        let mut dense = vec![0.0; y.len() * y.len()];
+        for (i, j, a) in exact {
+            dense[i * y.len() + j] += a;
+        }
+        let mut err = 0.0f64;
+        for i in 0..y.len() {
+            for j in 0..y.len() {
+                err = err.max((jac.get(i, j) - dense[i * y.len() + j]).abs());
+            }
+        }
+        (err, stats, ncol)
+    }
+
+    #[test]
+    fn coloured_jacobians_match_analytic_banded_and_sparse() {
+        let opts = Options::default();
+        for cyclic in [false, true] {
+            for n in [1, 2, 9, 40] {
+                if cyclic && n < 3 {
+                    continue;
+                }
+                // finite differences: one call per colour (+1 for the base point)
+                let mut p = Heat {
+                    n,
+                    cyclic,
+                    source: Source::Fd,
+                };
+                let (err, st, ncol) = check(&mut p, &opts, false);
+                assert!(err < 1e-5, "fd cyclic={cyclic} n={n}: {err:e}");
+                assert_eq!(st.residual_calls, ncol + 1);
+                assert_eq!(st.jacobian_evals, 1);
+                if !cyclic {
+                    assert_eq!(ncol, 3.min(n), "banded (1,1): bandwidth + 1 colours");
+                } else {
+                    assert!(ncol <= 4, "{ncol}");
+                }
+                let (err, st, _) = check(&mut p, &opts, true);
+                assert!(err < 1e-5, "fd+r0 cyclic={cyclic} n={n}: {err:e}");
+                assert_eq!(
+                    st.residual_calls, ncol,
+                    "with r0: exactly one call per colour"
+                );
+                // exact directional derivatives: one call per colour, no residual calls
+                p.source = Source::Directional;
+                let (err, st, _) = check(&mut p, &opts, false);
+                assert!(err < 1e-14, "ad cyclic={cyclic} n={n}: {err:e}");
+                assert_eq!(st.directional_calls, ncol);
+                assert_eq!(st.residual_calls, 0);
+                // user Jacobian
+                p.source = Source::User;
+                let (err, st, _) = check(&mut p, &opts, false);
+                assert!(err < 1e-14, "user: {err:e}");
+                assert_eq!((st.residual_calls, st.directional_calls), (0, 0));
+                // forced FD ignores both
+                let forced = Options {
+                    force_fd_jacobian: true,
+                    ..Options::default()
+                };
+                let (err, st, _) = check(&mut p, &forced, false);
+                assert!(err < 1e-5, "forced fd: {err:e}");
+                assert_eq!(st.residual_calls, ncol + 1);
+            }
+        }
+    }
+
+    #[test]
+    fn fd_jacobian_accuracy_tracks_tolerance() {
+        // IDA's increment is ≈ rtol·|y| + atol: tighter tolerances, more accurate Jacobian
+        let mut errs = Vec::new();
+        for rtol in [1e-3, 1e-6, 1e-9] {
+            let opts = Options {
+                rtol,
+                atol: rtol * 1e-2,
+                ..Options::default()
+            };
+            let mut p = Heat {
+                n: 12,
+                cyclic: false,
+                source: Source::Fd,
+            };
+            errs.push(check(&mut p, &opts, false).0);
+        }
+        assert!(
+            errs[0] < 1e-2 && errs[1] < 1e-5 && errs[2] < 1e-6,
+            "{errs:?}"
+        );
+        assert!(errs[1] < errs[0], "{errs:?}");
+    }
+
+    #[test]
+    fn dense_fd_is_one_call_per_column() {
+        struct D;
+        impl Problem for D {
+            fn dim(&self) -> usize {
+                3
+            }
+            fn residual(
+                &mut self,
+                _t: f64,
+                y: &[f64],
+                yp: &[f64],
+                r: &mut [f64],
+            ) -> Result<(), ResidualError> {
+                r[0] = yp[0] - y[1] * y[2];
+                r[1] = yp[1] + y[0] * y[0];
+                r[2] = y[2] - y[0] - 2.0 * y[1];
+                Ok(())
+            }
+        }
+        let opts = Options::default();
+        let mut stats = Stats::default();
+        let mut cache = SystemCache::default();
+        let mut p = D;
+        cache.rebuild(&p, &opts).unwrap();
+        let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+        let mut jac = sys.new_matrix();
+        assert!(matches!(jac, Matrix::Dense(_)));
+        let (y, yp) = ([1.0, 2.0, 3.0], [0.0, 0.0, 0.0]);
+        sys.jacobian(0.0, &y, &yp, 4.0, &mut jac).unwrap();
+        let want = [[4.0, -3.0, -2.0], [2.0, 4.0, 0.0], [-1.0, -2.0, 1.0]];
+        for (i, row) in want.iter().enumerate() {
+            for (j, &w) in row.iter().enumerate() {
+                assert!(
+                    (jac.get(i, j) - w).abs() < 1e-5,
+                    "({i},{j}) {}",
+                    jac.get(i, j)
+                );
+            }
+        }
+        assert_eq!(stats.residual_calls, 4);
+    }
+}

@@ -3,14 +3,15 @@
 //! derivatives → coloured finite differences), its factorisation, error weights and norms, and
 //! consistent initialisation.
 //!
-//! SKELETON: the signatures below are the contract between the driver, the methods and the
-//! linear algebra. Bodies are filled in by the linalg/jacobian work item.
+//! The signatures here are the contract between the driver, the methods and the linear
+//! algebra; the Jacobian construction itself lives in [`crate::jacobian`].
 
-use crate::error::SolverError;
+use crate::error::{ErrorKind, SolverError};
+use crate::jacobian::{self, Columns};
 use crate::linalg::{LinearSolver, Matrix};
 use crate::options::Options;
 use crate::pattern::Pattern;
-use crate::problem::Problem;
+use crate::problem::{Problem, ResidualError};
 use crate::stats::Stats;
 
 /// Why a step attempt failed in a way the method may recover from by reducing the step.
@@ -49,14 +50,71 @@ pub struct SystemCache {
     pub(crate) ncolours: usize,
     pub(crate) atol: Vec<f64>,
     pub(crate) algebraic: Vec<bool>,
+    /// Columns of each colour (`colour_cols[k]` = the columns `j` with `colour[j] == k`).
+    pub(crate) colour_cols: Vec<Vec<usize>>,
 }
 
 impl SystemCache {
     /// Re-reads dimension, pattern, colouring, tolerances and algebraic flags from the problem
     /// (at the start and after every resize). Errors if the problem's declared sizes disagree.
     pub fn rebuild(&mut self, problem: &dyn Problem, opts: &Options) -> Result<(), String> {
-        let _ = (problem, opts);
-        unimplemented!("linalg/jacobian work item")
+        let n = problem.dim();
+        let pattern = problem.pattern();
+        if let Pattern::Sparse(p) = &pattern {
+            if p.n() != n {
+                return Err(format!(
+                    "sparse pattern is {}×{} but dim() = {n}",
+                    p.n(),
+                    p.n()
+                ));
+            }
+        }
+        let atol = match problem.atol() {
+            Some(a) => {
+                if a.len() != n {
+                    return Err(format!("atol() has length {} but dim() = {n}", a.len()));
+                }
+                if let Some(i) = a.iter().position(|&x| !(x > 0.0 && x.is_finite())) {
+                    return Err(format!(
+                        "atol()[{i}] = {} must be positive and finite",
+                        a[i]
+                    ));
+                }
+                a
+            }
+            None => {
+                if !(opts.atol > 0.0 && opts.atol.is_finite()) {
+                    return Err(format!("atol = {} must be positive and finite", opts.atol));
+                }
+                vec![opts.atol; n]
+            }
+        };
+        let algebraic = problem.algebraic();
+        if algebraic.len() != n {
+            return Err(format!(
+                "algebraic() has length {} but dim() = {n}",
+                algebraic.len()
+            ));
+        }
+        let (colour, ncolours) = pattern.colouring(n);
+        let mut colour_cols = vec![Vec::new(); ncolours];
+        for (j, &k) in colour.iter().enumerate() {
+            colour_cols[k].push(j);
+        }
+        self.n = n;
+        self.pattern = Some(pattern);
+        self.colour = colour;
+        self.ncolours = ncolours;
+        self.atol = atol;
+        self.algebraic = algebraic;
+        self.colour_cols = colour_cols;
+        Ok(())
+    }
+
+    /// Number of colours of the current pattern (= residual calls per finite-difference
+    /// Jacobian when the base residual is supplied).
+    pub fn colour_count(&self) -> usize {
+        self.ncolours
     }
 }
 
@@ -68,7 +126,12 @@ impl<'a> System<'a> {
         stats: &'a mut Stats,
         cache: &'a mut SystemCache,
     ) -> Self {
-        Self { problem, opts, stats, cache }
+        Self {
+            problem,
+            opts,
+            stats,
+            cache,
+        }
     }
 
     /// Problem dimension (as cached at the last rebuild).
@@ -78,7 +141,10 @@ impl<'a> System<'a> {
 
     /// Declared pattern.
     pub fn pattern(&self) -> &Pattern {
-        self.cache.pattern.as_ref().expect("SystemCache::rebuild not called")
+        self.cache
+            .pattern
+            .as_ref()
+            .expect("SystemCache::rebuild not called")
     }
 
     /// Absolute tolerances per component.
@@ -100,18 +166,39 @@ impl<'a> System<'a> {
         yp: &[f64],
         r: &mut [f64],
     ) -> Result<(), StepFailure> {
-        let _ = (t, y, yp, r);
-        unimplemented!("linalg/jacobian work item")
+        self.stats.residual_calls += 1;
+        self.problem
+            .residual(t, y, yp, r)
+            .map_err(|e| self.residual_failure(e, t))?;
+        if let Some(i) = crate::linalg::first_non_finite(r) {
+            return Err(StepFailure::Recoverable {
+                reason: format!("non-finite residual component {i} ({})", r[i]),
+                component: Some(i),
+            });
+        }
+        Ok(())
+    }
+
+    /// Maps a [`ResidualError`] at time `t` to a [`StepFailure`].
+    pub(crate) fn residual_failure(&self, e: ResidualError, t: f64) -> StepFailure {
+        match e {
+            ResidualError::Recoverable { reason, component } => {
+                StepFailure::Recoverable { reason, component }
+            }
+            ResidualError::Fatal(msg) => {
+                StepFailure::Fatal(SolverError::new(ErrorKind::Residual(msg), t, None))
+            }
+        }
     }
 
     /// A zeroed matrix shaped by the current pattern.
     pub fn new_matrix(&self) -> Matrix {
-        unimplemented!("linalg/jacobian work item")
+        Matrix::zeros(self.dim(), self.pattern())
     }
 
     /// A linear solver for the current pattern (symbolic analysis happens at first factor).
     pub fn new_linear_solver(&self) -> LinearSolver {
-        unimplemented!("linalg/jacobian work item")
+        LinearSolver::new(self.dim(), self.pattern())
     }
 
     /// Evaluates `J = ∂F/∂y + c·∂F/∂ẏ` at `(t, y, ẏ)` into `jac` (zeroed first): the problem's
@@ -125,39 +212,87 @@ impl<'a> System<'a> {
         c: f64,
         jac: &mut Matrix,
     ) -> Result<(), StepFailure> {
-        let _ = (t, y, yp, c, jac);
-        unimplemented!("linalg/jacobian work item")
+        self.stats.jacobian_evals += 1;
+        jacobian::assemble(self, t, y, yp, Columns::Iteration { c }, None, jac)
+    }
+
+    /// As [`jacobian`](System::jacobian), for a caller that already holds `r0 = F(t, y, ẏ)`:
+    /// finite differences then cost exactly one residual call per colour
+    /// ([`SystemCache::colour_count`]; bandwidth+1 for banded) instead of one more.
+    pub fn jacobian_with_residual(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        c: f64,
+        r0: &[f64],
+        jac: &mut Matrix,
+    ) -> Result<(), StepFailure> {
+        self.stats.jacobian_evals += 1;
+        jacobian::assemble(self, t, y, yp, Columns::Iteration { c }, Some(r0), jac)
     }
 
     /// Counted factorisation; a zero pivot is a recoverable failure.
     pub fn factor(&mut self, solver: &mut LinearSolver, m: &Matrix) -> Result<(), StepFailure> {
-        let _ = (solver, m);
-        unimplemented!("linalg/jacobian work item")
+        self.stats.factorizations += 1;
+        let res = solver.factor(m);
+        if solver.last_factor_was_symbolic() {
+            self.stats.symbolic_factorizations += 1;
+        }
+        res.map_err(|column| StepFailure::Recoverable {
+            reason: format!("singular iteration matrix (zero pivot in column {column})"),
+            component: Some(column),
+        })
     }
 
     /// Counted in-place solve with the last factorisation.
     pub fn solve(&mut self, solver: &LinearSolver, b: &mut [f64]) {
-        let _ = (solver, b);
-        unimplemented!("linalg/jacobian work item")
+        self.stats.linear_solves += 1;
+        solver.solve_in_place(b);
     }
 
     /// Error weights `w_i = 1/(rtol·|y_i| + atol_i)`, zero for algebraic components when
     /// `opts.suppress_algebraic`.
     pub fn error_weights(&self, y: &[f64], w: &mut [f64]) {
-        let _ = (y, w);
-        unimplemented!("linalg/jacobian work item")
+        assert!(
+            y.len() == self.dim() && w.len() == self.dim(),
+            "error_weights: dimension mismatch"
+        );
+        let rtol = self.opts.rtol;
+        let suppress = self.opts.suppress_algebraic;
+        for (i, wi) in w.iter_mut().enumerate() {
+            *wi = if suppress && self.cache.algebraic[i] {
+                0.0
+            } else {
+                1.0 / (rtol * y[i].abs() + self.cache.atol[i])
+            };
+        }
     }
 
     /// Weighted RMS norm `sqrt(mean((v_i·w_i)²))`.
     pub fn wrms(v: &[f64], w: &[f64]) -> f64 {
-        let _ = (v, w);
-        unimplemented!("linalg/jacobian work item")
+        assert_eq!(v.len(), w.len(), "wrms: length mismatch");
+        if v.is_empty() {
+            return 0.0;
+        }
+        let s: f64 = v.iter().zip(w).map(|(a, b)| (a * b) * (a * b)).sum();
+        (s / v.len() as f64).sqrt()
     }
 
     /// Index of the component with the largest `|v_i·w_i|` (for error messages).
     pub fn worst_component(v: &[f64], w: &[f64]) -> Option<usize> {
-        let _ = (v, w);
-        unimplemented!("linalg/jacobian work item")
+        assert_eq!(v.len(), w.len(), "worst_component: length mismatch");
+        if let Some(i) = v.iter().zip(w).position(|(a, b)| (a * b).is_nan()) {
+            return Some(i);
+        }
+        let mut best: Option<(usize, f64)> = None;
+        for (i, (a, b)) in v.iter().zip(w).enumerate() {
+            let x = (a * b).abs();
+            if best.is_none_or(|(_, bx)| x > bx) {
+                best = Some((i, x));
+            }
+        }
+        best.map(|(i, _)| i)
     }
 
     /// Consistent initialisation at `t`: given `y`, solves `F(t, y, ẏ) = 0` for `ẏ` of the
@@ -169,7 +304,547 @@ impl<'a> System<'a> {
         y: &mut [f64],
         yp: &mut [f64],
     ) -> Result<(), SolverError> {
-        let _ = (t, y, yp);
-        unimplemented!("linalg/jacobian work item")
+        let n = self.dim();
+        assert!(
+            y.len() == n && yp.len() == n,
+            "consistent_init: dimension mismatch"
+        );
+        if n == 0 {
+            return Ok(());
+        }
+        let algebraic = self.cache.algebraic.clone();
+        let init_err = |why: String, component: Option<usize>| {
+            SolverError::new(ErrorKind::Initialisation(why), t, component)
+        };
+        let to_error = |f: StepFailure, what: &str| match f {
+            StepFailure::Recoverable { reason, component } => {
+                init_err(format!("{what}: {reason}"), component)
+            }
+            StepFailure::Fatal(e) => e,
+        };
+        let rtol = self.opts.rtol;
+        let weights = |y: &[f64], yp: &[f64], atol: &[f64], w: &mut [f64]| {
+            for i in 0..w.len() {
+                let u = if algebraic[i] { y[i] } else { yp[i] };
+                w[i] = 1.0 / (rtol * u.abs() + atol[i]);
+            }
+        };
+        let mut jac = self.new_matrix();
+        let mut lu = self.new_linear_solver();
+        let mut r = vec![0.0; n];
+        let mut delta = vec![0.0; n];
+        let mut w = vec![0.0; n];
+        let mut w_new = vec![0.0; n];
+        let mut y_new = y.to_vec();
+        let mut yp_new = yp.to_vec();
+        let mut r_new = vec![0.0; n];
+        self.residual(t, y, yp, &mut r)
+            .map_err(|f| to_error(f, "residual at the initial state"))?;
+        let mut last_norm = f64::INFINITY;
+        for _ in 0..INIT_MAX_ITERS {
+            self.stats.jacobian_evals += 1;
+            jacobian::assemble(
+                self,
+                t,
+                y,
+                yp,
+                Columns::Init {
+                    algebraic: &algebraic,
+                },
+                Some(&r),
+                &mut jac,
+            )
+            .map_err(|f| to_error(f, "Jacobian at the initial state"))?;
+            self.factor(&mut lu, &jac).map_err(|f| {
+                to_error(
+                    f,
+                    "∂F/∂(ẏ differential, y algebraic) is singular (index > 1, or a component \
+                     flagged differential whose ẏ does not appear in F)",
+                )
+            })?;
+            delta.copy_from_slice(&r);
+            self.solve(&lu, &mut delta);
+            weights(y, yp, &self.cache.atol, &mut w);
+            let dnorm = Self::wrms(&delta, &w);
+            if !dnorm.is_finite() {
+                return Err(init_err(
+                    "non-finite Newton update".into(),
+                    Self::worst_component(&delta, &w),
+                ));
+            }
+            if dnorm <= INIT_TOL {
+                apply(&algebraic, y, yp, &delta, 1.0);
+                return Ok(());
+            }
+            // damped step: merit = ‖M⁻¹·F‖ with the current factorisation
+            let mut lambda = 1.0;
+            loop {
+                y_new.copy_from_slice(y);
+                yp_new.copy_from_slice(yp);
+                apply(&algebraic, &mut y_new, &mut yp_new, &delta, lambda);
+                let accepted = match self.residual(t, &y_new, &yp_new, &mut r_new) {
+                    Ok(()) => {
+                        let mut d_new = r_new.clone();
+                        self.solve(&lu, &mut d_new);
+                        // convergence is judged with the trial point's weights, descent with the
+                        // current iterate's (those of `dnorm`)
+                        let nnorm = Self::wrms(&d_new, &w);
+                        weights(&y_new, &yp_new, &self.cache.atol, &mut w_new);
+                        if Self::wrms(&d_new, &w_new) <= INIT_TOL {
+                            y.copy_from_slice(&y_new);
+                            yp.copy_from_slice(&yp_new);
+                            apply(&algebraic, y, yp, &d_new, 1.0);
+                            return Ok(());
+                        }
+                        nnorm.is_finite() && nnorm <= (1.0 - 1e-4 * lambda) * dnorm
+                    }
+                    Err(StepFailure::Recoverable { .. }) => false,
+                    Err(StepFailure::Fatal(e)) => return Err(e),
+                };
+                if accepted {
+                    break;
+                }
+                lambda *= 0.5;
+                if lambda < INIT_MIN_DAMPING {
+                    return Err(init_err(
+                        format!(
+                            "damped Newton could not reduce the residual (weighted update \
+                             norm {dnorm:.3e})"
+                        ),
+                        worst_abs(&r),
+                    ));
+                }
+            }
+            y.copy_from_slice(&y_new);
+            yp.copy_from_slice(&yp_new);
+            std::mem::swap(&mut r, &mut r_new);
+            last_norm = dnorm;
+        }
+        Err(init_err(
+            format!(
+                "Newton did not converge in {INIT_MAX_ITERS} iterations (last weighted update \
+                 norm {last_norm:.3e})"
+            ),
+            worst_abs(&r),
+        ))
+    }
+}
+
+/// Newton iterations allowed in [`System::consistent_init`].
+const INIT_MAX_ITERS: usize = 20;
+/// Convergence: weighted RMS norm of the Newton update of the unknowns.
+const INIT_TOL: f64 = 1e-3;
+/// Smallest damping factor of the line search.
+const INIT_MIN_DAMPING: f64 = 1.0 / 1024.0;
+
+/// `u -= λ·δ` where `u_i` is `y_i` (algebraic) or `ẏ_i` (differential).
+fn apply(algebraic: &[bool], y: &mut [f64], yp: &mut [f64], delta: &[f64], lambda: f64) {
+    for i in 0..delta.len() {
+        if algebraic[i] {
+            y[i] -= lambda * delta[i];
+        } else {
+            yp[i] -= lambda * delta[i];
+        }
+    }
+}
+
+/// Component with the largest `|r_i|` (NaN first).
+fn worst_abs(r: &[f64]) -> Option<usize> {
+    let ones = vec![1.0; r.len()];
+    System::worst_component(r, &ones)
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+
+    use super::*;
+    use crate::pattern::SparsityPattern;
+
+    fn with_system<P: Problem, R>(
+        p: &mut P,
+        opts: &Options,
+        f: impl FnOnce(&mut System<'_>) -> R,
+    ) -> (R, Stats) {
+        let mut stats = Stats::default();
+        let mut cache = SystemCache::default();
+        cache.rebuild(&*p, opts).unwrap();
+        let r = {
+            let mut sys = System::new(p, opts, &mut stats, &mut cache);
+            f(&mut sys)
+        };
+        (r, stats)
+    }
+
+    /// `ẏ_i = −k_i·y_i`.
+    struct Decay(Vec<f64>);
+    impl Problem for Decay {
+        fn dim(&self) -> usize {
+            self.0.len()
+        }
+        fn residual(
+            &mut self,
+            _t: f64,
+            y: &[f64],
+            yp: &[f64],
+            r: &mut [f64],
+        ) -> Result<(), ResidualError> {
+            for i in 0..y.len() {
+                r[i] = yp[i] + self.0[i] * y[i];
+            }
+            Ok(())
+        }
+        fn pattern(&self) -> Pattern {
+            Pattern::Banded { lower: 0, upper: 0 }
+        }
+    }
+
+    #[test]
+    fn consistent_init_ode_is_one_newton_step() {
+        let mut p = Decay(vec![1.0, 2.0, 0.5]);
+        let mut y = vec![1.0, -2.0, 3.0];
+        let mut yp = vec![0.0; 3];
+        let (res, st) = with_system(&mut p, &Options::default(), |s| {
+            s.consistent_init(0.0, &mut y, &mut yp)
+        });
+        res.unwrap();
+        assert_eq!(y, vec![1.0, -2.0, 3.0], "differential y untouched");
+        for (a, b) in yp.iter().zip([-1.0, 4.0, -1.5]) {
+            assert!((a - b).abs() < 1e-12, "{yp:?}");
+        }
+        assert_eq!(st.jacobian_evals, 1);
+        assert_eq!(st.factorizations, 1);
+        // base + 1 colour (diagonal) + one trial point
+        assert_eq!(st.residual_calls, 3);
+    }
+
+    /// Index-1 DAE: `ẏ0 = −y0 + y1`, `0 = y1³ + y1 − y0²` (algebraic, nonlinear), plus a
+    /// `ẏ2 = y1·y2` component; dense pattern.
+    struct Dae {
+        directional: bool,
+    }
+    impl Problem for Dae {
+        fn dim(&self) -> usize {
+            3
+        }
+        fn residual(
+            &mut self,
+            _t: f64,
+            y: &[f64],
+            yp: &[f64],
+            r: &mut [f64],
+        ) -> Result<(), ResidualError> {
+            r[0] = yp[0] + y[0] - y[1];
+            r[1] = y[1].powi(3) + y[1] - y[0] * y[0];
+            r[2] = (1.0 + y[0] * y[0]) * yp[2] - y[1] * y[2];
+            Ok(())
+        }
+        fn algebraic(&self) -> Vec<bool> {
+            vec![false, true, false]
+        }
+        fn directional(
+            &mut self,
+            t: f64,
+            y: &[f64],
+            yp: &[f64],
+            v: &[f64],
+            c: f64,
+            r: &mut [f64],
+            dr: &mut [f64],
+        ) -> Result<bool, ResidualError> {
+            if !self.directional {
+                return Ok(false);
+            }
+            self.residual(t, y, yp, r)?;
+            dr[0] = (1.0 + 0.0 * c) * v[0] - v[1] + c * v[0];
+            dr[1] = (3.0 * y[1] * y[1] + 1.0) * v[1] - 2.0 * y[0] * v[0];
+            dr[2] = 2.0 * y[0] * yp[2] * v[0] - y[2] * v[1] - y[1] * v[2]
+                + c * (1.0 + y[0] * y[0]) * v[2];
+            Ok(true)
+        }
+    }
+
+    #[test]
+    fn consistent_init_index1_dae_solves_algebraic_component() {
+        for directional in [false, true] {
+            let mut p = Dae { directional };
+            let mut y = vec![2.0, 0.0, 1.5];
+            let mut yp = vec![0.0; 3];
+            let (res, st) = with_system(&mut p, &Options::default(), |s| {
+                s.consistent_init(0.0, &mut y, &mut yp)
+            });
+            res.unwrap();
+            // y1³ + y1 = 4 → y1 = 1.378796...
+            let y1 = y[1];
+            assert!((y1.powi(3) + y1 - 4.0).abs() < 1e-9, "{y1}");
+            assert_eq!((y[0], y[2]), (2.0, 1.5), "differential y untouched");
+            assert!((yp[0] - (-2.0 + y1)).abs() < 1e-9);
+            assert!((yp[2] - y1 * 1.5 / 5.0).abs() < 1e-9);
+            assert!(st.jacobian_evals >= 2 && st.jacobian_evals <= 8, "{st:?}");
+            if directional {
+                assert!(st.directional_calls > 0);
+            }
+        }
+    }
+
+    /// `ẏ0 = …` but flagged differential component 1 has no ẏ1: singular init matrix.
+    struct BadFlags;
+    impl Problem for BadFlags {
+        fn dim(&self) -> usize {
+            2
+        }
+        fn residual(
+            &mut self,
+            _t: f64,
+            y: &[f64],
+            yp: &[f64],
+            r: &mut [f64],
+        ) -> Result<(), ResidualError> {
+            r[0] = yp[0] + y[0];
+            r[1] = y[1] - y[0];
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn consistent_init_reports_singular_system() {
+        let mut p = BadFlags;
+        let (mut y, mut yp) = (vec![1.0, 0.0], vec![0.0, 0.0]);
+        let (res, _) = with_system(&mut p, &Options::default(), |s| {
+            s.consistent_init(3.0, &mut y, &mut yp)
+        });
+        let e = res.unwrap_err();
+        assert!(matches!(e.kind, ErrorKind::Initialisation(_)), "{e}");
+        assert_eq!(e.t, 3.0);
+        assert_eq!(e.component, Some(1));
+    }
+
+    struct Faulty(u8);
+    impl Problem for Faulty {
+        fn dim(&self) -> usize {
+            2
+        }
+        fn residual(
+            &mut self,
+            _t: f64,
+            _y: &[f64],
+            _yp: &[f64],
+            r: &mut [f64],
+        ) -> Result<(), ResidualError> {
+            match self.0 {
+                0 => {
+                    r[0] = 0.0;
+                    r[1] = f64::NAN;
+                    Ok(())
+                }
+                1 => Err(ResidualError::Recoverable {
+                    reason: "length ≤ 0".into(),
+                    component: Some(0),
+                }),
+                _ => Err(ResidualError::Fatal("boom".into())),
+            }
+        }
+        fn atol(&self) -> Option<Vec<f64>> {
+            Some(vec![1e-6, 1e-9])
+        }
+    }
+
+    #[test]
+    fn residual_failures_are_typed() {
+        let opts = Options::default();
+        let mut r = [0.0; 2];
+        for (mode, check) in [
+            (
+                0u8,
+                Box::new(|f: StepFailure| {
+                    assert!(
+                        matches!(
+                            f,
+                            StepFailure::Recoverable {
+                                component: Some(1),
+                                ..
+                            }
+                        ),
+                        "{f:?}"
+                    )
+                }) as Box<dyn Fn(StepFailure)>,
+            ),
+            (
+                1,
+                Box::new(|f| {
+                    assert_eq!(
+                        f,
+                        StepFailure::Recoverable {
+                            reason: "length ≤ 0".into(),
+                            component: Some(0)
+                        }
+                    )
+                }),
+            ),
+            (
+                2,
+                Box::new(|f| match f {
+                    StepFailure::Fatal(e) => {
+                        assert_eq!(e.kind, ErrorKind::Residual("boom".into()));
+                        assert_eq!(e.t, 1.5);
+                    }
+                    other => panic!("{other:?}"),
+                }),
+            ),
+        ] {
+            let mut p = Faulty(mode);
+            let (res, st) = with_system(&mut p, &opts, |s| {
+                s.residual(1.5, &[1.0; 2], &[0.0; 2], &mut r)
+            });
+            check(res.unwrap_err());
+            assert_eq!(st.residual_calls, 1);
+        }
+        // init maps a fatal residual to the same error, a recoverable one to Initialisation
+        let mut p = Faulty(1);
+        let (res, _) = with_system(&mut p, &opts, |s| {
+            s.consistent_init(0.0, &mut [1.0; 2], &mut [0.0; 2])
+        });
+        let e = res.unwrap_err();
+        assert!(
+            matches!(e.kind, ErrorKind::Initialisation(_)) && e.component == Some(0),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn rebuild_validates_sizes() {
+        struct Bad(u8);
+        impl Problem for Bad {
+            fn dim(&self) -> usize {
+                3
+            }
+            fn residual(
+                &mut self,
+                _: f64,
+                _: &[f64],
+                _: &[f64],
+                _: &mut [f64],
+            ) -> Result<(), ResidualError> {
+                Ok(())
+            }
+            fn atol(&self) -> Option<Vec<f64>> {
+                match self.0 {
+                    0 => Some(vec![1e-6; 2]),
+                    1 => Some(vec![1e-6, 0.0, 1e-6]),
+                    _ => None,
+                }
+            }
+            fn algebraic(&self) -> Vec<bool> {
+                vec![false; if self.0 == 2 { 4 } else { 3 }]
+            }
+            fn pattern(&self) -> Pattern {
+                if self.0 == 3 {
+                    Pattern::Sparse(Arc::new(SparsityPattern::from_entries(2, &[])))
+                } else {
+                    Pattern::Dense
+                }
+            }
+        }
+        let opts = Options::default();
+        for (k, needle) in [
+            (0, "atol() has length 2"),
+            (1, "atol()[1]"),
+            (2, "algebraic()"),
+            (3, "sparse pattern"),
+        ] {
+            let err = SystemCache::default().rebuild(&Bad(k), &opts).unwrap_err();
+            assert!(err.contains(needle), "{err}");
+        }
+    }
+
+    #[test]
+    fn weights_norms_and_counted_factorisations() {
+        let mut p = Faulty(0);
+        let opts = Options {
+            rtol: 1e-3,
+            ..Options::default()
+        };
+        let ((), st) = with_system(&mut p, &opts, |s| {
+            let mut w = [0.0; 2];
+            s.error_weights(&[2.0, -1.0], &mut w);
+            assert!((w[0] - 1.0 / (2e-3 + 1e-6)).abs() < 1e-6);
+            assert!((w[1] - 1.0 / (1e-3 + 1e-9)).abs() < 1e-6);
+            assert!((System::wrms(&[3.0, 4.0], &[1.0, 1.0]) - 12.5f64.sqrt()).abs() < 1e-15);
+            assert_eq!(System::worst_component(&[3.0, -4.0], &[1.0, 1.0]), Some(1));
+            assert_eq!(
+                System::worst_component(&[3.0, f64::NAN], &[1.0, 1.0]),
+                Some(1)
+            );
+            assert_eq!(System::worst_component(&[], &[]), None);
+            // dense factor: counted, never symbolic; singular is recoverable naming the column
+            let mut m = s.new_matrix();
+            let mut lu = s.new_linear_solver();
+            m.add(0, 0, 1.0);
+            let f = s.factor(&mut lu, &m).unwrap_err();
+            assert!(matches!(
+                f,
+                StepFailure::Recoverable {
+                    component: Some(1),
+                    ..
+                }
+            ));
+            m.add(1, 1, 2.0);
+            s.factor(&mut lu, &m).unwrap();
+            let mut b = [1.0, 1.0];
+            s.solve(&lu, &mut b);
+            assert_eq!(b, [1.0, 0.5]);
+        });
+        assert_eq!(
+            (
+                st.factorizations,
+                st.symbolic_factorizations,
+                st.linear_solves
+            ),
+            (2, 0, 1)
+        );
+    }
+
+    #[test]
+    fn sparse_symbolic_factorisation_is_reused() {
+        struct Ring;
+        impl Problem for Ring {
+            fn dim(&self) -> usize {
+                8
+            }
+            fn residual(
+                &mut self,
+                _: f64,
+                y: &[f64],
+                yp: &[f64],
+                r: &mut [f64],
+            ) -> Result<(), ResidualError> {
+                for i in 0..8 {
+                    r[i] = yp[i] - y[(i + 1) % 8] + y[i] * y[i];
+                }
+                Ok(())
+            }
+            fn pattern(&self) -> Pattern {
+                let e: Vec<_> = (0..8).map(|i| (i, (i + 1) % 8)).collect();
+                Pattern::Sparse(Arc::new(SparsityPattern::from_entries(8, &e)))
+            }
+        }
+        let mut p = Ring;
+        let opts = Options::default();
+        let ((), st) = with_system(&mut p, &opts, |s| {
+            let mut m = s.new_matrix();
+            let mut lu = s.new_linear_solver();
+            let y = [0.5; 8];
+            for c in [10.0, 3.0, 100.0] {
+                s.jacobian(0.0, &y, &[0.0; 8], c, &mut m).unwrap();
+                s.factor(&mut lu, &m).unwrap();
+                let mut b = [1.0; 8];
+                s.solve(&lu, &mut b);
+                let mut back = [0.0; 8];
+                m.mul_vec(&b, &mut back);
+                assert!(back.iter().all(|x| (x - 1.0).abs() < 1e-12), "{back:?}");
+            }
+        });
+        assert_eq!((st.factorizations, st.symbolic_factorizations), (3, 1));
+        assert_eq!(st.jacobian_evals, 3);
     }
 }

@@ -7,8 +7,33 @@
 //! Also the "complex pair" construction used by Radau IIA: the real 2n×2n matrix
 //! `[[A, -B], [B, A]]` with rows/columns interleaved so that a banded pattern stays banded.
 
-// IMPLEMENTATION NOTE: skeleton signatures fixed by the integrators design; bodies are filled in
-// by the linalg work item.
+//!
+//! Layout: [`dense`](self) (faer LU), `banded` (hand-written `dgbtrf`-style LU), `sparse` (faer
+//! sparse LU with cached symbolic analysis), `complex_pair` (Radau's real 2n form). This file
+//! holds the public types and dispatches by pattern.
+//!
+//! ```
+//! use integrators::linalg::{LinearSolver, Matrix};
+//! use integrators::Pattern;
+//! let p = Pattern::Banded { lower: 1, upper: 1 };
+//! let mut m = Matrix::zeros(3, &p);
+//! for i in 0..3 {
+//!     m.add(i, i, 4.0);
+//!     if i > 0 { m.add(i, i - 1, -1.0); m.add(i - 1, i, -1.0); }
+//! }
+//! let mut lu = LinearSolver::new(3, &p);
+//! lu.factor(&m).unwrap();
+//! let mut b = vec![3.0, 2.0, 3.0];
+//! lu.solve_in_place(&mut b);
+//! assert!(b.iter().all(|x| (x - 1.0).abs() < 1e-14));
+//! ```
+
+mod banded;
+mod complex_pair;
+mod dense;
+mod sparse;
+
+use std::sync::Arc;
 
 use crate::pattern::Pattern;
 
@@ -56,83 +81,260 @@ pub struct SparseMatrix {
 }
 
 /// Factorises a [`Matrix`] by its pattern and solves with it.
+///
+/// Zero (or non-finite) pivots and non-finite matrix entries are reported as `Err(column)`;
+/// nothing here panics on singular or NaN input.
 pub struct LinearSolver {
-    #[allow(dead_code)]
-    pub(crate) inner: (),
+    pub(crate) inner: Inner,
+}
+
+pub(crate) enum Inner {
+    Dense(dense::DenseLu),
+    Banded(banded::BandLu),
+    Sparse(sparse::SparseLu),
+}
+
+/// Index of the first non-finite value.
+pub(crate) fn first_non_finite(v: &[f64]) -> Option<usize> {
+    v.iter().position(|x| !x.is_finite())
 }
 
 impl Matrix {
-    /// A zero `n × n` matrix with the given pattern.
+    /// A zero `n × n` matrix with the given pattern (band widths are clamped to `n − 1`).
     pub fn zeros(n: usize, pattern: &Pattern) -> Self {
-        let _ = (n, pattern);
-        unimplemented!("linalg work item")
+        match pattern {
+            Pattern::Dense => Matrix::Dense(DenseMatrix {
+                n,
+                data: vec![0.0; n * n],
+            }),
+            Pattern::Banded { lower, upper } => {
+                Matrix::Banded(BandMatrix::zeros(n, *lower, *upper))
+            }
+            Pattern::Sparse(p) => {
+                assert_eq!(
+                    p.n(),
+                    n,
+                    "sparse pattern is {}×{}, not {n}×{n}",
+                    p.n(),
+                    p.n()
+                );
+                Matrix::Sparse(SparseMatrix {
+                    pattern: Arc::clone(p),
+                    values: vec![0.0; p.nnz()],
+                })
+            }
+        }
     }
     /// Dimension.
     pub fn n(&self) -> usize {
-        unimplemented!("linalg work item")
+        match self {
+            Matrix::Dense(m) => m.n,
+            Matrix::Banded(m) => m.n,
+            Matrix::Sparse(m) => m.pattern.n(),
+        }
     }
     /// Sets every stored value to zero (keeps the pattern).
     pub fn set_zero(&mut self) {
-        unimplemented!("linalg work item")
+        let d = match self {
+            Matrix::Dense(m) => &mut m.data,
+            Matrix::Banded(m) => &mut m.data,
+            Matrix::Sparse(m) => &mut m.values,
+        };
+        d.iter_mut().for_each(|x| *x = 0.0);
+    }
+    /// Storage position of `(i, j)`, if structurally present.
+    #[inline]
+    fn position(&self, i: usize, j: usize) -> Option<usize> {
+        match self {
+            Matrix::Dense(m) => (i < m.n && j < m.n).then_some(j * m.n + i),
+            Matrix::Banded(m) => m.index(i, j),
+            Matrix::Sparse(m) => {
+                if j < m.pattern.n() {
+                    m.pattern.position(i, j)
+                } else {
+                    None
+                }
+            }
+        }
+    }
+    #[inline]
+    fn values_mut(&mut self) -> &mut [f64] {
+        match self {
+            Matrix::Dense(m) => &mut m.data,
+            Matrix::Banded(m) => &mut m.data,
+            Matrix::Sparse(m) => &mut m.values,
+        }
     }
     /// Adds `v` to entry `(i, j)`. Entries outside the pattern are a programmer error (panics in
     /// debug builds, ignored in release).
     pub fn add(&mut self, i: usize, j: usize, v: f64) {
-        let _ = (i, j, v);
-        unimplemented!("linalg work item")
+        match self.position(i, j) {
+            Some(k) => self.values_mut()[k] += v,
+            None => debug_assert!(false, "entry ({i}, {j}) is outside the matrix pattern"),
+        }
+    }
+    /// Overwrites entry `(i, j)` with `v` (same pattern rules as [`add`](Matrix::add)).
+    pub fn set(&mut self, i: usize, j: usize, v: f64) {
+        match self.position(i, j) {
+            Some(k) => self.values_mut()[k] = v,
+            None => debug_assert!(false, "entry ({i}, {j}) is outside the matrix pattern"),
+        }
     }
     /// Entry `(i, j)` (0 outside the pattern).
     pub fn get(&self, i: usize, j: usize) -> f64 {
-        let _ = (i, j);
-        unimplemented!("linalg work item")
+        match (self.position(i, j), self) {
+            (None, _) => 0.0,
+            (Some(k), Matrix::Dense(m)) => m.data[k],
+            (Some(k), Matrix::Banded(m)) => m.data[k],
+            (Some(k), Matrix::Sparse(m)) => m.values[k],
+        }
+    }
+    /// Rows that are structurally present in column `j`.
+    pub fn column_rows(&self, j: usize) -> Vec<usize> {
+        match self {
+            Matrix::Dense(m) => (0..m.n).collect(),
+            Matrix::Banded(m) => {
+                let (r0, r1) = m.col_range(j);
+                (r0..r1).collect()
+            }
+            Matrix::Sparse(m) => m.pattern.column(j).to_vec(),
+        }
     }
     /// `out = self · x`.
     pub fn mul_vec(&self, x: &[f64], out: &mut [f64]) {
-        let _ = (x, out);
-        unimplemented!("linalg work item")
+        let n = self.n();
+        assert!(x.len() == n && out.len() == n, "mul_vec dimension mismatch");
+        out.iter_mut().for_each(|o| *o = 0.0);
+        match self {
+            Matrix::Dense(m) => {
+                for (col, &xj) in m.data.chunks_exact(n.max(1)).zip(x) {
+                    for (o, &a) in out.iter_mut().zip(col) {
+                        *o += a * xj;
+                    }
+                }
+            }
+            Matrix::Banded(m) => {
+                let ld = m.ld();
+                let off = m.lower + m.upper;
+                for (j, &xj) in x.iter().enumerate() {
+                    let (r0, r1) = m.col_range(j);
+                    let base = j * ld + off - j;
+                    for i in r0..r1 {
+                        out[i] += m.data[base + i] * xj;
+                    }
+                }
+            }
+            Matrix::Sparse(m) => {
+                let (cp, ri) = (m.pattern.col_ptr(), m.pattern.row_idx());
+                for (j, &xj) in x.iter().enumerate() {
+                    for k in cp[j]..cp[j + 1] {
+                        out[ri[k]] += m.values[k] * xj;
+                    }
+                }
+            }
+        }
     }
     /// `self = a·self + b·other` (same pattern).
     pub fn axpby(&mut self, a: f64, b: f64, other: &Matrix) {
-        let _ = (a, b, other);
-        unimplemented!("linalg work item")
+        let same = match (&*self, other) {
+            (Matrix::Dense(p), Matrix::Dense(q)) => p.n == q.n,
+            (Matrix::Banded(p), Matrix::Banded(q)) => {
+                p.n == q.n && p.lower == q.lower && p.upper == q.upper
+            }
+            (Matrix::Sparse(p), Matrix::Sparse(q)) => {
+                Arc::ptr_eq(&p.pattern, &q.pattern) || p.pattern == q.pattern
+            }
+            _ => false,
+        };
+        assert!(same, "axpby: matrices have different patterns");
+        let src = match other {
+            Matrix::Dense(m) => &m.data,
+            Matrix::Banded(m) => &m.data,
+            Matrix::Sparse(m) => &m.values,
+        };
+        for (d, &s) in self.values_mut().iter_mut().zip(src) {
+            *d = a * *d + b * s;
+        }
     }
 }
 
 /// Pattern of the real `2n × 2n` "complex pair" matrix `[[A, -B], [B, A]]` with rows and
 /// columns interleaved (`2i` real part, `2i+1` imaginary part): banded `(l, u)` becomes banded
 /// `(2l+1, 2u+1)`, sparse becomes sparse with 2×2 blocks, dense stays dense.
+///
+/// ```
+/// use integrators::{linalg::complex_pair_pattern, Pattern};
+/// let p = complex_pair_pattern(10, &Pattern::Banded { lower: 1, upper: 2 });
+/// assert_eq!(p, Pattern::Banded { lower: 3, upper: 5 });
+/// ```
 pub fn complex_pair_pattern(n: usize, pattern: &Pattern) -> Pattern {
-    let _ = (n, pattern);
-    unimplemented!("linalg work item")
+    complex_pair::pattern(n, pattern)
 }
 
 /// Fills `out` (shaped by [`complex_pair_pattern`]) with the interleaved
 /// `[[a·J0 + α·J1, -β·J1], [β·J1, a·J0 + α·J1]]`, i.e. the real form of `(J0 + (α+iβ)·J1)`
 /// with `a = 1`. Used by Radau IIA for the complex eigenvalue pair of `A⁻¹`.
+///
+/// A complex right-hand side `b = p + i·q` is passed interleaved (`[p0, q0, p1, q1, …]`) and
+/// the solution comes back interleaved the same way.
 pub fn fill_complex_pair(j0: &Matrix, j1: &Matrix, alpha: f64, beta: f64, out: &mut Matrix) {
-    let _ = (j0, j1, alpha, beta, out);
-    unimplemented!("linalg work item")
+    complex_pair::fill(j0, j1, alpha, beta, out)
 }
 
 impl LinearSolver {
     /// A solver for `n × n` matrices with this pattern.
     pub fn new(n: usize, pattern: &Pattern) -> Self {
-        let _ = (n, pattern);
-        unimplemented!("linalg work item")
+        let inner = match pattern {
+            Pattern::Dense => Inner::Dense(dense::DenseLu::new(n)),
+            Pattern::Banded { lower, upper } => {
+                Inner::Banded(banded::BandLu::new(n, *lower, *upper))
+            }
+            Pattern::Sparse(p) => {
+                assert_eq!(p.n(), n, "sparse pattern dimension mismatch");
+                Inner::Sparse(sparse::SparseLu::new(Arc::clone(p)))
+            }
+        };
+        Self { inner }
     }
     /// Numeric LU factorisation (sparse: symbolic analysis on first call, reused after). Returns
-    /// `Err(column)` on a zero pivot.
+    /// `Err(column)` on a zero pivot (also for a non-finite pivot or matrix entry). After an
+    /// error the solver holds no valid factorisation until the next successful `factor`.
+    ///
+    /// Panics if `m` does not have the solver's pattern (programmer error).
     pub fn factor(&mut self, m: &Matrix) -> Result<(), usize> {
-        let _ = m;
-        unimplemented!("linalg work item")
+        match (&mut self.inner, m) {
+            (Inner::Dense(lu), Matrix::Dense(a)) => lu.factor(&a.data),
+            (Inner::Banded(lu), Matrix::Banded(a)) => lu.factor(a),
+            (Inner::Sparse(lu), Matrix::Sparse(a)) => lu.factor(&a.pattern, &a.values),
+            _ => panic!("LinearSolver::factor: matrix storage does not match the solver's pattern"),
+        }
     }
     /// Solves in place with the last factorisation.
+    ///
+    /// Panics if there is no successful factorisation (programmer error).
     pub fn solve_in_place(&self, b: &mut [f64]) {
-        let _ = b;
-        unimplemented!("linalg work item")
+        match &self.inner {
+            Inner::Dense(lu) => lu.solve(b),
+            Inner::Banded(lu) => lu.solve(b),
+            Inner::Sparse(lu) => lu.solve(b),
+        }
     }
     /// Whether the last `factor` created a new symbolic factorisation (for statistics).
     pub fn last_factor_was_symbolic(&self) -> bool {
-        unimplemented!("linalg work item")
+        match &self.inner {
+            Inner::Sparse(lu) => lu.last_symbolic,
+            _ => false,
+        }
+    }
+    /// Multiply–add count of the last banded factorisation (0 for other patterns); lets tests
+    /// check the O(n·l·(l+u)) cost without timing.
+    pub fn last_factor_flops(&self) -> usize {
+        match &self.inner {
+            Inner::Banded(lu) => lu.flops,
+            _ => 0,
+        }
     }
 }
+
+#[cfg(test)]
+mod tests;
