@@ -169,6 +169,7 @@ fn png_set_matches_the_figure_layout() {
         "profiles_pressure_K=1.png",
         "profiles_stretch_K=0.01.png",
         "profiles_position_K=10.png",
+        "profiles_deviation_K=10.png",
         "sweep_pressure.png",
         "sweep_stretch.png",
         "cells_discrete_K=1.png",

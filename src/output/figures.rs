@@ -10,7 +10,8 @@
 //! * `sweep_pressure.png`, `sweep_stretch.png` — `max p`/`min λ` at each profile time, and the
 //!   peaks and troughs over all series times, against the swept value (Figs 2.5c–d, 2.10c–d);
 //! * with `plots.position`: `profiles_position[_<value>].png` — `x` against `X` with the
-//!   uniform-strain line `x = (l/l₀)X` dashed (Fig 2.6);
+//!   uniform-strain line `x = (l/l₀)X` dashed (Fig 2.6), and `profiles_deviation[_<value>].png`
+//!   — `x − (l/l₀)X`, which makes a heterogeneous line's departure from it visible;
 //! * with `plots.rectangles`: `cells_<label>.png` — cell rectangles coloured by pressure, one
 //!   row per profile time (Fig 2.10e).
 
@@ -155,6 +156,7 @@ pub fn write_figures(
             vec![("pressure", "p", "pressure"), ("stretch", "λ", "stretch")];
         if scenario.plots.position {
             quantities.push(("position", "x", "current position"));
+            quantities.push(("deviation", "x − (l/l0)·X", "deviation from uniform strain"));
         }
         for (key, ylabel, what) in quantities {
             let mut curves = Vec::new();
@@ -166,12 +168,16 @@ pub fn write_figures(
                         ProfileAxis::Reference => &p.x_ref,
                         ProfileAxis::Current => &p.x,
                     };
-                    let ys = match key {
-                        "pressure" => &p.pressure,
-                        "stretch" => &p.stretch,
-                        _ => &p.x,
+                    let ys: Vec<f64> = match key {
+                        "pressure" => p.pressure.clone(),
+                        "stretch" => p.stretch.clone(),
+                        "deviation" => match strain_ratio(rec, p.t) {
+                            Some(r) => p.x.iter().zip(&p.x_ref).map(|(x, xr)| x - r * xr).collect(),
+                            None => continue,
+                        },
+                        _ => p.x.clone(),
                     };
-                    let pts = xs.iter().copied().zip(ys.iter().copied()).collect();
+                    let pts = xs.iter().copied().zip(ys).collect();
                     let label = format!("{} t={}", model_word(rec.model), format_number(p.t));
                     curves.push(Curve::new(label, style(rec.model), ti, pts));
                 }
@@ -288,12 +294,17 @@ fn uniform_line(g: &Group<'_>, t: f64) -> Option<Vec<(f64, f64)>> {
         .runs
         .iter()
         .find_map(|(r, _)| r.profiles.iter().find(|p| close(p.t, t)).map(|p| (*r, p)))?;
+    let ratio = strain_ratio(rec, t)?;
+    let (lo, hi) = (p.x_ref.first()?, p.x_ref.last()?);
+    Some(vec![(*lo, ratio * lo), (*hi, ratio * hi)])
+}
+
+/// `l(t)/l(0)` from a run's series (needs `t = 0` and `t` among the series times).
+fn strain_ratio(rec: &RunRecord, t: f64) -> Option<f64> {
     let s = &rec.series;
     let l0 = *s.length.first().filter(|_| s.t.first() == Some(&0.0))?;
     let k = s.t.iter().position(|st| close(*st, t))?;
-    let ratio = s.length[k] / l0;
-    let (lo, hi) = (p.x_ref.first()?, p.x_ref.last()?);
-    Some(vec![(*lo, ratio * lo), (*hi, ratio * hi)])
+    Some(s.length[k] / l0)
 }
 
 /// Curves of extremes against the swept value, per model: at each profile time, and over all
