@@ -363,3 +363,34 @@ fn nan_residual_returns_partial_solution() {
     assert!(fail.partial.t_last <= 1.0 && fail.partial.t_last > 0.999);
     assert!(fail.partial.stats.steps > 0);
 }
+
+#[test]
+fn all_stiff_methods_handle_a_resize_with_pattern_change() {
+    for kind in MethodKind::ALL.into_iter().filter(|k| k.is_stiff()) {
+        let rates0 = vec![0.5, 1.0, 2.0, 3.0];
+        let mut p = Dividing {
+            rates: rates0.clone(),
+            banded: true,
+            sizes: vec![],
+        };
+        let t_out = [0.5, 1.5, 2.0];
+        let sol = Solver::new(kind, tight())
+            .solve(&mut p, 0.0, &[1.0; 4], &t_out)
+            .unwrap_or_else(|e| panic!("{kind}: {e}"));
+        assert_eq!(sol.stats.resizes, 1, "{kind}");
+        assert!((sol.events[0].t - 1.0).abs() < 1e-10, "{kind}");
+        // the resize must not degrade accuracy: errors after it (t = 1.5, 2) stay at the level
+        // the method reaches before it (t = 0.5) on this problem
+        let errs: Vec<f64> = t_out
+            .iter()
+            .enumerate()
+            .map(|(k, &t)| max_abs_diff(&sol.y[k], &dividing_exact(&rates0, t)))
+            .collect();
+        eprintln!("{kind}: errors {errs:?} {:?}", sol.stats);
+        let before = errs[0].max(1e-10);
+        for &e in &errs[1..] {
+            assert!(e < 3.0 * before, "{kind}: {errs:?}");
+        }
+        assert!(errs[0] < 1e-6, "{kind}: {errs:?}");
+    }
+}
