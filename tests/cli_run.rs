@@ -159,3 +159,84 @@ fn set_overrides_reach_the_run() {
     assert_eq!(runs[0]["parameters"]["solver"]["method"], "radau");
     assert_eq!(runs[0]["parameters"]["K"], 0.5);
 }
+
+/// Runs `text` as a scenario file; returns the parsed summary.json (asserting exit code 0).
+fn run_text(name: &str, text: &str) -> (PathBuf, serde_json::Value) {
+    let dir = tmp(name);
+    let file = dir.join("s.toml");
+    std::fs::write(&file, text).unwrap();
+    let out = bin()
+        .arg("run")
+        .arg(&file)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .arg("-q")
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v = serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap())
+        .unwrap();
+    (dir.join("out"), v)
+}
+
+#[test]
+fn sheet_and_shear_scenarios_run() {
+    let (dir, v) = run_text(
+        "cli_run_sheet",
+        r#"
+name = "sheet"
+[output]
+series = [0, 1, 2]
+profiles = [2]
+[model]
+kind = "sheet"
+models = ["discrete", "continuum"]
+nodes = [6, 4]
+cells_x = 4
+cells_y = 3
+"#,
+    );
+    let runs = v["runs"].as_array().unwrap();
+    assert_eq!(runs.len(), 2);
+    for r in runs {
+        assert!(r.get("error").is_none(), "{r}");
+        for key in [
+            "mean_pressure",
+            "mean_height",
+            "mean_stretch_z_over_y",
+            "boundary_mismatch_mean",
+        ] {
+            assert_eq!(
+                r["series"][key].as_array().map(|a| a.len()),
+                Some(3),
+                "{key}"
+            );
+        }
+        assert_eq!(r["parameters"]["energy"]["law"], "neo_hookean");
+    }
+    assert!(dir.join("series_mean_pressure.png").exists());
+    let (_, v) = run_text(
+        "cli_run_shear",
+        r#"
+name = "shear"
+[output]
+series = [0, 1, 2]
+[model]
+kind = "shear"
+nodes = 8
+cells = 4
+force = 1.0
+"#,
+    );
+    for r in v["runs"].as_array().unwrap() {
+        assert!(r.get("error").is_none(), "{r}");
+        let top = r["series"]["top_displacement"].as_array().unwrap();
+        assert_eq!(top.len(), 3);
+        assert!(top[2].as_f64().unwrap() > top[1].as_f64().unwrap());
+    }
+}

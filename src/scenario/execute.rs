@@ -101,6 +101,14 @@ pub fn finish(spec: &RunSpec, rec: &mut RunRecord) {
     if let serde_json::Value::Object(m) = &mut rec.parameters {
         // absent options are left out rather than written as `null` (which reads like a NaN)
         m.retain(|_, v| !v.is_null());
+        // the scenario's configuration fills keys the model did not report (e.g. `energy`)
+        if let serde_json::Value::Object(cfg) = spec.config.to_json() {
+            for (k, v) in cfg {
+                if !v.is_null() {
+                    m.entry(k).or_insert(v);
+                }
+            }
+        }
         m.insert("kind".into(), spec.config.kind().into());
         if let Some(n) = spec.nodes {
             m.entry("nodes").or_insert(n.into());
