@@ -63,6 +63,15 @@ impl fmt::Debug for Ramp {
 }
 
 impl Ramp {
+    /// Times where `l` is not smooth (the polynomial ramp's end, where `l̈` jumps). Integrators
+    /// must not step across them: [`crate::line::run::integrate`] restarts there.
+    pub fn breakpoints(&self) -> Vec<f64> {
+        match self {
+            Ramp::Polynomial { t_ramp, .. } => vec![*t_ramp],
+            _ => Vec::new(),
+        }
+    }
+
     /// `(l(t), l̇(t))`.
     #[inline]
     pub fn eval(&self, t: f64) -> (f64, f64) {

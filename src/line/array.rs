@@ -217,6 +217,23 @@ impl<E: StrainEnergy> Line<E> {
         }
     }
 
+    /// Human-readable name of unknown `k`: `"x_j (boundary between cells j and j+1)"` or
+    /// `"g_j (growth of cell j)"`.
+    pub fn unknown_name(&self, k: usize) -> String {
+        let n = self.n_cells();
+        if let Some(j) = self.layout.gi.iter().position(|&g| g == k) {
+            return format!("g_{} (growth stretch of cell {})", j + 1, j + 1);
+        }
+        if let Some(b) = self.layout.xi.iter().position(|&x| x == k) {
+            return match b {
+                0 => "x_0 (ring seam, between cells N and 1)".to_string(),
+                b if b == n => format!("x_{n} (free right end of cell {n})"),
+                b => format!("x_{b} (boundary between cells {b} and {})", b + 1),
+            };
+        }
+        format!("unknown {k}")
+    }
+
     /// The unknown to blame for cell `j` (1-based): its right boundary, else left, else `g`.
     fn blame(&self, j: usize) -> Option<usize> {
         [

@@ -19,28 +19,10 @@ use super::build::LineParams;
 use super::LineError;
 use crate::boundary::{Ramp, RampKind, RightEnd};
 use crate::cell::{Active, Field, Sampling, TanhGrowth};
-use crate::energy::{MooneyRivlin, NeoHookean, Ogden};
+use crate::energy::{AnyEnergy, NeoHookean};
 use crate::substrate::{DragForm, WidthRule};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
-
-/// The strain energy of the line's cells (scaled per cell by the `mu` field).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case")]
-pub enum LineLaw {
-    /// Neo-Hookean `{ type = "neo_hookean", mu = 1 }`.
-    NeoHookean(NeoHookean),
-    /// Mooney–Rivlin `{ type = "mooney_rivlin", c1, c2 }`.
-    MooneyRivlin(MooneyRivlin),
-    /// Ogden `{ type = "ogden", terms = [[mu_p, alpha_p], ...] }`.
-    Ogden(Ogden),
-}
-
-impl Default for LineLaw {
-    fn default() -> Self {
-        LineLaw::NeoHookean(NeoHookean::new(1.0).expect("valid"))
-    }
-}
 
 /// The right-end condition named in a scenario.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -117,8 +99,9 @@ pub struct LineConfig {
     pub active_amplitude: Field,
     /// Growth `{ sigma0, gm }` (absent = no growth).
     pub growth: Option<GrowthConfig>,
-    /// The strain energy.
-    pub law: LineLaw,
+    /// The strain energy, e.g. `law = { law = "neo_hookean", mu = 1 }` (any [`AnyEnergy`];
+    /// scaled per cell by `mu`).
+    pub law: AnyEnergy,
     /// Continuum discretisation used when the continuum model is run.
     pub continuum_scheme: ContinuumScheme,
 }
@@ -147,7 +130,7 @@ impl Default for LineConfig {
             active: None,
             active_amplitude: Field::Constant(1.0),
             growth: None,
-            law: LineLaw::default(),
+            law: AnyEnergy::NeoHookean(NeoHookean::new(1.0).expect("valid")),
             continuum_scheme: ContinuumScheme::Conservative,
         }
     }

@@ -6,13 +6,13 @@
 //! `error: Some(message)`; outputs never contain NaN.
 
 use super::array::Line;
-use super::config::{ContinuumScheme, LineConfig, LineLaw};
+use super::config::{ContinuumScheme, LineConfig};
 use super::observe::Snapshot;
 use super::thesis_scheme::ThesisLine;
 use crate::array::{ArrayProblem, CellArray};
 use crate::energy::StrainEnergy;
 use crate::observe::{ModelKind, RunRecord, RunStats, Series};
-use integrators::{MethodKind, Options, ResidualError, Stats};
+use integrators::{MethodKind, Options, ResidualError, Solver, Stats};
 use std::time::Instant;
 
 /// Integrator choice and tolerances. `atol` is in cell units: positions get `atol × L₀`
@@ -71,6 +71,14 @@ pub trait LineModel: CellArray {
     fn initial_derivative_guess(&self) -> Vec<f64>;
     /// Per-cell (per-node) quantities at `(t, y, ẏ)`.
     fn observe(&self, t: f64, y: &[f64], yp: &[f64]) -> Result<Snapshot, ResidualError>;
+    /// Human-readable name of unknown `k` (e.g. "x_99, the boundary between cells 99 and 100").
+    fn unknown_name(&self, k: usize) -> String {
+        format!("unknown {k}")
+    }
+    /// Times where the forcing is not smooth; integration restarts there.
+    fn breakpoints(&self) -> Vec<f64> {
+        Vec::new()
+    }
 }
 
 impl<E: StrainEnergy> LineModel for Line<E> {
@@ -83,58 +91,138 @@ impl<E: StrainEnergy> LineModel for Line<E> {
     fn observe(&self, t: f64, y: &[f64], yp: &[f64]) -> Result<Snapshot, ResidualError> {
         self.snapshot(t, y, yp)
     }
+    fn unknown_name(&self, k: usize) -> String {
+        Line::unknown_name(self, k)
+    }
+    fn breakpoints(&self) -> Vec<f64> {
+        match &self.right {
+            crate::boundary::RightEnd::Prescribed(r) => r.breakpoints(),
+            _ => Vec::new(),
+        }
+    }
 }
 
-/// States at output times produced by an integration (possibly partial).
+/// What an integration produced at its output times (possibly partial).
 #[derive(Clone, Debug, Default)]
 pub struct Trajectory {
-    /// Output times reached.
-    pub t: Vec<f64>,
-    /// States.
-    pub y: Vec<Vec<f64>>,
-    /// Derivatives.
-    pub yp: Vec<Vec<f64>>,
+    /// Observations at the output times reached (taken inside the solver's observer, so they
+    /// follow the array through resizes).
+    pub snapshots: Vec<Snapshot>,
+    /// Final state.
+    pub y_last: Vec<f64>,
     /// Work counters.
     pub stats: Stats,
-    /// Error message if the solve failed.
+    /// Error message if the solve (or an observation) failed.
     pub error: Option<String>,
 }
 
-/// Integrates `model` from `t = 0` to the output times `t_out` (increasing, may start at 0).
-/// Errors that name an unknown are translated to the cell by the caller's message.
+/// Integrates `problem` from `t = 0` and observes it at the output times `t_out` (increasing,
+/// `≥ 0`). Solver failures become `error` with the unknown translated into the cell or boundary.
+///
+/// ```no_run
+/// use celltissue::line::build::{LineParams, discrete};
+/// use celltissue::line::run::{integrate, SolveSettings};
+/// use celltissue::{ArrayProblem, NeoHookean};
+/// let mut p = LineParams::unit_cells(100);
+/// p.k = 1.0.into();
+/// let mut prob = ArrayProblem::new(discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap());
+/// let traj = integrate(&mut prob, &SolveSettings::default(), &[0.0, 1.0]);
+/// assert!(traj.error.is_none());
+/// ```
 pub fn integrate<A: LineModel>(
     problem: &mut ArrayProblem<A>,
     settings: &SolveSettings,
     t_out: &[f64],
 ) -> Trajectory {
-    let y0 = problem.array.initial_state();
     let opts = Options {
         rtol: settings.rtol,
         atol: settings.atol,
         ..Default::default()
     };
-    crate::line::run::solver_glue::solve(problem, settings.method, opts, &y0, t_out)
+    let solver = Solver::new(settings.method, opts);
+    let t_end = t_out.last().copied().unwrap_or(0.0);
+    // integrate piecewise between the forcing's breakpoints (restart with a consistent ẏ)
+    let mut stops: Vec<f64> = problem
+        .array
+        .breakpoints()
+        .into_iter()
+        .filter(|&b| b > 0.0 && b < t_end)
+        .collect();
+    stops.push(t_end);
+    let mut traj = Trajectory::default();
+    let mut y = problem.array.initial_state();
+    let mut t0 = 0.0;
+    for (seg, &stop) in stops.iter().enumerate() {
+        let mut outs: Vec<f64> = t_out
+            .iter()
+            .copied()
+            .filter(|&t| (t > t0 || (seg == 0 && t >= t0)) && t <= stop)
+            .collect();
+        let requested_stop = outs.last() == Some(&stop);
+        if !requested_stop {
+            outs.push(stop);
+        }
+        let mut obs_error: Option<String> = None;
+        let snaps = &mut traj.snapshots;
+        let result = solver.solve_with(problem, t0, &y, &outs, |p, t, y, yp| {
+            if obs_error.is_some() || (t == stop && !requested_stop) {
+                return;
+            }
+            match p.array.observe(t, y, yp) {
+                Ok(s) => snaps.push(s),
+                Err(e) => {
+                    obs_error = Some(format!("observation at t = {t} failed: {}", reason(&e)))
+                }
+            }
+        });
+        match result {
+            Ok(sol) => {
+                add_stats(&mut traj.stats, &sol.stats);
+                y = sol.y_last;
+                t0 = sol.t_last;
+            }
+            Err(f) => {
+                add_stats(&mut traj.stats, &f.partial.stats);
+                let mut msg = f.error.to_string();
+                if let Some(k) = f.error.component {
+                    if k < problem.array.dim() {
+                        msg.push_str(&format!(" [{}]", problem.array.unknown_name(k)));
+                    }
+                }
+                traj.y_last = f.partial.y_last.clone();
+                traj.error = Some(msg);
+                return traj;
+            }
+        }
+        if obs_error.is_some() {
+            traj.error = obs_error;
+            break;
+        }
+    }
+    traj.y_last = y;
+    traj
 }
 
-/// The bridge to the `integrators` driver (one place to adapt if its API changes).
-pub(crate) mod solver_glue {
-    use super::{LineModel, Trajectory};
-    use crate::array::ArrayProblem;
-    use integrators::{MethodKind, Options};
+fn add_stats(a: &mut Stats, b: &Stats) {
+    a.steps += b.steps;
+    a.rejected_steps += b.rejected_steps;
+    a.error_test_failures += b.error_test_failures;
+    a.newton_failures += b.newton_failures;
+    a.residual_calls += b.residual_calls;
+    a.directional_calls += b.directional_calls;
+    a.jacobian_evals += b.jacobian_evals;
+    a.factorizations += b.factorizations;
+    a.symbolic_factorizations += b.symbolic_factorizations;
+    a.linear_solves += b.linear_solves;
+    a.newton_iterations += b.newton_iterations;
+    a.events += b.events;
+    a.resizes += b.resizes;
+}
 
-    /// Runs the integrator; returns what was computed.
-    pub fn solve<A: LineModel>(
-        problem: &mut ArrayProblem<A>,
-        method: MethodKind,
-        opts: Options,
-        y0: &[f64],
-        t_out: &[f64],
-    ) -> Trajectory {
-        let _ = (problem, method, opts, y0, t_out);
-        Trajectory {
-            error: Some("integrators::Solver is not available yet".into()),
-            ..Default::default()
-        }
+fn reason(e: &ResidualError) -> String {
+    match e {
+        ResidualError::Recoverable { reason, .. } => reason.clone(),
+        ResidualError::Fatal(m) => m.clone(),
     }
 }
 
@@ -194,11 +282,7 @@ pub fn run_line(
         rec.error = Some(format!("output time {bad} must be finite and >= 0"));
         return rec;
     }
-    match &cfg.law {
-        LineLaw::NeoHookean(e) => run_with_law(cfg, *e, model, nodes, solver, times, &mut rec),
-        LineLaw::MooneyRivlin(e) => run_with_law(cfg, *e, model, nodes, solver, times, &mut rec),
-        LineLaw::Ogden(e) => run_with_law(cfg, e.clone(), model, nodes, solver, times, &mut rec),
-    }
+    run_with_law(cfg, cfg.law.clone(), model, nodes, solver, times, &mut rec);
     rec
 }
 
@@ -260,33 +344,21 @@ pub fn run_model<A: LineModel>(
         .collect(),
     };
     rec.error = traj.error.clone();
-    record(&problem.array, &traj, times, rec);
+    record(&traj, times, rec);
 }
 
-/// Fills series and profiles from a trajectory (skips any non-finite snapshot and reports it).
-pub fn record<A: LineModel>(
-    array: &A,
-    traj: &Trajectory,
-    times: &OutputTimes,
-    rec: &mut RunRecord,
-) {
+/// Fills series and profiles from a trajectory's snapshots (stops at the first non-finite one
+/// and reports it, so records never contain NaN).
+pub fn record(traj: &Trajectory, times: &OutputTimes, rec: &mut RunRecord) {
     let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * (1.0 + a.abs());
-    let mut extra_names: Vec<&str> = vec!["end_reaction", "mean_alpha"];
-    for (k, &t) in traj.t.iter().enumerate() {
-        let snap = match array.observe(t, &traj.y[k], &traj.yp[k]) {
-            Ok(s) => s,
-            Err(e) => {
-                if rec.error.is_none() {
-                    rec.error = Some(format!("observation at t = {t} failed: {e:?}"));
-                }
-                break;
-            }
-        };
+    for snap in &traj.snapshots {
+        let t = snap.t;
         let finite = snap
             .pressure
             .iter()
             .chain(&snap.alpha)
             .chain(&snap.x)
+            .chain(&snap.sigma)
             .all(|v| v.is_finite());
         if !finite {
             if rec.error.is_none() {
@@ -302,29 +374,22 @@ pub fn record<A: LineModel>(
             s.min_pressure.push(snap.min_pressure());
             s.max_stretch.push(snap.max_stretch());
             s.min_stretch.push(snap.min_stretch());
-            let mean_alpha = snap.alpha.iter().sum::<f64>() / snap.alpha.len() as f64;
-            s.extra
-                .entry("end_reaction".into())
-                .or_default()
-                .push(snap.end_reaction());
-            s.extra
-                .entry("mean_alpha".into())
-                .or_default()
-                .push(mean_alpha);
-            s.extra.entry("x0".into()).or_default().push(snap.x[0]);
-            if snap.g.iter().any(|&g| g != 1.0) {
-                let mean_g = snap.g.iter().sum::<f64>() / snap.g.len() as f64;
-                s.extra.entry("mean_g".into()).or_default().push(mean_g);
-                extra_names.push("mean_g");
-            }
+            let n = snap.alpha.len() as f64;
+            let mut push = |k: &str, v: f64| s.extra.entry(k.to_string()).or_default().push(v);
+            push("end_reaction", snap.end_reaction());
+            push("mean_alpha", snap.alpha.iter().sum::<f64>() / n);
+            push("x0", snap.x[0]);
+            push("cells", n);
+            push("mean_g", snap.g.iter().sum::<f64>() / n);
+            push(
+                "min_g",
+                snap.g.iter().copied().fold(f64::INFINITY, f64::min),
+            );
         }
         if times.profiles.iter().any(|&s| close(s, t)) {
             rec.profiles.push(snap.profile());
         }
     }
-    // keep every extra series aligned with `t`
-    let n = rec.series.t.len();
-    rec.series.extra.retain(|_, v| v.len() == n);
 }
 
 /// Runs with the thesis parameters for a quick check (used by docs and tests).

@@ -217,11 +217,11 @@ pub fn static_equilibrium<E: StrainEnergy>(
 
 /// Newton solve of the static problem `F(t, y, 0) = 0` for a line without growth, from the
 /// guess `y` (e.g. [`Line::initial_state`]); damped so every iterate keeps all cells positive.
-/// Returns the converged unknowns (`max |ΔF|` below `tol` times the largest stress scale).
+/// Returns the converged unknowns: `max |F| ≤ tol`, or a Newton step at round-off level.
 pub fn static_newton<E: StrainEnergy>(
     line: &Line<E>,
     t: f64,
-    y: &[f64],
+    guess: Option<&[f64]>,
     tol: f64,
 ) -> Result<Vec<f64>, LineError> {
     if line.is_growing() {
@@ -237,8 +237,22 @@ pub fn static_newton<E: StrainEnergy>(
             ))
         }
     };
+    let mut y = match guess {
+        Some(g) => g.to_vec(),
+        None => {
+            let y0 = line.initial_state();
+            let z0 = vec![0.0; y0.len()];
+            let nc = line.n_cells();
+            let end = line.boundary(nc, t, &y0, &z0).0;
+            let scale = if line.right.is_free() {
+                1.0
+            } else {
+                end / line.l0_total
+            };
+            y0.iter().map(|v| v * scale).collect()
+        }
+    };
     let n = y.len();
-    let mut y = y.to_vec();
     let zero = vec![0.0; n];
     let mut r = vec![0.0; n];
     let res =
@@ -271,6 +285,11 @@ pub fn static_newton<E: StrainEnergy>(
         band_solve(&mut band, n, lower, upper, &mut dy).ok_or_else(|| {
             LineError::Combination("static_newton: singular static Jacobian".into())
         })?;
+        // converged to round-off: the Newton step is below the positions' resolution
+        let ymax = y.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+        if dy.iter().all(|d| d.abs() <= 4.0 * f64::EPSILON * ymax) {
+            return Ok(y);
+        }
         // damping: keep residual evaluable and decreasing
         let mut step = 1.0;
         loop {
