@@ -1,0 +1,69 @@
+//! Table 2.1 (MODEL.md §5.3): the thesis's finite-difference scheme (§3.3b) with K = 1, η = 0,
+//! exponential ramp, l₀ = 100: end pressure p at the last node at t = 1 (the caption's t = 10
+//! is a typo) against Ref for n = 10..2000, rtol 2e-3, and second-order convergence. Also the
+//! discrete N = 100 line at t = 1 (Ref p_N = 13.4257, min λ = 0.2729).
+
+use celltissue::line::config::ContinuumScheme;
+use celltissue::line::{run_line, LineConfig, OutputTimes, SolveSettings};
+use celltissue::observe::ModelKind;
+
+fn end_pressure(model: ModelKind, nodes: Option<usize>) -> (f64, f64) {
+    let cfg = LineConfig {
+        k: 1.0.into(),
+        continuum_scheme: ContinuumScheme::Thesis,
+        ..Default::default()
+    };
+    let times = OutputTimes {
+        series: vec![0.0, 1.0],
+        profiles: vec![1.0],
+    };
+    let s = SolveSettings {
+        rtol: 1e-9,
+        atol: 1e-11,
+        ..Default::default()
+    };
+    let rec = run_line(&cfg, model, nodes, &s, &times);
+    assert!(rec.error.is_none(), "{:?}", rec.error);
+    let p = &rec.profiles[0].pressure;
+    (*p.last().unwrap(), rec.series.min_stretch[1])
+}
+
+#[test]
+fn thesis_scheme_reproduces_table_2_1() {
+    let table = [
+        (10, 29.4734),
+        (50, 14.7500),
+        (100, 14.0820),
+        (200, 13.9542),
+        (500, 13.9213),
+        (1000, 13.9167),
+        (2000, 13.9156),
+    ];
+    let mut errs = Vec::new();
+    for &(n, r) in &table {
+        let (p, _) = end_pressure(ModelKind::Continuum, Some(n));
+        let rel = (p - r).abs() / r;
+        println!("n = {n}: p = {p:.5} Ref {r} rel {rel:.2e}");
+        assert!(rel < 2e-3, "n = {n}: p = {p} vs Ref {r}");
+        errs.push((n, p));
+    }
+    // second order: successive differences to the n = 2000 value fall ~ 4× per doubling
+    let pinf = errs.last().unwrap().1;
+    let e100 = (errs[2].1 - pinf).abs();
+    let e200 = (errs[3].1 - pinf).abs();
+    let e500 = (errs[4].1 - pinf).abs();
+    let order = (e100 / e500).ln() / (5.0f64).ln();
+    println!(
+        "observed order (100→500 vs 2000): {order:.2}, e100/e200 = {:.2}",
+        e100 / e200
+    );
+    assert!(order > 1.7 && order < 2.6, "order {order}");
+}
+
+#[test]
+fn discrete_n100_end_pressure_at_t1() {
+    let (p, lmin) = end_pressure(ModelKind::Discrete, None);
+    println!("discrete: p_N = {p:.5} (Ref 13.4257), min λ = {lmin:.5} (Ref 0.2729)");
+    assert!((p - 13.4257).abs() / 13.4257 < 1e-4, "{p}");
+    assert!((lmin - 0.2729).abs() < 1e-4, "{lmin}");
+}
