@@ -3,9 +3,9 @@
 //! `γ₀ = β₀ = 1`, `K_th = 1` (boundary-form `K = ½`), `m = 0`, `k₁ = 0.1`, exponential ramp,
 //! free top; shear `F_A = 1`.
 //!
-//! The strain-energy law is not part of these configs: it is shared by every model of a
-//! scenario, so it is passed to [`super::run_sheet`] / [`super::run_shear`] as any
-//! [`crate::StrainEnergy`].
+//! Each config carries a `law` ([`AnyEnergy`], default neo-Hookean `μ = 1`); the run functions
+//! take the law as a separate generic argument so that any [`crate::StrainEnergy`] (also
+//! user-written ones) can be used: pass `&cfg.law` for the configured one.
 //!
 //! ```
 //! use celltissue::sheet::SheetConfig;
@@ -18,6 +18,7 @@
 use super::ramp::Ramp;
 use super::shear::ShearParams;
 use super::uniaxial::SheetParams;
+use crate::energy::{AnyEnergy, NeoHookean};
 use integrators::{MethodKind, Options};
 use serde::{Deserialize, Serialize};
 
@@ -68,7 +69,12 @@ fn need(ok: bool, key: &str, value: impl ToString, expected: &str) -> Result<(),
 }
 
 fn pos(key: &str, v: f64) -> Result<(), ConfigError> {
-    need(v > 0.0 && v.is_finite(), key, v, "must be positive and finite")
+    need(
+        v > 0.0 && v.is_finite(),
+        key,
+        v,
+        "must be positive and finite",
+    )
 }
 
 fn drag_from(k_th: Option<f64>, drag: Option<f64>) -> f64 {
@@ -122,6 +128,13 @@ pub struct SheetConfig {
     pub ramp: Ramp,
     /// `"free"` (default) or `"periodic"` side.
     pub top: TopBoundary,
+    /// Strain energy, e.g. `law = { law = "mooney_rivlin", c1 = 0.3, c2 = 0.2 }` (default
+    /// neo-Hookean `μ = 1`).
+    pub law: AnyEnergy,
+}
+
+fn default_law() -> AnyEnergy {
+    AnyEnergy::NeoHookean(NeoHookean::new(1.0).expect("valid modulus"))
 }
 
 impl Default for SheetConfig {
@@ -137,6 +150,7 @@ impl Default for SheetConfig {
             k1: 0.1,
             ramp: Ramp::default(),
             top: TopBoundary::Free,
+            law: default_law(),
         }
     }
 }
@@ -160,7 +174,12 @@ impl SheetConfig {
             self.drag_exponent,
             "must be >= 0 and finite (thesis: 0 or 1)",
         )?;
-        need(self.k1 > -1.0 && self.k1 < 1.0, "k1", self.k1, "must be in (-1, 1)")?;
+        need(
+            self.k1 > -1.0 && self.k1 < 1.0,
+            "k1",
+            self.k1,
+            "must be in (-1, 1)",
+        )?;
         pos("ramp.t_ramp", self.ramp.t_ramp())?;
         need(
             !(self.top == TopBoundary::Periodic && self.drag() == 0.0),
@@ -205,6 +224,8 @@ pub struct ShearConfig {
     pub force: f64,
     /// `"edge"` (default, canonical) or `"cell_centre"` (thesis form, discrete only).
     pub form: ShearForm,
+    /// Strain energy (default neo-Hookean `μ = 1`).
+    pub law: AnyEnergy,
 }
 
 impl Default for ShearConfig {
@@ -217,6 +238,7 @@ impl Default for ShearConfig {
             drag: None,
             force: 1.0,
             form: ShearForm::Edge,
+            law: default_law(),
         }
     }
 }
@@ -233,7 +255,12 @@ impl ShearConfig {
         pos("gamma0", self.gamma0)?;
         pos("beta0", self.beta0)?;
         check_drag(self.k_th, self.drag, false)?;
-        need(self.force.is_finite(), "force", self.force, "must be finite")?;
+        need(
+            self.force.is_finite(),
+            "force",
+            self.force,
+            "must be finite",
+        )?;
         Ok(())
     }
 

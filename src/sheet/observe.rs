@@ -196,7 +196,11 @@ pub struct ShearObservables {
 
 /// Shear observables from the per-cell fields.
 pub fn shear_observables(t: f64, f: &ShearFields) -> ShearObservables {
-    let mx = f.tan_theta.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    let mx = f
+        .tan_theta
+        .iter()
+        .cloned()
+        .fold(f64::NEG_INFINITY, f64::max);
     let mn = f.tan_theta.iter().cloned().fold(f64::INFINITY, f64::min);
     ShearObservables {
         t,

@@ -55,7 +55,11 @@ fn colour(s: f64) -> RGBColor {
         (0.75, [94.0, 201.0, 98.0]),
         (1.0, [253.0, 231.0, 37.0]),
     ];
-    let s = if s.is_finite() { s.clamp(0.0, 1.0) } else { 0.0 };
+    let s = if s.is_finite() {
+        s.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     let i = STOPS.iter().position(|(p, _)| *p >= s).unwrap_or(4).max(1);
     let (p0, c0) = STOPS[i - 1];
     let (p1, c1) = STOPS[i];

@@ -21,7 +21,7 @@ use super::{plot, vtk};
 use crate::array::{ArrayProblem, CellArray};
 use crate::energy::StrainEnergy;
 use crate::observe::{ModelKind, RunRecord, RunStats, Series};
-use integrators::{SolveFailure, Solution, Solver, Stats};
+use integrators::{Solution, SolveFailure, Solver, Stats};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -79,7 +79,12 @@ fn cfg_err(key: &str, value: impl ToString, expected: &str) -> RunError {
 
 /// All output times (series ∪ profiles), sorted and deduplicated, after checking them.
 fn all_times(out: &Outputs) -> Result<Vec<f64>, RunError> {
-    let mut t: Vec<f64> = out.times.iter().chain(&out.profile_times).copied().collect();
+    let mut t: Vec<f64> = out
+        .times
+        .iter()
+        .chain(&out.profile_times)
+        .copied()
+        .collect();
     if let Some(bad) = t.iter().find(|v| !(v.is_finite() && **v >= 0.0)) {
         return Err(RunError::Outputs(format!(
             "output time {bad} must be finite and >= 0"
@@ -236,11 +241,10 @@ pub fn run_sheet<E: StrainEnergy>(
                 pvd.push((*t, name));
                 let png = d.join(format!("{prefix}_pressure_{i:04}.png"));
                 let title = format!("pressure, t = {t}");
-                plot::write_sheet_png(&png, &cells, &title, None)
-                    .map_err(|e| RunError::Io {
-                        path: png.clone(),
-                        source: std::io::Error::other(e.to_string()),
-                    })?;
+                plot::write_sheet_png(&png, &cells, &title, None).map_err(|e| RunError::Io {
+                    path: png.clone(),
+                    source: std::io::Error::other(e.to_string()),
+                })?;
             }
         }
     }

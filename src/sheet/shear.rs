@@ -124,7 +124,13 @@ pub enum ShearBuildError {
 }
 
 fn check_params(p: &ShearParams, m: usize) -> Result<(), ShearBuildError> {
-    let bad = |key, value, expected| Err(ShearBuildError::Range { key, value, expected });
+    let bad = |key, value, expected| {
+        Err(ShearBuildError::Range {
+            key,
+            value,
+            expected,
+        })
+    };
     if p.cells < 1 {
         return bad("cells", p.cells as f64, ">= 1");
     }
@@ -224,7 +230,13 @@ impl<E: StrainEnergy> CellArray for ShearColumn<E> {
         Pattern::Banded { lower: 1, upper: 1 }
     }
 
-    fn residual<S: Scalar>(&self, _t: f64, y: &[S], yp: &[S], r: &mut [S]) -> Result<(), ResidualError> {
+    fn residual<S: Scalar>(
+        &self,
+        _t: f64,
+        y: &[S],
+        yp: &[S],
+        r: &mut [S],
+    ) -> Result<(), ResidualError> {
         let m = self.m;
         let b0 = self.params.beta0;
         let inv_h = 1.0 / self.h;
@@ -308,7 +320,13 @@ impl<E: StrainEnergy> CellArray for ShearCellCentre<E> {
         Pattern::Dense
     }
 
-    fn residual<S: Scalar>(&self, _t: f64, y: &[S], yp: &[S], r: &mut [S]) -> Result<(), ResidualError> {
+    fn residual<S: Scalar>(
+        &self,
+        _t: f64,
+        y: &[S],
+        yp: &[S],
+        r: &mut [S],
+    ) -> Result<(), ResidualError> {
         let m = self.params.cells;
         let b0 = self.params.beta0;
         let xe = Self::edges(y);

@@ -13,8 +13,8 @@
 //! `D κ ẏ_b(j,m) = −H L σ₂₂(j,m)` with the top cell's own `H`, `L`.
 
 use super::config::TopBoundary;
-use super::ramp::Ramp;
 use super::lift2;
+use super::ramp::Ramp;
 use crate::array::CellArray;
 use crate::energy::{SheetResponse, StrainEnergy};
 use crate::scalar::Scalar;
@@ -140,7 +140,12 @@ pub enum SheetBuildError {
     },
 }
 
-fn check(ok: bool, key: &'static str, value: f64, expected: &'static str) -> Result<(), SheetBuildError> {
+fn check(
+    ok: bool,
+    key: &'static str,
+    value: f64,
+    expected: &'static str,
+) -> Result<(), SheetBuildError> {
     if ok {
         Ok(())
     } else {
@@ -161,16 +166,36 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
     /// The conservative continuum scheme on an `n × m` grid (MODEL.md §4.3): reference cells
     /// `h_X = N/n`, `h_Y = Mγ₀/m`, per-face drag `K h_X h_Y/γ₀`. With `n = N`, `m = M` this is the
     /// discrete model.
-    pub fn continuum(law: E, params: &SheetParams, n: usize, m: usize) -> Result<Self, SheetBuildError> {
+    pub fn continuum(
+        law: E,
+        params: &SheetParams,
+        n: usize,
+        m: usize,
+    ) -> Result<Self, SheetBuildError> {
         let p = params;
         check(p.cells_x >= 1, "cells_x", p.cells_x as f64, ">= 1")?;
         check(p.cells_y >= 1, "cells_y", p.cells_y as f64, ">= 1")?;
         check(n >= 1, "grid n", n as f64, ">= 1")?;
         check(m >= 1, "grid m", m as f64, ">= 1")?;
-        check(p.gamma0 > 0.0 && p.gamma0.is_finite(), "gamma0", p.gamma0, "> 0")?;
-        check(p.beta0 > 0.0 && p.beta0.is_finite(), "beta0", p.beta0, "> 0")?;
+        check(
+            p.gamma0 > 0.0 && p.gamma0.is_finite(),
+            "gamma0",
+            p.gamma0,
+            "> 0",
+        )?;
+        check(
+            p.beta0 > 0.0 && p.beta0.is_finite(),
+            "beta0",
+            p.beta0,
+            "> 0",
+        )?;
         check(p.drag >= 0.0 && p.drag.is_finite(), "drag", p.drag, ">= 0")?;
-        check(p.drag_exponent.is_finite(), "drag_exponent", p.drag_exponent, "finite")?;
+        check(
+            p.drag_exponent.is_finite(),
+            "drag_exponent",
+            p.drag_exponent,
+            "finite",
+        )?;
         check(p.k1 < 1.0 && p.k1 > -1.0, "k1", p.k1, "(-1, 1)")?;
         check(p.ramp.t_ramp() > 0.0, "t_ramp", p.ramp.t_ramp(), "> 0")?;
         check(
@@ -377,7 +402,13 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
 
     /// State of cell `(j, k)` inside a residual; errors on a non-positive stretch.
     #[inline]
-    fn cell_s<S: Scalar>(&self, y: &[S], lt: f64, j: usize, k: usize) -> Result<CellS<S>, ResidualError> {
+    fn cell_s<S: Scalar>(
+        &self,
+        y: &[S],
+        lt: f64,
+        j: usize,
+        k: usize,
+    ) -> Result<CellS<S>, ResidualError> {
         let l1 = (self.xb_s(y, lt, j, k) - self.xb_s(y, lt, j - 1, k)) * (1.0 / self.hx);
         let l2 = (self.yb_s(y, j, k) - self.yb_s(y, j, k - 1)) * (1.0 / self.hy);
         let (a, b) = (l1.re(), l2.re());
@@ -476,7 +507,13 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
         self.pattern.clone()
     }
 
-    fn residual<S: Scalar>(&self, t: f64, y: &[S], yp: &[S], r: &mut [S]) -> Result<(), ResidualError> {
+    fn residual<S: Scalar>(
+        &self,
+        t: f64,
+        y: &[S],
+        yp: &[S],
+        r: &mut [S],
+    ) -> Result<(), ResidualError> {
         let (n, m) = (self.n, self.m);
         let lt = self.length(t);
         let d = self.face_drag;

@@ -29,11 +29,22 @@ pub fn vtu_string(t: f64, cells: &[SheetCell]) -> String {
         s,
         "<FieldData><DataArray type=\"Float64\" Name=\"TIME\" NumberOfTuples=\"1\" format=\"ascii\">{t:e}</DataArray></FieldData>"
     );
-    let _ = writeln!(s, "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{nc}\">", 8 * nc);
-    s.push_str("<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n");
+    let _ = writeln!(
+        s,
+        "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{nc}\">",
+        8 * nc
+    );
+    s.push_str(
+        "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n",
+    );
     for c in cells {
         for z in [0.0, c.height] {
-            for (x, y) in [(c.x[0], c.y[0]), (c.x[1], c.y[0]), (c.x[1], c.y[1]), (c.x[0], c.y[1])] {
+            for (x, y) in [
+                (c.x[0], c.y[0]),
+                (c.x[1], c.y[0]),
+                (c.x[1], c.y[1]),
+                (c.x[0], c.y[1]),
+            ] {
                 let _ = writeln!(s, "{x:e} {y:e} {z:e}");
             }
         }
@@ -42,7 +53,18 @@ pub fn vtu_string(t: f64, cells: &[SheetCell]) -> String {
     s.push_str("<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
     for i in 0..nc {
         let b = 8 * i;
-        let _ = writeln!(s, "{} {} {} {} {} {} {} {}", b, b + 1, b + 2, b + 3, b + 4, b + 5, b + 6, b + 7);
+        let _ = writeln!(
+            s,
+            "{} {} {} {} {} {} {} {}",
+            b,
+            b + 1,
+            b + 2,
+            b + 3,
+            b + 4,
+            b + 5,
+            b + 6,
+            b + 7
+        );
     }
     s.push_str("</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
     for i in 0..nc {
@@ -67,7 +89,10 @@ pub fn vtu_string(t: f64, cells: &[SheetCell]) -> String {
         ("row", |c| c.k as f64),
     ];
     for (name, f) in fields {
-        let _ = writeln!(s, "<DataArray type=\"Float64\" Name=\"{name}\" format=\"ascii\">");
+        let _ = writeln!(
+            s,
+            "<DataArray type=\"Float64\" Name=\"{name}\" format=\"ascii\">"
+        );
         for c in cells {
             let _ = writeln!(s, "{:e}", f(c));
         }
@@ -90,7 +115,10 @@ pub fn write_pvd(path: &Path, entries: &[(f64, String)]) -> io::Result<()> {
         "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n",
     );
     for (t, file) in entries {
-        let _ = writeln!(s, "<DataSet timestep=\"{t:e}\" group=\"\" part=\"0\" file=\"{file}\"/>");
+        let _ = writeln!(
+            s,
+            "<DataSet timestep=\"{t:e}\" group=\"\" part=\"0\" file=\"{file}\"/>"
+        );
     }
     s.push_str("</Collection>\n</VTKFile>\n");
     std::fs::write(path, s)
