@@ -267,7 +267,7 @@ impl<E: StrainEnergy> Line<E> {
         let lam = (xr - xl) * inv_l0;
         let alpha = lam / g;
         let a = alpha.re();
-        if !(a > 0.0 && a.is_finite()) || !(g.re() > 0.0) {
+        if !(a > 0.0 && a.is_finite() && g.re() > 0.0) {
             return Err(ResidualError::Recoverable {
                 reason: format!(
                     "cell {j} has non-positive or non-finite stretch (λ = {:.6e}, g = {:.6e})",

@@ -80,7 +80,7 @@ pub fn invert_stretch<E: StrainEnergy>(energy: &E, scale: f64, s: f64) -> Result
             hi = l;
         }
         let mut next = l - v / d;
-        if !(next > lo && next < hi) || !next.is_finite() {
+        if !(next > lo && next < hi && next.is_finite()) {
             next = 0.5 * (lo + hi);
         }
         if (next - l).abs() <= 1e-15 * l {
@@ -203,8 +203,8 @@ pub fn static_equilibrium<E: StrainEnergy>(
     let mut x = Vec::with_capacity(n + 1);
     x.push(0.0);
     let mut acc = 0.0;
-    for i in 0..n {
-        acc += c.l0[i] * lambda[i];
+    for (l0, l) in c.l0.iter().zip(&lambda) {
+        acc += l0 * l;
         x.push(acc);
     }
     Ok(StaticSolution {
