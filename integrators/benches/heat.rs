@@ -129,6 +129,72 @@ fn main() {
 
 #[cfg(feature = "diffsol-compare")]
 mod diffsol_cmp {
-    //! The same problem through diffsol's BDF (faer sparse matrices).
-    pub fn report(_n: usize) {}
+    //! The same problem through diffsol's BDF (faer sparse matrices and sparse LU, Jacobian
+    //! from the exact Jacobian-vector product with diffsol's colouring), equal tolerances.
+    use super::{Heat, T_END};
+    use diffsol::{
+        DenseMatrix, FaerSparseLU, FaerSparseMat, MatrixCommon, OdeBuilder, OdeSolverMethod,
+    };
+    use std::time::Instant;
+
+    type M = FaerSparseMat<f64>;
+
+    pub fn report(n: usize) {
+        if n > 10_000 {
+            println!(
+                "REPORT heat diffsol-bdf N={n:>8} skipped: building the problem costs O(N²) \
+                 (sparsity detection) and panicked in faer at N = 1e5"
+            );
+            return;
+        }
+        let inv = ((n + 1) * (n + 1)) as f64;
+        let heat = Heat {
+            n,
+            exact_jacobian: true,
+        };
+        let y0 = heat.initial();
+        let start = Instant::now();
+        let problem = OdeBuilder::<M>::new()
+            .rtol(super::opts().rtol)
+            .atol([super::opts().atol])
+            .rhs_implicit(
+                move |u: &[f64], _p: &[f64], _t: f64, f: &mut [f64]| {
+                    let n = u.len();
+                    for i in 0..n {
+                        let l = if i > 0 { u[i - 1] } else { 0.0 };
+                        let r = if i + 1 < n { u[i + 1] } else { 0.0 };
+                        f[i] = (l - 2.0 * u[i] + r) * inv;
+                    }
+                },
+                move |_u: &[f64], _p: &[f64], _t: f64, v: &[f64], f: &mut [f64]| {
+                    let n = v.len();
+                    for i in 0..n {
+                        let l = if i > 0 { v[i - 1] } else { 0.0 };
+                        let r = if i + 1 < n { v[i + 1] } else { 0.0 };
+                        f[i] = (l - 2.0 * v[i] + r) * inv;
+                    }
+                },
+            )
+            .init(
+                move |_p: &[f64], _t: f64, y: &mut [f64]| y.copy_from_slice(&y0),
+                n,
+            )
+            .build()
+            .expect("diffsol problem");
+        let built = start.elapsed().as_secs_f64();
+        let start = Instant::now();
+        let mut solver = problem.bdf::<FaerSparseLU<f64>>().expect("diffsol bdf");
+        let (ys, _ts, _) = solver.solve(T_END).expect("diffsol solve");
+        let el = start.elapsed().as_secs_f64();
+        let last = ys.ncols() - 1;
+        let err = (0..n)
+            .map(|i| (ys.get_index(i, last) - heat.exact_semidiscrete(T_END, i)).abs())
+            .fold(0.0, f64::max);
+        let steps = solver.get_statistics().number_of_steps;
+        println!(
+            "REPORT heat diffsol-bdf N={n:>8} steps={steps} build={built:.3e}s solve={el:.3e}s \
+             s/step={:.3e} err={err:.2e}",
+            el / steps as f64
+        );
+    }
 }

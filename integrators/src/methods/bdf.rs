@@ -34,10 +34,22 @@
 //!
 //! # Step control
 //!
-//! Step growth is at most ×2 and only taken when the estimate allows at least ×2 (otherwise the
-//! step is kept), reductions are to `[0.5, 0.9]×` after a successful step; after an error-test
-//! failure `[0.25, 0.9]×` (then ×0.25, then ×0.25 at order 1); after a Newton failure or a
-//! recoverable residual error ×0.25. The step never passes `t_stop`.
+//! The suggested factor is `r = (2·err + 10⁻⁴)^{−1/(k+1)}` for the chosen order. Growth is taken
+//! only when worthwhile (`r ≥ 1.5`, then by `min(r, 2)`; otherwise the step is kept), reductions
+//! are to `[0.5, 0.9]×` after a successful step; after an error-test failure `[0.25, 0.9]×`
+//! (then ×0.25, then ×0.25 at order 1; on the first step after a (re)start the estimate is
+//! trusted down to ×10⁻³, since that step size is only a guess or a pre-event hint); after a
+//! Newton failure or a recoverable residual error ×0.25. At most 10 error-test and 10
+//! convergence failures per step, and never below `max(h_min, 10⁻¹⁴·|t|)`, before giving up with
+//! a typed error (step size too small / Newton failure / non-finite / singular matrix, with the
+//! worst component). The step never passes `t_stop` (the last one is shortened to land on it).
+//!
+//! With [`crate::Options::fixed_order`] the order climbs to that value as soon as the history
+//! allows and stays there; with [`crate::Options::fixed_step`] every step has that size and the
+//! error test is skipped (the start is still at order 1).
+//!
+//! The initial step (when neither a hint nor [`crate::Options::h0`] is given) is IDA's:
+//! `h = min(10⁻³·(t_stop − t₀), 0.5/‖ẏ₀‖_w)`.
 
 use std::collections::VecDeque;
 
@@ -133,7 +145,6 @@ pub struct Bdf {
     res: Vec<f64>,
     ewt: Vec<f64>,
     nwt: Vec<f64>,
-    tmp: Vec<f64>,
 }
 
 impl Default for Bdf {
@@ -245,7 +256,6 @@ impl Bdf {
             res: Vec::new(),
             ewt: Vec::new(),
             nwt: Vec::new(),
-            tmp: Vec::new(),
         }
     }
 
@@ -524,7 +534,6 @@ impl Method for Bdf {
                 &mut self.res,
                 &mut self.ewt,
                 &mut self.nwt,
-                &mut self.tmp,
             ] {
                 v.clear();
                 v.resize(n, 0.0);
