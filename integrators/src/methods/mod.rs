@@ -11,12 +11,16 @@
 use crate::method::{Method, MethodKind};
 
 pub mod bdf;
+pub mod dopri;
+pub mod esdirk;
+pub mod radau;
 
 /// A fresh method object of the given kind.
 pub fn build(kind: MethodKind) -> Box<dyn Method> {
     match kind {
         MethodKind::Bdf => Box::new(bdf::Bdf::new()),
-        // ESDIRK, Radau IIA and Dormand–Prince are wired in once their modules are committed.
-        other => unimplemented!("method `{other}` not yet wired"),
+        MethodKind::Esdirk => Box::new(esdirk::Esdirk::new()),
+        MethodKind::Radau => Box::new(radau::Radau5::new()),
+        MethodKind::Dopri => Box::new(dopri::Dopri5::new()),
     }
 }
