@@ -70,8 +70,9 @@ fn write_column(jac: &mut Matrix, j: usize, mut value: impl FnMut(usize) -> f64)
     match jac {
         Matrix::Sparse(m) => {
             let (cp, ri) = (m.pattern.col_ptr(), m.pattern.row_idx());
-            for k in cp[j]..cp[j + 1] {
-                m.values[k] = value(ri[k]);
+            let range = cp[j]..cp[j + 1];
+            for (v, &i) in m.values[range.clone()].iter_mut().zip(&ri[range]) {
+                *v = value(i);
             }
         }
         _ => {

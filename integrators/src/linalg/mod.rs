@@ -91,7 +91,7 @@ pub struct LinearSolver {
 pub(crate) enum Inner {
     Dense(dense::DenseLu),
     Banded(banded::BandLu),
-    Sparse(sparse::SparseLu),
+    Sparse(Box<sparse::SparseLu>),
 }
 
 /// Index of the first non-finite value.
@@ -219,8 +219,9 @@ impl Matrix {
                 for (j, &xj) in x.iter().enumerate() {
                     let (r0, r1) = m.col_range(j);
                     let base = j * ld + off - j;
-                    for i in r0..r1 {
-                        out[i] += m.data[base + i] * xj;
+                    let col = &m.data[base + r0..base + r1];
+                    for (o, &a) in out[r0..r1].iter_mut().zip(col) {
+                        *o += a * xj;
                     }
                 }
             }
@@ -291,7 +292,7 @@ impl LinearSolver {
             }
             Pattern::Sparse(p) => {
                 assert_eq!(p.n(), n, "sparse pattern dimension mismatch");
-                Inner::Sparse(sparse::SparseLu::new(Arc::clone(p)))
+                Inner::Sparse(Box::new(sparse::SparseLu::new(Arc::clone(p))))
             }
         };
         Self { inner }

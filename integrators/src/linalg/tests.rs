@@ -341,9 +341,10 @@ fn complex_solve(mut a: Vec<Vec<C>>, mut b: Vec<C>) -> Vec<C> {
         b.swap(k, p);
         for i in k + 1..n {
             let f = cdiv(a[i][k], a[k][k]);
-            for j in k..n {
-                let t = cmul(f, a[k][j]);
-                a[i][j] = (a[i][j].0 - t.0, a[i][j].1 - t.1);
+            let pivot_row = a[k].clone();
+            for (aij, &akj) in a[i][k..].iter_mut().zip(&pivot_row[k..]) {
+                let t = cmul(f, akj);
+                *aij = (aij.0 - t.0, aij.1 - t.1);
             }
             let t = cmul(f, b[k]);
             b[i] = (b[i].0 - t.0, b[i].1 - t.1);
