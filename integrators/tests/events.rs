@@ -174,7 +174,7 @@ impl Problem for Ball {
         _yp: &[f64],
     ) -> Result<EventAction, ResidualError> {
         self.bounces.push(t);
-        y[1] = -self.e * y[1];
+        y[1] *= -self.e;
         Ok(EventAction::Modified)
     }
 }
