@@ -16,7 +16,9 @@ fn run(n: usize) -> usize {
         cells_y: n,
         ..Default::default()
     };
-    let sheet = UniaxialSheet::discrete(law, &p).unwrap().with_cell_atol(1e-8);
+    let sheet = UniaxialSheet::discrete(law, &p)
+        .unwrap()
+        .with_cell_atol(1e-8);
     let y0 = sheet.initial_state();
     let mut prob = ArrayProblem::new(sheet);
     let opts = Options {
@@ -35,9 +37,11 @@ fn bench(c: &mut Criterion) {
     g.sample_size(10);
     for n in [10usize, 20, 50, 100] {
         g.throughput(Throughput::Elements((n * n) as u64));
-        g.bench_with_input(BenchmarkId::from_parameter(format!("{n}x{n}")), &n, |b, &n| {
-            b.iter(|| run(n))
-        });
+        g.bench_with_input(
+            BenchmarkId::from_parameter(format!("{n}x{n}")),
+            &n,
+            |b, &n| b.iter(|| run(n)),
+        );
     }
     g.finish();
 }

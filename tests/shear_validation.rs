@@ -26,7 +26,14 @@ fn solver(rtol: f64) -> SolverSettings {
     }
 }
 
-fn run(cfg: &ShearConfig, law: &impl StrainEnergy, model: ModelKind, grid: Option<usize>, times: &[f64], rtol: f64) -> RunRecord {
+fn run(
+    cfg: &ShearConfig,
+    law: &impl StrainEnergy,
+    model: ModelKind,
+    grid: Option<usize>,
+    times: &[f64],
+    rtol: f64,
+) -> RunRecord {
     let rec = run_shear(cfg, law, model, grid, &solver(rtol), &Outputs::at(times)).unwrap();
     assert!(rec.error.is_none(), "{:?}", rec.error);
     rec
@@ -39,14 +46,34 @@ fn series<'a>(rec: &'a RunRecord, key: &str) -> &'a [f64] {
 #[test]
 fn edge_form_reproduces_ref_top_displacements_and_spread_m10() {
     let t = [1.0, 10.0, 50.0, 100.0, 150.0];
-    let rec = run(&ShearConfig::default(), &nh(1.0), ModelKind::Discrete, None, &t, 1e-10);
+    let rec = run(
+        &ShearConfig::default(),
+        &nh(1.0),
+        ModelKind::Discrete,
+        None,
+        &t,
+        1e-10,
+    );
     let top = series(&rec, "top_displacement");
-    for (i, r) in [1.14651, 4.55847, 9.09173, 9.90271, 9.98958].iter().enumerate() {
-        assert!((top[i] - r).abs() < 5e-6, "x_e,M(t={}) = {} vs Ref {r}", t[i], top[i]);
+    for (i, r) in [1.14651, 4.55847, 9.09173, 9.90271, 9.98958]
+        .iter()
+        .enumerate()
+    {
+        assert!(
+            (top[i] - r).abs() < 5e-6,
+            "x_e,M(t={}) = {} vs Ref {r}",
+            t[i],
+            top[i]
+        );
     }
     let spread = series(&rec, "shear_spread");
     for (i, r) in [(1, 0.6783), (2, 0.1155), (3, 0.0124)] {
-        assert!((spread[i] - r).abs() < 5e-5, "spread(t={}) = {} vs Ref {r}", t[i], spread[i]);
+        assert!(
+            (spread[i] - r).abs() < 5e-5,
+            "spread(t={}) = {} vs Ref {r}",
+            t[i],
+            spread[i]
+        );
     }
 }
 
@@ -60,14 +87,21 @@ fn edge_form_reproduces_ref_top_displacements_m50() {
     let rec = run(&cfg, &nh(1.0), ModelKind::Discrete, None, &t, 1e-10);
     let top = series(&rec, "top_displacement");
     for (i, r) in [4.56206, 10.79085, 15.46268].iter().enumerate() {
-        assert!((top[i] - r).abs() < 5e-6, "x_e,M(t={}) = {} vs Ref {r}", t[i], top[i]);
+        assert!(
+            (top[i] - r).abs() < 5e-6,
+            "x_e,M(t={}) = {} vs Ref {r}",
+            t[i],
+            top[i]
+        );
     }
 }
 
 #[test]
 fn edge_form_matches_the_exact_discrete_solution() {
     // MODEL.md §4.6: eigen-expansion with q_j = (2j+1)π/(2M+1); integrator-limited accuracy.
-    for (m, beta0, gamma0, mu, drag, force) in [(10, 1.0, 1.0, 1.0, 0.5, 1.0), (7, 2.0, 0.5, 1.5, 0.3, -0.4)] {
+    for (m, beta0, gamma0, mu, drag, force) in
+        [(10, 1.0, 1.0, 1.0, 0.5, 1.0), (7, 2.0, 0.5, 1.5, 0.3, -0.4)]
+    {
         let p = ShearParams {
             cells: m,
             gamma0,
@@ -84,7 +118,9 @@ fn edge_form_matches_the_exact_discrete_solution() {
             atol: 1e-14,
             ..Options::default()
         };
-        let sol = Solver::new(MethodKind::Bdf, opts).solve(&mut prob, 0.0, &y0, &times).unwrap();
+        let sol = Solver::new(MethodKind::Bdf, opts)
+            .solve(&mut prob, 0.0, &y0, &times)
+            .unwrap();
         let ex = ShearDiscreteExact::new(m, gamma0, beta0, mu, drag, force);
         let mut worst = 0.0f64;
         for (t, y) in sol.t.iter().zip(&sol.y) {
@@ -124,8 +160,15 @@ fn nonlinear_law_steady_shear_solves_tau_equals_force_over_beta0() {
     let rec = run(&cfg, &law, ModelKind::Discrete, None, &[4000.0], 1e-10);
     let t = rec.series.max_stretch[0];
     assert!((rec.series.min_stretch[0] - t).abs() < 1e-8);
-    assert!((law.shear(t).tau - 1.5).abs() < 1e-8, "τ({t}) = {}", law.shear(t).tau);
-    assert!((t - 1.5 / law.shear_modulus()).abs() > 1e-2, "law is effectively linear here");
+    assert!(
+        (law.shear(t).tau - 1.5).abs() < 1e-8,
+        "τ({t}) = {}",
+        law.shear(t).tau
+    );
+    assert!(
+        (t - 1.5 / law.shear_modulus()).abs() > 1e-2,
+        "law is effectively linear here"
+    );
 }
 
 #[test]
@@ -138,8 +181,32 @@ fn cell_centre_form_gives_identical_trajectories_to_edge_form() {
             form,
             ..Default::default()
         };
-        let edge = run_shear(&mk(ShearForm::Edge), &nh(1.0), ModelKind::Discrete, None, &solver(1e-11), &Outputs { times: vec![], profile_times: times.clone(), ..Default::default() }).unwrap();
-        let cc = run_shear(&mk(ShearForm::CellCentre), &nh(1.0), ModelKind::Discrete, None, &solver(1e-11), &Outputs { times: vec![], profile_times: times.clone(), ..Default::default() }).unwrap();
+        let edge = run_shear(
+            &mk(ShearForm::Edge),
+            &nh(1.0),
+            ModelKind::Discrete,
+            None,
+            &solver(1e-11),
+            &Outputs {
+                times: vec![],
+                profile_times: times.clone(),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let cc = run_shear(
+            &mk(ShearForm::CellCentre),
+            &nh(1.0),
+            ModelKind::Discrete,
+            None,
+            &solver(1e-11),
+            &Outputs {
+                times: vec![],
+                profile_times: times.clone(),
+                ..Default::default()
+            },
+        )
+        .unwrap();
         let mut worst = 0.0f64;
         for (a, b) in edge.profiles.iter().zip(&cc.profiles) {
             for (u, v) in a.extra["x_edge"].iter().zip(&b.extra["x_edge"]) {
@@ -161,7 +228,19 @@ fn continuum_solver_converges_to_the_series_solution() {
     let times = [1.0, 10.0, 50.0];
     let mut errs = Vec::new();
     for m in [20, 40, 80, 160] {
-        let rec = run_shear(&cfg, &nh(1.0), ModelKind::Continuum, Some(m), &solver(1e-11), &Outputs { times: vec![], profile_times: times.to_vec(), ..Default::default() }).unwrap();
+        let rec = run_shear(
+            &cfg,
+            &nh(1.0),
+            ModelKind::Continuum,
+            Some(m),
+            &solver(1e-11),
+            &Outputs {
+                times: vec![],
+                profile_times: times.to_vec(),
+                ..Default::default()
+            },
+        )
+        .unwrap();
         let h = w0 / m as f64;
         let (mut worst, mut worst_eff) = (0.0f64, 0.0f64);
         for p in &rec.profiles {
@@ -188,7 +267,19 @@ fn discrete_column_matches_series_with_effective_width() {
     // MODEL.md §4.6: with w_eff = (M + ½)γ₀ the series matches the discrete model to ≤ 1.2e-2 at
     // t = 1 and ≤ 3e-3 for t ≥ 10 (M = 10).
     let times = [1.0, 10.0, 50.0, 100.0];
-    let rec = run_shear(&ShearConfig::default(), &nh(1.0), ModelKind::Discrete, None, &solver(1e-11), &Outputs { times: vec![], profile_times: times.to_vec(), ..Default::default() }).unwrap();
+    let rec = run_shear(
+        &ShearConfig::default(),
+        &nh(1.0),
+        ModelKind::Discrete,
+        None,
+        &solver(1e-11),
+        &Outputs {
+            times: vec![],
+            profile_times: times.to_vec(),
+            ..Default::default()
+        },
+    )
+    .unwrap();
     for p in &rec.profiles {
         let mut worst = 0.0f64;
         for (k, xe) in p.extra["x_edge"].iter().enumerate() {
@@ -220,7 +311,19 @@ fn discrete_converges_to_continuum_as_cells_shrink() {
             drag: Some(0.5 * g),
             ..Default::default()
         };
-        let rec = run_shear(&cfg, &nh(1.0), ModelKind::Discrete, None, &solver(1e-11), &Outputs { times: vec![], profile_times: times.to_vec(), ..Default::default() }).unwrap();
+        let rec = run_shear(
+            &cfg,
+            &nh(1.0),
+            ModelKind::Discrete,
+            None,
+            &solver(1e-11),
+            &Outputs {
+                times: vec![],
+                profile_times: times.to_vec(),
+                ..Default::default()
+            },
+        )
+        .unwrap();
         let mut worst = 0.0f64;
         for p in &rec.profiles {
             for (k, xe) in p.extra["x_edge"].iter().enumerate() {
@@ -243,6 +346,14 @@ fn cell_centre_form_is_discrete_only() {
         form: ShearForm::CellCentre,
         ..Default::default()
     };
-    let err = run_shear(&cfg, &nh(1.0), ModelKind::Continuum, None, &solver(1e-8), &Outputs::at(&[1.0])).unwrap_err();
+    let err = run_shear(
+        &cfg,
+        &nh(1.0),
+        ModelKind::Continuum,
+        None,
+        &solver(1e-8),
+        &Outputs::at(&[1.0]),
+    )
+    .unwrap_err();
     assert!(err.to_string().contains("form"), "{err}");
 }

@@ -19,12 +19,28 @@ fn sheet_run_writes_vtu_pvd_and_png_snapshots() {
         dir: Some(dir.clone()),
         prefix: None,
     };
-    let rec = run_sheet(&cfg, &cfg.law, ModelKind::Discrete, None, &SolverSettings::default(), &out)
-        .unwrap();
+    let rec = run_sheet(
+        &cfg,
+        &cfg.law,
+        ModelKind::Discrete,
+        None,
+        &SolverSettings::default(),
+        &out,
+    )
+    .unwrap();
     assert!(rec.error.is_none());
     assert_eq!(rec.series.t, vec![0.0, 1.0, 2.0]);
     assert_eq!(rec.profiles.len(), 2);
-    for key in ["Y", "y", "stretch_y", "stretch_z", "height", "sigma11", "sigma22", "kappa"] {
+    for key in [
+        "Y",
+        "y",
+        "stretch_y",
+        "stretch_z",
+        "height",
+        "sigma11",
+        "sigma22",
+        "kappa",
+    ] {
         assert_eq!(rec.profiles[0].extra[key].len(), 12, "{key}");
     }
     let vtu = std::fs::read_to_string(dir.join("sheet_0000.vtu")).unwrap();
@@ -47,7 +63,11 @@ fn invalid_configs_name_the_key() {
         k1: 1.5,
         ..Default::default()
     };
-    assert!(bad.validate().unwrap_err().to_string().starts_with("k1 = 1.5"));
+    assert!(bad
+        .validate()
+        .unwrap_err()
+        .to_string()
+        .starts_with("k1 = 1.5"));
     let bad = SheetConfig {
         top: TopBoundary::Periodic,
         k_th: Some(0.0),

@@ -22,7 +22,11 @@ fn uniform_state<E: StrainEnergy>(s: &UniaxialSheet<E>, l1: f64, l2: f64) -> Vec
     let mut y = vec![0.0; s.dim()];
     let periodic = s.params().top == TopBoundary::Periodic;
     for j in 1..=n {
-        let ks: Vec<usize> = if periodic { (0..m).collect() } else { (1..=m).collect() };
+        let ks: Vec<usize> = if periodic {
+            (0..m).collect()
+        } else {
+            (1..=m).collect()
+        };
         for k in ks {
             y[s.iy(j, k)] = k as f64 * hy * l2;
         }
@@ -76,7 +80,13 @@ fn exact_periodic_steady_state_has_zero_residual() {
 }
 
 /// Full Jacobian `∂F/∂y + c ∂F/∂ẏ` by AD, column by column (small problems only).
-fn ad_jacobian<A: CellArray>(p: &mut ArrayProblem<A>, t: f64, y: &[f64], yp: &[f64], c: f64) -> Vec<Vec<f64>> {
+fn ad_jacobian<A: CellArray>(
+    p: &mut ArrayProblem<A>,
+    t: f64,
+    y: &[f64],
+    yp: &[f64],
+    c: f64,
+) -> Vec<Vec<f64>> {
     let n = y.len();
     let mut cols = Vec::new();
     let mut r = vec![0.0; n];
@@ -135,9 +145,16 @@ fn declared_sparse_pattern_contains_ad_jacobian_which_matches_finite_differences
                 prob.residual(0.7, &yy, &yyp, &mut rm).unwrap();
                 for i in 0..n {
                     let fd = (rp[i] - rm[i]) / (2.0 * e);
-                    assert!((fd - col[i]).abs() < 1e-7, "{top:?} m={m_exp} ({i},{j}): AD {} FD {fd}", col[i]);
+                    assert!(
+                        (fd - col[i]).abs() < 1e-7,
+                        "{top:?} m={m_exp} ({i},{j}): AD {} FD {fd}",
+                        col[i]
+                    );
                     if col[i] != 0.0 {
-                        assert!(pattern.contains(i, j), "{top:?} entry ({i},{j}) missing from pattern");
+                        assert!(
+                            pattern.contains(i, j),
+                            "{top:?} entry ({i},{j}) missing from pattern"
+                        );
                     }
                 }
             }
@@ -162,7 +179,10 @@ fn sheet_pattern_is_block_tridiagonal_and_sparse() {
     let b = 2 * 20;
     for j in 0..n {
         for &i in sp.column(j) {
-            assert!((i / b).abs_diff(j / b) <= 1, "({i},{j}) outside block tridiagonal");
+            assert!(
+                (i / b).abs_diff(j / b) <= 1,
+                "({i},{j}) outside block tridiagonal"
+            );
         }
     }
     // at most 9 entries per column (x-face: 3 x + 4 y neighbours; y-face: 4 x + 3 y)
@@ -209,7 +229,9 @@ fn cell_centre_residual_is_edge_residual_in_centre_variables() {
     let edge = ShearColumn::discrete(nh(), &p).unwrap();
     let cc = ShearCellCentre::new(nh(), &p).unwrap();
     let m = p.cells;
-    let xe: Vec<f64> = (1..=m).map(|k| 0.3 * k as f64 + 0.1 * (k as f64).sin()).collect();
+    let xe: Vec<f64> = (1..=m)
+        .map(|k| 0.3 * k as f64 + 0.1 * (k as f64).sin())
+        .collect();
     let xed: Vec<f64> = (1..=m).map(|k| 0.2 * (k as f64).cos()).collect();
     let centre = |v: &[f64]| -> Vec<f64> {
         (0..m)
@@ -223,7 +245,11 @@ fn cell_centre_residual_is_edge_residual_in_centre_variables() {
     cc.residual(0.0, &xc, &xcd, &mut rc).unwrap();
     for k in 0..m {
         let expect = re[k] + if k == 0 { 0.0 } else { re[k - 1] };
-        assert!((rc[k] - expect).abs() < 1e-13, "k={k}: {} vs {expect}", rc[k]);
+        assert!(
+            (rc[k] - expect).abs() < 1e-13,
+            "k={k}: {} vs {expect}",
+            rc[k]
+        );
     }
     // edges are recovered from centres by the alternating sums
     let back = ShearCellCentre::<NeoHookean>::edges(&xc);

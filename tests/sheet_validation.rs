@@ -48,13 +48,20 @@ fn at(rec: &RunRecord, key: &str, t: f64) -> f64 {
 }
 
 fn max_over_t(rec: &RunRecord) -> f64 {
-    rec.series.max_pressure.iter().cloned().fold(f64::MIN, f64::max)
+    rec.series
+        .max_pressure
+        .iter()
+        .cloned()
+        .fold(f64::MIN, f64::max)
 }
 
 /// Relative agreement with a 4–5 significant-digit Ref value (MODEL.md §5: about 1e-4).
 fn close(got: f64, reference: f64, what: &str) {
     let rel = (got - reference).abs() / reference.abs();
-    assert!(rel < 1e-4, "{what}: got {got:.6}, Ref {reference}, rel {rel:.1e}");
+    assert!(
+        rel < 1e-4,
+        "{what}: got {got:.6}, Ref {reference}, rel {rel:.1e}"
+    );
 }
 
 struct RefCase {
@@ -76,15 +83,27 @@ fn check_ref(c: &RefCase) {
     let tag = format!("{:?} m={}", c.top, c.m);
     close(max_over_t(&rec), c.max_t, &format!("{tag} max_t max p"));
     for (t, p) in [1.0, 2.0, 5.0, 10.0].iter().zip(c.max_p) {
-        close(at(&rec, "max_pressure", *t), p, &format!("{tag} max p(t={t})"));
+        close(
+            at(&rec, "max_pressure", *t),
+            p,
+            &format!("{tag} max p(t={t})"),
+        );
     }
     if let Some(r) = c.ratio {
         for (t, v) in [1.0, 2.0, 5.0, 10.0].iter().zip(r) {
-            close(at(&rec, "mean_stretch_z_over_y", *t), v, &format!("{tag} λ3/λ2(t={t})"));
+            close(
+                at(&rec, "mean_stretch_z_over_y", *t),
+                v,
+                &format!("{tag} λ3/λ2(t={t})"),
+            );
         }
     }
     for (t, h) in [1.0, 2.0, 5.0].iter().zip(c.height) {
-        close(at(&rec, "mean_height", *t), h, &format!("{tag} mean H(t={t})"));
+        close(
+            at(&rec, "mean_height", *t),
+            h,
+            &format!("{tag} mean H(t={t})"),
+        );
     }
 }
 
@@ -238,7 +257,10 @@ fn small_displacement_steady_solution_error_is_second_order_in_k1() {
     assert!((ey1 - exact(0.1)).abs() < 1e-7, "{ey1} vs {}", exact(0.1));
     assert!((ey2 - exact(0.05)).abs() < 1e-7, "{ey2} vs {}", exact(0.05));
     let ratio = ey1 / ey2;
-    assert!((ratio - 4.18).abs() < 0.02, "error ratio on halving k1 = {ratio}");
+    assert!(
+        (ratio - 4.18).abs() < 0.02,
+        "error ratio on halving k1 = {ratio}"
+    );
 }
 
 #[test]
@@ -253,9 +275,19 @@ fn mooney_rivlin_sheet_reaches_its_own_exact_steady_state() {
     assert!((at(&rec, "min_stretch", 400.0) - exact.stretch[0]).abs() < 1e-8);
     assert!((at(&rec, "max_pressure", 400.0) - exact.pressure).abs() < 1e-8);
     let nh_rec = run(&SheetConfig::default(), &nh(), &Outputs::at(&[1.0, 400.0]));
-    let (p_mr, p_nh) = (at(&rec, "max_pressure", 1.0), at(&nh_rec, "max_pressure", 1.0));
-    assert!((p_mr - p_nh).abs() > 1e-2, "MR and NH transients coincide: {p_mr} {p_nh}");
-    assert!((exact.pressure - 1.0 / 0.9).abs() > 1e-3, "MR steady p = {}", exact.pressure);
+    let (p_mr, p_nh) = (
+        at(&rec, "max_pressure", 1.0),
+        at(&nh_rec, "max_pressure", 1.0),
+    );
+    assert!(
+        (p_mr - p_nh).abs() > 1e-2,
+        "MR and NH transients coincide: {p_mr} {p_nh}"
+    );
+    assert!(
+        (exact.pressure - 1.0 / 0.9).abs() > 1e-3,
+        "MR steady p = {}",
+        exact.pressure
+    );
 }
 
 #[test]
@@ -275,7 +307,15 @@ fn continuum_on_the_cell_grid_is_the_discrete_model() {
     let cfg = SheetConfig::default();
     let out = Outputs::at(&[1.0, 5.0]);
     let d = run_sheet(&cfg, &nh(), ModelKind::Discrete, None, &solver(1e-9), &out).unwrap();
-    let c = run_sheet(&cfg, &nh(), ModelKind::Continuum, Some((10, 10)), &solver(1e-9), &out).unwrap();
+    let c = run_sheet(
+        &cfg,
+        &nh(),
+        ModelKind::Continuum,
+        Some((10, 10)),
+        &solver(1e-9),
+        &out,
+    )
+    .unwrap();
     assert_eq!(d.series.max_pressure, c.series.max_pressure);
     assert_eq!(d.series.extra["mean_height"], c.series.extra["mean_height"]);
 }
@@ -289,8 +329,15 @@ fn continuum_refinement_converges() {
     let vals: Vec<f64> = [10, 20, 40, 80]
         .iter()
         .map(|&n| {
-            let r = run_sheet(&cfg, &nh(), ModelKind::Continuum, Some((n, n)), &solver(1e-8), &out)
-                .unwrap();
+            let r = run_sheet(
+                &cfg,
+                &nh(),
+                ModelKind::Continuum,
+                Some((n, n)),
+                &solver(1e-8),
+                &out,
+            )
+            .unwrap();
             assert!(r.error.is_none());
             r.series.extra["mean_height"][0]
         })
@@ -335,6 +382,12 @@ fn free_single_row_differs_from_the_line_model() {
     let rec = run(&cfg, &nh(), &Outputs::at(&[1.0, 1e5]));
     assert!((at(&rec, "max_pressure", 1e5) - 1.0 / 0.9).abs() < 1e-6);
     let p1 = at(&rec, "max_pressure", 1.0);
-    assert!(p1 < 13.4257 * 0.9, "free single row p_N(1) = {p1} should be well below the line's");
-    eprintln!("free single row: p_N(1) = {p1}, min λ₁(1) = {}", at(&rec, "min_stretch", 1.0));
+    assert!(
+        p1 < 13.4257 * 0.9,
+        "free single row p_N(1) = {p1} should be well below the line's"
+    );
+    eprintln!(
+        "free single row: p_N(1) = {p1}, min λ₁(1) = {}",
+        at(&rec, "min_stretch", 1.0)
+    );
 }

@@ -36,8 +36,8 @@
 
 pub mod adapters;
 pub mod error;
-pub mod linalg;
 pub mod jacobian;
+pub mod linalg;
 pub mod method;
 pub mod methods;
 pub mod options;

@@ -63,8 +63,12 @@ pub enum MethodKind {
 
 impl MethodKind {
     /// All methods, in a fixed order.
-    pub const ALL: [MethodKind; 4] =
-        [MethodKind::Bdf, MethodKind::Esdirk, MethodKind::Radau, MethodKind::Dopri];
+    pub const ALL: [MethodKind; 4] = [
+        MethodKind::Bdf,
+        MethodKind::Esdirk,
+        MethodKind::Radau,
+        MethodKind::Dopri,
+    ];
 
     /// The name accepted by [`std::str::FromStr`].
     pub fn name(self) -> &'static str {

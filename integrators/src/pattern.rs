@@ -65,7 +65,11 @@ impl SparsityPattern {
             row_idx.extend_from_slice(&c);
             col_ptr.push(row_idx.len());
         }
-        Self { n, col_ptr, row_idx }
+        Self {
+            n,
+            col_ptr,
+            row_idx,
+        }
     }
 
     /// Matrix dimension.

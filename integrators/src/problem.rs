@@ -64,8 +64,13 @@ pub trait Problem {
     fn dim(&self) -> usize;
 
     /// Evaluates `r = F(t, y, ẏ)`.
-    fn residual(&mut self, t: f64, y: &[f64], yp: &[f64], r: &mut [f64])
-        -> Result<(), ResidualError>;
+    fn residual(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        r: &mut [f64],
+    ) -> Result<(), ResidualError>;
 
     /// The structure of `∂F/∂y + c·∂F/∂ẏ` (default dense).
     fn pattern(&self) -> Pattern {

@@ -96,8 +96,15 @@ fn all_times(out: &Outputs) -> Result<Vec<f64>, RunError> {
 }
 
 fn contains(ts: &[f64], t: f64) -> bool {
-    ts.iter().any(|&s| s == t)
+    ts.contains(&t)
 }
+
+/// What [`integrate`] returns: `(t, y)` at the reached output times, the work counters, and the
+/// solver's error message if it failed (the states then stop at the failure).
+pub type Integrated = (Vec<(f64, Vec<f64>)>, Stats, Option<String>);
+
+/// Per-cell shear fields from a state (edge or cell-centre form).
+type FieldsFn<'a> = Box<dyn Fn(&[f64]) -> ShearFields + 'a>;
 
 /// Integrates a cell array from `t = 0` and returns the states at `times` (`t = 0` answered from
 /// `y0` without integrating). On failure returns the partial solution and the error message.
@@ -106,7 +113,7 @@ pub fn integrate<A: CellArray>(
     y0: &[f64],
     times: &[f64],
     solver: &SolverSettings,
-) -> (Vec<(f64, Vec<f64>)>, Stats, Option<String>) {
+) -> Integrated {
     let mut states = Vec::new();
     if contains(times, 0.0) {
         states.push((0.0, y0.to_vec()));
@@ -332,25 +339,24 @@ pub fn run_shear<E: StrainEnergy>(
     };
     let start = Instant::now();
     let bad = |e: super::shear::ShearBuildError| cfg_err("shear", "", &e.to_string());
-    let (states, stats, error, fields): (_, _, _, Box<dyn Fn(&[f64]) -> ShearFields + '_>) =
-        match cfg.form {
-            ShearForm::Edge => {
-                let col = ShearColumn::continuum(law, &params, m).map_err(bad)?;
-                let y0 = col.initial_state();
-                let mut problem = ArrayProblem::new(col);
-                let (s, st, e) = integrate(&mut problem, &y0, &times, solver);
-                let col = problem.array;
-                (s, st, e, Box::new(move |y| col.fields(y)))
-            }
-            ShearForm::CellCentre => {
-                let col = ShearCellCentre::new(law, &params).map_err(bad)?;
-                let y0 = col.initial_state();
-                let mut problem = ArrayProblem::new(col);
-                let (s, st, e) = integrate(&mut problem, &y0, &times, solver);
-                let col = problem.array;
-                (s, st, e, Box::new(move |y| col.fields(y)))
-            }
-        };
+    let (states, stats, error, fields): (_, _, _, FieldsFn<'_>) = match cfg.form {
+        ShearForm::Edge => {
+            let col = ShearColumn::continuum(law, &params, m).map_err(bad)?;
+            let y0 = col.initial_state();
+            let mut problem = ArrayProblem::new(col);
+            let (s, st, e) = integrate(&mut problem, &y0, &times, solver);
+            let col = problem.array;
+            (s, st, e, Box::new(move |y| col.fields(y)))
+        }
+        ShearForm::CellCentre => {
+            let col = ShearCellCentre::new(law, &params).map_err(bad)?;
+            let y0 = col.initial_state();
+            let mut problem = ArrayProblem::new(col);
+            let (s, st, e) = integrate(&mut problem, &y0, &times, solver);
+            let col = problem.array;
+            (s, st, e, Box::new(move |y| col.fields(y)))
+        }
+    };
     let wall = start.elapsed().as_secs_f64();
     let mut series = Series::default();
     let mut profiles = Vec::new();

@@ -31,10 +31,19 @@
 //! computed (used to measure the order of accuracy, 5 on ODEs; the stage order is 3, so stiff or
 //! algebraic components may show order reduction).
 //!
-//! ```ignore
-//! use integrators::{methods::radau::Radau5, Method};
-//! let mut m = Radau5::new();
-//! assert_eq!(m.name(), "radau");
+//! ```
+//! use integrators::{MethodKind, Options, Problem, ResidualError, Solver};
+//! /// 2ẏ = -y (a constant "mass matrix" 2)
+//! struct Decay;
+//! impl Problem for Decay {
+//!     fn dim(&self) -> usize { 1 }
+//!     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64])
+//!         -> Result<(), ResidualError> { r[0] = 2.0 * yp[0] + y[0]; Ok(()) }
+//! }
+//! let sol = Solver::new(MethodKind::Radau, Options { rtol: 1e-8, atol: 1e-10, ..Default::default() })
+//!     .solve(&mut Decay, 0.0, &[1.0], &[2.0])
+//!     .unwrap();
+//! assert!((sol.y[0][0] - (-1.0f64).exp()).abs() < 1e-7);
 //! ```
 
 use crate::error::{ErrorKind, SolverError};

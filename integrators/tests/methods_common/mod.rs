@@ -51,13 +51,11 @@ pub fn integrate(
                 let tm = 0.5 * (method.t_prev() + method.t());
                 method.interpolate(tm, &mut yi, &mut ypi);
                 let e = ex(tm);
-                for i in 0..n {
-                    dense_err = dense_err.max((yi[i] - e[i]).abs());
-                }
+                dense_err = dense_err.max(max_err(&yi, &e));
                 // both ends reproduce the step's states
                 method.interpolate(method.t(), &mut yi, &mut ypi);
-                for i in 0..n {
-                    assert!((yi[i] - method.y()[i]).abs() <= 1e-12 * (1.0 + yi[i].abs()));
+                for (a, b) in yi.iter().zip(method.y()) {
+                    assert!((a - b).abs() <= 1e-12 * (1.0 + a.abs()));
                 }
             }
         }
