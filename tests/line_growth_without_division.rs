@@ -85,10 +85,9 @@ fn m0_forms_agree_and_growth_is_asymptotically_linear() {
     let t: Vec<f64> = (0..=10).map(|k| 10.0 * k as f64).collect();
     let b = run(1e-2, 0.0, DragForm::Boundary, &t);
     let c = run(1e-2, 0.0, DragForm::Centre, &t);
-    for k in 0..t.len() {
-        let (lb, lc) = (b.series.length[k], c.series.length[k]);
+    for ((tk, &lb), &lc) in t.iter().zip(&b.series.length).zip(&c.series.length) {
         // same ODE solution; difference only from the integrators' different error paths
-        assert!((lb - lc).abs() < 1e-5 * lb, "t = {}: {lb} vs {lc}", t[k]);
+        assert!((lb - lc).abs() < 1e-5 * lb, "t = {tk}: {lb} vs {lc}");
     }
     // linear: the growth rate dl/dt over [50,100] is constant to 1 %
     let l = &b.series.length;
