@@ -6,7 +6,7 @@
 use celltissue::array::ArrayProblem;
 use celltissue::observe::{ModelKind, RunRecord};
 use celltissue::sheet::exact::{shear_series, ShearDiscreteExact};
-use celltissue::sheet::shear::{ShearCellCentre, ShearColumn, ShearParams};
+use celltissue::sheet::shear::{ShearColumn, ShearParams};
 use celltissue::sheet::{run::Outputs, run_shear, ShearConfig, ShearForm, SolverSettings};
 use celltissue::{NeoHookean, Ogden, StrainEnergy};
 use integrators::{MethodKind, Options, Solver};
