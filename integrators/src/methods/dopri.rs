@@ -487,23 +487,7 @@ impl Method for Dopri5 {
     }
 
     fn step(&mut self, sys: &mut System<'_>, t_stop: f64) -> Result<(), SolverError> {
-        if !self.started {
-            return Err(SolverError::new(
-                ErrorKind::InvalidInput("step called before start".into()),
-                self.t,
-                None,
-            ));
-        }
-        if t_stop.is_nan() || t_stop <= self.t {
-            return Err(SolverError::new(
-                ErrorKind::InvalidInput(format!(
-                    "t_stop = {t_stop} must be after the current time {}",
-                    self.t
-                )),
-                self.t,
-                None,
-            ));
-        }
+        super::check_step_request(self.started, self.t, t_stop)?;
         let fixed = sys.opts.fixed_step;
         let mut failures = 0usize;
         loop {

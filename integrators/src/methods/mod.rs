@@ -24,3 +24,30 @@ pub fn build(kind: MethodKind) -> Box<dyn Method> {
         MethodKind::Dopri => Box::new(dopri::Dopri5::new()),
     }
 }
+
+/// Shared precondition of every one-step method's `step`: the method was started and `t_stop`
+/// lies after the current time.
+pub(crate) fn check_step_request(
+    started: bool,
+    t: f64,
+    t_stop: f64,
+) -> Result<(), crate::error::SolverError> {
+    use crate::error::{ErrorKind, SolverError};
+    if !started {
+        return Err(SolverError::new(
+            ErrorKind::InvalidInput("step called before start".into()),
+            t,
+            None,
+        ));
+    }
+    if t_stop.is_nan() || t_stop <= t {
+        return Err(SolverError::new(
+            ErrorKind::InvalidInput(format!(
+                "t_stop = {t_stop} must be after the current time {t}"
+            )),
+            t,
+            None,
+        ));
+    }
+    Ok(())
+}
