@@ -4,14 +4,15 @@
 //! wall time and step counts — the thesis's "significant computational saving", quantified.
 //!
 //! Run: `cargo run --release --example line_accuracy_vs_cost [N]` (default N = 10000); the
-//! environment variables `METHOD` (bdf, esdirk, radau) and `RTOL` (default 1e-6) override the solver.
+//! environment variables `METHOD` (bdf, esdirk, radau), `RTOL` (default 1e-6) and `NORM` (max,
+//! the default, or rms) override the solver.
 //! Single-shot wall times; the criterion numbers are in `benches/line_scaling.rs`.
 
 use celltissue::line::build::{continuum, discrete};
 use celltissue::line::run::{integrate, SolveSettings};
 use celltissue::line::LineConfig;
 use celltissue::{ArrayProblem, NeoHookean};
-use integrators::MethodKind;
+use integrators::{ErrorNorm, MethodKind};
 use std::time::Instant;
 
 /// Boundary positions at `t = N`, scaled by `N`, with the run's wall time and steps.
@@ -37,6 +38,9 @@ fn run(n_cells: usize, nodes: Option<usize>) -> (Vec<f64>, f64, usize) {
         method: env("METHOD")
             .and_then(|v| v.parse().ok())
             .unwrap_or(MethodKind::Bdf),
+        norm: env("NORM")
+            .map(|v| ErrorNorm::parse(&v).expect("NORM = max | rms"))
+            .unwrap_or(ErrorNorm::Max),
     };
     let start = Instant::now();
     let mut prob = ArrayProblem::new(line);

@@ -36,6 +36,7 @@
 
 pub mod adapters;
 pub mod error;
+mod initial_step;
 pub mod jacobian;
 pub mod linalg;
 pub mod method;
@@ -49,7 +50,7 @@ pub mod system;
 
 pub use error::{ErrorKind, SolveFailure, SolverError};
 pub use method::{Method, MethodKind};
-pub use options::Options;
+pub use options::{ErrorNorm, Options};
 pub use pattern::{Pattern, SparsityPattern};
 pub use problem::{EventAction, JacobianSink, Problem, ResidualError};
 pub use solver::{EventRecord, Solution, Solver};

@@ -324,7 +324,10 @@ fn resize_doubles_unknowns_and_matches_exact_solution() {
         for (k, &t) in t_out.iter().enumerate() {
             let ex = dividing_exact(&rates0, t);
             let err = max_abs_diff(&sol.y[k], &ex);
-            assert!(err < 1e-8, "banded={banded} t={t}: err {err}");
+            // BDF's global error is the sum of controlled local errors: 10–20 × rtol here
+            // (1.01e-8 at t = 0.5 with the Hairer starting step, just under 1e-8 with the
+            // former 1e-3·span start); the resize itself adds nothing measurable.
+            assert!(err < 2e-8, "banded={banded} t={t}: err {err}");
         }
         assert_eq!(sol.y_last.len(), 8);
     }

@@ -12,7 +12,7 @@ use super::thesis_scheme::ThesisLine;
 use crate::array::{ArrayProblem, CellArray};
 use crate::energy::StrainEnergy;
 use crate::observe::{ModelKind, RunRecord, RunStats, Series};
-use integrators::{MethodKind, Options, ResidualError, Solver, Stats};
+use integrators::{ErrorNorm, MethodKind, Options, ResidualError, Solver, Stats};
 use std::time::Instant;
 
 /// Integrator choice and tolerances. `atol` is in cell units: positions get `atol × L₀`
@@ -26,6 +26,9 @@ pub struct SolveSettings {
     pub rtol: f64,
     /// Absolute tolerance in cell units.
     pub atol: f64,
+    /// Error norm (default [`ErrorNorm::Max`]: a line's dynamics concentrate at its ends,
+    /// where the RMS norm would dilute the local error by `√N`; see [`ErrorNorm`]).
+    pub norm: ErrorNorm,
 }
 
 impl Default for SolveSettings {
@@ -34,6 +37,7 @@ impl Default for SolveSettings {
             method: MethodKind::Bdf,
             rtol: 1e-6,
             atol: 1e-8,
+            norm: ErrorNorm::Max,
         }
     }
 }
@@ -137,6 +141,7 @@ pub fn integrate<A: LineModel>(
     let opts = Options {
         rtol: settings.rtol,
         atol: settings.atol,
+        norm: settings.norm,
         ..Default::default()
     };
     let solver = Solver::new(settings.method, opts);

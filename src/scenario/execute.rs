@@ -22,6 +22,7 @@ pub fn run_spec_in(spec: &RunSpec, dir: Option<&Path>) -> RunRecord {
         options: integrators::Options {
             rtol: spec.solver.rtol,
             atol: spec.solver.atol,
+            norm: spec.solver.norm,
             ..Default::default()
         },
     };
@@ -52,6 +53,7 @@ pub fn run_spec_in(spec: &RunSpec, dir: Option<&Path>) -> RunRecord {
                 method: spec.solver.method,
                 rtol: spec.solver.rtol,
                 atol: spec.solver.atol,
+                norm: spec.solver.norm,
             };
             let times = OutputTimes {
                 series: spec.times.series.clone(),
@@ -64,6 +66,7 @@ pub fn run_spec_in(spec: &RunSpec, dir: Option<&Path>) -> RunRecord {
                 method: spec.solver.method,
                 rtol: spec.solver.rtol,
                 atol: spec.solver.atol,
+                norm: spec.solver.norm,
             };
             let times = OutputTimes {
                 series: spec.times.series.clone(),

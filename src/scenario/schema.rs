@@ -3,7 +3,7 @@
 //! (see [`super::model`]), which owns and validates the rest of the keys.
 
 use super::error::ScenarioError;
-use integrators::MethodKind;
+use integrators::{ErrorNorm, MethodKind};
 use serde::{Deserialize, Serialize};
 
 /// The file's top level as written (before sweep expansion and model parsing).
@@ -43,6 +43,8 @@ pub struct SolverSection {
     pub rtol: f64,
     /// Absolute tolerance in cell units, > 0.
     pub atol: f64,
+    /// Error norm: `"max"` (default for cell arrays) or `"rms"`.
+    pub norm: String,
 }
 
 impl Default for SolverSection {
@@ -51,6 +53,7 @@ impl Default for SolverSection {
             method: "bdf".into(),
             rtol: 1e-6,
             atol: 1e-8,
+            norm: "max".into(),
         }
     }
 }
@@ -65,6 +68,16 @@ pub struct SolverChoice {
     pub rtol: f64,
     /// Absolute tolerance (cell units).
     pub atol: f64,
+    /// Error norm of the local error and Newton tests.
+    #[serde(serialize_with = "norm_name")]
+    pub norm: ErrorNorm,
+}
+
+fn norm_name<S: serde::Serializer>(n: &ErrorNorm, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(match n {
+        ErrorNorm::Rms => "rms",
+        ErrorNorm::Max => "max",
+    })
 }
 
 fn method_name<S: serde::Serializer>(m: &MethodKind, s: S) -> Result<S::Ok, S::Error> {
@@ -90,10 +103,13 @@ impl SolverSection {
                 format!("= {} must be finite and > 0", self.atol),
             ));
         }
+        let norm =
+            ErrorNorm::parse(&self.norm).map_err(|e| ScenarioError::key("solver.norm", e))?;
         Ok(SolverChoice {
             method,
             rtol: self.rtol,
             atol: self.atol,
+            norm,
         })
     }
 }

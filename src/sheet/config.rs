@@ -286,13 +286,14 @@ pub struct SolverSettings {
 }
 
 impl Default for SolverSettings {
-    /// BDF with `rtol = 1e-8`, `atol = 1e-10`.
+    /// BDF with `rtol = 1e-8`, `atol = 1e-10`, max norm.
     fn default() -> Self {
         Self {
             method: MethodKind::Bdf,
             options: Options {
                 rtol: 1e-8,
                 atol: 1e-10,
+                norm: integrators::ErrorNorm::Max,
                 ..Options::default()
             },
         }

@@ -56,6 +56,7 @@ use std::collections::VecDeque;
 use crate::error::{ErrorKind, SolverError};
 use crate::linalg::{LinearSolver, Matrix};
 use crate::method::Method;
+use crate::options::ErrorNorm;
 use crate::pattern::Pattern;
 use crate::system::{StepFailure, System};
 
@@ -193,15 +194,6 @@ fn interp_coeffs(z: &[f64], t: f64, p: &mut [f64; NC], dp: &mut [f64; NC]) {
     }
 }
 
-/// Weighted RMS norm (0 for empty vectors).
-fn wrms(v: &[f64], w: &[f64]) -> f64 {
-    if v.is_empty() {
-        return 0.0;
-    }
-    let s: f64 = v.iter().zip(w).map(|(a, b)| (a * b) * (a * b)).sum();
-    (s / v.len() as f64).sqrt()
-}
-
 /// Index of the largest `|v_i w_i|`.
 fn worst(v: &[f64], w: &[f64]) -> Option<usize> {
     let mut best = None;
@@ -326,7 +318,7 @@ impl Bdf {
 
     /// Weighted RMS norm of `y_new - predictor_m(t_new)` (error weights), block-wise without
     /// storing the predictor.
-    fn pred_diff_norm(&self, m: usize, t_new: f64) -> f64 {
+    fn pred_diff_norm(&self, m: usize, t_new: f64, norm: ErrorNorm) -> f64 {
         let n = self.ycur.len();
         if n == 0 {
             return 0.0;
@@ -339,6 +331,7 @@ impl Bdf {
         let items = self.items(&p, &zero, m + 1);
         let mut buf = [0.0; BLK];
         let mut sum = 0.0;
+        let mut mx: f64 = 0.0;
         let mut s = 0;
         while s < n {
             let e = (s + BLK).min(n);
@@ -352,10 +345,18 @@ impl Bdf {
             for ((bi, yi), wi) in b.iter().zip(&self.ycur[s..e]).zip(&self.ewt[s..e]) {
                 let d = (yi - bi) * wi;
                 sum += d * d;
+                mx = if d.is_nan() {
+                    f64::NAN
+                } else {
+                    mx.max(d.abs())
+                };
             }
             s = e;
         }
-        (sum / n as f64).sqrt()
+        match norm {
+            ErrorNorm::Rms => (sum / n as f64).sqrt(),
+            ErrorNorm::Max => mx,
+        }
     }
 
     fn ensure_linalg(&mut self, sys: &System<'_>) {
@@ -423,6 +424,7 @@ impl Bdf {
         self.ee.iter_mut().for_each(|e| *e = 0.0);
         let mut oldnrm = 0.0;
         let maxit = sys.opts.max_newton_iters;
+        let first_step = self.steps_since_start == 0;
         for m in 0..maxit {
             match sys.residual(t_new, &self.ycur, &self.ypcur, &mut self.res) {
                 Ok(()) => {}
@@ -445,7 +447,11 @@ impl Bdf {
                 self.ypcur[i] += alpha * d;
                 self.ee[i] += d;
             }
-            let delnrm = wrms(&self.res, &self.nwt);
+            let delnrm = sys.opts.norm.of(&self.res, &self.nwt);
+            if std::env::var_os("BDF_DEBUG").is_some() {
+                let nn = self.ycur.len();
+                eprintln!("t={t_new:.6e} h={:.3e} k={} m={m} delnrm={delnrm:.3e} worst={:?} vals0 tail {:?} ycur tail {:?}", t_new - self.t, self.k, worst(&self.res, &self.nwt), &self.vals[0][nn-2..], &self.ycur[nn-2..]);
+            }
             if !delnrm.is_finite() {
                 return Err(NewtonFail::NoConvergence(worst(&self.res, &self.nwt)));
             }
@@ -453,6 +459,14 @@ impl Bdf {
                 oldnrm = delnrm;
                 if delnrm <= 1e-4 * EPS_NEWT {
                     return Ok(());
+                }
+                if first_step {
+                    // No rate information yet and the predictor is only `y₀ + h·ẏ₀`: the
+                    // first step of a (re)start is accepted only once a second iterate shows
+                    // the iteration contracting. Without this, a strongly nonlinear component
+                    // (a cell driven to collapse by a moving end) can make a tiny first
+                    // correction that passes the test far from the solution.
+                    continue;
                 }
             } else {
                 let rate = (delnrm / oldnrm).powf(1.0 / m as f64);
@@ -599,13 +613,9 @@ impl Method for Bdf {
             }
         }
         if self.h_pending {
-            let span = t_stop - self.t;
-            let mut h = 1e-3 * span;
-            let ypn = wrms(&self.yp0, &self.ewt);
-            if ypn * h > 0.5 {
-                h = 0.5 / ypn;
-            }
-            self.h = h.min(opts.h_max).max(opts.h_min);
+            let (y0, yp0) = (std::mem::take(&mut self.y), std::mem::take(&mut self.yp0));
+            self.h = sys.initial_step(self.t, &y0, &yp0, t_stop - self.t, 1, false);
+            (self.y, self.yp0) = (y0, yp0);
             self.h_pending = false;
         }
         let fixed = opts.fixed_step;
@@ -674,18 +684,18 @@ impl Method for Bdf {
             }
 
             // local error test
-            let een = wrms(&self.ee, &self.ewt);
+            let een = opts.norm.of(&self.ee, &self.ewt);
             let (err_k, terr_k) = self.estimates(k, t_new, h_try, een);
             let mut knew = k;
             let mut terr_km1 = f64::INFINITY;
             let mut err_km1 = f64::INFINITY;
             if k > 1 {
-                let d1 = self.pred_diff_norm(k - 1, t_new);
+                let d1 = self.pred_diff_norm(k - 1, t_new, opts.norm);
                 let (e1, te1) = self.estimates(k - 1, t_new, h_try, d1);
                 err_km1 = e1;
                 terr_km1 = te1;
                 if k > 2 {
-                    let d2 = self.pred_diff_norm(k - 2, t_new);
+                    let d2 = self.pred_diff_norm(k - 2, t_new, opts.norm);
                     let (_, te2) = self.estimates(k - 2, t_new, h_try, d2);
                     if te1.max(te2) <= terr_k {
                         knew = k - 1;
@@ -744,7 +754,7 @@ impl Method for Bdf {
                 && self.times.len() >= k + 2
                 && !had_failures;
             if can_raise {
-                let d = self.pred_diff_norm(k + 1, t_new);
+                let d = self.pred_diff_norm(k + 1, t_new, opts.norm);
                 let (err_kp1, terr_kp1) = self.estimates(k + 1, t_new, h_try, d);
                 if k == 1 {
                     if terr_kp1 < 0.5 * terr_k {
@@ -783,6 +793,9 @@ impl Method for Bdf {
             sys.stats.steps += 1;
             self.steps_since_jac += 1;
             self.steps_since_start += 1;
+            if std::env::var_os("BDF_STEPS").is_some() {
+                eprintln!("ACC t={t_new:.4e} h={h_try:.3e} k={k} nef={nef} ncf={ncf} jac_age={} err={err_k:.2e}", self.steps_since_jac);
+            }
             if action_order != k {
                 self.steps_at_order = 0;
             } else {

@@ -32,9 +32,7 @@
 use crate::error::{ErrorKind, SolverError};
 use crate::linalg::{LinearSolver, Matrix};
 use crate::method::Method;
-use crate::methods::radau::{
-    classify, error_weights, initial_step, newton_weights, step_too_small, worst, wrms, Fail,
-};
+use crate::methods::radau::{classify, error_weights, newton_weights, step_too_small, worst, Fail};
 use crate::system::{StepFailure, System};
 
 const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
@@ -249,7 +247,7 @@ impl Dopri5 {
                     *a -= b;
                 }
                 sys.stats.newton_iterations += 1;
-                let nrm = h * wrms(&self.r, &self.wt);
+                let nrm = h * sys.opts.norm.of(&self.r, &self.wt);
                 if !nrm.is_finite() {
                     return Ok(Err(Fail::Newton {
                         component: worst(&self.r, &self.wt),
@@ -341,7 +339,7 @@ impl Dopri5 {
                 self.r[l] = self.y[l].abs().max(self.ys[l].abs());
             }
             error_weights(sys, &self.r, &mut self.ewt);
-            err = wrms(&self.err_v, &self.ewt);
+            err = sys.opts.norm.of(&self.err_v, &self.ewt);
             if !err.is_finite() {
                 err = f64::INFINITY;
             }
@@ -469,10 +467,12 @@ impl Method for Dopri5 {
         let h0 = h.or(sys.opts.h0).filter(|v| *v > 0.0 && v.is_finite());
         self.h = match h0 {
             Some(v) => v.min(sys.opts.h_max),
-            None => initial_step(sys, y, yp),
+            // resolved at the first step, when the distance to the stop is known
+            None => f64::NAN,
         };
         // ∂F/∂ẏ now, so that a singular one is reported at start.
-        let (hh, yv, ypv) = (self.h, self.y.clone(), self.yp.clone());
+        let hh = if self.h.is_nan() { 1.0 } else { self.h };
+        let (yv, ypv) = (self.y.clone(), self.yp.clone());
         match self.eval_j1(sys, t, &yv, &ypv, hh) {
             Ok(()) => Ok(()),
             Err(StepFailure::Recoverable { component, reason }) => Err(SolverError::new(
@@ -488,6 +488,11 @@ impl Method for Dopri5 {
 
     fn step(&mut self, sys: &mut System<'_>, t_stop: f64) -> Result<(), SolverError> {
         super::check_step_request(self.started, self.t, t_stop)?;
+        if self.h.is_nan() {
+            let (y, yp) = (std::mem::take(&mut self.y), std::mem::take(&mut self.yp));
+            self.h = sys.initial_step(self.t, &y, &yp, t_stop - self.t, 4, self.identity);
+            (self.y, self.yp) = (y, yp);
+        }
         let fixed = sys.opts.fixed_step;
         let mut failures = 0usize;
         loop {

@@ -44,8 +44,7 @@ use crate::error::{ErrorKind, SolverError};
 use crate::linalg::{LinearSolver, Matrix};
 use crate::method::Method;
 use crate::methods::radau::{
-    classify, classify_factor, error_weights, initial_step, newton_weights, step_too_small, worst,
-    wrms, Fail,
+    classify, classify_factor, error_weights, newton_weights, step_too_small, worst, Fail,
 };
 use crate::system::{StepFailure, System};
 
@@ -257,7 +256,7 @@ impl Esdirk {
             for (a, b) in ys.iter_mut().zip(&self.r) {
                 *a += b;
             }
-            let dyno = wrms(&self.r, &self.wt);
+            let dyno = sys.opts.norm.of(&self.r, &self.wt);
             if !dyno.is_finite() {
                 break Ok(Err(self.newton_fail(sys, 0.5 * h)));
             }
@@ -364,7 +363,7 @@ impl Esdirk {
                 self.r[l] = self.y[l].abs().max(self.y3[l].abs());
             }
             error_weights(sys, &self.r, &mut self.ewt);
-            err = wrms(&self.tmp, &self.ewt);
+            err = sys.opts.norm.of(&self.tmp, &self.ewt);
             if !err.is_finite() {
                 err = f64::INFINITY;
             }
@@ -477,7 +476,8 @@ impl Method for Esdirk {
         let h0 = h.or(sys.opts.h0).filter(|v| *v > 0.0 && v.is_finite());
         self.h = match h0 {
             Some(v) => v.min(sys.opts.h_max),
-            None => initial_step(sys, y, yp),
+            // resolved at the first step, when the distance to the stop is known
+            None => f64::NAN,
         };
         self.h_old = self.h;
         Ok(())
@@ -485,6 +485,12 @@ impl Method for Esdirk {
 
     fn step(&mut self, sys: &mut System<'_>, t_stop: f64) -> Result<(), SolverError> {
         super::check_step_request(self.started, self.t, t_stop)?;
+        if self.h.is_nan() {
+            let (y, yp) = (std::mem::take(&mut self.y), std::mem::take(&mut self.yp));
+            self.h = sys.initial_step(self.t, &y, &yp, t_stop - self.t, 2, false);
+            self.h_old = self.h;
+            (self.y, self.yp) = (y, yp);
+        }
         let fixed = sys.opts.fixed_step;
         let mut failures = 0usize;
         loop {

@@ -125,15 +125,6 @@ pub(crate) fn error_weights(sys: &System<'_>, y: &[f64], w: &mut [f64]) {
     }
 }
 
-/// Weighted RMS norm.
-pub(crate) fn wrms(v: &[f64], w: &[f64]) -> f64 {
-    if v.is_empty() {
-        return 0.0;
-    }
-    let s: f64 = v.iter().zip(w).map(|(a, b)| (a * b) * (a * b)).sum();
-    (s / v.len() as f64).sqrt()
-}
-
 /// Component with the largest `|v_i w_i|`.
 pub(crate) fn worst(v: &[f64], w: &[f64]) -> Option<usize> {
     let mut best: Option<(usize, f64)> = None;
@@ -145,21 +136,6 @@ pub(crate) fn worst(v: &[f64], w: &[f64]) -> Option<usize> {
         }
     }
     best.map(|(i, _)| i)
-}
-
-/// Initial step size: 1 % of the time scale `‖y‖/‖ẏ‖` (Hairer's `HINIT`, first part), clamped
-/// to `[h_min, h_max]`; `1e-6` when either norm is negligible.
-pub(crate) fn initial_step(sys: &System<'_>, y: &[f64], yp: &[f64]) -> f64 {
-    let mut w = vec![0.0; y.len()];
-    error_weights(sys, y, &mut w);
-    let d0 = wrms(y, &w);
-    let d1 = wrms(yp, &w);
-    let h = if d0 < 1e-5 || d1 < 1e-5 || !d1.is_finite() {
-        1e-6
-    } else {
-        0.01 * d0 / d1
-    };
-    h.min(sys.opts.h_max).max(sys.opts.h_min)
 }
 
 /// Whether `h` is below the minimum step or round-off level at `t`.
@@ -688,7 +664,7 @@ impl Radau5 {
             j1.mul_vec(&self.ys, &mut self.tmp2);
             self.tmp.copy_from_slice(&self.tmp2);
             sys.solve(self.lu1.as_ref().expect("workspace"), &mut self.tmp);
-            err = wrms(&self.tmp, &self.ewt).max(1e-10);
+            err = sys.opts.norm.of(&self.tmp, &self.ewt).max(1e-10);
             if err >= 1.0 && (self.first || self.reject) {
                 for l in 0..n {
                     self.ys[l] = self.y[l] + self.tmp[l];
@@ -699,7 +675,7 @@ impl Radau5 {
                             self.tmp[l] = self.tmp2[l] - self.yps[l];
                         }
                         sys.solve(self.lu1.as_ref().expect("workspace"), &mut self.tmp);
-                        err = wrms(&self.tmp, &self.ewt).max(1e-10);
+                        err = sys.opts.norm.of(&self.tmp, &self.ewt).max(1e-10);
                     }
                     Err(f) => {
                         // Keep the first estimate; a domain error here only means the
@@ -895,7 +871,8 @@ impl Method for Radau5 {
         let h0 = h.or(sys.opts.h0).filter(|v| *v > 0.0 && v.is_finite());
         self.h = match h0 {
             Some(v) => v.min(sys.opts.h_max),
-            None => initial_step(sys, y, yp),
+            // resolved at the first step, when the distance to the stop is known
+            None => f64::NAN,
         };
         self.h_old = self.h;
         Ok(())
@@ -903,6 +880,12 @@ impl Method for Radau5 {
 
     fn step(&mut self, sys: &mut System<'_>, t_stop: f64) -> Result<(), SolverError> {
         super::check_step_request(self.started, self.t, t_stop)?;
+        if self.h.is_nan() {
+            let (y, yp) = (std::mem::take(&mut self.y), std::mem::take(&mut self.yp));
+            self.h = sys.initial_step(self.t, &y, &yp, t_stop - self.t, 3, false);
+            self.h_old = self.h;
+            (self.y, self.yp) = (y, yp);
+        }
         let fixed = sys.opts.fixed_step;
         let mut failures = 0usize;
         loop {
@@ -1036,8 +1019,10 @@ mod tests {
 
     #[test]
     fn error_weights_helpers() {
-        assert_eq!(wrms(&[], &[]), 0.0);
-        assert!((wrms(&[3.0, 4.0], &[1.0, 1.0]) - (12.5f64).sqrt()).abs() < 1e-15);
+        use crate::options::ErrorNorm;
+        assert_eq!(ErrorNorm::Rms.of(&[], &[]), 0.0);
+        assert_eq!(ErrorNorm::Max.of(&[], &[]), 0.0);
+        assert!(ErrorNorm::Max.of(&[1.0, f64::NAN], &[1.0, 1.0]).is_nan());
         assert_eq!(worst(&[1.0, -5.0, 2.0], &[1.0, 1.0, 1.0]), Some(1));
         assert!(step_too_small(0.0, 1.0, 0.0));
         assert!(!step_too_small(1e-3, 1.0, 0.0));

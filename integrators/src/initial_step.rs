@@ -1,0 +1,102 @@
+//! Starting step size shared by every method: Hairer–Wanner's `HINIT` (Solving ODEs I, §II.4)
+//! carried over to residual form, where `ẏ` at a trial point comes from a consistent
+//! initialisation instead of a right-hand-side call.
+//!
+//! The first-derivative estimate alone (`h = 0.01·‖y‖/‖ẏ‖`) cannot see forcing that starts from
+//! rest: a line of cells whose end begins to move at `t₀` has `ẏ(t₀) = 0` everywhere, and a
+//! step sized from `ẏ` alone (or from a fraction of the output interval) can drive the end cell
+//! to collapse inside the first step. The second-derivative estimate `‖ẏ(t₀+h₀) − ẏ(t₀)‖/h₀`
+//! sees it, at the cost of one consistent initialisation per (re)start.
+
+use crate::system::System;
+
+impl System<'_> {
+    /// Starting step for a method of order `order` from a consistent `(t0, y0, yp0)`, at most
+    /// `span` (the distance to the next stop) and within `[h_min, h_max]`.
+    ///
+    /// `h₀ = 0.01·‖y₀‖/‖ẏ₀‖` (`10⁻⁶·span` when either norm is negligible); then
+    /// `ẏ₁` is made consistent at `(t₀ + h₀, y₀ + h₀ẏ₀)` and
+    /// `h₁ = (0.01/max(‖ẏ₀‖, ‖ẏ₁ − ẏ₀‖/h₀))^{1/(order+1)}`; the result is `min(100·h₀, h₁)`.
+    /// All norms are the weighted RMS of the error weights at `y₀` over the differential
+    /// components. If the trial point cannot be made consistent, `h₀` is returned. With
+    /// `unit_mass` (the caller knows `∂F/∂ẏ = I`, as for an explicit ODE) `ẏ₁ − ẏ₀` is
+    /// `−F(t₀ + h₀, y₁, ẏ₀)`, one residual call and no factorisation.
+    ///
+    /// ```
+    /// use integrators::adapters::{Ode, OdeProblem};
+    /// use integrators::{MethodKind, Options, ResidualError, Solver};
+    /// // ẏ = 1 − y from rest (ẏ(0) = 1, ÿ(0) = −1): the solver sizes its own first step
+    /// struct Relax;
+    /// impl OdeProblem for Relax {
+    ///     fn dim(&self) -> usize { 1 }
+    ///     fn rhs(&mut self, _t: f64, y: &[f64], f: &mut [f64]) -> Result<(), ResidualError> {
+    ///         f[0] = 1.0 - y[0];
+    ///         Ok(())
+    ///     }
+    /// }
+    /// let sol = Solver::new(MethodKind::Bdf, Options::default())
+    ///     .solve(&mut Ode(Relax), 0.0, &[0.0], &[1.0])
+    ///     .unwrap();
+    /// assert!((sol.y[0][0] - (1.0 - (-1.0f64).exp())).abs() < 1e-5);
+    /// ```
+    pub fn initial_step(
+        &mut self,
+        t0: f64,
+        y0: &[f64],
+        yp0: &[f64],
+        span: f64,
+        order: usize,
+        unit_mass: bool,
+    ) -> f64 {
+        let n = self.dim();
+        let clamp = |h: f64, opts: &crate::Options| {
+            let h = if h.is_finite() && h > 0.0 {
+                h
+            } else {
+                1e-6 * span
+            };
+            h.min(span).min(opts.h_max).max(opts.h_min)
+        };
+        if n == 0 {
+            return clamp(span, self.opts);
+        }
+        let mut w = vec![0.0; n];
+        self.error_weights(y0, &mut w);
+        for (wi, &alg) in w.iter_mut().zip(&self.cache.algebraic) {
+            if alg {
+                *wi = 0.0;
+            }
+        }
+        let d0 = Self::wrms(y0, &w);
+        let d1 = Self::wrms(yp0, &w);
+        let h0 = if d0 < 1e-5 || d1 < 1e-5 || !d1.is_finite() {
+            1e-6 * span
+        } else {
+            0.01 * d0 / d1
+        };
+        let h0 = clamp(h0, self.opts);
+        let mut y1: Vec<f64> = y0.iter().zip(yp0).map(|(y, yp)| y + h0 * yp).collect();
+        let diff: Vec<f64> = if unit_mass {
+            let mut r = vec![0.0; n];
+            if self.residual(t0 + h0, &y1, yp0, &mut r).is_err() {
+                return h0;
+            }
+            r.iter().map(|v| -v).collect()
+        } else {
+            let mut yp1 = yp0.to_vec();
+            // a failed trial initialisation only means no second-derivative estimate
+            if self.consistent_init(t0 + h0, &mut y1, &mut yp1).is_err() {
+                return h0;
+            }
+            yp1.iter().zip(yp0).map(|(a, b)| a - b).collect()
+        };
+        let d2 = Self::wrms(&diff, &w) / h0;
+        let dmax = d1.max(d2);
+        let h1 = if dmax <= 1e-15 || !dmax.is_finite() {
+            (h0 * 1e-3).max(1e-6 * span)
+        } else {
+            (0.01 / dmax).powf(1.0 / (order as f64 + 1.0))
+        };
+        clamp((100.0 * h0).min(h1), self.opts)
+    }
+}
