@@ -48,17 +48,18 @@ fn check(model: ModelKind, nodes: Option<usize>, eta: f64) {
         assert!((rec.series.length[k] - 100.0 * lam).abs() < 1e-9 * 100.0);
     }
     // Tolerance budget: the solver's error weight on positions is rtol·|x| + atol ≈ 1e-8 × 100
-    // near the far end, i.e. up to 1e-6 of a cell length — so stretches are checked to 1e-6
-    // (measured: 1.9e-7). Pressure contains ηα̇, which comes from the solver's ẏ (one order less
+    // near the far end, i.e. up to 1e-6 of a cell length; a stretch is the difference of two
+    // positions over L = 1, so its budget is 2e-6 (measured: 1.2e-6 for η = 10, set in the
+    // first 0.05 time units, where the run is dominated by the start-up steps). Pressure contains ηα̇, which comes from the solver's ẏ (one order less
     // accurate than y in BDF): measured 2.5e-5 relative at t = 0.05 for η = 10, below 1e-4.
-    assert!(worst_l < 1e-6, "η = {eta}: worst stretch error {worst_l:e}");
+    assert!(worst_l < 2e-6, "η = {eta}: worst stretch error {worst_l:e}");
     assert!(
         worst_p < 1e-4,
         "η = {eta}: worst pressure error {worst_p:e}"
     );
     for prof in &rec.profiles {
         let (lam, _) = exact(prof.t, 0.1, eta);
-        assert!(prof.stretch.iter().all(|&a| (a - lam).abs() < 1e-6));
+        assert!(prof.stretch.iter().all(|&a| (a - lam).abs() < 2e-6));
     }
 }
 

@@ -448,10 +448,6 @@ impl Bdf {
                 self.ee[i] += d;
             }
             let delnrm = sys.opts.norm.of(&self.res, &self.nwt);
-            if std::env::var_os("BDF_DEBUG").is_some() {
-                let nn = self.ycur.len();
-                eprintln!("t={t_new:.6e} h={:.3e} k={} m={m} delnrm={delnrm:.3e} worst={:?} vals0 tail {:?} ycur tail {:?}", t_new - self.t, self.k, worst(&self.res, &self.nwt), &self.vals[0][nn-2..], &self.ycur[nn-2..]);
-            }
             if !delnrm.is_finite() {
                 return Err(NewtonFail::NoConvergence(worst(&self.res, &self.nwt)));
             }
@@ -793,9 +789,6 @@ impl Method for Bdf {
             sys.stats.steps += 1;
             self.steps_since_jac += 1;
             self.steps_since_start += 1;
-            if std::env::var_os("BDF_STEPS").is_some() {
-                eprintln!("ACC t={t_new:.4e} h={h_try:.3e} k={k} nef={nef} ncf={ncf} jac_age={} err={err_k:.2e}", self.steps_since_jac);
-            }
             if action_order != k {
                 self.steps_at_order = 0;
             } else {
