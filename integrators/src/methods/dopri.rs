@@ -32,7 +32,8 @@
 use crate::error::{ErrorKind, SolverError};
 use crate::linalg::{LinearSolver, Matrix};
 use crate::method::Method;
-use crate::methods::radau::{classify, error_weights, newton_weights, step_too_small, worst, Fail};
+use crate::methods::one_step::{self, Attempt};
+use crate::methods::radau::{classify, error_weights, newton_weights, worst, Fail};
 use crate::system::{StepFailure, System};
 
 const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
@@ -88,7 +89,6 @@ const D: [f64; 7] = [
 ];
 const SAFE: f64 = 0.9;
 const BETA: f64 = 0.04;
-const MAX_CONSECUTIVE_FAILURES: usize = 60;
 /// Newton iterations allowed for one stage derivative.
 const MAX_DOT_ITERS: usize = 8;
 /// Re-measure the contraction rate of the stage-derivative iteration every this many steps.
@@ -134,11 +134,6 @@ impl Default for Dopri5 {
     fn default() -> Self {
         Self::new()
     }
-}
-
-enum Attempt {
-    Accepted,
-    Rejected(Fail, f64),
 }
 
 impl Dopri5 {
@@ -398,6 +393,41 @@ impl Dopri5 {
     }
 }
 
+impl one_step::OneStep for Dopri5 {
+    fn started(&self) -> bool {
+        self.started
+    }
+    fn time(&self) -> f64 {
+        self.t
+    }
+    fn state(&self) -> (Vec<f64>, Vec<f64>) {
+        (self.y.clone(), self.yp.clone())
+    }
+    fn planned_h(&self) -> f64 {
+        self.h
+    }
+    fn set_h(&mut self, h: f64, after_start: bool) {
+        self.h = h;
+        let _ = after_start;
+    }
+    fn start_order(&self) -> usize {
+        4
+    }
+    fn unit_mass(&self) -> bool {
+        self.identity
+    }
+
+    fn attempt(
+        &mut self,
+        sys: &mut System<'_>,
+        h: f64,
+        fixed: bool,
+        t_new: f64,
+    ) -> Result<Attempt, SolverError> {
+        Dopri5::attempt(self, sys, h, fixed, t_new)
+    }
+}
+
 impl Method for Dopri5 {
     fn name(&self) -> &'static str {
         "dopri"
@@ -412,17 +442,7 @@ impl Method for Dopri5 {
         h: Option<f64>,
     ) -> Result<(), SolverError> {
         let n = sys.dim();
-        if y.len() != n || yp.len() != n {
-            return Err(SolverError::new(
-                ErrorKind::InvalidInput(format!(
-                    "state length {} / derivative length {} differ from dim() = {n}",
-                    y.len(),
-                    yp.len()
-                )),
-                t,
-                None,
-            ));
-        }
+        one_step::check_start(n, t, y, yp)?;
         if let Some(i) = sys.algebraic().iter().position(|&a| a) {
             return Err(SolverError::new(
                 ErrorKind::NotApplicable(
@@ -432,9 +452,6 @@ impl Method for Dopri5 {
                 t,
                 Some(i),
             ));
-        }
-        if !t.is_finite() || y.iter().chain(yp).any(|v| !v.is_finite()) {
-            return Err(SolverError::new(ErrorKind::NonFinite, t, None));
         }
         self.n = n;
         self.t = t;
@@ -487,57 +504,7 @@ impl Method for Dopri5 {
     }
 
     fn step(&mut self, sys: &mut System<'_>, t_stop: f64) -> Result<(), SolverError> {
-        super::check_step_request(self.started, self.t, t_stop)?;
-        if self.h.is_nan() {
-            let (y, yp) = (std::mem::take(&mut self.y), std::mem::take(&mut self.yp));
-            self.h = sys.initial_step(self.t, &y, &yp, t_stop - self.t, 4, self.identity);
-            (self.y, self.yp) = (y, yp);
-        }
-        let fixed = sys.opts.fixed_step;
-        let mut failures = 0usize;
-        loop {
-            let remaining = t_stop - self.t;
-            let planned = match fixed {
-                Some(hf) => hf,
-                None => self.h.min(sys.opts.h_max),
-            };
-            let (h, t_new, clipped) = if planned * (1.0 + 1e-4) >= remaining {
-                (remaining, t_stop, true)
-            } else {
-                (planned, self.t + planned, false)
-            };
-            if fixed.is_none() && !clipped && step_too_small(h, self.t, sys.opts.h_min) {
-                return Err(SolverError::new(
-                    ErrorKind::StepSizeTooSmall { h },
-                    self.t,
-                    None,
-                ));
-            }
-            match self.attempt(sys, h, fixed.is_some(), t_new)? {
-                Attempt::Accepted => {
-                    if clipped && fixed.is_none() {
-                        self.h = self.h.max(planned.min(sys.opts.h_max));
-                    }
-                    return Ok(());
-                }
-                Attempt::Rejected(fail, h_new) => {
-                    sys.stats.rejected_steps += 1;
-                    failures += 1;
-                    if fixed.is_some() && h_new < h {
-                        return Err(fail.into_error(self.t, h, false));
-                    }
-                    if failures >= MAX_CONSECUTIVE_FAILURES {
-                        return Err(fail.into_error(self.t, h_new, false));
-                    }
-                    if step_too_small(h_new, self.t, sys.opts.h_min) {
-                        return Err(fail.into_error(self.t, h_new, true));
-                    }
-                    if fixed.is_none() {
-                        self.h = h_new;
-                    }
-                }
-            }
-        }
+        one_step::step(self, sys, t_stop)
     }
 
     fn t(&self) -> f64 {

@@ -40,19 +40,17 @@
 //! assert_eq!(Esdirk::new().name(), "esdirk");
 //! ```
 
-use crate::error::{ErrorKind, SolverError};
+use crate::error::SolverError;
 use crate::linalg::{LinearSolver, Matrix};
 use crate::method::Method;
+use crate::methods::one_step::{self, Attempt};
 use crate::methods::radau::{
-    classify, classify_factor, error_weights, newton_weights, step_too_small, worst, Fail,
+    classify, classify_factor, error_weights, newton_weights, worst, Fail,
 };
 use crate::system::{StepFailure, System};
 
 /// Newton contraction above which the Jacobian is refreshed for the next step.
 const THETA_REFRESH: f64 = 0.3;
-/// Consecutive rejections in one call to `step` before giving up.
-const MAX_CONSECUTIVE_FAILURES: usize = 60;
-
 /// TR-BDF2 in ESDIRK form (see the [module documentation](self)).
 ///
 /// ```
@@ -122,11 +120,6 @@ fn tab() -> Tab {
         w,
         e: [w - (1.0 - w) / 3.0, w - (3.0 * w + 1.0) / 3.0, d - d / 3.0],
     }
-}
-
-enum Attempt {
-    Accepted,
-    Rejected(Fail, f64),
 }
 
 impl Esdirk {
@@ -413,6 +406,39 @@ impl Esdirk {
     }
 }
 
+impl one_step::OneStep for Esdirk {
+    fn started(&self) -> bool {
+        self.started
+    }
+    fn time(&self) -> f64 {
+        self.t
+    }
+    fn state(&self) -> (Vec<f64>, Vec<f64>) {
+        (self.y.clone(), self.yp.clone())
+    }
+    fn planned_h(&self) -> f64 {
+        self.h
+    }
+    fn set_h(&mut self, h: f64, after_start: bool) {
+        self.h = h;
+        if after_start {
+            self.h_old = h;
+        }
+    }
+    fn start_order(&self) -> usize {
+        2
+    }
+    fn attempt(
+        &mut self,
+        sys: &mut System<'_>,
+        h: f64,
+        fixed: bool,
+        t_new: f64,
+    ) -> Result<Attempt, SolverError> {
+        Esdirk::attempt(self, sys, h, fixed, t_new)
+    }
+}
+
 impl Method for Esdirk {
     fn name(&self) -> &'static str {
         "esdirk"
@@ -427,20 +453,7 @@ impl Method for Esdirk {
         h: Option<f64>,
     ) -> Result<(), SolverError> {
         let n = sys.dim();
-        if y.len() != n || yp.len() != n {
-            return Err(SolverError::new(
-                ErrorKind::InvalidInput(format!(
-                    "state length {} / derivative length {} differ from dim() = {n}",
-                    y.len(),
-                    yp.len()
-                )),
-                t,
-                None,
-            ));
-        }
-        if !t.is_finite() || y.iter().chain(yp).any(|v| !v.is_finite()) {
-            return Err(SolverError::new(ErrorKind::NonFinite, t, None));
-        }
+        one_step::check_start(n, t, y, yp)?;
         self.n = n;
         self.t = t;
         self.t_prev = t;
@@ -484,56 +497,7 @@ impl Method for Esdirk {
     }
 
     fn step(&mut self, sys: &mut System<'_>, t_stop: f64) -> Result<(), SolverError> {
-        super::check_step_request(self.started, self.t, t_stop)?;
-        if self.h.is_nan() {
-            let (y, yp) = (std::mem::take(&mut self.y), std::mem::take(&mut self.yp));
-            self.h = sys.initial_step(self.t, &y, &yp, t_stop - self.t, 2, false);
-            self.h_old = self.h;
-            (self.y, self.yp) = (y, yp);
-        }
-        let fixed = sys.opts.fixed_step;
-        let mut failures = 0usize;
-        loop {
-            let remaining = t_stop - self.t;
-            let planned = match fixed {
-                Some(hf) => hf,
-                None => self.h.min(sys.opts.h_max),
-            };
-            let (h, t_new, clipped) = if planned * (1.0 + 1e-4) >= remaining {
-                (remaining, t_stop, true)
-            } else {
-                (planned, self.t + planned, false)
-            };
-            if fixed.is_none() && !clipped && step_too_small(h, self.t, sys.opts.h_min) {
-                return Err(SolverError::new(
-                    ErrorKind::StepSizeTooSmall { h },
-                    self.t,
-                    None,
-                ));
-            }
-            match self.attempt(sys, h, fixed.is_some(), t_new)? {
-                Attempt::Accepted => {
-                    if clipped && fixed.is_none() {
-                        self.h = self.h.max(planned.min(sys.opts.h_max));
-                    }
-                    return Ok(());
-                }
-                Attempt::Rejected(fail, h_new) => {
-                    sys.stats.rejected_steps += 1;
-                    failures += 1;
-                    if fixed.is_some() {
-                        return Err(fail.into_error(self.t, h, false));
-                    }
-                    if failures >= MAX_CONSECUTIVE_FAILURES {
-                        return Err(fail.into_error(self.t, h_new, false));
-                    }
-                    if step_too_small(h_new, self.t, sys.opts.h_min) {
-                        return Err(fail.into_error(self.t, h_new, true));
-                    }
-                    self.h = h_new;
-                }
-            }
-        }
+        one_step::step(self, sys, t_stop)
     }
 
     fn t(&self) -> f64 {

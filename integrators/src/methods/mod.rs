@@ -13,6 +13,7 @@ use crate::method::{Method, MethodKind};
 pub mod bdf;
 pub mod dopri;
 pub mod esdirk;
+pub(crate) mod one_step;
 pub mod radau;
 
 /// A fresh method object of the given kind.

@@ -49,6 +49,7 @@
 use crate::error::{ErrorKind, SolverError};
 use crate::linalg::{complex_pair_pattern, fill_complex_pair, LinearSolver, Matrix};
 use crate::method::Method;
+use crate::methods::one_step::{self, Attempt};
 use crate::system::{StepFailure, System};
 
 /// Safety factor of the step-size controller (RADAU5 `SAFE`).
@@ -62,9 +63,6 @@ const THET: f64 = 0.001;
 /// Keep the step size (and the factorisations) when `QUOT1 ≤ h_new/h ≤ QUOT2`.
 const QUOT1: f64 = 1.0;
 const QUOT2: f64 = 1.2;
-/// Consecutive rejections in one call to `step` before giving up.
-const MAX_CONSECUTIVE_FAILURES: usize = 60;
-
 /// Why an attempt was rejected (kept to build the final error if retries run out).
 #[derive(Clone, Debug)]
 pub(crate) enum Fail {
@@ -171,12 +169,6 @@ pub(crate) fn newton_iters(opt: usize, fixed: bool) -> usize {
     } else {
         opt.max(7)
     }
-}
-
-/// Outcome of one step attempt.
-enum Attempt {
-    Accepted,
-    Rejected(Fail, f64),
 }
 
 /// Method constants (Hairer & Wanner II, Table IV.5.6 and RADAU5's `CONSTANTS`).
@@ -797,6 +789,39 @@ impl Radau5 {
     }
 }
 
+impl one_step::OneStep for Radau5 {
+    fn started(&self) -> bool {
+        self.started
+    }
+    fn time(&self) -> f64 {
+        self.t
+    }
+    fn state(&self) -> (Vec<f64>, Vec<f64>) {
+        (self.y.clone(), self.yp.clone())
+    }
+    fn planned_h(&self) -> f64 {
+        self.h
+    }
+    fn set_h(&mut self, h: f64, after_start: bool) {
+        self.h = h;
+        if after_start {
+            self.h_old = h;
+        }
+    }
+    fn start_order(&self) -> usize {
+        3
+    }
+    fn attempt(
+        &mut self,
+        sys: &mut System<'_>,
+        h: f64,
+        fixed: bool,
+        t_new: f64,
+    ) -> Result<Attempt, SolverError> {
+        Radau5::attempt(self, sys, h, fixed, t_new)
+    }
+}
+
 impl Method for Radau5 {
     fn name(&self) -> &'static str {
         "radau"
@@ -811,20 +836,7 @@ impl Method for Radau5 {
         h: Option<f64>,
     ) -> Result<(), SolverError> {
         let n = sys.dim();
-        if y.len() != n || yp.len() != n {
-            return Err(SolverError::new(
-                ErrorKind::InvalidInput(format!(
-                    "state length {} / derivative length {} differ from dim() = {n}",
-                    y.len(),
-                    yp.len()
-                )),
-                t,
-                None,
-            ));
-        }
-        if !t.is_finite() || y.iter().chain(yp).any(|v| !v.is_finite()) {
-            return Err(SolverError::new(ErrorKind::NonFinite, t, None));
-        }
+        one_step::check_start(n, t, y, yp)?;
         let rebuild = !self.started || n != self.n || self.j0.is_none();
         self.n = n;
         self.t = t;
@@ -879,56 +891,7 @@ impl Method for Radau5 {
     }
 
     fn step(&mut self, sys: &mut System<'_>, t_stop: f64) -> Result<(), SolverError> {
-        super::check_step_request(self.started, self.t, t_stop)?;
-        if self.h.is_nan() {
-            let (y, yp) = (std::mem::take(&mut self.y), std::mem::take(&mut self.yp));
-            self.h = sys.initial_step(self.t, &y, &yp, t_stop - self.t, 3, false);
-            self.h_old = self.h;
-            (self.y, self.yp) = (y, yp);
-        }
-        let fixed = sys.opts.fixed_step;
-        let mut failures = 0usize;
-        loop {
-            let remaining = t_stop - self.t;
-            let planned = match fixed {
-                Some(hf) => hf,
-                None => self.h.min(sys.opts.h_max),
-            };
-            let (h, t_new, clipped) = if planned * (1.0 + 1e-4) >= remaining {
-                (remaining, t_stop, true)
-            } else {
-                (planned, self.t + planned, false)
-            };
-            if fixed.is_none() && !clipped && step_too_small(h, self.t, sys.opts.h_min) {
-                return Err(SolverError::new(
-                    ErrorKind::StepSizeTooSmall { h },
-                    self.t,
-                    None,
-                ));
-            }
-            match self.attempt(sys, h, fixed.is_some(), t_new)? {
-                Attempt::Accepted => {
-                    if clipped && fixed.is_none() {
-                        self.h = self.h.max(planned.min(sys.opts.h_max));
-                    }
-                    return Ok(());
-                }
-                Attempt::Rejected(fail, h_new) => {
-                    sys.stats.rejected_steps += 1;
-                    failures += 1;
-                    if fixed.is_some() {
-                        return Err(fail.into_error(self.t, h, false));
-                    }
-                    if failures >= MAX_CONSECUTIVE_FAILURES {
-                        return Err(fail.into_error(self.t, h_new, false));
-                    }
-                    if step_too_small(h_new, self.t, sys.opts.h_min) {
-                        return Err(fail.into_error(self.t, h_new, true));
-                    }
-                    self.h = h_new;
-                }
-            }
-        }
+        one_step::step(self, sys, t_stop)
     }
 
     fn t(&self) -> f64 {

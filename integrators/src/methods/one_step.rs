@@ -1,0 +1,132 @@
+//! The step loop shared by the one-step methods (ESDIRK, Radau IIA, Dormand–Prince): plan the
+//! step (estimating the starting step on the first call after a start), clip it to the stop
+//! time, attempt it, and on rejection retry with the method's proposed step until it succeeds,
+//! falls below the round-off floor, or fails too often in a row.
+//!
+//! A method supplies only [`OneStep::attempt`] (one step of size `h`, with its own error test
+//! and step proposal) and a few accessors; [`step`] is its `Method::step`.
+
+use crate::error::{ErrorKind, SolverError};
+use crate::methods::radau::{step_too_small, Fail};
+use crate::system::System;
+
+/// Consecutive rejected attempts after which a step gives up.
+pub(crate) const MAX_CONSECUTIVE_FAILURES: usize = 60;
+
+/// Outcome of one step attempt.
+pub(crate) enum Attempt {
+    /// The step was taken; the method has advanced its state and proposed the next `h`.
+    Accepted,
+    /// The step was rejected for this reason; retry with this step size.
+    Rejected(Fail, f64),
+}
+
+/// What the shared loop needs from a one-step method.
+pub(crate) trait OneStep {
+    /// Whether [`crate::Method::start`] has been called.
+    fn started(&self) -> bool;
+    /// Current time.
+    fn time(&self) -> f64;
+    /// Current `(y, ẏ)` (copied for the starting-step estimate, once per start).
+    fn state(&self) -> (Vec<f64>, Vec<f64>);
+    /// Step size to try next (NaN: estimate it, as after a start without a step hint).
+    fn planned_h(&self) -> f64;
+    /// Sets the step size to try next (also the method's "previous step" after a start).
+    fn set_h(&mut self, h: f64, after_start: bool);
+    /// Order of the local error estimate minus one, for the starting-step estimate.
+    fn start_order(&self) -> usize;
+    /// Whether `∂F/∂ẏ` is known to be the identity.
+    fn unit_mass(&self) -> bool {
+        false
+    }
+    /// One attempt from the current time to `t_new = t + h` (`fixed`: no error test).
+    fn attempt(
+        &mut self,
+        sys: &mut System<'_>,
+        h: f64,
+        fixed: bool,
+        t_new: f64,
+    ) -> Result<Attempt, SolverError>;
+}
+
+/// One accepted step of `m` towards `t_stop` (never past it).
+pub(crate) fn step<M: OneStep>(
+    m: &mut M,
+    sys: &mut System<'_>,
+    t_stop: f64,
+) -> Result<(), SolverError> {
+    super::check_step_request(m.started(), m.time(), t_stop)?;
+    if m.planned_h().is_nan() {
+        let (y, yp) = m.state();
+        let h = sys.initial_step(
+            m.time(),
+            &y,
+            &yp,
+            t_stop - m.time(),
+            m.start_order(),
+            m.unit_mass(),
+        );
+        m.set_h(h, true);
+    }
+    let fixed = sys.opts.fixed_step;
+    let mut failures = 0usize;
+    loop {
+        let t = m.time();
+        let remaining = t_stop - t;
+        let planned = match fixed {
+            Some(hf) => hf,
+            None => m.planned_h().min(sys.opts.h_max),
+        };
+        let (h, t_new, clipped) = if planned * (1.0 + 1e-4) >= remaining {
+            (remaining, t_stop, true)
+        } else {
+            (planned, t + planned, false)
+        };
+        if fixed.is_none() && !clipped && step_too_small(h, t, sys.opts.h_min) {
+            return Err(SolverError::new(ErrorKind::StepSizeTooSmall { h }, t, None));
+        }
+        match m.attempt(sys, h, fixed.is_some(), t_new)? {
+            Attempt::Accepted => {
+                if clipped && fixed.is_none() {
+                    // a step shortened to land on the stop must not shrink the next one
+                    let next = m.planned_h().max(planned.min(sys.opts.h_max));
+                    m.set_h(next, false);
+                }
+                return Ok(());
+            }
+            Attempt::Rejected(fail, h_new) => {
+                sys.stats.rejected_steps += 1;
+                failures += 1;
+                if fixed.is_some() {
+                    return Err(fail.into_error(t, h, false));
+                }
+                if failures >= MAX_CONSECUTIVE_FAILURES {
+                    return Err(fail.into_error(t, h_new, false));
+                }
+                if step_too_small(h_new, t, sys.opts.h_min) {
+                    return Err(fail.into_error(t, h_new, true));
+                }
+                m.set_h(h_new, false);
+            }
+        }
+    }
+}
+
+/// Shared precondition of `start`: `y` and `ẏ` have the problem's length and are finite.
+pub(crate) fn check_start(n: usize, t: f64, y: &[f64], yp: &[f64]) -> Result<(), SolverError> {
+    if y.len() != n || yp.len() != n {
+        return Err(SolverError::new(
+            ErrorKind::InvalidInput(format!(
+                "state length {} / derivative length {} differ from dim() = {n}",
+                y.len(),
+                yp.len()
+            )),
+            t,
+            None,
+        ));
+    }
+    if !t.is_finite() || y.iter().chain(yp).any(|v| !v.is_finite()) {
+        return Err(SolverError::new(ErrorKind::NonFinite, t, None));
+    }
+    Ok(())
+}
