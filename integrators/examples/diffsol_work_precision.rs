@@ -9,7 +9,6 @@
 //! (default N = 1000 10000; diffsol's problem build grows like N² here, so N > 10⁴ is skipped).
 
 #[path = "../tests/common/mod.rs"]
-#[allow(dead_code)]
 mod common;
 
 use common::Heat;
