@@ -6,6 +6,13 @@
 //! with `ld = 2l+u+1` slots per column, entry `(i, j)` at `data[j·ld + l+u+i−j]`. The top `l`
 //! slots of every column are zero in a [`BandMatrix`] and receive the fill created by row
 //! interchanges (which widen `U` to `l+u` super-diagonals).
+//!
+//! Performance notes (the solve of a narrow band is bound by the latency of its serial
+//! recurrences, not by flops): the pivots' reciprocals are stored so the back substitution
+//! multiplies instead of dividing; `(l, u) = (1, 1)` and `(2, 2)` run copies of the loops with
+//! literal band widths, and the tridiagonal solve carries its running entries in registers;
+//! [`BandLu::factor_combination`] builds `A + β·B` straight into the factor storage (the BDF's
+//! iteration matrix `∂F/∂y + α·∂F/∂ẏ`) in the same pass that checks finiteness.
 
 use super::BandMatrix;
 

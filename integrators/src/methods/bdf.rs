@@ -32,6 +32,17 @@
 //! by `2/(1 + α/α_fact)` as in IDA. The Jacobian is re-evaluated only after a Newton convergence
 //! failure with a stale Jacobian, or after 50 steps.
 //!
+//! # Memory traffic
+//!
+//! For large banded systems a step is bound by passes over `n`-vectors, so the vector work is
+//! fused: the iteration matrix is combined straight into the LU storage
+//! ([`System::factor_combination`]); each Newton iteration is one solve plus one pass that
+//! forms `δ`, updates `y`, `ẏ`, the accumulated correction and the norm; the local-error norm and
+//! the order-selection norms (orders `k−1`, `k−2`, `k+1`) come from one block-wise sweep over
+//! the history; the error and Newton weights from one pass; an accepted state moves into place
+//! by swapping buffers. All of it is bitwise equal to the unfused arithmetic (same operations,
+//! same summation order), so the step sequence is unchanged.
+//!
 //! # Step control
 //!
 //! The suggested factor is `r = (2·err + 10⁻⁴)^{−1/(k+1)}` for the chosen order. Growth is taken
