@@ -75,7 +75,15 @@ fn write_column(jac: &mut Matrix, j: usize, mut value: impl FnMut(usize) -> f64)
                 *v = value(i);
             }
         }
-        _ => {
+        Matrix::Banded(m) => {
+            // no per-column row list: the band rows of column j are contiguous in storage
+            let (r0, r1) = m.col_range(j);
+            let base = j * m.ld() + m.lower + m.upper - j;
+            for (i, v) in (r0..r1).zip(&mut m.data[base + r0..base + r1]) {
+                *v = value(i);
+            }
+        }
+        Matrix::Dense(_) => {
             for i in jac.column_rows(j) {
                 let v = value(i);
                 jac.set(i, j, v);
@@ -134,18 +142,39 @@ fn directional(
     jac: &mut Matrix,
 ) -> Result<bool, StepFailure> {
     let n = y.len();
-    let mut v = vec![0.0; n];
-    let mut r = vec![0.0; n];
-    let mut d1 = vec![0.0; n];
-    let mut d0 = vec![0.0; n];
-    let groups = sys.cache.colour_cols.clone();
+    // borrow the cached colour groups and work vectors for the duration of the call
+    let groups = std::mem::take(&mut sys.cache.colour_cols);
+    let mut work = std::mem::take(&mut sys.cache.jac_work);
+    for w in work.iter_mut() {
+        w.clear();
+        w.resize(n, 0.0);
+    }
+    let res = directional_columns(sys, t, y, yp, cols, jac, &groups, &mut work);
+    sys.cache.colour_cols = groups;
+    sys.cache.jac_work = work;
+    res
+}
+
+#[allow(clippy::too_many_arguments)]
+fn directional_columns(
+    sys: &mut System<'_>,
+    t: f64,
+    y: &[f64],
+    yp: &[f64],
+    cols: Columns<'_>,
+    jac: &mut Matrix,
+    groups: &[Vec<usize>],
+    work: &mut [Vec<f64>; 4],
+) -> Result<bool, StepFailure> {
+    let [v, r, d1, d0] = work;
+    let (v, r, d1, d0) = (&mut v[..], &mut r[..], &mut d1[..], &mut d0[..]);
     for group in groups.iter() {
         match cols {
             Columns::Iteration { c } => {
                 for &j in group {
                     v[j] = 1.0;
                 }
-                let ok = call_directional(sys, t, y, yp, &v, c, &mut r, &mut d1)?;
+                let ok = call_directional(sys, t, y, yp, v, c, r, d1)?;
                 if !ok {
                     return Ok(false);
                 }
@@ -157,7 +186,7 @@ fn directional(
                     for &j in group {
                         v[j] = if algebraic[j] { 0.0 } else { 1.0 };
                     }
-                    if !call_directional(sys, t, y, yp, &v, 1.0, &mut r, &mut d1)? {
+                    if !call_directional(sys, t, y, yp, v, 1.0, r, d1)? {
                         return Ok(false);
                     }
                 } else {
@@ -166,10 +195,10 @@ fn directional(
                 for &j in group {
                     v[j] = if algebraic[j] { -1.0 } else { 1.0 };
                 }
-                if !call_directional(sys, t, y, yp, &v, 0.0, &mut r, &mut d0)? {
+                if !call_directional(sys, t, y, yp, v, 0.0, r, d0)? {
                     return Ok(false);
                 }
-                for (a, b) in d1.iter_mut().zip(&d0) {
+                for (a, b) in d1.iter_mut().zip(&*d0) {
                     *a -= b;
                 }
             }

@@ -52,6 +52,9 @@ pub struct SystemCache {
     pub(crate) algebraic: Vec<bool>,
     /// Columns of each colour (`colour_cols[k]` = the columns `j` with `colour[j] == k`).
     pub(crate) colour_cols: Vec<Vec<usize>>,
+    /// Work vectors of the Jacobian assembly (kept across calls: a large line would otherwise
+    /// allocate and page-fault four fresh `n`-vectors per Jacobian).
+    pub(crate) jac_work: [Vec<f64>; 4],
 }
 
 impl SystemCache {
@@ -236,6 +239,27 @@ impl<'a> System<'a> {
     pub fn factor(&mut self, solver: &mut LinearSolver, m: &Matrix) -> Result<(), StepFailure> {
         self.stats.factorizations += 1;
         let res = solver.factor(m);
+        if solver.last_factor_was_symbolic() {
+            self.stats.symbolic_factorizations += 1;
+        }
+        res.map_err(|column| StepFailure::Recoverable {
+            reason: format!("singular iteration matrix (zero pivot in column {column})"),
+            component: Some(column),
+        })
+    }
+
+    /// Counted factorisation of `a + beta·b` (see [`LinearSolver::factor_combination`]: banded
+    /// matrices skip the scratch matrix); a zero pivot is a recoverable failure.
+    pub fn factor_combination(
+        &mut self,
+        solver: &mut LinearSolver,
+        a: &Matrix,
+        beta: f64,
+        b: &Matrix,
+        scratch: &mut Matrix,
+    ) -> Result<(), StepFailure> {
+        self.stats.factorizations += 1;
+        let res = solver.factor_combination(a, beta, b, scratch);
         if solver.last_factor_was_symbolic() {
             self.stats.symbolic_factorizations += 1;
         }

@@ -255,9 +255,24 @@ impl<E: StrainEnergy> Line<E> {
         y: &[S],
         yp: &[S],
     ) -> Result<CellEval<S>, ResidualError> {
+        let left = self.boundary(j - 1, t, y, yp);
+        self.eval_cell_from(j, t, y, yp, left).map(|(e, _)| e)
+    }
+
+    /// [`eval_cell`](Line::eval_cell) with the left boundary's `(x, v)` already known (the
+    /// residual streams over the cells and hands each cell's right boundary to the next, so
+    /// every boundary is looked up once); also returns the right boundary's `(x, v)`.
+    #[inline(always)]
+    fn eval_cell_from<S: Scalar>(
+        &self,
+        j: usize,
+        t: f64,
+        y: &[S],
+        yp: &[S],
+        (xl, vl): (S, S),
+    ) -> Result<(CellEval<S>, (S, S)), ResidualError> {
         let c = &self.cells;
         let i = j - 1;
-        let (xl, vl) = self.boundary(j - 1, t, y, yp);
         let (xr, vr) = self.boundary(j, t, y, yp);
         let (g, gd) = match self.layout.gi[i] {
             NONE => (S::from(1.0), S::from(0.0)),
@@ -296,18 +311,21 @@ impl<E: StrainEnergy> Line<E> {
         }
         let w = inv_a * (self.gamma0 * self.g2);
         let kappa = drag_factor(g, self.g2, self.m);
-        Ok(CellEval {
-            lam,
-            alpha,
-            alpha_dot,
-            sigma_el,
-            sigma,
-            w,
-            kappa,
-            vl,
-            vr,
-            g,
-        })
+        Ok((
+            CellEval {
+                lam,
+                alpha,
+                alpha_dot,
+                sigma_el,
+                sigma,
+                w,
+                kappa,
+                vl,
+                vr,
+                g,
+            },
+            (xr, vr),
+        ))
     }
 
     /// Applied force on a free right end at `t` (0 if none).
@@ -414,8 +432,10 @@ impl<E: StrainEnergy> CellArray for Line<E> {
         };
         // F_{b−1} for the cell-centre form (F₀ = 0 at the wall).
         let mut f_prev = S::from(0.0);
+        let mut left = self.boundary(0, t, y, yp);
         for c in 1..=n {
-            let cur = self.eval_cell(c, t, y, yp)?;
+            let (cur, right) = self.eval_cell_from(c, t, y, yp, left)?;
+            left = right;
             let gk = lay.gi[c - 1];
             if gk != NONE {
                 if let Some(law) = &self.growth {

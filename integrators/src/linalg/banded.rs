@@ -6,6 +6,13 @@
 //! with `ld = 2l+u+1` slots per column, entry `(i, j)` at `data[j·ld + l+u+i−j]`. The top `l`
 //! slots of every column are zero in a [`BandMatrix`] and receive the fill created by row
 //! interchanges (which widen `U` to `l+u` super-diagonals).
+//!
+//! Performance notes (the solve of a narrow band is bound by the latency of its serial
+//! recurrences, not by flops): the pivots' reciprocals are stored so the back substitution
+//! multiplies instead of dividing; `(l, u) = (1, 1)` and `(2, 2)` run copies of the loops with
+//! literal band widths, and the tridiagonal solve carries its running entries in registers;
+//! [`BandLu::factor_combination`] builds `A + β·B` straight into the factor storage (the BDF's
+//! iteration matrix `∂F/∂y + α·∂F/∂ẏ`) in the same pass that checks finiteness.
 
 use super::BandMatrix;
 
@@ -56,6 +63,10 @@ pub(crate) struct BandLu {
     u: usize,
     ab: Vec<f64>,
     ipiv: Vec<usize>,
+    /// Reciprocals of the pivots `1/U(j, j)`: the back substitution multiplies instead of
+    /// dividing, which takes a division off its serial dependency chain (the solve of a narrow
+    /// band is latency-bound).
+    dinv: Vec<f64>,
     factored: bool,
     /// Multiply–add count of the last factorisation.
     pub(crate) flops: usize,
@@ -70,6 +81,7 @@ impl BandLu {
             u: shape.upper,
             ab: vec![0.0; shape.data.len()],
             ipiv: vec![0; n],
+            dinv: vec![0.0; n],
             factored: false,
             flops: 0,
         }
@@ -78,25 +90,97 @@ impl BandLu {
     /// Factorises `m` (same shape as given to [`BandLu::new`]). `Err(column)` on a zero or
     /// non-finite pivot, or a non-finite entry.
     pub(crate) fn factor(&mut self, m: &BandMatrix) -> Result<(), usize> {
+        self.check_shape(m);
+        self.ab.copy_from_slice(&m.data);
+        self.factor_loaded()
+    }
+
+    /// Factorises `a + beta·b` (both of the solver's shape) without materialising the sum in a
+    /// separate matrix: the combination is written straight into the factor storage, one pass
+    /// instead of zero + two `axpby` + copy. Each entry is `a_k + beta·b_k`, bitwise what
+    /// `set_zero; axpby(1, 1, a); axpby(1, beta, b)` produces.
+    pub(crate) fn factor_combination(
+        &mut self,
+        a: &BandMatrix,
+        beta: f64,
+        b: &BandMatrix,
+    ) -> Result<(), usize> {
+        self.check_shape(a);
+        self.check_shape(b);
+        self.factored = false;
+        self.flops = 0;
+        // one pass: combine, zero the fill slots, check finiteness
+        let (l, ld) = (self.l, a.ld());
+        for (j, ((d, x), y)) in self
+            .ab
+            .chunks_exact_mut(ld)
+            .zip(a.data.chunks_exact(ld))
+            .zip(b.data.chunks_exact(ld))
+            .enumerate()
+        {
+            d[..l].iter_mut().for_each(|v| *v = 0.0);
+            let mut finite = true;
+            for ((dv, &xv), &yv) in d[l..].iter_mut().zip(&x[l..]).zip(&y[l..]) {
+                *dv = xv + beta * yv;
+                finite &= dv.is_finite();
+            }
+            if !finite {
+                return Err(j);
+            }
+        }
+        self.eliminate()
+    }
+
+    fn check_shape(&self, m: &BandMatrix) {
         assert!(
             m.n == self.n && m.lower == self.l && m.upper == self.u,
             "band matrix shape mismatch"
         );
+    }
+
+    /// Factorises the matrix already copied into `self.ab`. The common narrow bands are
+    /// dispatched to copies of the same code with the band widths as literal constants, so the
+    /// compiler unrolls the short inner loops (a tridiagonal line is the hot case).
+    fn factor_loaded(&mut self) -> Result<(), usize> {
         self.factored = false;
         self.flops = 0;
-        let (n, l, u) = (self.n, self.l, self.u);
-        let ld = 2 * l + u + 1;
-        let kv = l + u;
-        self.ab.copy_from_slice(&m.data);
-        for j in 0..n {
-            let col = &mut self.ab[j * ld..(j + 1) * ld];
+        let (l, ld) = (self.l, 2 * self.l + self.u + 1);
+        for (j, col) in self.ab.chunks_exact_mut(ld).enumerate() {
             // fill slots must start at zero whatever the caller stored there
             col[..l].iter_mut().for_each(|x| *x = 0.0);
             if col[l..].iter().any(|x| !x.is_finite()) {
                 return Err(j);
             }
         }
-        let ab = &mut self.ab;
+        self.eliminate()
+    }
+
+    /// Elimination on the loaded, checked storage.
+    fn eliminate(&mut self) -> Result<(), usize> {
+        let res = match (self.l, self.u) {
+            (1, 1) => self.factor_impl(1, 1),
+            (2, 2) => self.factor_impl(2, 2),
+            (l, u) => self.factor_impl(l, u),
+        };
+        if res.is_ok() {
+            let ld = 2 * self.l + self.u + 1;
+            let kv = self.l + self.u;
+            for (di, col) in self.dinv.iter_mut().zip(self.ab.chunks_exact(ld)) {
+                *di = 1.0 / col[kv];
+            }
+        }
+        self.factored = res.is_ok();
+        res
+    }
+
+    /// Unblocked `dgbtf2` on `self.ab` (see [`factor_loaded`](Self::factor_loaded)).
+    #[inline(always)]
+    fn factor_impl(&mut self, l: usize, u: usize) -> Result<(), usize> {
+        let n = self.n;
+        let ld = 2 * l + u + 1;
+        let kv = l + u;
+        let ab = &mut self.ab[..];
+        let mut flops = 0usize;
         // index of the last column touched by a row interchange so far
         let mut ju = 0usize;
         for j in 0..n {
@@ -115,6 +199,7 @@ impl BandLu {
             self.ipiv[j] = j + jp;
             let piv = ab[base + jp];
             if piv == 0.0 || !piv.is_finite() {
+                self.flops = flops;
                 return Err(j);
             }
             ju = ju.max((j + u + jp).min(n - 1));
@@ -134,15 +219,18 @@ impl BandLu {
                     let top = c * ld + kv + j - c;
                     let a = ab[top];
                     if a != 0.0 {
-                        for i in 1..=km {
-                            ab[top + i] -= ab[base + i] * a;
+                        // the multipliers (column j) lie before column c's slots
+                        let (left, right) = ab.split_at_mut(top + 1);
+                        let mult = &left[base + 1..=base + km];
+                        for (t, &mlt) in right[..km].iter_mut().zip(mult) {
+                            *t -= mlt * a;
                         }
                     }
-                    self.flops += km;
+                    flops += km;
                 }
             }
         }
-        self.factored = true;
+        self.flops = flops;
         Ok(())
     }
 
@@ -152,11 +240,68 @@ impl BandLu {
             self.factored,
             "LinearSolver::solve_in_place before a successful factor"
         );
-        let (n, l, u) = (self.n, self.l, self.u);
-        assert_eq!(b.len(), n, "right-hand side length mismatch");
+        assert_eq!(b.len(), self.n, "right-hand side length mismatch");
+        match (self.l, self.u) {
+            (1, 1) => self.solve_tridiagonal(b),
+            (2, 2) => self.solve_impl(2, 2, b),
+            (l, u) => self.solve_impl(l, u, b),
+        }
+    }
+
+    /// [`solve_impl`](Self::solve_impl) for `l = u = 1` with the running entries kept in
+    /// registers: in the generic loop every row waits for the store of the previous row's
+    /// update to be forwarded back from memory. Same operations in the same order, so the
+    /// result is bitwise that of the generic loop.
+    fn solve_tridiagonal(&self, b: &mut [f64]) {
+        let n = self.n;
+        if n == 0 {
+            return;
+        }
+        // ld = 4, kv = 2: column j holds [U(j−2, j) (interchange fill), U(j−1, j), U(j, j),
+        // multiplier L(j+1, j)].
+        let ab = &self.ab[..4 * n];
+        // forward: L with the row interchanges (ipiv[j] is j or j + 1)
+        let mut cur = b[0];
+        for j in 0..n - 1 {
+            let mut nxt = b[j + 1];
+            if self.ipiv[j] != j {
+                std::mem::swap(&mut cur, &mut nxt);
+            }
+            b[j] = cur;
+            if cur != 0.0 {
+                nxt -= ab[4 * j + 3] * cur;
+            }
+            cur = nxt;
+        }
+        b[n - 1] = cur;
+        // backward: U has two super-diagonals (the second one from interchanges)
+        let mut a0 = b[n - 1];
+        let mut a1 = if n >= 2 { b[n - 2] } else { 0.0 };
+        for j in (0..n).rev() {
+            let x = a0 * self.dinv[j];
+            b[j] = x;
+            let mut a2 = if j >= 2 { b[j - 2] } else { 0.0 };
+            if x != 0.0 {
+                let col = &ab[4 * j..4 * j + 4];
+                if j >= 1 {
+                    a1 -= col[1] * x;
+                }
+                if j >= 2 {
+                    a2 -= col[0] * x;
+                }
+            }
+            a0 = a1;
+            a1 = a2;
+        }
+    }
+
+    /// `dgbtrs` with the band widths as arguments (inlined with constants by [`solve`](Self::solve)).
+    #[inline(always)]
+    fn solve_impl(&self, l: usize, u: usize, b: &mut [f64]) {
+        let n = self.n;
         let ld = 2 * l + u + 1;
         let kv = l + u;
-        let ab = &self.ab;
+        let ab = &self.ab[..];
         if l > 0 {
             for j in 0..n.saturating_sub(1) {
                 let lm = l.min(n - 1 - j);
@@ -167,19 +312,22 @@ impl BandLu {
                 let bj = b[j];
                 if bj != 0.0 {
                     let base = j * ld + kv;
-                    for i in 1..=lm {
-                        b[j + i] -= ab[base + i] * bj;
+                    let mult = &ab[base + 1..=base + lm];
+                    for (bi, &m) in b[j + 1..=j + lm].iter_mut().zip(mult) {
+                        *bi -= m * bj;
                     }
                 }
             }
         }
-        for j in (0..n).rev() {
-            let base = j * ld + kv;
-            b[j] /= ab[base];
+        for (j, (col, &dinv)) in ab.chunks_exact(ld).zip(&self.dinv).enumerate().rev() {
+            b[j] *= dinv;
             let bj = b[j];
             if bj != 0.0 {
-                for i in j.saturating_sub(kv)..j {
-                    b[i] -= ab[base + i - j] * bj;
+                // U(i, j) for i = j−kv..j lives at col[kv + i − j]
+                let lo = j.saturating_sub(kv);
+                let ucol = &col[kv - (j - lo)..kv];
+                for (bi, &uij) in b[lo..j].iter_mut().zip(ucol) {
+                    *bi -= uij * bj;
                 }
             }
         }

@@ -310,6 +310,38 @@ impl LinearSolver {
             _ => panic!("LinearSolver::factor: matrix storage does not match the solver's pattern"),
         }
     }
+    /// Factorises `a + beta·b` (`a`, `b` and `scratch` of the solver's pattern). Banded
+    /// matrices are combined straight into the factor storage (one pass, no scratch write);
+    /// other patterns build the sum in `scratch` first. Entries are bitwise those of
+    /// `scratch.set_zero(); scratch.axpby(1, 1, a); scratch.axpby(1, beta, b)`.
+    ///
+    /// ```
+    /// use integrators::linalg::{LinearSolver, Matrix};
+    /// use integrators::Pattern;
+    /// let p = Pattern::Banded { lower: 0, upper: 0 };
+    /// let (mut a, mut b, mut s) = (Matrix::zeros(2, &p), Matrix::zeros(2, &p), Matrix::zeros(2, &p));
+    /// a.add(0, 0, 1.0); a.add(1, 1, 1.0); b.add(0, 0, 1.0); b.add(1, 1, 3.0);
+    /// let mut lu = LinearSolver::new(2, &p);
+    /// lu.factor_combination(&a, 2.0, &b, &mut s).unwrap(); // diag(3, 7)
+    /// let mut x = vec![3.0, 7.0];
+    /// lu.solve_in_place(&mut x);
+    /// assert_eq!(x, vec![1.0, 1.0]);
+    /// ```
+    pub fn factor_combination(
+        &mut self,
+        a: &Matrix,
+        beta: f64,
+        b: &Matrix,
+        scratch: &mut Matrix,
+    ) -> Result<(), usize> {
+        if let (Inner::Banded(lu), Matrix::Banded(a), Matrix::Banded(b)) = (&mut self.inner, a, b) {
+            return lu.factor_combination(a, beta, b);
+        }
+        scratch.set_zero();
+        scratch.axpby(1.0, 1.0, a);
+        scratch.axpby(1.0, beta, b);
+        self.factor(scratch)
+    }
     /// Solves in place with the last factorisation.
     ///
     /// Panics if there is no successful factorisation (programmer error).

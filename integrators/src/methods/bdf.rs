@@ -32,6 +32,17 @@
 //! by `2/(1 + α/α_fact)` as in IDA. The Jacobian is re-evaluated only after a Newton convergence
 //! failure with a stale Jacobian, or after 50 steps.
 //!
+//! # Memory traffic
+//!
+//! For large banded systems a step is bound by passes over `n`-vectors, so the vector work is
+//! fused: the iteration matrix is combined straight into the LU storage
+//! ([`System::factor_combination`]); each Newton iteration is one solve plus one pass that
+//! forms `δ`, updates `y`, `ẏ`, the accumulated correction and the norm; the local-error norm and
+//! the order-selection norms (orders `k−1`, `k−2`, `k+1`) come from one block-wise sweep over
+//! the history; the error and Newton weights from one pass; an accepted state moves into place
+//! by swapping buffers. All of it is bitwise equal to the unfused arithmetic (same operations,
+//! same summation order), so the step sequence is unchanged.
+//!
 //! # Step control
 //!
 //! The suggested factor is `r = (2·err + 10⁻⁴)^{−1/(k+1)}` for the chosen order. Growth is taken
@@ -211,6 +222,63 @@ fn worst(v: &[f64], w: &[f64]) -> Option<usize> {
     best
 }
 
+/// Up to `NC` history vectors with their coefficients (see `Bdf::items`).
+struct Items<'s> {
+    list: [(&'s [f64], f64, f64); NC],
+    len: usize,
+}
+
+impl<'s> Items<'s> {
+    fn as_slice(&self) -> &[(&'s [f64], f64, f64)] {
+        &self.list[..self.len]
+    }
+}
+
+/// Running weighted norm of one kind, bitwise equal to [`ErrorNorm::of`] over the same
+/// products: RMS sums the squares in index order; max keeps a NaN flag beside the running
+/// maximum instead of a NaN-sticky fold, which takes the NaN test off the dependency chain.
+#[derive(Clone, Copy)]
+struct NormAcc {
+    rms: bool,
+    sum: f64,
+    max: f64,
+    nan: bool,
+}
+
+impl NormAcc {
+    fn new(norm: ErrorNorm) -> Self {
+        Self {
+            rms: matches!(norm, ErrorNorm::Rms),
+            sum: 0.0,
+            max: 0.0,
+            nan: false,
+        }
+    }
+
+    #[inline(always)]
+    fn push(&mut self, x: f64) {
+        if self.rms {
+            self.sum += x * x;
+        } else {
+            let a = x.abs();
+            self.nan |= a.is_nan();
+            self.max = if a > self.max { a } else { self.max };
+        }
+    }
+
+    fn finish(&self, n: usize) -> f64 {
+        if n == 0 {
+            0.0
+        } else if self.rms {
+            (self.sum / n as f64).sqrt()
+        } else if self.nan {
+            f64::NAN
+        } else {
+            self.max
+        }
+    }
+}
+
 impl Bdf {
     /// A BDF method; state is set by [`Method::start`].
     pub fn new() -> Self {
@@ -256,15 +324,19 @@ impl Bdf {
         self.k_last
     }
 
-    /// The stored vectors with nonzero coefficients in `ca` (or `cb`): `(vector, ca_j, cb_j)`.
-    fn items<'s>(&'s self, ca: &[f64; NC], cb: &[f64; NC], m: usize) -> Vec<(&'s [f64], f64, f64)> {
-        (0..=m)
-            .filter(|&j| ca[j] != 0.0 || cb[j] != 0.0)
-            .map(|j| {
-                let v: &[f64] = if j < m { &self.vals[j] } else { &self.yp0 };
-                (v, ca[j], cb[j])
-            })
-            .collect()
+    /// The stored vectors with nonzero coefficients in `ca` (or `cb`): `(vector, ca_j, cb_j)`,
+    /// in a fixed-size list (no allocation per call).
+    fn items<'s>(&'s self, ca: &[f64; NC], cb: &[f64; NC], m: usize) -> Items<'s> {
+        let mut out = Items {
+            list: [(&[][..], 0.0, 0.0); NC],
+            len: 0,
+        };
+        for j in (0..=m).filter(|&j| ca[j] != 0.0 || cb[j] != 0.0) {
+            let v: &[f64] = if j < m { &self.vals[j] } else { &self.yp0 };
+            out.list[out.len] = (v, ca[j], cb[j]);
+            out.len += 1;
+        }
+        out
     }
 
     /// Value and derivative at `t` of the polynomial through the first `m` history nodes:
@@ -275,6 +347,7 @@ impl Bdf {
         let mut dp = [0.0; NC];
         interp_coeffs(&z, t, &mut p, &mut dp);
         let items = self.items(&p, &dp, m);
+        let items = items.as_slice();
         let n = y.len();
         let mut s = 0;
         while s < n {
@@ -282,7 +355,7 @@ impl Bdf {
             let (yb, ypb) = (&mut y[s..e], &mut yp[s..e]);
             yb.fill(0.0);
             ypb.fill(0.0);
-            for &(v, a, b) in &items {
+            for &(v, a, b) in items {
                 let vb = &v[s..e];
                 for ((yi, ypi), &x) in yb.iter_mut().zip(ypb.iter_mut()).zip(vb) {
                     *yi += a * x;
@@ -316,47 +389,58 @@ impl Bdf {
         (err, dn * scale)
     }
 
-    /// Weighted RMS norm of `y_new - predictor_m(t_new)` (error weights), block-wise without
-    /// storing the predictor.
-    fn pred_diff_norm(&self, m: usize, t_new: f64, norm: ErrorNorm) -> f64 {
+    /// In one block-wise sweep over the state: the error norm of `ee` (error weights) and,
+    /// for each order `m` in `orders`, the norm of `y_new − predictor_m(t_new)` (no predictor
+    /// is stored). One sweep instead of one per order keeps a large state's history vectors in
+    /// L1 across the orders. Each norm is bitwise what [`ErrorNorm::of`] gives on the same
+    /// vector.
+    fn error_norms(&self, orders: &[usize], t_new: f64, norm: ErrorNorm) -> (f64, [f64; 3]) {
+        assert!(orders.len() <= 3, "at most three orders");
         let n = self.ycur.len();
+        let mut out = [0.0; 3];
         if n == 0 {
-            return 0.0;
+            return (0.0, out);
         }
-        let z: Vec<f64> = self.times.iter().take(m + 1).copied().collect();
-        let mut p = [0.0; NC];
-        let mut dp = [0.0; NC];
-        interp_coeffs(&z, t_new, &mut p, &mut dp);
         let zero = [0.0; NC];
-        let items = self.items(&p, &zero, m + 1);
+        let mut coeffs = [[0.0; NC]; 3];
+        for (c, &m) in coeffs.iter_mut().zip(orders) {
+            let z: Vec<f64> = self.times.iter().take(m + 1).copied().collect();
+            let mut dp = [0.0; NC];
+            interp_coeffs(&z, t_new, c, &mut dp);
+        }
+        let items: Vec<Items<'_>> = coeffs
+            .iter()
+            .zip(orders)
+            .map(|(c, &m)| self.items(c, &zero, m + 1))
+            .collect();
         let mut buf = [0.0; BLK];
-        let mut sum = 0.0;
-        let mut mx: f64 = 0.0;
+        let mut acc_e = NormAcc::new(norm);
+        let mut acc = [NormAcc::new(norm); 3];
         let mut s = 0;
         while s < n {
             let e = (s + BLK).min(n);
-            let b = &mut buf[..e - s];
-            b.fill(0.0);
-            for &(v, a, _) in &items {
-                for (bi, &x) in b.iter_mut().zip(&v[s..e]) {
-                    *bi += a * x;
-                }
+            let (yb, wb) = (&self.ycur[s..e], &self.ewt[s..e]);
+            for (d, w) in self.ee[s..e].iter().zip(wb) {
+                acc_e.push(d * w);
             }
-            for ((bi, yi), wi) in b.iter().zip(&self.ycur[s..e]).zip(&self.ewt[s..e]) {
-                let d = (yi - bi) * wi;
-                sum += d * d;
-                mx = if d.is_nan() {
-                    f64::NAN
-                } else {
-                    mx.max(d.abs())
-                };
+            for (it, a) in items.iter().zip(acc.iter_mut()) {
+                let b = &mut buf[..e - s];
+                b.fill(0.0);
+                for &(v, c, _) in it.as_slice() {
+                    for (bi, &x) in b.iter_mut().zip(&v[s..e]) {
+                        *bi += c * x;
+                    }
+                }
+                for ((bi, yi), wi) in b.iter().zip(yb).zip(wb) {
+                    a.push((yi - bi) * wi);
+                }
             }
             s = e;
         }
-        match norm {
-            ErrorNorm::Rms => (sum / n as f64).sqrt(),
-            ErrorNorm::Max => mx,
+        for (o, a) in out.iter_mut().zip(&acc) {
+            *o = a.finish(n);
         }
+        (acc_e.finish(n), out)
     }
 
     fn ensure_linalg(&mut self, sys: &System<'_>) {
@@ -395,11 +479,14 @@ impl Bdf {
             new_fact = true;
         }
         if new_fact || self.c_fact == 0.0 || (alpha / self.c_fact - 1.0).abs() > 0.25 {
-            let iter = self.iter.as_mut().expect("allocated");
-            iter.set_zero();
-            iter.axpby(1.0, 1.0, self.jy.as_ref().expect("allocated"));
-            iter.axpby(1.0, alpha, self.jyp.as_ref().expect("allocated"));
-            match sys.factor(self.lin.as_mut().expect("allocated"), iter) {
+            // J(0) + α·∂F/∂ẏ, combined straight into the factor storage for banded patterns
+            match sys.factor_combination(
+                self.lin.as_mut().expect("allocated"),
+                self.jy.as_ref().expect("allocated"),
+                alpha,
+                self.jyp.as_ref().expect("allocated"),
+                self.iter.as_mut().expect("allocated"),
+            ) {
                 Ok(()) => {}
                 Err(StepFailure::Recoverable { reason, component }) => {
                     self.c_fact = 0.0;
@@ -434,20 +521,27 @@ impl Bdf {
                 Err(StepFailure::Fatal(e)) => return Err(NewtonFail::Fatal(e)),
             }
             sys.stats.newton_iterations += 1;
-            for r in self.res.iter_mut() {
-                *r = -*r;
-            }
+            // δ = −scale·J⁻¹F: solving for F and negating afterwards is bitwise the same as
+            // solving for −F (every rounding is sign-symmetric), and saves a pass. One fused
+            // pass then stores δ in `res`, updates the iterate and accumulates ‖δ‖.
             sys.solve(self.lin.as_ref().expect("allocated"), &mut self.res);
-            if scale != 1.0 {
-                self.res.iter_mut().for_each(|d| *d *= scale);
+            let mut acc = NormAcc::new(sys.opts.norm);
+            for ((((d, yc), ypc), e), w) in self
+                .res
+                .iter_mut()
+                .zip(self.ycur.iter_mut())
+                .zip(self.ypcur.iter_mut())
+                .zip(self.ee.iter_mut())
+                .zip(&self.nwt)
+            {
+                let di = if scale != 1.0 { -(*d * scale) } else { -*d };
+                *d = di;
+                *yc += di;
+                *ypc += alpha * di;
+                *e += di;
+                acc.push(di * w);
             }
-            for i in 0..n {
-                let d = self.res[i];
-                self.ycur[i] += d;
-                self.ypcur[i] += alpha * d;
-                self.ee[i] += d;
-            }
-            let delnrm = sys.opts.norm.of(&self.res, &self.nwt);
+            let delnrm = acc.finish(n);
             if !delnrm.is_finite() {
                 return Err(NewtonFail::NoConvergence(worst(&self.res, &self.nwt)));
             }
@@ -601,11 +695,23 @@ impl Method for Bdf {
         let opts = sys.opts;
         let n = self.n;
         // weights from the state at the start of the step
-        sys.error_weights(&self.y, &mut self.ewt);
+        // (one pass for both: the Newton weights are the error weights without suppression of
+        // algebraic components, as in `System::error_weights`)
         {
-            let atol = sys.atol();
-            for ((w, yi), a) in self.nwt.iter_mut().zip(&self.y).zip(atol) {
-                *w = 1.0 / (opts.rtol * yi.abs() + a);
+            let (atol, alg) = (sys.atol(), sys.algebraic());
+            assert!(atol.len() == n && alg.len() == n && self.y.len() == n);
+            let suppress = opts.suppress_algebraic;
+            for ((((ew, nw), yi), a), &is_alg) in self
+                .ewt
+                .iter_mut()
+                .zip(self.nwt.iter_mut())
+                .zip(&self.y)
+                .zip(atol)
+                .zip(alg)
+            {
+                let w = 1.0 / (opts.rtol * yi.abs() + a);
+                *nw = w;
+                *ew = if suppress && is_alg { 0.0 } else { w };
             }
         }
         if self.h_pending {
@@ -679,19 +785,45 @@ impl Method for Bdf {
                 continue;
             }
 
-            // local error test
-            let een = opts.norm.of(&self.ee, &self.ewt);
+            // local error test; the norms of the order-(k−1), (k−2) and, when an order raise
+            // may be considered below, (k+1) differences come from the same sweep
+            let had_failures = nef > 0 || ncf > 0;
+            let may_raise = opts.fixed_order.is_none()
+                && k < opts.max_order
+                && self.steps_at_order + 1 > k
+                && self.times.len() >= k + 2
+                && !had_failures;
+            let mut orders = [0usize; 3];
+            let mut no = 0;
+            for (m, wanted) in [
+                (k.wrapping_sub(1), k > 1),
+                (k.wrapping_sub(2), k > 2),
+                (k + 1, may_raise),
+            ] {
+                if wanted {
+                    orders[no] = m;
+                    no += 1;
+                }
+            }
+            let (een, dn) = self.error_norms(&orders[..no], t_new, opts.norm);
+            let dnorm_of = |m: usize| -> f64 {
+                let i = orders[..no]
+                    .iter()
+                    .position(|&o| o == m)
+                    .expect("order norm computed in the sweep");
+                dn[i]
+            };
             let (err_k, terr_k) = self.estimates(k, t_new, h_try, een);
             let mut knew = k;
             let mut terr_km1 = f64::INFINITY;
             let mut err_km1 = f64::INFINITY;
             if k > 1 {
-                let d1 = self.pred_diff_norm(k - 1, t_new, opts.norm);
+                let d1 = dnorm_of(k - 1);
                 let (e1, te1) = self.estimates(k - 1, t_new, h_try, d1);
                 err_km1 = e1;
                 terr_km1 = te1;
                 if k > 2 {
-                    let d2 = self.pred_diff_norm(k - 2, t_new, opts.norm);
+                    let d2 = dnorm_of(k - 2);
                     let (_, te2) = self.estimates(k - 2, t_new, h_try, d2);
                     if te1.max(te2) <= terr_k {
                         knew = k - 1;
@@ -740,7 +872,6 @@ impl Method for Bdf {
             }
 
             // accepted: choose the next order (IDA's rules)
-            let had_failures = nef > 0 || ncf > 0;
             let mut err_new = if knew < k { err_km1 } else { err_k };
             let mut action_order = knew;
             let can_raise = opts.fixed_order.is_none()
@@ -750,7 +881,7 @@ impl Method for Bdf {
                 && self.times.len() >= k + 2
                 && !had_failures;
             if can_raise {
-                let d = self.pred_diff_norm(k + 1, t_new, opts.norm);
+                let d = dnorm_of(k + 1);
                 let (err_kp1, terr_kp1) = self.estimates(k + 1, t_new, h_try, d);
                 if k == 1 {
                     if terr_kp1 < 0.5 * terr_k {
@@ -780,11 +911,13 @@ impl Method for Bdf {
                 vec![0.0; n]
             };
             let mut buf = buf;
-            buf.copy_from_slice(&self.ycur);
+            // the new state moves into y/ẏ (the next Newton overwrites ycur/ypcur from the
+            // predictor), the history keeps a copy
+            std::mem::swap(&mut self.y, &mut self.ycur);
+            std::mem::swap(&mut self.yp, &mut self.ypcur);
+            buf.copy_from_slice(&self.y);
             self.times.push_front(t_new);
             self.vals.push_front(buf);
-            self.y.copy_from_slice(&self.ycur);
-            self.yp.copy_from_slice(&self.ypcur);
             self.k_last = k;
             sys.stats.steps += 1;
             self.steps_since_jac += 1;
