@@ -35,10 +35,17 @@ fn params(n: usize, k: f64, eta: f64) -> LineParams {
     p
 }
 
-/// Proliferating run: K, t_end → (cells, divisions, trajectory).
-fn proliferate(k: f64, t_end: f64) -> (usize, usize, Trajectory) {
+/// Proliferating run: K, t_end, cap on N, smooth restart → (cells, divisions, trajectory).
+fn proliferate(
+    k: f64,
+    t_end: f64,
+    cap: Option<usize>,
+    smooth: bool,
+) -> (usize, usize, Trajectory) {
     let line = discrete(NeoHookean::new(1.0).unwrap(), &params(100, k, 0.0)).unwrap();
-    let div = Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap();
+    let mut div = Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap();
+    div.max_cells = cap;
+    div.smooth_restart = smooth;
     let mut prob = ArrayProblem::new(div);
     let traj = integrate(&mut prob, &SolveSettings::default(), &[0.0, t_end]);
     if let Some(e) = &traj.error {
@@ -66,18 +73,23 @@ fn report() {
     if std::env::var("PROLIF_REPORT").as_deref() == Ok("0") {
         return;
     }
-    let (k, t_end) = (env("PROLIF_K", 1e-7), env("PROLIF_T", 40.0));
+    let (k, t_end) = (env("PROLIF_K", 1e-8), env("PROLIF_T", 14.0));
+    let cap = env("PROLIF_CAP", 1e4) as usize;
+    let cap = (cap > 0).then_some(cap);
+    let smooth = std::env::var("PROLIF_SMOOTH").as_deref() != Ok("0");
     let start = Instant::now();
-    let (cells, divs, traj) = proliferate(k, t_end);
+    let (cells, divs, traj) = proliferate(k, t_end, cap, smooth);
     let wall = start.elapsed().as_secs_f64();
     let s = traj.stats;
     println!(
-        "REPORT proliferation K={k:e} t=[0,{t_end}]: N 100 -> {cells}, {divs} divisions in {} events, {wall:.2} s, {:.0} divisions/s, {} steps ({:.2} steps/division), {} rejected, {} Jacobians, {} factorizations",
+        "REPORT proliferation K={k:e} t=[0,{t_end}] cap={cap:?} smooth_restart={smooth}: N 100 -> {cells}, {divs} divisions in {} events, {wall:.2} s, {:.0} divisions/s, {} steps ({:.2} steps/division), {} rejected ({} error-test, {} Newton), {} Jacobians, {} factorizations",
         s.events,
         divs as f64 / wall,
         s.steps,
         s.steps as f64 / divs as f64,
         s.rejected_steps,
+        s.error_test_failures,
+        s.newton_failures,
         s.jacobian_evals,
         s.factorizations
     );
@@ -108,8 +120,19 @@ fn benches(c: &mut Criterion) {
     let mut g = c.benchmark_group("proliferation");
     g.sample_size(10);
     g.bench_function("divide_100_to_400_K1e-8", |b| {
-        b.iter(|| proliferate(1e-8, 6.5))
+        b.iter(|| proliferate(1e-8, 6.5, None, true))
     });
+    // the issue-4 target: N₀ = 100 to 10⁴ cells (capped there; the wave at t ≈ 12 passes
+    // 10⁴ by t ≈ 12.5, the rest of [0, 13] runs without divisions). ≈ 10 min per sample
+    // one-shot on the 2-core machine; `PROLIF_LARGE=0` skips it.
+    if std::env::var("PROLIF_LARGE").as_deref() != Ok("0") {
+        g.bench_function("divide_100_to_1e4_K1e-8", |b| {
+            b.iter(|| {
+                let (cells, _, traj) = proliferate(1e-8, 13.0, Some(10_000), true);
+                assert!(traj.error.is_none() && cells == 10_000);
+            })
+        });
+    }
     g.bench_function("grow_N1e4_eta0", |b| b.iter(|| grow(10_000, 0.0, 10.0)));
     g.bench_function("grow_N1e4_eta1", |b| b.iter(|| grow(10_000, 1.0, 10.0)));
     g.finish();
