@@ -338,14 +338,14 @@ impl<E: StrainEnergy> CellArray for Dividing<E> {
     ///   continuous at a division with `η = 0` (forces and `σ` are), so the pre-event value is
     ///   the right one to extrapolate. `ġ` stays consistent (`G(σ)` is insensitive to `δx`).
     /// * A new boundary starts at rest: with `η = 0` its consistent velocity is
-    /// `F/(Kκ) = W(σ_d₂ − σ_d₁)/(Kκ) = 0` (the daughters' stresses are equal), while the
-    /// material point it marks moved with the parent's strain rate, at the mean of the parent's
-    /// boundary velocities. It catches up within `τ ≈ K L₀/μ` (10⁻⁸ at `K = 10⁻⁸`), moving
-    /// `y` by `O(|Δv|τ)`, below the tolerances; but a method restarted from the resting value
-    /// extrapolates `x_new` with velocity 0, its first error estimate sees the whole
-    /// `|Δv|·h/2`, and restarts after every division are cut to `h ≈ 2·rtol·x/v` (≈ 10⁻⁵ for an
-    /// exponentially growing line), with rejections and Newton failures. Restarting from the
-    /// smooth value removes that (the corrector still solves the exact residual).
+    ///   `F/(Kκ) = W(σ_d₂ − σ_d₁)/(Kκ) = 0` (the daughters' stresses are equal), while the
+    ///   material point it marks moved with the parent's strain rate, at the mean of the parent's
+    ///   boundary velocities. It catches up within `τ ≈ K L₀/μ` (10⁻⁸ at `K = 10⁻⁸`), moving
+    ///   `y` by `O(|Δv|τ)`, below the tolerances; but a method restarted from the resting value
+    ///   extrapolates `x_new` with velocity 0, its first error estimate sees the whole
+    ///   `|Δv|·h/2`, and restarts after every division are cut to `h ≈ 2·rtol·x/v` (≈ 10⁻⁵ for an
+    ///   exponentially growing line), with rejections and Newton failures. Restarting from the
+    ///   smooth value removes that (the corrector still solves the exact residual).
     fn restart_derivative(&mut self, t: f64, y: &[f64], yp: &mut [f64]) {
         if !self.smooth_restart || yp.len() != self.line.layout.dim {
             return;
