@@ -2,19 +2,15 @@
 //! (divisions per second, steps per division; each division is an O(N) split plus a resized
 //! restart), and growth with η > 0 against η = 0 at N = 10⁵ (target ≤ 3×).
 //!
-//! `cargo bench --bench proliferation` prints the one-shot report (`REPORT …` lines) and then
-//! runs the criterion groups on smaller sizes. `PROLIF_REPORT=0` skips the report;
-//! `PROLIF_K`, `PROLIF_T` set the drag and end time of the proliferating run (default 1e-7, 40),
-//! `PROLIF_GROWTH_N` the size of the η comparison (default 1e5; 0 skips it).
+//! `cargo bench --bench proliferation` prints the one-shot report (`REPORT …` lines; append
+//! `-- --list` for the report alone) and then runs the criterion groups. `PROLIF_REPORT=0`
+//! skips the report; `PROLIF_K`, `PROLIF_T`, `PROLIF_CAP` set the drag, end time and cell cap of
+//! the proliferating run (default 1e-8, 17, 10⁴; cap 0 = none), `PROLIF_SMOOTH=0` restarts
+//! from the consistent `ẏ` after divisions (`Dividing::smooth_restart = false`, for
+//! comparison), `PROLIF_GROWTH_N` the size of the η comparison (default 1e5; 0 skips it),
+//! `PROLIF_LARGE=0` skips the criterion group to 10⁴ cells.
 //!
-//! Measured (2 shared cores, load average ≈ 6, so wall times are pessimistic):
-//! * K = 1e-8: N 100 → 801 by t = 8 in 3.7 s, 191 divisions/s, 1.95 steps per division; the
-//!   run then stops at t = 8.00015 with a Newton failure right after a division (nearly
-//!   simultaneous divisions at very small K; reported to the integrators);
-//! * K = 1e-7: N 100 → 4851 in 287 s (17 divisions/s, 5.4 steps/division, 10145 of 25561 steps
-//!   rejected), then a non-finite step at t = 16.17 — the 10⁴ target is not reached yet;
-//! * growth, N = 10⁵, K = 1e-3, t ∈ [0, 10]: η = 1 costs 0.66× of η = 0 (4.9 s vs 7.5 s;
-//!   48 vs 81 steps) — within the 3× target.
+//! Measured numbers and their commands: `BENCHMARKS.md`, section Proliferation.
 
 use celltissue::boundary::RightEnd;
 use celltissue::cell::TanhGrowth;
@@ -35,10 +31,12 @@ fn params(n: usize, k: f64, eta: f64) -> LineParams {
     p
 }
 
-/// Proliferating run: K, t_end → (cells, divisions, trajectory).
-fn proliferate(k: f64, t_end: f64) -> (usize, usize, Trajectory) {
+/// Proliferating run: K, t_end, cap on N, smooth restart → (cells, divisions, trajectory).
+fn proliferate(k: f64, t_end: f64, cap: Option<usize>, smooth: bool) -> (usize, usize, Trajectory) {
     let line = discrete(NeoHookean::new(1.0).unwrap(), &params(100, k, 0.0)).unwrap();
-    let div = Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap();
+    let mut div = Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap();
+    div.max_cells = cap;
+    div.smooth_restart = smooth;
     let mut prob = ArrayProblem::new(div);
     let traj = integrate(&mut prob, &SolveSettings::default(), &[0.0, t_end]);
     if let Some(e) = &traj.error {
@@ -66,18 +64,23 @@ fn report() {
     if std::env::var("PROLIF_REPORT").as_deref() == Ok("0") {
         return;
     }
-    let (k, t_end) = (env("PROLIF_K", 1e-7), env("PROLIF_T", 40.0));
+    let (k, t_end) = (env("PROLIF_K", 1e-8), env("PROLIF_T", 17.0));
+    let cap = env("PROLIF_CAP", 1e4) as usize;
+    let cap = (cap > 0).then_some(cap);
+    let smooth = std::env::var("PROLIF_SMOOTH").as_deref() != Ok("0");
     let start = Instant::now();
-    let (cells, divs, traj) = proliferate(k, t_end);
+    let (cells, divs, traj) = proliferate(k, t_end, cap, smooth);
     let wall = start.elapsed().as_secs_f64();
     let s = traj.stats;
     println!(
-        "REPORT proliferation K={k:e} t=[0,{t_end}]: N 100 -> {cells}, {divs} divisions in {} events, {wall:.2} s, {:.0} divisions/s, {} steps ({:.2} steps/division), {} rejected, {} Jacobians, {} factorizations",
+        "REPORT proliferation K={k:e} t=[0,{t_end}] cap={cap:?} smooth_restart={smooth}: N 100 -> {cells}, {divs} divisions in {} events, {wall:.2} s, {:.0} divisions/s, {} steps ({:.2} steps/division), {} rejected ({} error-test, {} Newton), {} Jacobians, {} factorizations",
         s.events,
         divs as f64 / wall,
         s.steps,
         s.steps as f64 / divs as f64,
         s.rejected_steps,
+        s.error_test_failures,
+        s.newton_failures,
         s.jacobian_evals,
         s.factorizations
     );
@@ -108,8 +111,19 @@ fn benches(c: &mut Criterion) {
     let mut g = c.benchmark_group("proliferation");
     g.sample_size(10);
     g.bench_function("divide_100_to_400_K1e-8", |b| {
-        b.iter(|| proliferate(1e-8, 6.5))
+        b.iter(|| proliferate(1e-8, 6.5, None, true))
     });
+    // the issue-4 target: N₀ = 100 to 10⁴ cells at K = 1e-8 (capped there, reached during the
+    // division wave after t ≈ 14; the rest of [0, 17] runs without divisions). Several
+    // minutes per sample one-shot on the 2-core machine; `PROLIF_LARGE=0` skips it.
+    if std::env::var("PROLIF_LARGE").as_deref() != Ok("0") {
+        g.bench_function("divide_100_to_1e4_K1e-8", |b| {
+            b.iter(|| {
+                let (cells, _, traj) = proliferate(1e-8, 17.0, Some(10_000), true);
+                assert!(traj.error.is_none() && cells == 10_000);
+            })
+        });
+    }
     g.bench_function("grow_N1e4_eta0", |b| b.iter(|| grow(10_000, 0.0, 10.0)));
     g.bench_function("grow_N1e4_eta1", |b| b.iter(|| grow(10_000, 1.0, 10.0)));
     g.finish();

@@ -104,3 +104,64 @@ fn large_drag_rim() {
     assert!(errs[2].0 < errs[0].0 && errs[2].0 < 1.5e-2, "{errs:?}");
     assert!(errs[2].1 < 2e-2, "{errs:?}");
 }
+
+/// Long-run drift at fixed `n` (module docs of `celltissue::proliferation`, "Where it fails"
+/// 1): K = 1e-5, out to t = 18, where the density has grown ~10× and a segment of n = 200 holds
+/// ~5 cells that divide at once. The continuum lags the discrete `N(t)`, `l(t)` and the lag
+/// grows with time (a drift, not an offset); refining to n = 400 reduces it (first order).
+///
+/// Measured (BDF rtol 1e-8), relative error of the continuum at t = 6 / 10 / 14 / 18:
+/// n = 200: `l` −6.4e-4 / −6.7e-3 / −2.26e-2 / −5.07e-2, `N` 0 / −5.5e-3 / −2.0e-2 / −5.87e-2
+/// (N 914 vs 971, l 1313.3 vs 1383.4 at t = 18); n = 400: `l` +9.6e-4 / −1.9e-3 / −1.07e-2 /
+/// −3.15e-2, `N` +1.7e-3 / −1.8e-3 / −8.0e-3 / −1.96e-2 (N 952, l 1339.9 at t = 18).
+#[test]
+fn long_run_drift_at_fixed_n() {
+    let times = [0.0, 6.0, 10.0, 14.0, 18.0];
+    let line = discrete(NeoHookean::new(1.0).unwrap(), &params(1e-5)).unwrap();
+    let mut prob =
+        ArrayProblem::new(Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap());
+    let traj = integrate(&mut prob, &settings(), &times);
+    assert!(traj.error.is_none(), "{:?}", traj.error);
+    let d: Vec<(f64, f64)> = traj
+        .snapshots
+        .iter()
+        .map(|s| (s.length(), s.alpha.len() as f64))
+        .collect();
+    let mut at18 = Vec::new();
+    for n in [200, 400] {
+        let line = continuum(NeoHookean::new(1.0).unwrap(), &params(1e-5), n).unwrap();
+        let mut prob = ArrayProblem::new(DensityContinuum::new(line, 100, 2.0).unwrap());
+        let traj = integrate(&mut prob, &settings(), &times);
+        assert!(traj.error.is_none(), "{:?}", traj.error);
+        let c: Vec<(f64, f64)> = traj
+            .snapshots
+            .iter()
+            .map(|s| (s.length(), prob.array.cells_at(s.t)))
+            .collect();
+        let mut rel = Vec::new();
+        for (i, t) in times.iter().enumerate() {
+            let (el, en) = (c[i].0 / d[i].0 - 1.0, c[i].1 / d[i].1 - 1.0);
+            println!(
+                "n={n} t={t}: l {:.2} vs {:.2} ({el:+.3e}), N {:.1} vs {} ({en:+.3e})",
+                c[i].0, d[i].0, c[i].1, d[i].1
+            );
+            rel.push((el, en));
+        }
+        // a drift: the lag grows over t = 10, 14, 18 in both l and N
+        for w in rel[2..].windows(2) {
+            assert!(
+                w[1].0 < w[0].0 && w[1].1 <= w[0].1,
+                "n={n}: lag does not grow: {rel:?}"
+            );
+        }
+        at18.push(rel[4]);
+    }
+    println!("t = 18 (n = 200, 400): {at18:?}");
+    // the measured n = 200 lag at t = 18 (±0.5 %), and refinement reducing it
+    let (l200, n200) = at18[0];
+    let (l400, n400) = at18[1];
+    assert!((l200 + 0.0507).abs() < 5e-3, "{at18:?}");
+    assert!((n200 + 0.0587).abs() < 5e-3, "{at18:?}");
+    assert!(l400.abs() < 0.7 * l200.abs(), "{at18:?}");
+    assert!(n400.abs() < 0.5 * n200.abs(), "{at18:?}");
+}

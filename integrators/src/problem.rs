@@ -141,4 +141,14 @@ pub trait Problem {
     ) -> Result<EventAction, ResidualError> {
         Ok(EventAction::Stop)
     }
+
+    /// Called after a [`EventAction::Modified`] / [`EventAction::Resized`] event, once `ẏ` has
+    /// been made consistent at `(t, y)` and before the method restarts from it. The method
+    /// extrapolates the restart derivative (its predictor and first error estimate), so when an
+    /// event starts a fast transient whose effect on `y` is below the tolerances (a new cell
+    /// boundary that starts at rest and catches up with its neighbours within a time far
+    /// shorter than a step), the problem may replace those components of `ẏ` by the
+    /// derivative of the smooth solution it relaxes to. The corrector still solves the
+    /// residual exactly, so only the predictor changes. Default: keep the consistent `ẏ`.
+    fn restart_derivative(&mut self, _t: f64, _y: &[f64], _yp: &mut [f64]) {}
 }

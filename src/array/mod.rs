@@ -75,6 +75,10 @@ pub trait CellArray {
     ) -> Result<EventAction, ResidualError> {
         Ok(EventAction::Stop)
     }
+
+    /// Derivative the integrator restarts from after a modifying event (see
+    /// [`integrators::Problem::restart_derivative`]); default: the consistent one.
+    fn restart_derivative(&mut self, _t: f64, _y: &[f64], _yp: &mut [f64]) {}
 }
 
 /// Adapter: any [`CellArray`] as an [`integrators::Problem`] with exact AD directional
@@ -170,5 +174,9 @@ impl<A: CellArray> Problem for ArrayProblem<A> {
         yp: &[f64],
     ) -> Result<EventAction, ResidualError> {
         self.array.handle_event(t, fired, y, yp)
+    }
+
+    fn restart_derivative(&mut self, t: f64, y: &[f64], yp: &mut [f64]) {
+        self.array.restart_derivative(t, y, yp)
     }
 }

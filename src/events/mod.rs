@@ -8,7 +8,11 @@
 //!   and the parent's material parameters, a boundary at the midpoint, indices shifted — O(N);
 //! * [`dividing`] — [`Dividing`], the growing line with one event function per cell; fired
 //!   cells are split in decreasing index order and the driver restarts with a consistent `ẏ` and
-//!   the banded pattern rebuilt for the new size ([`integrators::EventAction::Resized`]);
+//!   the banded pattern rebuilt for the new size ([`integrators::EventAction::Resized`]); an
+//!   inviscid line restarts the integrator from the pre-event velocities and the mean velocity
+//!   of each new boundary's neighbours ([`crate::array::CellArray::restart_derivative`]), not
+//!   from the consistent `ẏ`, whose resting new boundary and noise-amplified velocities
+//!   (`∝ μ/(K L₀)`) made every restart reject steps and, at K ≤ 1e-7, fail;
 //! * [`log`] — [`DivisionLog`]: time, parent, `x_d`, `x_d/l`, `N` after; CSV; `N(t)`, median
 //!   `x_d/l`;
 //! * [`plots`] — the division scatter and log–log `l(t)`, `N(t)` figures (Fig. 3.3);
