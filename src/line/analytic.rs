@@ -142,7 +142,7 @@ pub fn linear_exponential(
     let ts = k / (4.0 * gamma0 * mu * cell_length);
     let a = ts.sqrt();
     let s = (a * l0).sin();
-    if !(ts > 0.0) || s.abs() < 1e-12 {
+    if ts.is_nan() || ts <= 0.0 || s.abs() < 1e-12 {
         return None;
     }
     let mut dx = l0 * a * (a * x).cos() / s * (-t).exp();
@@ -231,9 +231,7 @@ pub fn extremes(cfg: &LineConfig, t: f64) -> Option<(f64, f64)> {
 /// Static boundary positions `x₀..x_N` at `l(t)` with the reference positions `X₀..X_N`
 /// (Fig 2.6's static macroscale solution).
 pub fn static_positions(cfg: &LineConfig, t: f64) -> Option<Vec<(f64, f64)>> {
-    if reference_for(cfg).is_none() {
-        return None;
-    }
+    reference_for(cfg)?;
     let s = quasi_static(cfg, t).ok()?;
     let xref: Vec<f64> = std::iter::once(0.0)
         .chain(cfg.lengths().iter().scan(0.0, |acc, l| {
