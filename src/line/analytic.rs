@@ -179,8 +179,45 @@ pub fn quasi_static(cfg: &LineConfig, t: f64) -> Result<StaticSolution, LineErro
     static_equilibrium(&line, l)
 }
 
+/// Slowest linear relaxation time of the line, `τ = K l₀²/(π² 4γ₀ μ_min L₀) + η_max/(2μ_min)`
+/// (MODEL.md §3.4: diffusion `t_s l₀²/π²` of the longest mode plus the Kelvin–Voigt `t_k`),
+/// with the extreme values of the sampled fields.
+pub fn relaxation_time(cfg: &LineConfig) -> f64 {
+    let lengths = cfg.lengths();
+    let l0 = cfg.l0();
+    let centres: Vec<f64> = lengths
+        .iter()
+        .scan(0.0, |acc, l| {
+            *acc += l;
+            Some(*acc - 0.5 * l)
+        })
+        .collect();
+    let min = |f: &Field| {
+        f.sample(&centres, l0)
+            .into_iter()
+            .fold(f64::INFINITY, f64::min)
+    };
+    let max = |f: &Field| {
+        f.sample(&centres, l0)
+            .into_iter()
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    let mu = min(&cfg.mu).max(f64::MIN_POSITIVE);
+    let l_cell = lengths.iter().copied().fold(f64::INFINITY, f64::min);
+    max(&cfg.k) * l0 * l0 / (PI * PI * 4.0 * cfg.gamma0 * mu * l_cell) + max(&cfg.eta) / (2.0 * mu)
+}
+
+/// Whether the static equilibrium at `l(t)` describes the run at `t`: the line relaxes much
+/// faster than the ramp (`τ ≤ 0.05 t_ramp`), or the ramp is over and the line has relaxed
+/// (`t ≥ 5 t_ramp + 10 τ`); see [`relaxation_time`].
+pub fn quasi_static_applies(cfg: &LineConfig, t: f64) -> bool {
+    let tau = relaxation_time(cfg);
+    tau <= 0.05 * cfg.t_ramp || t >= 5.0 * cfg.t_ramp + 10.0 * tau
+}
+
 /// Per-cell `(X, λ, p)` of the applicable reference solution at time `t` (cell centres of the
-/// discrete line), or `None` if none applies or it cannot be evaluated.
+/// discrete line), or `None` if none applies at `t` (the static equilibrium only where
+/// [`quasi_static_applies`]) or it cannot be evaluated.
 pub fn profile(cfg: &LineConfig, t: f64) -> Option<Vec<(f64, f64, f64)>> {
     let lengths = cfg.lengths();
     let centres: Vec<f64> = lengths
@@ -208,6 +245,9 @@ pub fn profile(cfg: &LineConfig, t: f64) -> Option<Vec<(f64, f64, f64)>> {
                 .collect()
         }
         Reference::QuasiStatic => {
+            if !quasi_static_applies(cfg, t) {
+                return None;
+            }
             let s = quasi_static(cfg, t).ok()?;
             Some(
                 centres
@@ -229,9 +269,12 @@ pub fn extremes(cfg: &LineConfig, t: f64) -> Option<(f64, f64)> {
 }
 
 /// Static boundary positions `x₀..x_N` at `l(t)` with the reference positions `X₀..X_N`
-/// (Fig 2.6's static macroscale solution).
+/// (Fig 2.6's static macroscale solution), where [`quasi_static_applies`].
 pub fn static_positions(cfg: &LineConfig, t: f64) -> Option<Vec<(f64, f64)>> {
     reference_for(cfg)?;
+    if !quasi_static_applies(cfg, t) {
+        return None;
+    }
     let s = quasi_static(cfg, t).ok()?;
     let xref: Vec<f64> = std::iter::once(0.0)
         .chain(cfg.lengths().iter().scan(0.0, |acc, l| {
