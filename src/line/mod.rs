@@ -5,12 +5,15 @@
 //! * [`build`] — discrete and conservative-continuum builders from one [`LineParams`];
 //! * [`thesis_scheme`] — the thesis's non-conservative finite-difference scheme (reproduction
 //!   mode, Table 2.1);
+//! * [`analytic`] — analytic reference solutions (uniform K = 0, linear theory, quasi-static)
+//!   used as plot overlays;
 //! * [`static_solve`] — static equilibrium by a bracketing solve for the uniform stress, and a
 //!   Newton solve of the static problem;
 //! * [`observe`] — per-cell snapshots and the observables of MODEL.md §6;
 //! * [`config`] — the serde scenario section [`LineConfig`] with validation;
 //! * [`run`] — [`run_line`]: config → problem → integrator → `RunRecord`.
 
+pub mod analytic;
 pub mod array;
 pub mod build;
 pub mod config;

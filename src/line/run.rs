@@ -3,7 +3,13 @@
 //! times. No I/O; the CLI writes the record, benches call [`integrate`] directly.
 //!
 //! On solver failure the record holds everything computed up to the failure and
-//! `error: Some(message)`; outputs never contain NaN.
+//! `error: Some(message)`; outputs never contain NaN. Models run inside [`Watched`], so the
+//! message names the cell whose stretch was rejected (and its λ), not only the integrator's
+//! failure kind and worst unknown.
+//!
+//! * [`LineModel`] — what a line model provides to be integrated and observed;
+//! * [`Watched`] — remembers the last rejected state, to explain failures;
+//! * [`integrate`], [`run_model`], [`run_line`], [`record`] — integration and recording.
 
 use super::array::Line;
 use super::config::{ContinuumScheme, LineConfig};
@@ -12,7 +18,12 @@ use super::thesis_scheme::ThesisLine;
 use crate::array::{ArrayProblem, CellArray};
 use crate::energy::StrainEnergy;
 use crate::observe::{ModelKind, RunRecord, RunStats, Series};
-use integrators::{ErrorNorm, MethodKind, Options, ResidualError, Solver, Stats};
+use crate::scalar::Scalar;
+use integrators::{
+    ErrorNorm, EventAction, MethodKind, Options, Pattern, ResidualError, SolveFailure, Solver,
+    Stats,
+};
+use std::cell::RefCell;
 use std::time::Instant;
 
 /// Integrator choice and tolerances. `atol` is in cell units: positions get `atol × L₀`
@@ -82,6 +93,108 @@ pub trait LineModel: CellArray {
     /// Times where the forcing is not smooth; integration restarts there.
     fn breakpoints(&self) -> Vec<f64> {
         Vec::new()
+    }
+    /// The last state the model rejected as outside its domain (e.g. "cell 4000 has
+    /// non-positive or non-finite stretch (λ = −1.2e-3, …)") with its time, if the model keeps
+    /// track ([`Watched`] does). Used to explain a solver failure: the integrators report only
+    /// the kind of failure and the worst unknown.
+    fn last_rejection(&self) -> Option<(f64, String)> {
+        None
+    }
+}
+
+/// A [`LineModel`] that remembers the last state its residual rejected (a non-positive
+/// stretch, typically), so that a solver failure can name the cell and its stretch instead of
+/// only the integrator's "non-finite value" or "Newton failure" and a boundary.
+///
+/// [`run_model`] wraps every model in it; the cost is one branch per residual call.
+///
+/// ```no_run
+/// use celltissue::line::build::{LineParams, discrete};
+/// use celltissue::line::run::{integrate, SolveSettings, Watched};
+/// use celltissue::{ArrayProblem, NeoHookean};
+/// let line = discrete(NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(10)).unwrap();
+/// let mut prob = ArrayProblem::new(Watched::new(line));
+/// let traj = integrate(&mut prob, &SolveSettings::default(), &[0.0, 1.0]);
+/// assert!(traj.error.is_none());
+/// ```
+pub struct Watched<A> {
+    /// The wrapped model.
+    pub inner: A,
+    last: RefCell<Option<(f64, String)>>,
+}
+
+impl<A> Watched<A> {
+    /// Wraps `inner`.
+    pub fn new(inner: A) -> Self {
+        Self {
+            inner,
+            last: RefCell::new(None),
+        }
+    }
+}
+
+impl<A: LineModel> CellArray for Watched<A> {
+    fn dim(&self) -> usize {
+        self.inner.dim()
+    }
+    fn pattern(&self) -> Pattern {
+        self.inner.pattern()
+    }
+    fn residual<S: Scalar>(
+        &self,
+        t: f64,
+        y: &[S],
+        yp: &[S],
+        r: &mut [S],
+    ) -> Result<(), ResidualError> {
+        let out = self.inner.residual(t, y, yp, r);
+        if let Err(ResidualError::Recoverable { reason, .. }) = &out {
+            *self.last.borrow_mut() = Some((t, reason.clone()));
+        }
+        out
+    }
+    fn atol(&self) -> Option<Vec<f64>> {
+        self.inner.atol()
+    }
+    fn algebraic(&self) -> Vec<bool> {
+        self.inner.algebraic()
+    }
+    fn num_events(&self) -> usize {
+        self.inner.num_events()
+    }
+    fn events(&mut self, t: f64, y: &[f64], g: &mut [f64]) {
+        self.inner.events(t, y, g)
+    }
+    fn handle_event(
+        &mut self,
+        t: f64,
+        fired: &[usize],
+        y: &mut Vec<f64>,
+        yp: &[f64],
+    ) -> Result<EventAction, ResidualError> {
+        self.inner.handle_event(t, fired, y, yp)
+    }
+}
+
+impl<A: LineModel> LineModel for Watched<A> {
+    fn initial_state(&self) -> Vec<f64> {
+        self.inner.initial_state()
+    }
+    fn initial_derivative_guess(&self) -> Vec<f64> {
+        self.inner.initial_derivative_guess()
+    }
+    fn observe(&self, t: f64, y: &[f64], yp: &[f64]) -> Result<Snapshot, ResidualError> {
+        self.inner.observe(t, y, yp)
+    }
+    fn unknown_name(&self, k: usize) -> String {
+        self.inner.unknown_name(k)
+    }
+    fn breakpoints(&self) -> Vec<f64> {
+        self.inner.breakpoints()
+    }
+    fn last_rejection(&self) -> Option<(f64, String)> {
+        self.last.borrow().clone()
     }
 }
 
@@ -188,14 +301,8 @@ pub fn integrate<A: LineModel>(
             }
             Err(f) => {
                 add_stats(&mut traj.stats, &f.partial.stats);
-                let mut msg = f.error.to_string();
-                if let Some(k) = f.error.component {
-                    if k < problem.array.dim() {
-                        msg.push_str(&format!(" [{}]", problem.array.unknown_name(k)));
-                    }
-                }
+                traj.error = Some(failure_message(&problem.array, &f));
                 traj.y_last = f.partial.y_last.clone();
-                traj.error = Some(msg);
                 return traj;
             }
         }
@@ -206,6 +313,47 @@ pub fn integrate<A: LineModel>(
     }
     traj.y_last = y;
     traj
+}
+
+/// Explains a solver failure in cell terms, most specific first:
+///
+/// 1. the last state the model rejected at or after the start of the failing step (e.g. "cell
+///    4000 has non-positive or non-finite stretch (λ = −1.2e-3, g = 1)") — the integrators map
+///    such rejections to "non-finite value" or "step size too small" and keep only the worst
+///    unknown, which for a collapsing cell is one of its boundaries;
+/// 2. the solver's error with that unknown named (`x_j (boundary between cells j and j+1)`);
+/// 3. the most compressed cell of the last accepted state and its stretch.
+fn failure_message<A: LineModel>(model: &A, f: &SolveFailure) -> String {
+    let mut parts = Vec::new();
+    if let Some((t, why)) = model.last_rejection() {
+        if t >= f.error.t {
+            parts.push(format!("{why} at t = {t}"));
+        }
+    }
+    let mut solver = f.error.to_string();
+    if let Some(k) = f.error.component {
+        if k < model.dim() {
+            solver.push_str(&format!(" [{}]", model.unknown_name(k)));
+        }
+    }
+    if parts.is_empty() {
+        parts.push(solver);
+    } else {
+        parts.push(format!("solver: {solver}"));
+    }
+    let (t, y) = (f.partial.t_last, &f.partial.y_last);
+    if y.len() == model.dim() {
+        if let Ok(s) = model.observe(t, y, &vec![0.0; y.len()]) {
+            let worst = s.alpha.iter().enumerate().min_by(|a, b| a.1.total_cmp(b.1));
+            if let Some((j, a)) = worst {
+                parts.push(format!(
+                    "last accepted state t = {t}: most compressed cell {} (λ = {a:.6e})",
+                    j + 1
+                ));
+            }
+        }
+    }
+    parts.join("; ")
 }
 
 fn add_stats(a: &mut Stats, b: &Stats) {
@@ -331,7 +479,7 @@ pub fn run_model<A: LineModel>(
 ) {
     let start = Instant::now();
     let t_out = times.merged();
-    let mut problem = ArrayProblem::new(array);
+    let mut problem = ArrayProblem::new(Watched::new(array));
     let traj = integrate(&mut problem, solver, &t_out);
     rec.stats = RunStats {
         steps: traj.stats.steps,

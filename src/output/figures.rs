@@ -17,8 +17,9 @@
 
 use super::files::slug;
 use super::plot::{plot_chart, plot_rectangles, Axis, Chart, Curve, PlotError, Style};
+use crate::line::{analytic, LineConfig};
 use crate::observe::{ModelKind, Profile, RunRecord, Summary};
-use crate::scenario::{format_number, ProfileAxis, RunSpec, Scale, Scenario};
+use crate::scenario::{format_number, ModelConfig, ProfileAxis, RunSpec, Scale, Scenario};
 use std::path::{Path, PathBuf};
 
 fn axis(s: Scale) -> Axis {
@@ -119,6 +120,11 @@ pub fn write_figures(
                     .collect();
                 curves.push(Curve::new(rec.label.clone(), style(rec.model), gi, pts));
             }
+            if key == "max_pressure" || key == "min_stretch" {
+                if let Some(c) = series_reference(g, key) {
+                    curves.push(Curve::new(c.0, Style::Reference, gi, c.1));
+                }
+            }
         }
         let chart = Chart {
             title: title(&format!("{what} against time")),
@@ -190,6 +196,10 @@ pub fn write_figures(
                     }
                 }
             }
+            let on_reference_axis = scenario.plots.profile_axis == ProfileAxis::Reference;
+            if let (Some(cfg), true) = (group_config(g), on_reference_axis) {
+                curves.extend(profile_references(cfg, key, &times));
+            }
             let chart = Chart {
                 title: title(&format!("{what} profiles{at}")),
                 x_label: xdesc.into(),
@@ -218,7 +228,11 @@ pub fn write_figures(
                     y_label: ylabel.into(),
                     x_axis: axis(scenario.plots.sweep_axis),
                     y_axis: Axis::Linear,
-                    curves: sweep_curves(scenario, summary, key),
+                    curves: {
+                        let mut c = sweep_curves(scenario, summary, key);
+                        c.extend(sweep_references(scenario, &groups, key));
+                        c
+                    },
                 };
                 let file = format!("sweep_{key}.png");
                 emit(file.clone(), plot_chart(&dir.join(&file), &chart));
@@ -440,4 +454,111 @@ fn width(p: &Profile, j: usize) -> f64 {
         .get("width")
         .and_then(|w| w.get(j).copied())
         .unwrap_or_else(|| 1.0 / p.stretch[j])
+}
+
+/// The line configuration of a group's runs (`None` for other models).
+fn group_config<'a>(g: &Group<'a>) -> Option<&'a LineConfig> {
+    g.runs.iter().find_map(|(_, spec)| match &(*spec)?.config {
+        ModelConfig::Line(c) => Some(c.as_ref()),
+        _ => None,
+    })
+}
+
+/// The analytic `max p` or `min λ` against the group's series times (dashed, group colour).
+fn series_reference(g: &Group<'_>, key: &str) -> Option<(String, Vec<(f64, f64)>)> {
+    let cfg = group_config(g)?;
+    let kind = analytic::reference_for(cfg)?;
+    let times = &g.runs.first()?.0.series.t;
+    let pts: Vec<(f64, f64)> = times
+        .iter()
+        .filter_map(|&t| {
+            let (p, l) = analytic::extremes(cfg, t)?;
+            Some((t, if key == "max_pressure" { p } else { l }))
+        })
+        .collect();
+    let label = match &g.label {
+        Some(v) => format!("{} ({v})", kind.label()),
+        None => kind.label().to_string(),
+    };
+    (!pts.is_empty()).then_some((label, pts))
+}
+
+/// Dashed analytic profiles at each profile time (colour = time, as the runs): `p` or `λ`
+/// against `X`, and for Fig 2.6's position plots the static equilibrium `x(X)` and its
+/// deviation from uniform strain.
+fn profile_references(cfg: &LineConfig, key: &str, times: &[f64]) -> Vec<Curve> {
+    let mut out = Vec::new();
+    let Some(kind) = analytic::reference_for(cfg) else {
+        return out;
+    };
+    for (ti, &t) in times.iter().enumerate() {
+        let pts: Option<Vec<(f64, f64)>> = match key {
+            "pressure" | "stretch" => analytic::profile(cfg, t).map(|p| {
+                p.into_iter()
+                    .map(|(x, l, pr)| (x, if key == "pressure" { pr } else { l }))
+                    .collect()
+            }),
+            "position" | "deviation" => analytic::static_positions(cfg, t).map(|xs| {
+                let l0 = cfg.l0();
+                let ratio = cfg.ramp().eval(t).0 / l0;
+                xs.into_iter()
+                    .map(|(xr, x)| (xr, if key == "position" { x } else { x - ratio * xr }))
+                    .collect()
+            }),
+            _ => None,
+        };
+        let Some(pts) = pts else { continue };
+        let what = if matches!(key, "position" | "deviation") {
+            analytic::Reference::QuasiStatic.label()
+        } else {
+            kind.label()
+        };
+        // one legend entry for all times (the runs' colours give the time)
+        let label = if out.is_empty() {
+            what.to_string()
+        } else {
+            String::new()
+        };
+        out.push(Curve::new(label, Style::Reference, ti, pts));
+    }
+    out
+}
+
+/// Analytic `max p` / `min λ` at each profile time against the swept value (dashed), from each
+/// swept value's own configuration.
+fn sweep_references(scenario: &Scenario, groups: &[Group<'_>], key: &str) -> Vec<Curve> {
+    let mut times: Vec<f64> = scenario
+        .runs
+        .iter()
+        .flat_map(|r| r.times.profiles.iter().copied())
+        .filter(|t| *t > 0.0)
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times.dedup_by(|a, b| close(*a, *b));
+    let mut out = Vec::new();
+    for (ci, &t) in times.iter().enumerate() {
+        let mut label = None;
+        let pts: Vec<(f64, f64)> = groups
+            .iter()
+            .filter_map(|g| {
+                let v = g
+                    .runs
+                    .iter()
+                    .find_map(|(_, s)| (*s)?.sweep.as_ref()?.value)?;
+                let cfg = group_config(g)?;
+                label.get_or_insert(analytic::reference_for(cfg)?.label());
+                let (p, l) = analytic::extremes(cfg, t)?;
+                Some((v, if key == "pressure" { p } else { l }))
+            })
+            .collect();
+        if let (Some(what), false) = (label, pts.is_empty()) {
+            out.push(Curve::new(
+                format!("{what} at t={}", format_number(t)),
+                Style::Reference,
+                ci,
+                pts,
+            ));
+        }
+    }
+    out
 }

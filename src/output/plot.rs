@@ -50,8 +50,11 @@ pub enum Axis {
 pub enum Style {
     /// Solid line (continuum runs).
     Line,
-    /// Dashed line (reference solutions).
+    /// Dashed line in the curve's colour (guide lines such as `x = (l/l₀)X`).
     Dashed,
+    /// Dashed near-black line drawn over the runs (analytic reference solutions, which would
+    /// vanish under a continuum line of the same colour).
+    Reference,
     /// Symbols only (discrete runs); the shape cycles with the colour index.
     Markers,
 }
@@ -120,6 +123,9 @@ pub fn color(i: usize) -> RGBColor {
     let (r, g, b) = C[i % C.len()];
     RGBColor(r, g, b)
 }
+
+/// Colour of [`Style::Reference`] curves.
+pub const REFERENCE_COLOR: RGBColor = RGBColor(25, 25, 25);
 
 /// Size of chart images in pixels.
 pub const CHART_SIZE: (u32, u32) = (900, 620);
@@ -255,6 +261,14 @@ where
             Style::Dashed => ctx
                 .draw_series(DashedLineSeries::new(points.iter().copied(), 8, 5, style))
                 .map_err(draw_err)?,
+            Style::Reference => ctx
+                .draw_series(DashedLineSeries::new(
+                    points.iter().copied(),
+                    6,
+                    4,
+                    ShapeStyle::from(&REFERENCE_COLOR).stroke_width(1),
+                ))
+                .map_err(draw_err)?,
             Style::Markers => {
                 let mstyle = ShapeStyle::from(&c).stroke_width(1);
                 match curve.color % 3 {
@@ -284,6 +298,11 @@ where
                             }
                             _ => Cross::new((x + 10, y), 3, ShapeStyle::from(&c)).into_dyn(),
                         },
+                        Style::Reference => PathElement::new(
+                            vec![(x, y), (x + 20, y)],
+                            ShapeStyle::from(&REFERENCE_COLOR).stroke_width(1),
+                        )
+                        .into_dyn(),
                         _ => PathElement::new(
                             vec![(x, y), (x + 20, y)],
                             ShapeStyle::from(&c).stroke_width(2),

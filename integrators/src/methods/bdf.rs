@@ -765,6 +765,11 @@ impl Method for Bdf {
                     return Err(e);
                 }
                 Err(NewtonFail::NoConvergence(c)) => {
+                    // The retry is at a new t_new (and, with a moving prescribed end, a
+                    // different state): a Jacobian from this failed trial can be far too stiff
+                    // there, and modified Newton then takes tiny increments that pass the
+                    // convergence test with an O(1) residual. Re-evaluate it.
+                    self.jac_valid = false;
                     sys.stats.newton_failures += 1;
                     last = LastFailure::Newton(c);
                     Some(0.25)

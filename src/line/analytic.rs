@@ -1,0 +1,286 @@
+//! Analytic reference solutions of the line (MODEL.md §5.2–§5.3), drawn as dashed overlays on
+//! the Chapter 2 figures ([`crate::output::figures`]) and usable in tests:
+//!
+//! * [`uniform_k0`] — no drag (`K = 0`), uniform properties, any ramp: the exact nonlinear
+//!   solution is spatially uniform, `λ(t) = l(t)/l₀`, `p = μ p_el(λ) − η λ̇ λ⁻²` (Fig 2.7);
+//! * [`linear_exponential`] — small displacement, `η = 0`, uniform neo-Hookean cells,
+//!   exponential ramp: the complete linear solution (particular term + Fourier series) that
+//!   replaces the thesis's (2.45)/(2.48) (Fig 2.5's "analytical solutions");
+//! * [`quasi_static`] — the static equilibrium at the current length `l(t)`, for any `μ(X)` and
+//!   law: the long-time limit of every prescribed-end run, and the whole solution as `K, η → 0`
+//!   (Figs 2.6, 2.8, 2.9).
+//!
+//! [`reference_for`] picks the one that applies to a [`LineConfig`].
+
+use super::build::discrete;
+use super::config::{LineConfig, RightEndKind};
+use super::static_solve::{static_equilibrium, StaticSolution};
+use super::LineError;
+use crate::boundary::RampKind;
+use crate::cell::Field;
+use crate::energy::StrainEnergy;
+use std::f64::consts::PI;
+
+/// Which analytic solution applies to a configuration (see [`reference_for`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reference {
+    /// [`uniform_k0`]: exact (K = 0, uniform properties).
+    UniformK0,
+    /// [`linear_exponential`]: linear theory (η = 0, uniform neo-Hookean, exponential ramp).
+    Linear,
+    /// [`quasi_static`]: static equilibrium at `l(t)` (exact as `t → ∞` or `K, η → 0`).
+    QuasiStatic,
+}
+
+impl Reference {
+    /// Legend text.
+    pub fn label(self) -> &'static str {
+        match self {
+            Reference::UniformK0 => "exact (K = 0, uniform)",
+            Reference::Linear => "linear theory (§5.3 series)",
+            Reference::QuasiStatic => "static equilibrium at l(t)",
+        }
+    }
+}
+
+fn constant(f: &Field) -> Option<f64> {
+    match f {
+        Field::Constant(v) => Some(*v),
+        _ => None,
+    }
+}
+
+/// The analytic solution that applies to `cfg`, if any: a prescribed right end, no growth and
+/// no active stress, unit-free uniform cell lengths; then [`Reference::UniformK0`] if `K = 0`
+/// with uniform `μ`, `η`; else [`Reference::Linear`] for `η = 0`, uniform neo-Hookean `μ`,
+/// uniform `K` and the exponential ramp; else [`Reference::QuasiStatic`].
+///
+/// ```
+/// use celltissue::line::analytic::{reference_for, Reference};
+/// use celltissue::line::LineConfig;
+/// let cfg = LineConfig { k: 0.0.into(), eta: 1.0.into(), ..Default::default() };
+/// assert_eq!(reference_for(&cfg), Some(Reference::UniformK0));
+/// ```
+pub fn reference_for(cfg: &LineConfig) -> Option<Reference> {
+    if cfg.right_end != RightEndKind::Prescribed || cfg.growth.is_some() || cfg.active.is_some() {
+        return None;
+    }
+    let uniform_cells = cfg
+        .ref_lengths
+        .as_ref()
+        .is_none_or(|v| v.windows(2).all(|w| w[0] == w[1]));
+    if !uniform_cells {
+        return None;
+    }
+    let (k, mu, eta) = (constant(&cfg.k), constant(&cfg.mu), constant(&cfg.eta));
+    if k == Some(0.0) && mu.is_some() && eta.is_some() {
+        return Some(Reference::UniformK0);
+    }
+    let neo = matches!(cfg.law, crate::energy::AnyEnergy::NeoHookean(_));
+    if eta == Some(0.0)
+        && mu.is_some()
+        && k.is_some()
+        && neo
+        && cfg.ramp == RampKind::Exponential
+        && cfg.g2 == 1.0
+    {
+        return Some(Reference::Linear);
+    }
+    Some(Reference::QuasiStatic)
+}
+
+/// `(λ, p)` of the exact uniform solution without drag at time `t`: `λ = l(t)/l₀` and
+/// `p = μ p_el(λ) − η λ̇ λ⁻²` (MODEL.md §5.3; for the polynomial ramp and neo-Hookean cells
+/// `p = (μ + 6ηk₁ t(1−t))/(1 − k₁s)²` during the ramp). Requires uniform `μ`, `η`.
+///
+/// ```
+/// use celltissue::line::analytic::uniform_k0;
+/// use celltissue::line::LineConfig;
+/// use celltissue::boundary::RampKind;
+/// let cfg = LineConfig { k: 0.0.into(), eta: 1.0.into(), ramp: RampKind::Polynomial, ..Default::default() };
+/// let (l, p) = uniform_k0(&cfg, 0.5).unwrap();
+/// assert!((l - 0.95).abs() < 1e-12);
+/// assert!((p - (1.0 + 6.0 * 0.1 * 0.25) / 0.95f64.powi(2)).abs() < 1e-12);
+/// ```
+pub fn uniform_k0(cfg: &LineConfig, t: f64) -> Option<(f64, f64)> {
+    let (mu, eta) = (constant(&cfg.mu)?, constant(&cfg.eta)?);
+    let l0 = cfg.l0();
+    let (l, ld) = cfg.ramp().eval(t);
+    let (lam, lam_dot) = (l / l0, ld / l0);
+    let p = mu * cfg.law.line(lam).pressure - eta * lam_dot / (lam * lam);
+    (lam.is_finite() && p.is_finite()).then_some((lam, p))
+}
+
+/// `(λ, p)` at reference position `x` and time `t` of the linear small-displacement solution for
+/// the exponential ramp with `η = 0` (MODEL.md §5.3): `λ = 1 − k₁ + k₁ d̆_X`,
+/// `p = μ(1 + 2k₁) − 2μk₁ d̆_X`, with `t_s = K/(4γ₀μL₀)` and
+/// `d̆ = l₀ sin(aX)/sin(al₀) e^{−t} + Σ 2(−1)ⁿ t_s/(k_n(k_n² − t_s)) sin(k_nX) e^{−k_n² t/t_s}`,
+/// `a = √t_s`, `k_n = nπ/l₀` (the series is summed until its terms fall below 1e-16, at most
+/// 20 000 terms; at `t = 0` the exact `d̆_X = 1`). Valid for `k₁ ≪ 1`; not at the resonances
+/// `t_s = k_n²`, where `None` is returned.
+///
+/// ```
+/// use celltissue::line::analytic::linear_exponential;
+/// // K → 0: uniform compression, λ = 1 − k₁ + k₁e^{−t}
+/// let (l, _) = linear_exponential(30.0, 1.0, 1e-9, 0.1, 100.0, 1.0, 1.0, 1.0).unwrap();
+/// assert!((l - (0.9 + 0.1 * (-1.0f64).exp())).abs() < 1e-6);
+/// ```
+#[allow(clippy::too_many_arguments)]
+pub fn linear_exponential(
+    x: f64,
+    t: f64,
+    k: f64,
+    k1: f64,
+    l0: f64,
+    mu: f64,
+    gamma0: f64,
+    cell_length: f64,
+) -> Option<(f64, f64)> {
+    if t <= 0.0 {
+        return Some((1.0, mu));
+    }
+    let ts = k / (4.0 * gamma0 * mu * cell_length);
+    let a = ts.sqrt();
+    let s = (a * l0).sin();
+    if ts.is_nan() || ts <= 0.0 || s.abs() < 1e-12 {
+        return None;
+    }
+    let mut dx = l0 * a * (a * x).cos() / s * (-t).exp();
+    for n in 1..=20_000 {
+        let kn = n as f64 * PI / l0;
+        let decay = (-kn * kn * t / ts).exp();
+        let coef = 2.0 * ts / (kn * kn - ts);
+        if !coef.is_finite() {
+            return None;
+        }
+        if decay * coef.abs() < 1e-16 {
+            break;
+        }
+        let sign = if n % 2 == 0 { 1.0 } else { -1.0 };
+        dx += sign * coef * (kn * x).cos() * decay;
+    }
+    let lam = 1.0 - k1 + k1 * dx;
+    let p = mu * (1.0 + 2.0 * k1) - 2.0 * mu * k1 * dx;
+    (lam.is_finite() && p.is_finite()).then_some((lam, p))
+}
+
+/// The static equilibrium of the discrete line of `cfg` held at its prescribed length `l(t)`
+/// (MODEL.md §5.2): every cell at the same stress, stretches adding up to `l(t)`.
+///
+/// ```
+/// use celltissue::line::analytic::quasi_static;
+/// use celltissue::line::LineConfig;
+/// let s = quasi_static(&LineConfig::default(), 1e3).unwrap();
+/// assert!((s.max_pressure() - 1.0 / 0.81).abs() < 1e-9);   // uniform: p = μ/(1 − k₁)²
+/// ```
+pub fn quasi_static(cfg: &LineConfig, t: f64) -> Result<StaticSolution, LineError> {
+    let line = discrete(cfg.law.clone(), &cfg.params(1e-8))?;
+    let (l, _) = cfg.ramp().eval(t);
+    static_equilibrium(&line, l)
+}
+
+/// Slowest linear relaxation time of the line, `τ = K l₀²/(π² 4γ₀ μ_min L₀) + η_max/(2μ_min)`
+/// (MODEL.md §3.4: diffusion `t_s l₀²/π²` of the longest mode plus the Kelvin–Voigt `t_k`),
+/// with the extreme values of the sampled fields.
+pub fn relaxation_time(cfg: &LineConfig) -> f64 {
+    let lengths = cfg.lengths();
+    let l0 = cfg.l0();
+    let centres: Vec<f64> = lengths
+        .iter()
+        .scan(0.0, |acc, l| {
+            *acc += l;
+            Some(*acc - 0.5 * l)
+        })
+        .collect();
+    let min = |f: &Field| {
+        f.sample(&centres, l0)
+            .into_iter()
+            .fold(f64::INFINITY, f64::min)
+    };
+    let max = |f: &Field| {
+        f.sample(&centres, l0)
+            .into_iter()
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    let mu = min(&cfg.mu).max(f64::MIN_POSITIVE);
+    let l_cell = lengths.iter().copied().fold(f64::INFINITY, f64::min);
+    max(&cfg.k) * l0 * l0 / (PI * PI * 4.0 * cfg.gamma0 * mu * l_cell) + max(&cfg.eta) / (2.0 * mu)
+}
+
+/// Whether the static equilibrium at `l(t)` describes the run at `t`: the line relaxes much
+/// faster than the ramp (`τ ≤ 0.05 t_ramp`), or the ramp is over and the line has relaxed
+/// (`t ≥ 5 t_ramp + 10 τ`); see [`relaxation_time`].
+pub fn quasi_static_applies(cfg: &LineConfig, t: f64) -> bool {
+    let tau = relaxation_time(cfg);
+    tau <= 0.05 * cfg.t_ramp || t >= 5.0 * cfg.t_ramp + 10.0 * tau
+}
+
+/// Per-cell `(X, λ, p)` of the applicable reference solution at time `t` (cell centres of the
+/// discrete line), or `None` if none applies at `t` (the static equilibrium only where
+/// [`quasi_static_applies`]) or it cannot be evaluated.
+pub fn profile(cfg: &LineConfig, t: f64) -> Option<Vec<(f64, f64, f64)>> {
+    let lengths = cfg.lengths();
+    let centres: Vec<f64> = lengths
+        .iter()
+        .scan(0.0, |acc, l| {
+            *acc += l;
+            Some(*acc - 0.5 * l)
+        })
+        .collect();
+    match reference_for(cfg)? {
+        Reference::UniformK0 => {
+            let (lam, p) = uniform_k0(cfg, t)?;
+            Some(centres.iter().map(|&x| (x, lam, p)).collect())
+        }
+        Reference::Linear => {
+            let (k, mu) = (constant(&cfg.k)?, constant(&cfg.mu)?);
+            let l0 = cfg.l0();
+            let l_cell = lengths.first().copied()?;
+            centres
+                .iter()
+                .map(|&x| {
+                    let (lam, p) = linear_exponential(x, t, k, cfg.k1, l0, mu, cfg.gamma0, l_cell)?;
+                    Some((x, lam, p))
+                })
+                .collect()
+        }
+        Reference::QuasiStatic => {
+            if !quasi_static_applies(cfg, t) {
+                return None;
+            }
+            let s = quasi_static(cfg, t).ok()?;
+            Some(
+                centres
+                    .iter()
+                    .zip(s.lambda.iter().zip(&s.pressure))
+                    .map(|(&x, (&l, &p))| (x, l, p))
+                    .collect(),
+            )
+        }
+    }
+}
+
+/// `(max p, min λ)` of the applicable reference solution at time `t` (see [`profile`]).
+pub fn extremes(cfg: &LineConfig, t: f64) -> Option<(f64, f64)> {
+    let prof = profile(cfg, t)?;
+    let pmax = prof.iter().map(|q| q.2).fold(f64::NEG_INFINITY, f64::max);
+    let lmin = prof.iter().map(|q| q.1).fold(f64::INFINITY, f64::min);
+    Some((pmax, lmin))
+}
+
+/// Static boundary positions `x₀..x_N` at `l(t)` with the reference positions `X₀..X_N`
+/// (Fig 2.6's static macroscale solution), where [`quasi_static_applies`].
+pub fn static_positions(cfg: &LineConfig, t: f64) -> Option<Vec<(f64, f64)>> {
+    reference_for(cfg)?;
+    if !quasi_static_applies(cfg, t) {
+        return None;
+    }
+    let s = quasi_static(cfg, t).ok()?;
+    let xref: Vec<f64> = std::iter::once(0.0)
+        .chain(cfg.lengths().iter().scan(0.0, |acc, l| {
+            *acc += l;
+            Some(*acc)
+        }))
+        .collect();
+    Some(xref.into_iter().zip(s.x).collect())
+}
