@@ -26,6 +26,10 @@ pub enum ErrorKind {
     /// A residual, Jacobian or state value was NaN or infinite.
     #[error("non-finite value")]
     NonFinite,
+    /// The problem's residual rejected the trial states (`ResidualError::Recoverable`) at every
+    /// retry of a step, down to the smallest step; the problem's own reason is kept.
+    #[error("the problem rejected the state at every retry: {0}")]
+    Rejected(String),
     /// More than `Options::max_steps` steps.
     #[error("maximum number of steps ({0}) exceeded")]
     TooManySteps(usize),
@@ -41,6 +45,24 @@ pub enum ErrorKind {
     /// Invalid input (dimensions, tolerances, output times).
     #[error("invalid input: {0}")]
     InvalidInput(String),
+}
+
+impl ErrorKind {
+    /// The error for a step abandoned after recoverable failures whose last reason was `reason`
+    /// (a [`crate::system::StepFailure::Recoverable`]): the solver's own non-finite-residual and
+    /// zero-pivot failures keep their kinds; anything else came from the problem and is kept
+    /// verbatim as [`ErrorKind::Rejected`].
+    pub(crate) fn from_recoverable(reason: &str, component: Option<usize>) -> Self {
+        if reason.starts_with("non-finite residual") {
+            ErrorKind::NonFinite
+        } else if reason.starts_with("singular iteration matrix") {
+            ErrorKind::SingularMatrix {
+                column: component.unwrap_or(0),
+            }
+        } else {
+            ErrorKind::Rejected(reason.to_string())
+        }
+    }
 }
 
 /// A solver error with its location in time and state.

@@ -576,21 +576,7 @@ impl Bdf {
         let (kind, comp) = match last {
             LastFailure::ErrorTest(c) => (ErrorKind::StepSizeTooSmall { h }, *c),
             LastFailure::Newton(c) => (ErrorKind::NewtonFailure, *c),
-            LastFailure::Recoverable(reason, c) => {
-                let r = reason.to_ascii_lowercase();
-                if r.contains("finite") || r.contains("nan") {
-                    (ErrorKind::NonFinite, *c)
-                } else if r.contains("singular") || r.contains("pivot") {
-                    (
-                        ErrorKind::SingularMatrix {
-                            column: c.unwrap_or(0),
-                        },
-                        *c,
-                    )
-                } else {
-                    (ErrorKind::StepSizeTooSmall { h }, *c)
-                }
-            }
+            LastFailure::Recoverable(reason, c) => (ErrorKind::from_recoverable(reason, *c), *c),
         };
         SolverError::new(kind, self.t, comp)
     }

@@ -86,15 +86,15 @@ impl Fail {
             Fail::Singular { column } => {
                 SolverError::new(ErrorKind::SingularMatrix { column }, t, Some(column))
             }
-            Fail::Residual { reason, component } if reason.contains("non-finite") => {
-                SolverError::new(ErrorKind::NonFinite, t, component)
-            }
+            Fail::Residual { reason, component } => SolverError::new(
+                ErrorKind::from_recoverable(&reason, component),
+                t,
+                component,
+            ),
             Fail::Newton { component } if !too_small => {
                 SolverError::new(ErrorKind::NewtonFailure, t, component)
             }
-            Fail::ErrorTest { component }
-            | Fail::Newton { component }
-            | Fail::Residual { component, .. } => {
+            Fail::ErrorTest { component } | Fail::Newton { component } => {
                 SolverError::new(ErrorKind::StepSizeTooSmall { h }, t, component)
             }
         }
