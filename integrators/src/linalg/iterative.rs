@@ -314,7 +314,10 @@ mod tests {
         lu.factor(&m).unwrap();
         let mut xd = b.clone();
         lu.solve_in_place(&mut xd);
-        let diff = x.iter().zip(&xd).fold(0.0f64, |e, (a, b)| e.max((a - b).abs()));
+        let diff = x
+            .iter()
+            .zip(&xd)
+            .fold(0.0f64, |e, (a, b)| e.max((a - b).abs()));
         assert!(diff < 1e-9, "iterative vs direct {diff:e}");
         // refactorisation with new values reuses the symbolic ILU structure
         let (_, m2) = grid_matrix(g, 3.0);
