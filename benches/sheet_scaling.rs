@@ -1,15 +1,17 @@
 //! Cost of the discrete uniaxial sheet vs N·M (MODEL.md §4.1; free top, K = ½, m = 0,
-//! neo-Hookean, BDF rtol 1e-6, atol 1e-8 in cell units), integrated to t = 10.
-//! Run: `cargo bench --bench sheet_scaling`. The 1000 × 1000 case is the example
-//! `cargo run --release --example sheet_large -- 1000 10`.
+//! neo-Hookean, BDF rtol 1e-6, atol 1e-8 in cell units, max error norm), integrated to t = 10,
+//! with the sparse direct LU (`direct/…`) and with ILU(0) + BiCGStab (`iterative/…`, default
+//! [`IterativeSettings`]).
+//! Run: `cargo bench --bench sheet_scaling`. The large cases are the example
+//! `LINSOLVE=iterative cargo run --release --example sheet_large -- 1000 10`.
 
 use celltissue::array::ArrayProblem;
 use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
 use celltissue::NeoHookean;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use integrators::{MethodKind, Options, Solver};
+use integrators::{ErrorNorm, IterativeSettings, LinearSolverChoice, MethodKind, Options, Solver};
 
-fn run(n: usize) -> usize {
+fn run(n: usize, linear_solver: LinearSolverChoice) -> usize {
     let law = NeoHookean::new(1.0).unwrap();
     let p = SheetParams {
         cells_x: n,
@@ -24,6 +26,8 @@ fn run(n: usize) -> usize {
     let opts = Options {
         rtol: 1e-6,
         atol: 1e-8,
+        norm: ErrorNorm::Max,
+        linear_solver,
         ..Options::default()
     };
     let sol = Solver::new(MethodKind::Bdf, opts)
@@ -35,13 +39,17 @@ fn run(n: usize) -> usize {
 fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("sheet_to_t10");
     g.sample_size(10);
-    for n in [10usize, 20, 50, 100] {
-        g.throughput(Throughput::Elements((n * n) as u64));
-        g.bench_with_input(
-            BenchmarkId::from_parameter(format!("{n}x{n}")),
-            &n,
-            |b, &n| b.iter(|| run(n)),
-        );
+    let iterative = LinearSolverChoice::Iterative(IterativeSettings::default());
+    for (name, choice) in [
+        ("direct", LinearSolverChoice::Direct),
+        ("iterative", iterative),
+    ] {
+        for n in [10usize, 20, 50, 100] {
+            g.throughput(Throughput::Elements((n * n) as u64));
+            g.bench_with_input(BenchmarkId::new(name, format!("{n}x{n}")), &n, |b, &n| {
+                b.iter(|| run(n, choice))
+            });
+        }
     }
     g.finish();
 }

@@ -17,8 +17,8 @@ impl System<'_> {
     /// `h₀ = 0.01·‖y₀‖/‖ẏ₀‖` (`10⁻⁶·span` when either norm is negligible); then
     /// `ẏ₁` is made consistent at `(t₀ + h₀, y₀ + h₀ẏ₀)` and
     /// `h₁ = (0.01/max(‖ẏ₀‖, ‖ẏ₁ − ẏ₀‖/h₀))^{1/(order+1)}`; the result is `min(100·h₀, h₁)`.
-    /// All norms are the weighted RMS of the error weights at `y₀` over the differential
-    /// components. If the trial point cannot be made consistent, `h₀` is returned. With
+    /// All norms are [`crate::Options::norm`] of the error weights at `y₀` over the
+    /// differential components. If the trial point cannot be made consistent, `h₀` is returned. With
     /// `unit_mass` (the caller knows `∂F/∂ẏ = I`, as for an explicit ODE) `ẏ₁ − ẏ₀` is
     /// `−F(t₀ + h₀, y₁, ẏ₀)`, one residual call and no factorisation.
     ///
@@ -67,8 +67,9 @@ impl System<'_> {
                 *wi = 0.0;
             }
         }
-        let d0 = Self::wrms(y0, &w);
-        let d1 = Self::wrms(yp0, &w);
+        let norm = self.opts.norm;
+        let d0 = norm.of(y0, &w);
+        let d1 = norm.of(yp0, &w);
         let h0 = if d0 < 1e-5 || d1 < 1e-5 || !d1.is_finite() {
             1e-6 * span
         } else {
@@ -90,7 +91,7 @@ impl System<'_> {
             }
             yp1.iter().zip(yp0).map(|(a, b)| a - b).collect()
         };
-        let d2 = Self::wrms(&diff, &w) / h0;
+        let d2 = norm.of(&diff, &w) / h0;
         let dmax = d1.max(d2);
         let h1 = if dmax <= 1e-15 || !dmax.is_finite() {
             (h0 * 1e-3).max(1e-6 * span)

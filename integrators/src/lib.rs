@@ -50,7 +50,7 @@ pub mod system;
 
 pub use error::{ErrorKind, SolveFailure, SolverError};
 pub use method::{Method, MethodKind};
-pub use options::{ErrorNorm, Options};
+pub use options::{ErrorNorm, IterativeSettings, LinearSolverChoice, Options};
 pub use pattern::{Pattern, SparsityPattern};
 pub use problem::{EventAction, JacobianSink, Problem, ResidualError};
 pub use solver::{EventRecord, Solution, Solver};

@@ -1,4 +1,5 @@
-//! Solver options: tolerances, step limits, Jacobian reuse.
+//! Solver options: tolerances, step limits, Jacobian reuse, error norm and the choice of
+//! linear solver ([`LinearSolverChoice`]).
 
 /// Options shared by every method.
 ///
@@ -41,6 +42,52 @@ pub struct Options {
     /// How weighted error vectors are measured in the local error test and the Newton
     /// convergence test of every method (default: RMS).
     pub norm: ErrorNorm,
+    /// How the Newton systems are solved (default: [`LinearSolverChoice::Direct`]).
+    pub linear_solver: LinearSolverChoice,
+}
+
+/// How the linear systems of the Newton iterations are solved.
+///
+/// `Iterative` applies to problems with a [`crate::Pattern::Sparse`] Jacobian pattern; dense
+/// and banded patterns (and Radau's complex-pair system) always use their direct LU.
+///
+/// ```
+/// use integrators::{IterativeSettings, LinearSolverChoice, Options};
+/// let o = Options {
+///     linear_solver: LinearSolverChoice::Iterative(IterativeSettings::default()),
+///     ..Default::default()
+/// };
+/// assert!(o.validate().is_ok());
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum LinearSolverChoice {
+    /// Direct LU by pattern (dense, banded, sparse with symbolic reuse).
+    #[default]
+    Direct,
+    /// Sparse patterns: ILU(0)-preconditioned BiCGStab (see [`IterativeSettings`]); the
+    /// "factorisation" is the preconditioner, each solve iterates to `rtol`.
+    Iterative(IterativeSettings),
+}
+
+/// Settings of the iterative linear solver ([`LinearSolverChoice::Iterative`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IterativeSettings {
+    /// Relative residual `‖b − A x‖₂ / ‖b‖₂` a solve must reach, in (0, 1). It should be well
+    /// below the Newton tolerance so that the inexact solve does not slow Newton down.
+    pub rtol: f64,
+    /// Most BiCGStab iterations per solve (≥ 1); a solve that does not converge makes the
+    /// Newton iteration fail, and the step is retried smaller.
+    pub max_iters: usize,
+}
+
+impl Default for IterativeSettings {
+    /// `rtol = 1e-8`, `max_iters = 200`.
+    fn default() -> Self {
+        Self {
+            rtol: 1e-8,
+            max_iters: 200,
+        }
+    }
 }
 
 /// Norm of a weighted error vector `(v_i·w_i)`.
@@ -114,6 +161,7 @@ impl Default for Options {
             fixed_step: None,
             fixed_order: None,
             norm: ErrorNorm::Rms,
+            linear_solver: LinearSolverChoice::Direct,
         }
     }
 }
@@ -155,6 +203,17 @@ impl Options {
                     "fixed_order = {k} must be in 1..=max_order ({})",
                     self.max_order
                 ));
+            }
+        }
+        if let LinearSolverChoice::Iterative(it) = self.linear_solver {
+            if !(it.rtol > 0.0 && it.rtol < 1.0) {
+                return Err(format!(
+                    "linear_solver.rtol = {} must be in (0, 1)",
+                    it.rtol
+                ));
+            }
+            if it.max_iters == 0 {
+                return Err("linear_solver.max_iters must be at least 1".into());
             }
         }
         if self.event_tol.is_nan() || self.event_tol <= 0.0 {

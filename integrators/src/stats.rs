@@ -30,6 +30,10 @@ pub struct Stats {
     pub linear_solves: usize,
     /// Newton iterations.
     pub newton_iterations: usize,
+    /// Krylov iterations of the iterative linear solver (0 with the direct solver).
+    pub krylov_iterations: usize,
+    /// Iterative solves that did not reach their tolerance (each fails a Newton iteration).
+    pub krylov_failures: usize,
     /// Events handled.
     pub events: usize,
     /// Resizes performed.

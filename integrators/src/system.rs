@@ -199,9 +199,10 @@ impl<'a> System<'a> {
         Matrix::zeros(self.dim(), self.pattern())
     }
 
-    /// A linear solver for the current pattern (symbolic analysis happens at first factor).
+    /// A linear solver for the current pattern (symbolic analysis happens at first factor),
+    /// direct or iterative as [`Options::linear_solver`] says.
     pub fn new_linear_solver(&self) -> LinearSolver {
-        LinearSolver::new(self.dim(), self.pattern())
+        LinearSolver::with_choice(self.dim(), self.pattern(), self.opts.linear_solver)
     }
 
     /// Evaluates `J = ∂F/∂y + c·∂F/∂ẏ` at `(t, y, ẏ)` into `jac` (zeroed first): the problem's
@@ -272,7 +273,11 @@ impl<'a> System<'a> {
     /// Counted in-place solve with the last factorisation.
     pub fn solve(&mut self, solver: &LinearSolver, b: &mut [f64]) {
         self.stats.linear_solves += 1;
+        let before = solver.krylov_counters();
         solver.solve_in_place(b);
+        let after = solver.krylov_counters();
+        self.stats.krylov_iterations += after.iterations - before.iterations;
+        self.stats.krylov_failures += after.failures - before.failures;
     }
 
     /// Error weights `w_i = 1/(rtol·|y_i| + atol_i)`, zero for algebraic components when

@@ -166,6 +166,13 @@ fn run_stats(s: &Stats, wall: f64) -> RunStats {
     ] {
         r.extra.insert(k.into(), v as f64);
     }
+    // iterative linear solver only (keeps the direct runs' records unchanged)
+    if s.krylov_iterations > 0 || s.krylov_failures > 0 {
+        r.extra
+            .insert("krylov_iterations".into(), s.krylov_iterations as f64);
+        r.extra
+            .insert("krylov_failures".into(), s.krylov_failures as f64);
+    }
     r
 }
 

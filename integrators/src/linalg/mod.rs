@@ -2,14 +2,15 @@
 //! and [`LinearSolver`], which factorises it with the algorithm that fits the pattern:
 //! dense LU (faer), banded LU with partial pivoting in O(n·b²) (hand-written: no maintained
 //! crate offers one), sparse LU (faer) with the symbolic factorisation reused until the pattern
-//! changes.
+//! changes, or (chosen by [`crate::LinearSolverChoice::Iterative`]) ILU(0)-preconditioned
+//! BiCGStab for sparse patterns.
 //!
 //! Also the "complex pair" construction used by Radau IIA: the real 2n×2n matrix
 //! `[[A, -B], [B, A]]` with rows/columns interleaved so that a banded pattern stays banded.
 
 //!
 //! Layout: [`dense`](self) (faer LU), `banded` (hand-written `dgbtrf`-style LU), `sparse` (faer
-//! sparse LU with cached symbolic analysis), `complex_pair` (Radau's real 2n form). This file
+//! sparse LU with cached symbolic analysis), `iterative` (ILU(0) + BiCGStab from crates), `complex_pair` (Radau's real 2n form). This file
 //! holds the public types and dispatches by pattern.
 //!
 //! ```
@@ -31,7 +32,10 @@
 mod banded;
 mod complex_pair;
 mod dense;
+mod iterative;
 mod sparse;
+
+pub use iterative::KrylovCounters;
 
 use std::sync::Arc;
 
@@ -92,6 +96,7 @@ pub(crate) enum Inner {
     Dense(dense::DenseLu),
     Banded(banded::BandLu),
     Sparse(Box<sparse::SparseLu>),
+    Iterative(Box<iterative::IterativeSolver>),
 }
 
 /// Index of the first non-finite value.
@@ -297,6 +302,51 @@ impl LinearSolver {
         };
         Self { inner }
     }
+    /// A solver for `n × n` matrices with this pattern, direct or iterative as `choice` says
+    /// (the iterative solver applies to sparse patterns only; others get their direct LU).
+    ///
+    /// ```
+    /// use std::sync::Arc;
+    /// use integrators::linalg::{LinearSolver, Matrix};
+    /// use integrators::{IterativeSettings, LinearSolverChoice, Pattern, SparsityPattern};
+    /// let e: Vec<_> = (1..50).flat_map(|i| [(i, i - 1), (i - 1, i)]).collect();
+    /// let p = Pattern::Sparse(Arc::new(SparsityPattern::from_entries(50, &e)));
+    /// let mut m = Matrix::zeros(50, &p);
+    /// for i in 0..50 {
+    ///     m.add(i, i, 4.0);
+    ///     if i > 0 { m.add(i, i - 1, -1.0); m.add(i - 1, i, -1.5); }
+    /// }
+    /// let it = LinearSolverChoice::Iterative(IterativeSettings { rtol: 1e-12, max_iters: 50 });
+    /// let mut s = LinearSolver::with_choice(50, &p, it);
+    /// s.factor(&m).unwrap();
+    /// let mut b = vec![1.0; 50];
+    /// s.solve_in_place(&mut b);
+    /// let mut back = vec![0.0; 50];
+    /// m.mul_vec(&b, &mut back);
+    /// assert!(back.iter().all(|v| (v - 1.0).abs() < 1e-10));
+    /// assert_eq!(s.krylov_counters().solves, 1);
+    /// ```
+    pub fn with_choice(n: usize, pattern: &Pattern, choice: crate::LinearSolverChoice) -> Self {
+        match (choice, pattern) {
+            (crate::LinearSolverChoice::Iterative(settings), Pattern::Sparse(p)) => {
+                assert_eq!(p.n(), n, "sparse pattern dimension mismatch");
+                Self {
+                    inner: Inner::Iterative(Box::new(iterative::IterativeSolver::new(
+                        Arc::clone(p),
+                        settings,
+                    ))),
+                }
+            }
+            _ => Self::new(n, pattern),
+        }
+    }
+    /// Krylov iteration counters (all zero for a direct solver).
+    pub fn krylov_counters(&self) -> KrylovCounters {
+        match &self.inner {
+            Inner::Iterative(s) => s.counters(),
+            _ => KrylovCounters::default(),
+        }
+    }
     /// Numeric LU factorisation (sparse: symbolic analysis on first call, reused after). Returns
     /// `Err(column)` on a zero pivot (also for a non-finite pivot or matrix entry). After an
     /// error the solver holds no valid factorisation until the next successful `factor`.
@@ -307,6 +357,7 @@ impl LinearSolver {
             (Inner::Dense(lu), Matrix::Dense(a)) => lu.factor(&a.data),
             (Inner::Banded(lu), Matrix::Banded(a)) => lu.factor(a),
             (Inner::Sparse(lu), Matrix::Sparse(a)) => lu.factor(&a.pattern, &a.values),
+            (Inner::Iterative(it), Matrix::Sparse(a)) => it.factor(&a.pattern, &a.values),
             _ => panic!("LinearSolver::factor: matrix storage does not match the solver's pattern"),
         }
     }
@@ -342,7 +393,8 @@ impl LinearSolver {
         scratch.axpby(1.0, beta, b);
         self.factor(scratch)
     }
-    /// Solves in place with the last factorisation.
+    /// Solves in place with the last factorisation. An iterative solver that does not reach
+    /// its tolerance answers NaN in every component (a recoverable failure for the methods).
     ///
     /// Panics if there is no successful factorisation (programmer error).
     pub fn solve_in_place(&self, b: &mut [f64]) {
@@ -350,12 +402,14 @@ impl LinearSolver {
             Inner::Dense(lu) => lu.solve(b),
             Inner::Banded(lu) => lu.solve(b),
             Inner::Sparse(lu) => lu.solve(b),
+            Inner::Iterative(it) => it.solve(b),
         }
     }
     /// Whether the last `factor` created a new symbolic factorisation (for statistics).
     pub fn last_factor_was_symbolic(&self) -> bool {
         match &self.inner {
             Inner::Sparse(lu) => lu.last_symbolic,
+            Inner::Iterative(it) => it.last_symbolic,
             _ => false,
         }
     }
