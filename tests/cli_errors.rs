@@ -133,6 +133,12 @@ fn bad_output_times_and_solver_are_named() {
         &[],
         "solver.rtol",
     );
+    rejects(
+        "norm",
+        &format!("{GOOD}[solver]\nnorm = \"l2\"\n"),
+        &[],
+        "solver.norm",
+    );
 }
 
 #[test]
