@@ -393,40 +393,7 @@ impl Dopri5 {
     }
 }
 
-impl one_step::OneStep for Dopri5 {
-    fn started(&self) -> bool {
-        self.started
-    }
-    fn time(&self) -> f64 {
-        self.t
-    }
-    fn state(&self) -> (Vec<f64>, Vec<f64>) {
-        (self.y.clone(), self.yp.clone())
-    }
-    fn planned_h(&self) -> f64 {
-        self.h
-    }
-    fn set_h(&mut self, h: f64, after_start: bool) {
-        self.h = h;
-        let _ = after_start;
-    }
-    fn start_order(&self) -> usize {
-        4
-    }
-    fn unit_mass(&self) -> bool {
-        self.identity
-    }
-
-    fn attempt(
-        &mut self,
-        sys: &mut System<'_>,
-        h: f64,
-        fixed: bool,
-        t_new: f64,
-    ) -> Result<Attempt, SolverError> {
-        Dopri5::attempt(self, sys, h, fixed, t_new)
-    }
-}
+one_step::impl_one_step!(Dopri5, order: 4, h_old: false, unit_mass: |m| m.identity);
 
 impl Method for Dopri5 {
     fn name(&self) -> &'static str {

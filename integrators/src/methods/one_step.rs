@@ -49,6 +49,57 @@ pub(crate) trait OneStep {
     ) -> Result<Attempt, SolverError>;
 }
 
+/// Implements [`OneStep`] for a method struct with the fields `started`, `t`, `y`, `yp` and `h`
+/// (plus `h_old`, reset at a start, when `h_old: true`), forwarding `attempt` to the type's
+/// inherent `attempt` and answering `unit_mass` with the given expression of `self`.
+macro_rules! impl_one_step {
+    ($ty:ident, order: $order:expr, h_old: $h_old:tt, unit_mass: |$s:ident| $unit:expr) => {
+        impl $crate::methods::one_step::OneStep for $ty {
+            fn started(&self) -> bool {
+                self.started
+            }
+            fn time(&self) -> f64 {
+                self.t
+            }
+            fn state(&self) -> (Vec<f64>, Vec<f64>) {
+                (self.y.clone(), self.yp.clone())
+            }
+            fn planned_h(&self) -> f64 {
+                self.h
+            }
+            fn set_h(&mut self, h: f64, after_start: bool) {
+                self.h = h;
+                $crate::methods::one_step::impl_one_step!(@h_old $h_old, self, h, after_start);
+            }
+            fn start_order(&self) -> usize {
+                $order
+            }
+            fn unit_mass(&self) -> bool {
+                let $s = self;
+                $unit
+            }
+            fn attempt(
+                &mut self,
+                sys: &mut $crate::system::System<'_>,
+                h: f64,
+                fixed: bool,
+                t_new: f64,
+            ) -> Result<$crate::methods::one_step::Attempt, $crate::error::SolverError> {
+                $ty::attempt(self, sys, h, fixed, t_new)
+            }
+        }
+    };
+    (@h_old true, $self:ident, $h:ident, $after:ident) => {
+        if $after {
+            $self.h_old = $h;
+        }
+    };
+    (@h_old false, $self:ident, $h:ident, $after:ident) => {
+        let _ = ($h, $after);
+    };
+}
+pub(crate) use impl_one_step;
+
 /// One accepted step of `m` towards `t_stop` (never past it).
 pub(crate) fn step<M: OneStep>(
     m: &mut M,

@@ -789,38 +789,7 @@ impl Radau5 {
     }
 }
 
-impl one_step::OneStep for Radau5 {
-    fn started(&self) -> bool {
-        self.started
-    }
-    fn time(&self) -> f64 {
-        self.t
-    }
-    fn state(&self) -> (Vec<f64>, Vec<f64>) {
-        (self.y.clone(), self.yp.clone())
-    }
-    fn planned_h(&self) -> f64 {
-        self.h
-    }
-    fn set_h(&mut self, h: f64, after_start: bool) {
-        self.h = h;
-        if after_start {
-            self.h_old = h;
-        }
-    }
-    fn start_order(&self) -> usize {
-        3
-    }
-    fn attempt(
-        &mut self,
-        sys: &mut System<'_>,
-        h: f64,
-        fixed: bool,
-        t_new: f64,
-    ) -> Result<Attempt, SolverError> {
-        Radau5::attempt(self, sys, h, fixed, t_new)
-    }
-}
+one_step::impl_one_step!(Radau5, order: 3, h_old: true, unit_mass: |_m| false);
 
 impl Method for Radau5 {
     fn name(&self) -> &'static str {
