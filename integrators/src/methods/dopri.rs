@@ -448,12 +448,7 @@ impl Method for Dopri5 {
         self.facold = 1e-4;
         self.reject = false;
         self.started = true;
-        let h0 = h.or(sys.opts.h0).filter(|v| *v > 0.0 && v.is_finite());
-        self.h = match h0 {
-            Some(v) => v.min(sys.opts.h_max),
-            // resolved at the first step, when the distance to the stop is known
-            None => f64::NAN,
-        };
+        self.h = one_step::start_h(h, sys.opts);
         // ∂F/∂ẏ now, so that a singular one is reported at start.
         let hh = if self.h.is_nan() { 1.0 } else { self.h };
         let (yv, ypv) = (self.y.clone(), self.yp.clone());

@@ -455,12 +455,7 @@ impl Method for Esdirk {
         self.reject = false;
         self.eta = 1.0;
         self.started = true;
-        let h0 = h.or(sys.opts.h0).filter(|v| *v > 0.0 && v.is_finite());
-        self.h = match h0 {
-            Some(v) => v.min(sys.opts.h_max),
-            // resolved at the first step, when the distance to the stop is known
-            None => f64::NAN,
-        };
+        self.h = one_step::start_h(h, sys.opts);
         self.h_old = self.h;
         Ok(())
     }

@@ -163,6 +163,15 @@ pub(crate) fn step<M: OneStep>(
     }
 }
 
+/// The step to try first after a start: the caller's hint or `Options::h0` (capped at `h_max`),
+/// else NaN — estimated by [`step`] at the first call, when the distance to the stop is known.
+pub(crate) fn start_h(hint: Option<f64>, opts: &crate::Options) -> f64 {
+    match hint.or(opts.h0).filter(|v| *v > 0.0 && v.is_finite()) {
+        Some(v) => v.min(opts.h_max),
+        None => f64::NAN,
+    }
+}
+
 /// Shared precondition of `start`: `y` and `ẏ` have the problem's length and are finite.
 pub(crate) fn check_start(n: usize, t: f64, y: &[f64], yp: &[f64]) -> Result<(), SolverError> {
     if y.len() != n || yp.len() != n {

@@ -849,12 +849,7 @@ impl Method for Radau5 {
         self.h_acc = 0.0;
         self.err_acc = 1e-2;
         self.started = true;
-        let h0 = h.or(sys.opts.h0).filter(|v| *v > 0.0 && v.is_finite());
-        self.h = match h0 {
-            Some(v) => v.min(sys.opts.h_max),
-            // resolved at the first step, when the distance to the stop is known
-            None => f64::NAN,
-        };
+        self.h = one_step::start_h(h, sys.opts);
         self.h_old = self.h;
         Ok(())
     }
