@@ -1,7 +1,7 @@
 //! Discrete → continuum convergence on the macroscale-fixed family (MODEL.md §5.4): l₀ = N,
 //! K = 1/N, exponential ramp with ramp time N, compared at t = 0.5N in scaled positions x/N
 //! against a very fine conservative-continuum reference (n = 3200). Prescribed end: error
-//! O(N⁻²) with Ref max errors 3.7e-8, 9.3e-9, 2.3e-9, 5.8e-10 for N = 25, 50, 100, 200.
+//! O(N⁻²) with Ref max errors 3.7e-8, 9.3e-9, 2.3e-9, 5.8e-10, 1.4e-10 for N = 25, 50, 100, 200, 400.
 //! Identity: the continuum scheme with n = N reproduces the discrete trajectory to round-off.
 
 use celltissue::line::build::{continuum, discrete, LineParams};
@@ -50,9 +50,9 @@ fn positions(n_cells: usize, nodes: Option<usize>) -> Vec<f64> {
 fn prescribed_end_error_falls_as_n_minus_2() {
     let fine = 3200;
     let reference = positions(100, Some(fine));
-    let refs = [3.7e-8, 9.3e-9, 2.3e-9, 5.8e-10];
+    let refs = [3.7e-8, 9.3e-9, 2.3e-9, 5.8e-10, 1.4e-10];
     let mut errs = Vec::new();
-    for (i, &n) in [25usize, 50, 100, 200].iter().enumerate() {
+    for (i, &n) in [25usize, 50, 100, 200, 400].iter().enumerate() {
         let x = positions(n, None);
         let stride = fine / n;
         let err = (0..=n)
