@@ -52,7 +52,7 @@ fn all_methods_agree_on_a_nonstiff_ode_through_the_driver() {
             .unwrap_or_else(|e| panic!("{kind}: {e}"));
         let mut worst: f64 = 0.0;
         for (t, y) in sol.t.iter().zip(&sol.y) {
-            worst = worst.max(max_err(y, &Nonlinear2::exact(*t)));
+            worst = worst.max(max_err(y, &Nonlinear2.solution(*t)));
         }
         eprintln!(
             "{kind}: max error at outputs {worst:e} ({} steps)",
@@ -65,7 +65,7 @@ fn all_methods_agree_on_a_nonstiff_ode_through_the_driver() {
 #[test]
 fn radau_through_the_driver_on_the_banded_heat_equation() {
     let mut p = Heat { n: 200 };
-    let y0 = p.exact(0.0);
+    let y0 = p.solution(0.0);
     let t_out = [0.01, 0.02, 0.05, 0.1];
     let sol = Solver::new(MethodKind::Radau, opts(1e-8, 1e-10))
         .solve(&mut p, 0.0, &y0, &t_out)
@@ -73,7 +73,7 @@ fn radau_through_the_driver_on_the_banded_heat_equation() {
     // Outputs between steps come from the collocation polynomial, whose accuracy is that of the
     // stage order (3), not the step order (5): allow 10·rtol (|u| ≤ 1).
     for (t, y) in sol.t.iter().zip(&sol.y) {
-        let e = max_err(y, &p.exact(*t));
+        let e = max_err(y, &p.solution(*t));
         eprintln!("heat via driver, t = {t}: error {e:e}");
         assert!(e < 1e-7, "t = {t}: {e:e}");
     }

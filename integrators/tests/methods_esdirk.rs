@@ -21,7 +21,7 @@ fn linear_2x2_matches_exact_solution_with_dense_output() {
     };
     let run = check_exact(ESDIRK, &mut case, &opts(1e-7, 1e-9), true, bound);
     // tolerance proportionality: 100× tighter tolerance, error ≥ 10× smaller (≈ 100^(2/3))
-    let e = max_err(&run.y, &Linear2::exact(3.0));
+    let e = max_err(&run.y, &Linear2.solution(3.0));
     let (_, e2) = case.run(ESDIRK, &opts(1e-9, 1e-11), false);
     eprintln!("esdirk linear rtol 1e-7: {e:e}, rtol 1e-9: {e2:e}");
     assert!(e2 < e / 10.0, "{e2:e} vs {e:e}");

@@ -30,8 +30,8 @@ fn linear_2x2_matches_exact_solution_with_dense_output() {
     );
     // ẏ at the end is the derivative of the exact solution
     let yp_ex = [
-        -Linear2::exact(3.0)[0] + 2.0 * Linear2::exact(3.0)[1],
-        -2.0 * Linear2::exact(3.0)[0] - Linear2::exact(3.0)[1],
+        -Linear2.solution(3.0)[0] + 2.0 * Linear2.solution(3.0)[1],
+        -2.0 * Linear2.solution(3.0)[0] - Linear2.solution(3.0)[1],
     ];
     assert!(max_err(&run.yp, &yp_ex) < 1e-7);
     // linear problem with an exact Jacobian: Newton converges in one iteration, the Jacobian is
@@ -141,11 +141,11 @@ fn restart_with_a_different_dimension() {
     let mut m = Radau5::new();
     let o = opts(1e-8, 1e-10);
     let a = integrate(&mut m, &mut Linear2, &o, 0.0, &[1.0, 0.0], 1.0, None).unwrap();
-    assert!(max_err(&a.y, &Linear2::exact(1.0)) < 1e-7);
+    assert!(max_err(&a.y, &Linear2.solution(1.0)) < 1e-7);
     let mut p = Heat { n: 50 };
-    let y0 = p.exact(0.0);
+    let y0 = p.solution(0.0);
     let b = integrate(&mut m, &mut p, &o, 0.0, &y0, 0.05, None).unwrap();
-    assert!(max_err(&b.y, &p.exact(0.05)) < 1e-7);
+    assert!(max_err(&b.y, &p.solution(0.05)) < 1e-7);
 }
 
 #[test]

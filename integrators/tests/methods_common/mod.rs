@@ -154,9 +154,7 @@ pub fn opts(rtol: f64, atol: f64) -> Options {
 }
 
 /// A problem with a closed-form solution.
-pub trait Solved: Problem + Clone + 'static {
-    /// Short name for messages.
-    fn name(&self) -> &'static str;
+pub trait Solved: Problem + Clone + std::fmt::Debug + 'static {
     /// The exact solution at `t`.
     fn solution(&self, t: f64) -> Vec<f64>;
     /// Initial value (default: the solution at `t = 0`).
@@ -167,8 +165,8 @@ pub trait Solved: Problem + Clone + 'static {
 
 /// A test problem on `[0, t_end]` with its initial value and exact solution.
 pub struct Case {
-    /// Short name for messages.
-    pub name: &'static str,
+    /// The problem's `Debug` form, for messages.
+    pub name: String,
     pub problem: Box<dyn Problem>,
     pub y0: Vec<f64>,
     pub t_end: f64,
@@ -180,7 +178,7 @@ impl Case {
     pub fn new<P: Solved>(problem: P, t_end: f64) -> Self {
         let solved = problem.clone();
         Self {
-            name: problem.name(),
+            name: format!("{problem:?}"),
             y0: problem.y0(),
             problem: Box::new(problem),
             t_end,
@@ -230,7 +228,7 @@ pub fn check_exact(
     bound: Bound,
 ) -> Run {
     let (run, e) = case.run(kind, o, dense);
-    let name = case.name;
+    let name = &case.name;
     eprintln!(
         "{kind} {name}: err {e:e} dense {:e} {:?}",
         run.dense_err, run.stats
@@ -351,22 +349,13 @@ fn second_difference(y: &[f64], i: usize) -> f64 {
 
 /// Linear 2×2 ODE `ẏ = [[-1, 2], [-2, -1]] y`, `y(0) = (1, 0)`:
 /// `y = e^{-t} (cos 2t, −sin 2t)`. Analytic Jacobian.
-#[derive(Clone)]
+#[derive(Clone, Debug)]
 pub struct Linear2;
 
-impl Linear2 {
-    pub fn exact(t: f64) -> Vec<f64> {
+impl Solved for Linear2 {
+    fn solution(&self, t: f64) -> Vec<f64> {
         let e = (-t).exp();
         vec![e * (2.0 * t).cos(), -e * (2.0 * t).sin()]
-    }
-}
-
-impl Solved for Linear2 {
-    fn name(&self) -> &'static str {
-        "linear 2x2"
-    }
-    fn solution(&self, t: f64) -> Vec<f64> {
-        Self::exact(t)
     }
     fn y0(&self) -> Vec<f64> {
         vec![1.0, 0.0]
@@ -406,21 +395,12 @@ impl Problem for Linear2 {
 
 /// Smooth nonlinear, non-autonomous ODE (finite-difference Jacobian):
 /// `ẏ1 = −y1²`, `ẏ2 = cos(t)·y2`, `y(0) = (1, 1)`: `y = (1/(1+t), exp(sin t))`.
-#[derive(Clone)]
+#[derive(Clone, Debug)]
 pub struct Nonlinear2;
 
-impl Nonlinear2 {
-    pub fn exact(t: f64) -> Vec<f64> {
-        vec![1.0 / (1.0 + t), t.sin().exp()]
-    }
-}
-
 impl Solved for Nonlinear2 {
-    fn name(&self) -> &'static str {
-        "nonlinear ode"
-    }
     fn solution(&self, t: f64) -> Vec<f64> {
-        Self::exact(t)
+        vec![1.0 / (1.0 + t), t.sin().exp()]
     }
 }
 
@@ -504,21 +484,14 @@ impl Problem for VanDerPol {
 /// Mass-matrix problem `M(y)·ẏ = M(y)·g(t, y)` whose solution is that of `ẏ = g` for the
 /// nonlinear `g` of [`Nonlinear2`]; `M` is constant `[[2, 1], [1, 1]]` or state-dependent
 /// `[[2 + y1², 1], [1, 1 + y2²]]`. The residual is `M(y)(ẏ − g(t, y))`.
-#[derive(Clone)]
+#[derive(Clone, Debug)]
 pub struct MassProblem {
     pub state_dependent: bool,
 }
 
 impl Solved for MassProblem {
-    fn name(&self) -> &'static str {
-        if self.state_dependent {
-            "state-dependent mass"
-        } else {
-            "constant mass"
-        }
-    }
     fn solution(&self, t: f64) -> Vec<f64> {
-        Nonlinear2::exact(t)
+        Nonlinear2.solution(t)
     }
 }
 
@@ -554,21 +527,12 @@ impl Problem for MassProblem {
 /// Semi-explicit index-1 DAE with a nonlinear constraint:
 /// `ẏ1 = y2 − y1`, `0 = y2³ + y2 − (q³ + q)` with `q = cos t + y1`;
 /// `y(0) = (0, 1)`, exact solution `y1 = sin t`, `y2 = cos t + sin t`.
-#[derive(Clone)]
+#[derive(Clone, Debug)]
 pub struct Dae1;
 
-impl Dae1 {
-    pub fn exact(t: f64) -> Vec<f64> {
-        vec![t.sin(), t.cos() + t.sin()]
-    }
-}
-
 impl Solved for Dae1 {
-    fn name(&self) -> &'static str {
-        "index-1 dae"
-    }
     fn solution(&self, t: f64) -> Vec<f64> {
-        Self::exact(t)
+        vec![t.sin(), t.cos() + t.sin()]
     }
 }
 
@@ -596,30 +560,24 @@ impl Problem for Dae1 {
 /// Semi-discrete heat equation `u_t = u_xx` on (0, 1), `u = 0` at both ends, `n` interior
 /// points, banded(1, 1) with an analytic Jacobian. With `u(x, 0) = sin(πx)` the semi-discrete
 /// solution is exactly `sin(πx_i)·exp(−λt)`, `λ = (4/Δx²) sin²(πΔx/2)`.
-#[derive(Clone)]
+#[derive(Clone, Debug)]
 pub struct Heat {
     pub n: usize,
 }
 
 impl Solved for Heat {
-    fn name(&self) -> &'static str {
-        "banded heat"
-    }
     fn solution(&self, t: f64) -> Vec<f64> {
-        self.exact(t)
+        let dx = self.dx();
+        let lam = 4.0 / (dx * dx) * (std::f64::consts::PI * dx / 2.0).sin().powi(2);
+        (0..self.n)
+            .map(|i| (std::f64::consts::PI * (i as f64 + 1.0) * dx).sin() * (-lam * t).exp())
+            .collect()
     }
 }
 
 impl Heat {
     pub fn dx(&self) -> f64 {
         1.0 / (self.n as f64 + 1.0)
-    }
-    pub fn exact(&self, t: f64) -> Vec<f64> {
-        let dx = self.dx();
-        let lam = 4.0 / (dx * dx) * (std::f64::consts::PI * dx / 2.0).sin().powi(2);
-        (0..self.n)
-            .map(|i| (std::f64::consts::PI * (i as f64 + 1.0) * dx).sin() * (-lam * t).exp())
-            .collect()
     }
 }
 
