@@ -407,4 +407,63 @@ mod tests {
         assert!(p.validate("mu", true).is_ok());
         assert!(Field::Constant(-1.0).validate("mu", true).is_err());
     }
+
+    #[test]
+    fn serde_forms_round_trip_and_errors_name_the_problem() {
+        let de = |s: &str| serde_json::from_str::<Field>(s).map_err(|e| e.to_string());
+        let ser = |f: &Field| serde_json::to_string(f).unwrap();
+        // numbers and the constant table are constants; a constant serialises as a number
+        assert_eq!(de("2.5").unwrap(), Field::Constant(2.5));
+        assert_eq!(de("2").unwrap(), Field::Constant(2.0));
+        assert_eq!(
+            de(r#"{"type":"constant","value":3}"#).unwrap(),
+            Field::Constant(3.0)
+        );
+        assert_eq!(ser(&Field::Constant(2.5)), "2.5");
+        assert_eq!(ser(&Field::closure(|x, _| x)), r#""closure""#);
+        for (f, json) in [
+            (
+                Field::gaussian_bump(1.0, 2.0, 0.5, 0.1),
+                r#"{"type":"gaussian","base":1.0,"amplitude":2.0,"centre":0.5,"width":0.1}"#,
+            ),
+            (
+                Field::Piecewise {
+                    breaks: vec![0.5],
+                    values: vec![1.0, 3.0],
+                },
+                r#"{"type":"piecewise","breaks":[0.5],"values":[1.0,3.0]}"#,
+            ),
+            (
+                Field::PerCell {
+                    values: vec![1.0, 2.0],
+                },
+                r#"{"type":"per_cell","values":[1.0,2.0]}"#,
+            ),
+            (
+                Field::Random {
+                    low: 0.5,
+                    high: 2.0,
+                    seed: 7,
+                },
+                r#"{"type":"random","low":0.5,"high":2.0,"seed":7}"#,
+            ),
+        ] {
+            assert_eq!(ser(&f), json);
+            assert_eq!(de(json).unwrap(), f);
+        }
+        // errors: unknown type, unknown field, missing field, wrong kind
+        let unknown = de(r#"{"type":"bump"}"#).unwrap_err();
+        assert!(
+            unknown.contains("unknown variant `bump`")
+                && unknown.contains("`constant`, `gaussian`, `piecewise`, `per_cell`, `random`")
+                && !unknown.contains("closure"),
+            "{unknown}"
+        );
+        let extra = de(r#"{"type":"constant","value":1,"scale":2}"#).unwrap_err();
+        assert!(extra.contains("unknown field `scale`"), "{extra}");
+        let missing = de(r#"{"type":"random","low":0.5,"high":2}"#).unwrap_err();
+        assert!(missing.contains("missing field `seed`"), "{missing}");
+        let wrong = de(r#""mu""#).unwrap_err();
+        assert!(wrong.contains("a number or a table with `type`"), "{wrong}");
+    }
 }
