@@ -21,9 +21,20 @@ use std::sync::Arc;
 /// `{ type = "gaussian", base = 1, amplitude = 1, centre = 0.5, width = 0.1 }`,
 /// `{ type = "piecewise", breaks = [0.5], values = [1, 3] }`, `{ type = "per_cell", values = [..] }`,
 /// `{ type = "random", low = 0.5, high = 2, seed = 1 }`, `{ type = "constant", value = 1 }`.
-#[derive(Clone)]
+//
+// The serde derive (with `remote = "Self"`, so that the derived code is an inherent
+// `Field::serialize`/`Field::deserialize` called by the hand-written impls below) handles the
+// tagged tables; the hand-written impls add the plain-number form of `Constant` and `"closure"`.
+#[derive(Clone, Serialize, Deserialize)]
+#[serde(
+    remote = "Self",
+    tag = "type",
+    rename_all = "snake_case",
+    deny_unknown_fields
+)]
 pub enum Field {
     /// The same value everywhere.
+    #[serde(skip_serializing, deserialize_with = "constant_table")]
     Constant(f64),
     /// `base + amplitude·exp(−(X − b)²/(2c²))` with `b = centre·l₀`, `c = width·l₀` (2.82:
     /// base 1, amplitude 1, centre ½, width 1/10).
@@ -61,57 +72,27 @@ pub enum Field {
         seed: u64,
     },
     /// Any function of `(X, l₀)` (not serialisable; serialises as `"closure"`).
+    #[serde(skip)]
     Closure(FieldFn),
 }
 
-/// The tagged (table) form of a field in scenario files.
-#[derive(Serialize, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
-enum TaggedField {
-    Constant {
+/// The table form of a constant field, `{ type = "constant", value = 1 }`.
+fn constant_table<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    #[derive(Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct Table {
         value: f64,
-    },
-    Gaussian {
-        base: f64,
-        amplitude: f64,
-        centre: f64,
-        width: f64,
-    },
-    Piecewise {
-        breaks: Vec<f64>,
-        values: Vec<f64>,
-    },
-    PerCell {
-        values: Vec<f64>,
-    },
-    Random {
-        low: f64,
-        high: f64,
-        seed: u64,
-    },
+    }
+    Ok(Table::deserialize(d)?.value)
 }
 
 impl Serialize for Field {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        let t = match self.clone() {
-            Field::Constant(v) => return s.serialize_f64(v),
-            Field::Gaussian {
-                base,
-                amplitude,
-                centre,
-                width,
-            } => TaggedField::Gaussian {
-                base,
-                amplitude,
-                centre,
-                width,
-            },
-            Field::Piecewise { breaks, values } => TaggedField::Piecewise { breaks, values },
-            Field::PerCell { values } => TaggedField::PerCell { values },
-            Field::Random { low, high, seed } => TaggedField::Random { low, high, seed },
-            Field::Closure(_) => return s.serialize_str("closure"),
-        };
-        t.serialize(s)
+        match self {
+            Field::Constant(v) => s.serialize_f64(*v),
+            Field::Closure(_) => s.serialize_str("closure"),
+            tagged => Field::serialize(tagged, s),
+        }
     }
 }
 
@@ -133,26 +114,7 @@ impl<'de> Deserialize<'de> for Field {
                 Ok(Field::Constant(v as f64))
             }
             fn visit_map<A: serde::de::MapAccess<'de>>(self, m: A) -> Result<Field, A::Error> {
-                let t = TaggedField::deserialize(serde::de::value::MapAccessDeserializer::new(m))?;
-                Ok(match t {
-                    TaggedField::Constant { value } => Field::Constant(value),
-                    TaggedField::Gaussian {
-                        base,
-                        amplitude,
-                        centre,
-                        width,
-                    } => Field::Gaussian {
-                        base,
-                        amplitude,
-                        centre,
-                        width,
-                    },
-                    TaggedField::Piecewise { breaks, values } => {
-                        Field::Piecewise { breaks, values }
-                    }
-                    TaggedField::PerCell { values } => Field::PerCell { values },
-                    TaggedField::Random { low, high, seed } => Field::Random { low, high, seed },
-                })
+                Field::deserialize(serde::de::value::MapAccessDeserializer::new(m))
             }
         }
         d.deserialize_any(V)
