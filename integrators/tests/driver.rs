@@ -3,6 +3,7 @@
 
 mod common;
 
+use common::opts;
 use common::Decay;
 use integrators::methods::bdf::Bdf;
 use integrators::{ErrorKind, MethodKind, Options, Problem, ResidualError, Solver};
@@ -158,11 +159,7 @@ fn custom_boxed_method_and_observer() {
 fn methods_by_name() {
     for name in ["bdf", "esdirk", "radau"] {
         let kind: MethodKind = name.parse().unwrap();
-        let o = Options {
-            rtol: 1e-8,
-            atol: 1e-10,
-            ..Default::default()
-        };
+        let o = opts(1e-8, 1e-10);
         let sol = Solver::new(kind, o)
             .solve(&mut Decay, 0.0, &[1.0], &[1.0])
             .unwrap_or_else(|e| panic!("{name}: {e}"));

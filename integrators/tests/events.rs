@@ -4,14 +4,11 @@
 mod common;
 
 use common::max_abs_diff;
+use common::opts;
 use integrators::{EventAction, MethodKind, Options, Pattern, Problem, ResidualError, Solver};
 
 fn tight() -> Options {
-    Options {
-        rtol: 1e-9,
-        atol: 1e-12,
-        ..Default::default()
-    }
+    opts(1e-9, 1e-12)
 }
 
 /// ẏ = −y, event y − 1/2 (root at ln 2), with a configurable action.
@@ -63,11 +60,7 @@ fn event_located_within_1e_10_and_stop() {
     // carries the global integration error (δy/y ≈ δt here), so the solve must be accurate to
     // ~1e-11 for t* to be within 1e-10 of ln 2. (At rtol = 1e-9 the global error, and so the
     // event-time error, is ≈ 1e-8.)
-    let o = Options {
-        rtol: 1e-12,
-        atol: 1e-14,
-        ..Default::default()
-    };
+    let o = opts(1e-12, 1e-14);
     let sol = Solver::new(MethodKind::Bdf, o)
         .solve(&mut p, 0.0, &[1.0], &[0.25, 0.5, 5.0])
         .unwrap();

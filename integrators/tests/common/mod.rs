@@ -4,7 +4,7 @@
 
 use integrators::adapters::OdeProblem;
 use integrators::linalg::Matrix;
-use integrators::{EventAction, Pattern, Problem, ResidualError};
+use integrators::{EventAction, Options, Pattern, Problem, ResidualError};
 
 /// Robertson's chemical kinetics as an ODE (Hairer & Wanner II, §IV.1; test set "ROBER").
 pub struct Robertson {
@@ -218,6 +218,15 @@ impl Problem for Decay {
     ) -> Result<(), ResidualError> {
         r[0] = yp[0] + y[0];
         Ok(())
+    }
+}
+
+/// `Options` with these tolerances, everything else default.
+pub fn opts(rtol: f64, atol: f64) -> Options {
+    Options {
+        rtol,
+        atol,
+        ..Default::default()
     }
 }
 
