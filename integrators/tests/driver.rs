@@ -4,7 +4,7 @@
 mod common;
 
 use common::opts;
-use common::Decay;
+use common::{residual_fn, Decay};
 use integrators::methods::bdf::Bdf;
 use integrators::{ErrorKind, MethodKind, Options, Problem, ResidualError, Solver};
 
@@ -52,31 +52,20 @@ fn outputs_at_t0_and_repeated_times() {
 }
 
 /// Fatal residual error after t = 0.5.
-struct Fatal;
-
-impl Problem for Fatal {
-    fn dim(&self) -> usize {
-        1
-    }
-    fn residual(
-        &mut self,
-        t: f64,
-        y: &[f64],
-        yp: &[f64],
-        r: &mut [f64],
-    ) -> Result<(), ResidualError> {
+fn fatal() -> impl Problem {
+    residual_fn(1, |t, y, yp, r| {
         if t > 0.5 {
             return Err(ResidualError::Fatal("model broke".into()));
         }
         r[0] = yp[0] + y[0];
         Ok(())
-    }
+    })
 }
 
 #[test]
 fn fatal_residual_error_aborts_with_partial_solution() {
     let e = bdf()
-        .solve(&mut Fatal, 0.0, &[1.0], &[0.25, 1.0])
+        .solve(&mut fatal(), 0.0, &[1.0], &[0.25, 1.0])
         .unwrap_err();
     assert!(
         matches!(e.error.kind, ErrorKind::Residual(ref m) if m.contains("model broke")),
@@ -88,19 +77,8 @@ fn fatal_residual_error_aborts_with_partial_solution() {
 
 /// A residual that is out of its domain (Recoverable) for y < 0.2 while the solution decays
 /// through it: the solver must fail cleanly, not loop or panic.
-struct Domain;
-
-impl Problem for Domain {
-    fn dim(&self) -> usize {
-        1
-    }
-    fn residual(
-        &mut self,
-        _t: f64,
-        y: &[f64],
-        yp: &[f64],
-        r: &mut [f64],
-    ) -> Result<(), ResidualError> {
+fn domain() -> impl Problem {
+    residual_fn(1, |_t, y, yp, r| {
         if y[0] < 0.2 {
             return Err(ResidualError::Recoverable {
                 reason: "negative length".into(),
@@ -109,13 +87,13 @@ impl Problem for Domain {
         }
         r[0] = yp[0] + y[0];
         Ok(())
-    }
+    })
 }
 
 #[test]
 fn recoverable_domain_error_fails_cleanly_at_the_boundary() {
     let e = bdf()
-        .solve(&mut Domain, 0.0, &[1.0], &[1.0, 5.0])
+        .solve(&mut domain(), 0.0, &[1.0], &[1.0, 5.0])
         .unwrap_err();
     eprintln!("{e}");
     assert_eq!(e.error.component, Some(0));
