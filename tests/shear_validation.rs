@@ -4,7 +4,7 @@
 //! convergence.
 
 use celltissue::array::ArrayProblem;
-use celltissue::observe::{ModelKind, RunRecord};
+use celltissue::observe::{ModelKind, Profile, RunRecord};
 use celltissue::sheet::exact::{shear_series, ShearDiscreteExact};
 use celltissue::sheet::shear::{ShearColumn, ShearParams};
 use celltissue::sheet::{run::Outputs, run_shear, ShearConfig, ShearForm, SolverSettings};
@@ -39,8 +39,43 @@ fn run(
     rec
 }
 
+/// A run that records only the profiles, at `times`, with `rtol = 10⁻¹¹` (BDF), without error.
+fn profiles(cfg: &ShearConfig, model: ModelKind, grid: Option<usize>, times: &[f64]) -> RunRecord {
+    let outputs = Outputs {
+        times: vec![],
+        profile_times: times.to_vec(),
+        ..Default::default()
+    };
+    let rec = run_shear(cfg, &nh(1.0), model, grid, &solver(1e-11), &outputs).unwrap();
+    assert!(rec.error.is_none(), "{:?}", rec.error);
+    rec
+}
+
 fn series<'a>(rec: &'a RunRecord, key: &str) -> &'a [f64] {
     &rec.series.extra[key]
+}
+
+/// `max_k |x_e,k − x(y_k)|` over a profile's edges at `y_k = (k + 1)·h`, against the series
+/// solution `shear_series(1, d, w, y, t)` of the continuum column of width `w`.
+fn series_gap(p: &Profile, h: f64, d: f64, w: f64) -> f64 {
+    p.extra["x_edge"]
+        .iter()
+        .enumerate()
+        .map(|(k, xe)| (xe - shear_series(1.0, d, w, (k + 1) as f64 * h, p.t, 4000).0).abs())
+        .fold(0.0, f64::max)
+}
+
+/// `|series key(t[i]) − value| < tol` for each `(i, value)` of the Ref table.
+fn assert_ref(rec: &RunRecord, key: &str, t: &[f64], table: &[(usize, f64)], tol: f64) {
+    let v = series(rec, key);
+    for &(i, r) in table {
+        assert!(
+            (v[i] - r).abs() < tol,
+            "{key}(t={}) = {} vs Ref {r}",
+            t[i],
+            v[i]
+        );
+    }
 }
 
 #[test]
@@ -54,27 +89,11 @@ fn edge_form_reproduces_ref_top_displacements_and_spread_m10() {
         &t,
         1e-10,
     );
-    let top = series(&rec, "top_displacement");
-    for (i, r) in [1.14651, 4.55847, 9.09173, 9.90271, 9.98958]
-        .iter()
-        .enumerate()
-    {
-        assert!(
-            (top[i] - r).abs() < 5e-6,
-            "x_e,M(t={}) = {} vs Ref {r}",
-            t[i],
-            top[i]
-        );
-    }
-    let spread = series(&rec, "shear_spread");
-    for (i, r) in [(1, 0.6783), (2, 0.1155), (3, 0.0124)] {
-        assert!(
-            (spread[i] - r).abs() < 5e-5,
-            "spread(t={}) = {} vs Ref {r}",
-            t[i],
-            spread[i]
-        );
-    }
+    let top = [1.14651, 4.55847, 9.09173, 9.90271, 9.98958];
+    let top: Vec<_> = top.into_iter().enumerate().collect();
+    assert_ref(&rec, "top_displacement", &t, &top, 5e-6);
+    let spread = [(1, 0.6783), (2, 0.1155), (3, 0.0124)];
+    assert_ref(&rec, "shear_spread", &t, &spread, 5e-5);
 }
 
 #[test]
@@ -85,15 +104,8 @@ fn edge_form_reproduces_ref_top_displacements_m50() {
     };
     let t = [10.0, 50.0, 100.0];
     let rec = run(&cfg, &nh(1.0), ModelKind::Discrete, None, &t, 1e-10);
-    let top = series(&rec, "top_displacement");
-    for (i, r) in [4.56206, 10.79085, 15.46268].iter().enumerate() {
-        assert!(
-            (top[i] - r).abs() < 5e-6,
-            "x_e,M(t={}) = {} vs Ref {r}",
-            t[i],
-            top[i]
-        );
-    }
+    let top = [(0, 4.56206), (1, 10.79085), (2, 15.46268)];
+    assert_ref(&rec, "top_displacement", &t, &top, 5e-6);
 }
 
 #[test]
@@ -175,38 +187,19 @@ fn nonlinear_law_steady_shear_solves_tau_equals_force_over_beta0() {
 fn cell_centre_form_gives_identical_trajectories_to_edge_form() {
     // MODEL.md §4.5: the thesis form with K_th = 1 is exactly the edge form with K = ½.
     for m in [10, 50] {
-        let times: Vec<f64> = [0.5, 1.0, 10.0, 50.0, 100.0].to_vec();
+        let times = [0.5, 1.0, 10.0, 50.0, 100.0];
         let mk = |form| ShearConfig {
             cells: m,
             form,
             ..Default::default()
         };
-        let edge = run_shear(
-            &mk(ShearForm::Edge),
-            &nh(1.0),
-            ModelKind::Discrete,
-            None,
-            &solver(1e-11),
-            &Outputs {
-                times: vec![],
-                profile_times: times.clone(),
-                ..Default::default()
-            },
-        )
-        .unwrap();
-        let cc = run_shear(
+        let edge = profiles(&mk(ShearForm::Edge), ModelKind::Discrete, None, &times);
+        let cc = profiles(
             &mk(ShearForm::CellCentre),
-            &nh(1.0),
             ModelKind::Discrete,
             None,
-            &solver(1e-11),
-            &Outputs {
-                times: vec![],
-                profile_times: times.clone(),
-                ..Default::default()
-            },
-        )
-        .unwrap();
+            &times,
+        );
         let mut worst = 0.0f64;
         for (a, b) in edge.profiles.iter().zip(&cc.profiles) {
             for (u, v) in a.extra["x_edge"].iter().zip(&b.extra["x_edge"]) {
@@ -224,32 +217,16 @@ fn continuum_solver_converges_to_the_series_solution() {
     // against the closed-form series (MODEL.md §4.6); error falls as m grows (first order: the
     // top segment's lumped drag K h/γ₀ acts like a width increase h/2).
     let cfg = ShearConfig::default();
-    let (s, d, w0) = (1.0, 2.0, 10.0);
+    let (d, w0) = (2.0, 10.0);
     let times = [1.0, 10.0, 50.0];
     let mut errs = Vec::new();
     for m in [20, 40, 80, 160] {
-        let rec = run_shear(
-            &cfg,
-            &nh(1.0),
-            ModelKind::Continuum,
-            Some(m),
-            &solver(1e-11),
-            &Outputs {
-                times: vec![],
-                profile_times: times.to_vec(),
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let rec = profiles(&cfg, ModelKind::Continuum, Some(m), &times);
         let h = w0 / m as f64;
         let (mut worst, mut worst_eff) = (0.0f64, 0.0f64);
         for p in &rec.profiles {
-            for (k, xe) in p.extra["x_edge"].iter().enumerate() {
-                let y = (k + 1) as f64 * h;
-                worst = worst.max((xe - shear_series(s, d, w0, y, p.t, 4000).0).abs());
-                let eff = shear_series(s, d, w0 + 0.5 * h, y, p.t, 4000).0;
-                worst_eff = worst_eff.max((xe - eff).abs());
-            }
+            worst = worst.max(series_gap(p, h, d, w0));
+            worst_eff = worst_eff.max(series_gap(p, h, d, w0 + 0.5 * h));
         }
         errs.push((worst, worst_eff));
     }
@@ -267,25 +244,9 @@ fn discrete_column_matches_series_with_effective_width() {
     // MODEL.md §4.6: with w_eff = (M + ½)γ₀ the series matches the discrete model to ≤ 1.2e-2 at
     // t = 1 and ≤ 3e-3 for t ≥ 10 (M = 10).
     let times = [1.0, 10.0, 50.0, 100.0];
-    let rec = run_shear(
-        &ShearConfig::default(),
-        &nh(1.0),
-        ModelKind::Discrete,
-        None,
-        &solver(1e-11),
-        &Outputs {
-            times: vec![],
-            profile_times: times.to_vec(),
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let rec = profiles(&ShearConfig::default(), ModelKind::Discrete, None, &times);
     for p in &rec.profiles {
-        let mut worst = 0.0f64;
-        for (k, xe) in p.extra["x_edge"].iter().enumerate() {
-            let y = (k + 1) as f64;
-            worst = worst.max((xe - shear_series(1.0, 2.0, 10.5, y, p.t, 4000).0).abs());
-        }
+        let worst = series_gap(p, 1.0, 2.0, 10.5);
         eprintln!("t = {}: max |x_e − series(w_eff)| = {worst:.2e}", p.t);
         if p.t < 5.0 {
             // MODEL.md quotes the t = 1 value to two digits (measured 1.2047e-2)
@@ -311,26 +272,12 @@ fn discrete_converges_to_continuum_as_cells_shrink() {
             drag: Some(0.5 * g),
             ..Default::default()
         };
-        let rec = run_shear(
-            &cfg,
-            &nh(1.0),
-            ModelKind::Discrete,
-            None,
-            &solver(1e-11),
-            &Outputs {
-                times: vec![],
-                profile_times: times.to_vec(),
-                ..Default::default()
-            },
-        )
-        .unwrap();
-        let mut worst = 0.0f64;
-        for p in &rec.profiles {
-            for (k, xe) in p.extra["x_edge"].iter().enumerate() {
-                let y = (k + 1) as f64 * g;
-                worst = worst.max((xe - shear_series(1.0, 2.0, 1.0, y, p.t, 4000).0).abs());
-            }
-        }
+        let rec = profiles(&cfg, ModelKind::Discrete, None, &times);
+        let worst = rec
+            .profiles
+            .iter()
+            .map(|p| series_gap(p, g, 2.0, 1.0))
+            .fold(0.0, f64::max);
         errs.push(worst);
     }
     eprintln!("discrete vs continuum series, M = 10, 20, 40, 80: {errs:?}");

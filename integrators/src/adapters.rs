@@ -9,11 +9,121 @@
 //!   [`MassProblem::algebraic`]). With a constant mass matrix and `∂f/∂y` given, the iteration
 //!   matrix `c·M − ∂f/∂y` is assembled exactly; otherwise finite differences are used.
 //!
-//! Per-component absolute tolerances, patterns and events pass straight through.
+//! Per-component absolute tolerances, patterns and events pass straight through, by
+//! [`forward_problem!`](crate::forward_problem) — the one forwarding mechanism of every wrapper
+//! problem (these adapters, and celltissue's cell-array adapter and wrappers).
 
 use crate::linalg::Matrix;
 use crate::pattern::Pattern;
 use crate::problem::{EventAction, JacobianSink, Problem, ResidualError};
+
+/// Writes, inside an `impl` block, methods of [`Problem`] that just call the same method on a
+/// field: `forward_problem!(field: method, method, …)`. Each name is one of `dim`, `pattern`,
+/// `residual`, `atol`, `algebraic`, `num_events`, `events`, `handle_event`,
+/// `restart_derivative`, with [`Problem`]'s signature; `residual<S: Bound>` writes instead a
+/// residual generic over a scalar `S` taking `&self` (the shape of celltissue's `CellArray`,
+/// whose other methods share [`Problem`]'s signatures). The field may be a tuple index (`0`).
+///
+/// A wrapper writes by hand only what it changes, and lists the rest:
+///
+/// ```
+/// use integrators::{Problem, ResidualError};
+/// /// Counts residual evaluations of any problem.
+/// struct Counted<P> { inner: P, calls: usize }
+/// impl<P: Problem> Problem for Counted<P> {
+///     fn residual(&mut self, t: f64, y: &[f64], yp: &[f64], r: &mut [f64])
+///         -> Result<(), ResidualError> {
+///         self.calls += 1;
+///         self.inner.residual(t, y, yp, r)
+///     }
+///     integrators::forward_problem!(inner: dim, pattern, atol, algebraic, num_events, events,
+///         handle_event, restart_derivative);
+/// }
+/// ```
+///
+/// (A blanket "delegating" trait with default forwarding would not do: a wrapper could then
+/// not override single methods without specialization, and the signatures are shared with a
+/// trait of another crate.)
+#[macro_export]
+macro_rules! forward_problem {
+    ($f:tt : $($rest:tt)*) => {
+        $crate::forward_problem!(@list $f; $($rest)*);
+    };
+    (@list $f:tt; ) => {};
+    (@list $f:tt; residual<$s:ident : $bound:path> $(, $($rest:tt)*)?) => {
+        fn residual<$s: $bound>(
+            &self,
+            t: f64,
+            y: &[$s],
+            yp: &[$s],
+            r: &mut [$s],
+        ) -> Result<(), $crate::ResidualError> {
+            self.$f.residual(t, y, yp, r)
+        }
+        $crate::forward_problem!(@list $f; $($($rest)*)?);
+    };
+    (@list $f:tt; $m:ident $(, $($rest:tt)*)?) => {
+        $crate::forward_problem!(@one $f $m);
+        $crate::forward_problem!(@list $f; $($($rest)*)?);
+    };
+    (@one $f:tt dim) => {
+        fn dim(&self) -> usize {
+            self.$f.dim()
+        }
+    };
+    (@one $f:tt pattern) => {
+        fn pattern(&self) -> $crate::Pattern {
+            self.$f.pattern()
+        }
+    };
+    (@one $f:tt residual) => {
+        fn residual(
+            &mut self,
+            t: f64,
+            y: &[f64],
+            yp: &[f64],
+            r: &mut [f64],
+        ) -> Result<(), $crate::ResidualError> {
+            self.$f.residual(t, y, yp, r)
+        }
+    };
+    (@one $f:tt atol) => {
+        fn atol(&self) -> Option<Vec<f64>> {
+            self.$f.atol()
+        }
+    };
+    (@one $f:tt algebraic) => {
+        fn algebraic(&self) -> Vec<bool> {
+            self.$f.algebraic()
+        }
+    };
+    (@one $f:tt num_events) => {
+        fn num_events(&self) -> usize {
+            self.$f.num_events()
+        }
+    };
+    (@one $f:tt events) => {
+        fn events(&mut self, t: f64, y: &[f64], g: &mut [f64]) {
+            self.$f.events(t, y, g)
+        }
+    };
+    (@one $f:tt handle_event) => {
+        fn handle_event(
+            &mut self,
+            t: f64,
+            fired: &[usize],
+            y: &mut Vec<f64>,
+            yp: &[f64],
+        ) -> Result<$crate::EventAction, $crate::ResidualError> {
+            self.$f.handle_event(t, fired, y, yp)
+        }
+    };
+    (@one $f:tt restart_derivative) => {
+        fn restart_derivative(&mut self, t: f64, y: &[f64], yp: &mut [f64]) {
+            self.$f.restart_derivative(t, y, yp)
+        }
+    };
+}
 
 /// An explicit ODE `ẏ = f(t, y)`. Wrap it in [`Ode`] to solve it.
 ///
@@ -92,10 +202,6 @@ fn scale_matrix(m: &mut Matrix, s: f64) {
 }
 
 impl<P: OdeProblem> Problem for Ode<P> {
-    fn dim(&self) -> usize {
-        self.0.dim()
-    }
-
     fn residual(
         &mut self,
         t: f64,
@@ -109,10 +215,6 @@ impl<P: OdeProblem> Problem for Ode<P> {
             *ri = ypi - *ri;
         }
         Ok(())
-    }
-
-    fn pattern(&self) -> Pattern {
-        self.0.pattern()
     }
 
     fn jacobian(
@@ -133,27 +235,7 @@ impl<P: OdeProblem> Problem for Ode<P> {
         Ok(true)
     }
 
-    fn atol(&self) -> Option<Vec<f64>> {
-        self.0.atol()
-    }
-
-    fn num_events(&self) -> usize {
-        self.0.num_events()
-    }
-
-    fn events(&mut self, t: f64, y: &[f64], g: &mut [f64]) {
-        self.0.events(t, y, g)
-    }
-
-    fn handle_event(
-        &mut self,
-        t: f64,
-        fired: &[usize],
-        y: &mut Vec<f64>,
-        yp: &[f64],
-    ) -> Result<EventAction, ResidualError> {
-        self.0.handle_event(t, fired, y, yp)
-    }
+    crate::forward_problem!(0: dim, pattern, atol, num_events, events, handle_event);
 }
 
 /// A mass-matrix system `M(t, y)·ẏ = f(t, y)`. Wrap it in [`Mass`] to solve it.
@@ -274,10 +356,6 @@ impl<P: MassProblem> Mass<P> {
 }
 
 impl<P: MassProblem> Problem for Mass<P> {
-    fn dim(&self) -> usize {
-        self.inner.dim()
-    }
-
     fn residual(
         &mut self,
         t: f64,
@@ -292,10 +370,6 @@ impl<P: MassProblem> Problem for Mass<P> {
             *ri -= fi;
         }
         Ok(())
-    }
-
-    fn pattern(&self) -> Pattern {
-        self.inner.pattern()
     }
 
     fn jacobian(
@@ -332,29 +406,5 @@ impl<P: MassProblem> Problem for Mass<P> {
         Ok(true)
     }
 
-    fn algebraic(&self) -> Vec<bool> {
-        self.inner.algebraic()
-    }
-
-    fn atol(&self) -> Option<Vec<f64>> {
-        self.inner.atol()
-    }
-
-    fn num_events(&self) -> usize {
-        self.inner.num_events()
-    }
-
-    fn events(&mut self, t: f64, y: &[f64], g: &mut [f64]) {
-        self.inner.events(t, y, g)
-    }
-
-    fn handle_event(
-        &mut self,
-        t: f64,
-        fired: &[usize],
-        y: &mut Vec<f64>,
-        yp: &[f64],
-    ) -> Result<EventAction, ResidualError> {
-        self.inner.handle_event(t, fired, y, yp)
-    }
+    crate::forward_problem!(inner: dim, pattern, algebraic, atol, num_events, events, handle_event);
 }

@@ -7,25 +7,18 @@
 //! Problem: harmonic oscillator y1' = y2, y2' = −y1 on [0, 40], exact (cos t, −sin t) — smooth,
 //! non-stiff, with a long enough interval that the start-up phase is a negligible part of N.
 
-use integrators::{MethodKind, Options, Problem, ResidualError, Solver};
+mod common;
 
-struct Oscillator;
+use common::residual_fn;
+use integrators::{MethodKind, Options, Problem, Solver};
 
-impl Problem for Oscillator {
-    fn dim(&self) -> usize {
-        2
-    }
-    fn residual(
-        &mut self,
-        _t: f64,
-        y: &[f64],
-        yp: &[f64],
-        r: &mut [f64],
-    ) -> Result<(), ResidualError> {
+/// `ẏ1 = y2`, `ẏ2 = −y1`.
+fn oscillator() -> impl Problem {
+    residual_fn(2, |_t, y, yp, r| {
         r[0] = yp[0] - y[1];
         r[1] = yp[1] + y[0];
         Ok(())
-    }
+    })
 }
 
 fn slope(xs: &[f64], ys: &[f64]) -> f64 {
@@ -63,7 +56,7 @@ fn bdf_fixed_order_tolerance_sweep_observed_order() {
                 ..Default::default()
             };
             let sol = Solver::new(MethodKind::Bdf, o)
-                .solve(&mut Oscillator, 0.0, &[1.0, 0.0], &[t_end])
+                .solve(&mut oscillator(), 0.0, &[1.0, 0.0], &[t_end])
                 .unwrap();
             let y = &sol.y[0];
             let err = (y[0] - exact[0]).abs().max((y[1] - exact[1]).abs());

@@ -3,7 +3,8 @@
 
 mod common;
 
-use common::Decay;
+use common::opts;
+use common::{residual_fn, Decay};
 use integrators::methods::bdf::Bdf;
 use integrators::{ErrorKind, MethodKind, Options, Problem, ResidualError, Solver};
 
@@ -51,31 +52,20 @@ fn outputs_at_t0_and_repeated_times() {
 }
 
 /// Fatal residual error after t = 0.5.
-struct Fatal;
-
-impl Problem for Fatal {
-    fn dim(&self) -> usize {
-        1
-    }
-    fn residual(
-        &mut self,
-        t: f64,
-        y: &[f64],
-        yp: &[f64],
-        r: &mut [f64],
-    ) -> Result<(), ResidualError> {
+fn fatal() -> impl Problem {
+    residual_fn(1, |t, y, yp, r| {
         if t > 0.5 {
             return Err(ResidualError::Fatal("model broke".into()));
         }
         r[0] = yp[0] + y[0];
         Ok(())
-    }
+    })
 }
 
 #[test]
 fn fatal_residual_error_aborts_with_partial_solution() {
     let e = bdf()
-        .solve(&mut Fatal, 0.0, &[1.0], &[0.25, 1.0])
+        .solve(&mut fatal(), 0.0, &[1.0], &[0.25, 1.0])
         .unwrap_err();
     assert!(
         matches!(e.error.kind, ErrorKind::Residual(ref m) if m.contains("model broke")),
@@ -87,19 +77,8 @@ fn fatal_residual_error_aborts_with_partial_solution() {
 
 /// A residual that is out of its domain (Recoverable) for y < 0.2 while the solution decays
 /// through it: the solver must fail cleanly, not loop or panic.
-struct Domain;
-
-impl Problem for Domain {
-    fn dim(&self) -> usize {
-        1
-    }
-    fn residual(
-        &mut self,
-        _t: f64,
-        y: &[f64],
-        yp: &[f64],
-        r: &mut [f64],
-    ) -> Result<(), ResidualError> {
+fn domain() -> impl Problem {
+    residual_fn(1, |_t, y, yp, r| {
         if y[0] < 0.2 {
             return Err(ResidualError::Recoverable {
                 reason: "negative length".into(),
@@ -108,13 +87,13 @@ impl Problem for Domain {
         }
         r[0] = yp[0] + y[0];
         Ok(())
-    }
+    })
 }
 
 #[test]
 fn recoverable_domain_error_fails_cleanly_at_the_boundary() {
     let e = bdf()
-        .solve(&mut Domain, 0.0, &[1.0], &[1.0, 5.0])
+        .solve(&mut domain(), 0.0, &[1.0], &[1.0, 5.0])
         .unwrap_err();
     eprintln!("{e}");
     assert_eq!(e.error.component, Some(0));
@@ -158,11 +137,7 @@ fn custom_boxed_method_and_observer() {
 fn methods_by_name() {
     for name in ["bdf", "esdirk", "radau"] {
         let kind: MethodKind = name.parse().unwrap();
-        let o = Options {
-            rtol: 1e-8,
-            atol: 1e-10,
-            ..Default::default()
-        };
+        let o = opts(1e-8, 1e-10);
         let sol = Solver::new(kind, o)
             .solve(&mut Decay, 0.0, &[1.0], &[1.0])
             .unwrap_or_else(|e| panic!("{name}: {e}"));

@@ -3,15 +3,12 @@
 
 mod common;
 
-use common::max_abs_diff;
+use common::opts;
+use common::{max_abs_diff, residual_fn};
 use integrators::{EventAction, MethodKind, Options, Pattern, Problem, ResidualError, Solver};
 
 fn tight() -> Options {
-    Options {
-        rtol: 1e-9,
-        atol: 1e-12,
-        ..Default::default()
-    }
+    opts(1e-9, 1e-12)
 }
 
 /// ẏ = −y, event y − 1/2 (root at ln 2), with a configurable action.
@@ -63,11 +60,7 @@ fn event_located_within_1e_10_and_stop() {
     // carries the global integration error (δy/y ≈ δt here), so the solve must be accurate to
     // ~1e-11 for t* to be within 1e-10 of ln 2. (At rtol = 1e-9 the global error, and so the
     // event-time error, is ≈ 1e-8.)
-    let o = Options {
-        rtol: 1e-12,
-        atol: 1e-14,
-        ..Default::default()
-    };
+    let o = opts(1e-12, 1e-14);
     let sol = Solver::new(MethodKind::Bdf, o)
         .solve(&mut p, 0.0, &[1.0], &[0.25, 0.5, 5.0])
         .unwrap();
@@ -334,29 +327,18 @@ fn resize_doubles_unknowns_and_matches_exact_solution() {
 }
 
 /// A solve whose residual becomes NaN for t > 1 must fail with the partial solution.
-struct GoesNan;
-
-impl Problem for GoesNan {
-    fn dim(&self) -> usize {
-        2
-    }
-    fn residual(
-        &mut self,
-        t: f64,
-        y: &[f64],
-        yp: &[f64],
-        r: &mut [f64],
-    ) -> Result<(), ResidualError> {
+fn goes_nan() -> impl Problem {
+    residual_fn(2, |t, y, yp, r| {
         r[0] = yp[0] + y[0];
         r[1] = yp[1] + if t > 1.0 { f64::NAN } else { y[1] };
         Ok(())
-    }
+    })
 }
 
 #[test]
 fn nan_residual_returns_partial_solution() {
     let fail = Solver::new(MethodKind::Bdf, Options::default())
-        .solve(&mut GoesNan, 0.0, &[1.0, 1.0], &[0.5, 0.9, 2.0])
+        .solve(&mut goes_nan(), 0.0, &[1.0, 1.0], &[0.5, 0.9, 2.0])
         .unwrap_err();
     eprintln!("{fail}: {:?}", fail.error);
     assert_eq!(fail.partial.t, vec![0.5, 0.9]);

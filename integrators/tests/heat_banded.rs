@@ -8,9 +8,10 @@
 
 mod common;
 
+use common::opts;
 use common::Heat;
 use integrators::adapters::Ode;
-use integrators::{MethodKind, Options, Solver};
+use integrators::{MethodKind, Solver};
 
 #[test]
 fn bdf_heat_banded_matches_exact_solution() {
@@ -21,11 +22,7 @@ fn bdf_heat_banded_matches_exact_solution() {
         });
         let y0 = p.0.initial();
         let rtol = 1e-7;
-        let o = Options {
-            rtol,
-            atol: 1e-10,
-            ..Default::default()
-        };
+        let o = opts(rtol, 1e-10);
         let t = 0.1;
         let sol = Solver::new(MethodKind::Bdf, o)
             .solve(&mut p, 0.0, &y0, &[t])

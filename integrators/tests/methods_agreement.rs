@@ -4,7 +4,7 @@
 
 mod methods_common;
 
-use integrators::{MethodKind, Options, Solver};
+use integrators::{MethodKind, Solver};
 use methods_common::*;
 
 fn solve(
@@ -15,16 +15,9 @@ fn solve(
     t_out: &[f64],
 ) -> (Vec<Vec<f64>>, integrators::Stats) {
     let y0 = p.y0();
-    let sol = Solver::new(
-        kind,
-        Options {
-            rtol,
-            atol,
-            ..Default::default()
-        },
-    )
-    .solve(p, 0.0, &y0, t_out)
-    .unwrap_or_else(|e| panic!("{kind}: {e}"));
+    let sol = Solver::new(kind, opts(rtol, atol))
+        .solve(p, 0.0, &y0, t_out)
+        .unwrap_or_else(|e| panic!("{kind}: {e}"));
     (sol.y, sol.stats)
 }
 
@@ -54,19 +47,12 @@ fn stiff_methods_agree_on_banded_reaction_diffusion() {
 fn all_methods_agree_on_a_nonstiff_ode_through_the_driver() {
     let t_out = [0.5, 1.0, 2.0, 4.0];
     for kind in MethodKind::ALL {
-        let sol = Solver::new(
-            kind,
-            Options {
-                rtol: 1e-8,
-                atol: 1e-10,
-                ..Default::default()
-            },
-        )
-        .solve(&mut Nonlinear2, 0.0, &[1.0, 1.0], &t_out)
-        .unwrap_or_else(|e| panic!("{kind}: {e}"));
+        let sol = Solver::new(kind, opts(1e-8, 1e-10))
+            .solve(&mut Nonlinear2, 0.0, &[1.0, 1.0], &t_out)
+            .unwrap_or_else(|e| panic!("{kind}: {e}"));
         let mut worst: f64 = 0.0;
         for (t, y) in sol.t.iter().zip(&sol.y) {
-            worst = worst.max(max_err(y, &Nonlinear2::exact(*t)));
+            worst = worst.max(max_err(y, &Nonlinear2.solution(*t)));
         }
         eprintln!(
             "{kind}: max error at outputs {worst:e} ({} steps)",
@@ -79,22 +65,15 @@ fn all_methods_agree_on_a_nonstiff_ode_through_the_driver() {
 #[test]
 fn radau_through_the_driver_on_the_banded_heat_equation() {
     let mut p = Heat { n: 200 };
-    let y0 = p.exact(0.0);
+    let y0 = p.solution(0.0);
     let t_out = [0.01, 0.02, 0.05, 0.1];
-    let sol = Solver::new(
-        MethodKind::Radau,
-        Options {
-            rtol: 1e-8,
-            atol: 1e-10,
-            ..Default::default()
-        },
-    )
-    .solve(&mut p, 0.0, &y0, &t_out)
-    .unwrap();
+    let sol = Solver::new(MethodKind::Radau, opts(1e-8, 1e-10))
+        .solve(&mut p, 0.0, &y0, &t_out)
+        .unwrap();
     // Outputs between steps come from the collocation polynomial, whose accuracy is that of the
     // stage order (3), not the step order (5): allow 10·rtol (|u| ≤ 1).
     for (t, y) in sol.t.iter().zip(&sol.y) {
-        let e = max_err(y, &p.exact(*t));
+        let e = max_err(y, &p.solution(*t));
         eprintln!("heat via driver, t = {t}: error {e:e}");
         assert!(e < 1e-7, "t = {t}: {e:e}");
     }

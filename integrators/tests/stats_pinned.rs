@@ -10,9 +10,10 @@
 
 mod common;
 
+use common::opts;
 use common::{Heat, Robertson, VanDerPolScaled};
 use integrators::adapters::Ode;
-use integrators::{MethodKind, Options, Solver, Stats};
+use integrators::{MethodKind, Solver, Stats};
 
 /// The counters that measure cost (events/resizes/symbolic are structural).
 fn cost(s: &Stats) -> [usize; 9] {
@@ -41,11 +42,7 @@ fn check(name: &str, s: &Stats, pinned: [usize; 9]) {
 
 #[test]
 fn pinned_bdf_robertson_1e11() {
-    let o = Options {
-        rtol: 1e-6,
-        atol: 1e-8,
-        ..Default::default()
-    };
+    let o = opts(1e-6, 1e-8);
     let sol = Solver::new(MethodKind::Bdf, o)
         .solve(
             &mut Ode(Robertson {
@@ -65,11 +62,7 @@ fn pinned_bdf_robertson_1e11() {
 
 #[test]
 fn pinned_bdf_van_der_pol_scaled() {
-    let o = Options {
-        rtol: 1e-6,
-        atol: 1e-6,
-        ..Default::default()
-    };
+    let o = opts(1e-6, 1e-6);
     let sol = Solver::new(MethodKind::Bdf, o)
         .solve(
             &mut Ode(VanDerPolScaled { eps: 1e-6 }),
@@ -92,11 +85,7 @@ fn pinned_bdf_heat_banded_fd_jacobian() {
         exact_jacobian: false,
     });
     let y0 = p.0.initial();
-    let o = Options {
-        rtol: 1e-6,
-        atol: 1e-9,
-        ..Default::default()
-    };
+    let o = opts(1e-6, 1e-9);
     let sol = Solver::new(MethodKind::Bdf, o)
         .solve(&mut p, 0.0, &y0, &[0.1])
         .unwrap();

@@ -10,20 +10,17 @@
 
 mod common;
 
+use common::opts;
 use common::{VanDerPol, VanDerPolScaled};
 use integrators::adapters::Ode;
-use integrators::{MethodKind, Options, Solver};
+use integrators::{MethodKind, Solver};
 
 const VDPOL_REF: [f64; 2] = [0.1706167732170483e1, -0.8928097010247975e0];
 
 #[test]
 fn bdf_van_der_pol_scaled_matches_test_set_reference() {
     for (rtol, bound) in [(1e-6, 1e-3), (1e-9, 2e-6)] {
-        let o = Options {
-            rtol,
-            atol: rtol,
-            ..Default::default()
-        };
+        let o = opts(rtol, rtol);
         let sol = Solver::new(MethodKind::Bdf, o)
             .solve(
                 &mut Ode(VanDerPolScaled { eps: 1e-6 }),
@@ -44,11 +41,7 @@ fn bdf_van_der_pol_scaled_matches_test_set_reference() {
 #[test]
 fn bdf_van_der_pol_mu_1000_period_from_events() {
     let mu = 1000.0;
-    let o = Options {
-        rtol: 1e-7,
-        atol: 1e-7,
-        ..Default::default()
-    };
+    let o = opts(1e-7, 1e-7);
     let mut p = Ode(VanDerPol {
         mu,
         crossings: Vec::new(),
@@ -72,11 +65,7 @@ fn bdf_van_der_pol_mu_1000_period_from_events() {
     assert!((h1 - h2).abs() < 1e-3 * h1, "{h1} {h2}");
 
     // a tight-tolerance run agrees on y(3000)
-    let tight = Options {
-        rtol: 1e-10,
-        atol: 1e-10,
-        ..Default::default()
-    };
+    let tight = opts(1e-10, 1e-10);
     let mut p2 = Ode(VanDerPol {
         mu,
         crossings: Vec::new(),

@@ -105,23 +105,8 @@ impl<A: CellArray> ArrayProblem<A> {
 }
 
 impl<A: CellArray> Problem for ArrayProblem<A> {
-    fn dim(&self) -> usize {
-        self.array.dim()
-    }
-
-    fn residual(
-        &mut self,
-        t: f64,
-        y: &[f64],
-        yp: &[f64],
-        r: &mut [f64],
-    ) -> Result<(), ResidualError> {
-        self.array.residual(t, y, yp, r)
-    }
-
-    fn pattern(&self) -> Pattern {
-        self.array.pattern()
-    }
+    integrators::forward_problem!(array: dim, residual, pattern, atol, algebraic, num_events,
+        events, handle_event, restart_derivative);
 
     fn directional(
         &mut self,
@@ -148,35 +133,5 @@ impl<A: CellArray> Problem for ArrayProblem<A> {
             dr[i] = self.rd[i].eps;
         }
         Ok(true)
-    }
-
-    fn atol(&self) -> Option<Vec<f64>> {
-        self.array.atol()
-    }
-
-    fn algebraic(&self) -> Vec<bool> {
-        self.array.algebraic()
-    }
-
-    fn num_events(&self) -> usize {
-        self.array.num_events()
-    }
-
-    fn events(&mut self, t: f64, y: &[f64], g: &mut [f64]) {
-        self.array.events(t, y, g)
-    }
-
-    fn handle_event(
-        &mut self,
-        t: f64,
-        fired: &[usize],
-        y: &mut Vec<f64>,
-        yp: &[f64],
-    ) -> Result<EventAction, ResidualError> {
-        self.array.handle_event(t, fired, y, yp)
-    }
-
-    fn restart_derivative(&mut self, t: f64, y: &[f64], yp: &mut [f64]) {
-        self.array.restart_derivative(t, y, yp)
     }
 }

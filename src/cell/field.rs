@@ -21,9 +21,20 @@ use std::sync::Arc;
 /// `{ type = "gaussian", base = 1, amplitude = 1, centre = 0.5, width = 0.1 }`,
 /// `{ type = "piecewise", breaks = [0.5], values = [1, 3] }`, `{ type = "per_cell", values = [..] }`,
 /// `{ type = "random", low = 0.5, high = 2, seed = 1 }`, `{ type = "constant", value = 1 }`.
-#[derive(Clone)]
+//
+// The serde derive (with `remote = "Self"`, so that the derived code is an inherent
+// `Field::serialize`/`Field::deserialize` called by the hand-written impls below) handles the
+// tagged tables; the hand-written impls add the plain-number form of `Constant` and `"closure"`.
+#[derive(Clone, Serialize, Deserialize)]
+#[serde(
+    remote = "Self",
+    tag = "type",
+    rename_all = "snake_case",
+    deny_unknown_fields
+)]
 pub enum Field {
     /// The same value everywhere.
+    #[serde(skip_serializing, deserialize_with = "constant_table")]
     Constant(f64),
     /// `base + amplitude·exp(−(X − b)²/(2c²))` with `b = centre·l₀`, `c = width·l₀` (2.82:
     /// base 1, amplitude 1, centre ½, width 1/10).
@@ -61,57 +72,27 @@ pub enum Field {
         seed: u64,
     },
     /// Any function of `(X, l₀)` (not serialisable; serialises as `"closure"`).
+    #[serde(skip)]
     Closure(FieldFn),
 }
 
-/// The tagged (table) form of a field in scenario files.
-#[derive(Serialize, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
-enum TaggedField {
-    Constant {
+/// The table form of a constant field, `{ type = "constant", value = 1 }`.
+fn constant_table<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    #[derive(Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct Table {
         value: f64,
-    },
-    Gaussian {
-        base: f64,
-        amplitude: f64,
-        centre: f64,
-        width: f64,
-    },
-    Piecewise {
-        breaks: Vec<f64>,
-        values: Vec<f64>,
-    },
-    PerCell {
-        values: Vec<f64>,
-    },
-    Random {
-        low: f64,
-        high: f64,
-        seed: u64,
-    },
+    }
+    Ok(Table::deserialize(d)?.value)
 }
 
 impl Serialize for Field {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        let t = match self.clone() {
-            Field::Constant(v) => return s.serialize_f64(v),
-            Field::Gaussian {
-                base,
-                amplitude,
-                centre,
-                width,
-            } => TaggedField::Gaussian {
-                base,
-                amplitude,
-                centre,
-                width,
-            },
-            Field::Piecewise { breaks, values } => TaggedField::Piecewise { breaks, values },
-            Field::PerCell { values } => TaggedField::PerCell { values },
-            Field::Random { low, high, seed } => TaggedField::Random { low, high, seed },
-            Field::Closure(_) => return s.serialize_str("closure"),
-        };
-        t.serialize(s)
+        match self {
+            Field::Constant(v) => s.serialize_f64(*v),
+            Field::Closure(_) => s.serialize_str("closure"),
+            tagged => Field::serialize(tagged, s),
+        }
     }
 }
 
@@ -133,26 +114,7 @@ impl<'de> Deserialize<'de> for Field {
                 Ok(Field::Constant(v as f64))
             }
             fn visit_map<A: serde::de::MapAccess<'de>>(self, m: A) -> Result<Field, A::Error> {
-                let t = TaggedField::deserialize(serde::de::value::MapAccessDeserializer::new(m))?;
-                Ok(match t {
-                    TaggedField::Constant { value } => Field::Constant(value),
-                    TaggedField::Gaussian {
-                        base,
-                        amplitude,
-                        centre,
-                        width,
-                    } => Field::Gaussian {
-                        base,
-                        amplitude,
-                        centre,
-                        width,
-                    },
-                    TaggedField::Piecewise { breaks, values } => {
-                        Field::Piecewise { breaks, values }
-                    }
-                    TaggedField::PerCell { values } => Field::PerCell { values },
-                    TaggedField::Random { low, high, seed } => Field::Random { low, high, seed },
-                })
+                Field::deserialize(serde::de::value::MapAccessDeserializer::new(m))
             }
         }
         d.deserialize_any(V)
@@ -406,5 +368,64 @@ mod tests {
         );
         assert!(p.validate("mu", true).is_ok());
         assert!(Field::Constant(-1.0).validate("mu", true).is_err());
+    }
+
+    #[test]
+    fn serde_forms_round_trip_and_errors_name_the_problem() {
+        let de = |s: &str| serde_json::from_str::<Field>(s).map_err(|e| e.to_string());
+        let ser = |f: &Field| serde_json::to_string(f).unwrap();
+        // numbers and the constant table are constants; a constant serialises as a number
+        assert_eq!(de("2.5").unwrap(), Field::Constant(2.5));
+        assert_eq!(de("2").unwrap(), Field::Constant(2.0));
+        assert_eq!(
+            de(r#"{"type":"constant","value":3}"#).unwrap(),
+            Field::Constant(3.0)
+        );
+        assert_eq!(ser(&Field::Constant(2.5)), "2.5");
+        assert_eq!(ser(&Field::closure(|x, _| x)), r#""closure""#);
+        for (f, json) in [
+            (
+                Field::gaussian_bump(1.0, 2.0, 0.5, 0.1),
+                r#"{"type":"gaussian","base":1.0,"amplitude":2.0,"centre":0.5,"width":0.1}"#,
+            ),
+            (
+                Field::Piecewise {
+                    breaks: vec![0.5],
+                    values: vec![1.0, 3.0],
+                },
+                r#"{"type":"piecewise","breaks":[0.5],"values":[1.0,3.0]}"#,
+            ),
+            (
+                Field::PerCell {
+                    values: vec![1.0, 2.0],
+                },
+                r#"{"type":"per_cell","values":[1.0,2.0]}"#,
+            ),
+            (
+                Field::Random {
+                    low: 0.5,
+                    high: 2.0,
+                    seed: 7,
+                },
+                r#"{"type":"random","low":0.5,"high":2.0,"seed":7}"#,
+            ),
+        ] {
+            assert_eq!(ser(&f), json);
+            assert_eq!(de(json).unwrap(), f);
+        }
+        // errors: unknown type, unknown field, missing field, wrong kind
+        let unknown = de(r#"{"type":"bump"}"#).unwrap_err();
+        assert!(
+            unknown.contains("unknown variant `bump`")
+                && unknown.contains("`constant`, `gaussian`, `piecewise`, `per_cell`, `random`")
+                && !unknown.contains("closure"),
+            "{unknown}"
+        );
+        let extra = de(r#"{"type":"constant","value":1,"scale":2}"#).unwrap_err();
+        assert!(extra.contains("unknown field `scale`"), "{extra}");
+        let missing = de(r#"{"type":"random","low":0.5,"high":2}"#).unwrap_err();
+        assert!(missing.contains("missing field `seed`"), "{missing}");
+        let wrong = de(r#""mu""#).unwrap_err();
+        assert!(wrong.contains("a number or a table with `type`"), "{wrong}");
     }
 }

@@ -19,10 +19,7 @@ use crate::array::{ArrayProblem, CellArray};
 use crate::energy::StrainEnergy;
 use crate::observe::{ModelKind, RunRecord, RunStats, Series};
 use crate::scalar::Scalar;
-use integrators::{
-    ErrorNorm, EventAction, MethodKind, Options, Pattern, ResidualError, SolveFailure, Solver,
-    Stats,
-};
+use integrators::{ErrorNorm, MethodKind, Options, ResidualError, SolveFailure, Solver, Stats};
 use std::cell::RefCell;
 use std::time::Instant;
 
@@ -103,6 +100,48 @@ pub trait LineModel: CellArray {
     }
 }
 
+/// Writes, inside an `impl LineModel for Wrapper` block, methods of [`LineModel`] that call
+/// the same method on a field: `forward_line_model!(field: method, …)`, with `method` one of
+/// `initial_state`, `initial_derivative_guess`, `observe`, `unknown_name`, `breakpoints`. The
+/// [`LineModel`] counterpart of [`integrators::forward_problem!`], which forwards the
+/// [`CellArray`] methods.
+macro_rules! forward_line_model {
+    ($f:tt : $($m:ident),+ $(,)?) => {
+        $($crate::line::run::forward_line_model!(@one $f $m);)+
+    };
+    (@one $f:tt initial_state) => {
+        fn initial_state(&self) -> Vec<f64> {
+            $crate::line::run::LineModel::initial_state(&self.$f)
+        }
+    };
+    (@one $f:tt initial_derivative_guess) => {
+        fn initial_derivative_guess(&self) -> Vec<f64> {
+            $crate::line::run::LineModel::initial_derivative_guess(&self.$f)
+        }
+    };
+    (@one $f:tt observe) => {
+        fn observe(
+            &self,
+            t: f64,
+            y: &[f64],
+            yp: &[f64],
+        ) -> Result<$crate::line::observe::Snapshot, integrators::ResidualError> {
+            $crate::line::run::LineModel::observe(&self.$f, t, y, yp)
+        }
+    };
+    (@one $f:tt unknown_name) => {
+        fn unknown_name(&self, k: usize) -> String {
+            $crate::line::run::LineModel::unknown_name(&self.$f, k)
+        }
+    };
+    (@one $f:tt breakpoints) => {
+        fn breakpoints(&self) -> Vec<f64> {
+            $crate::line::run::LineModel::breakpoints(&self.$f)
+        }
+    };
+}
+pub(crate) use forward_line_model;
+
 /// A [`LineModel`] that remembers the last state its residual rejected (a non-positive
 /// stretch, typically), so that a solver failure can name the cell and its stretch instead of
 /// only the integrator's "non-finite value" or "Newton failure" and a boundary.
@@ -135,12 +174,8 @@ impl<A> Watched<A> {
 }
 
 impl<A: LineModel> CellArray for Watched<A> {
-    fn dim(&self) -> usize {
-        self.inner.dim()
-    }
-    fn pattern(&self) -> Pattern {
-        self.inner.pattern()
-    }
+    integrators::forward_problem!(inner: dim, pattern, atol, algebraic, num_events, events,
+        handle_event, restart_derivative);
     fn residual<S: Scalar>(
         &self,
         t: f64,
@@ -154,45 +189,11 @@ impl<A: LineModel> CellArray for Watched<A> {
         }
         out
     }
-    fn atol(&self) -> Option<Vec<f64>> {
-        self.inner.atol()
-    }
-    fn algebraic(&self) -> Vec<bool> {
-        self.inner.algebraic()
-    }
-    fn num_events(&self) -> usize {
-        self.inner.num_events()
-    }
-    fn events(&mut self, t: f64, y: &[f64], g: &mut [f64]) {
-        self.inner.events(t, y, g)
-    }
-    fn handle_event(
-        &mut self,
-        t: f64,
-        fired: &[usize],
-        y: &mut Vec<f64>,
-        yp: &[f64],
-    ) -> Result<EventAction, ResidualError> {
-        self.inner.handle_event(t, fired, y, yp)
-    }
 }
 
 impl<A: LineModel> LineModel for Watched<A> {
-    fn initial_state(&self) -> Vec<f64> {
-        self.inner.initial_state()
-    }
-    fn initial_derivative_guess(&self) -> Vec<f64> {
-        self.inner.initial_derivative_guess()
-    }
-    fn observe(&self, t: f64, y: &[f64], yp: &[f64]) -> Result<Snapshot, ResidualError> {
-        self.inner.observe(t, y, yp)
-    }
-    fn unknown_name(&self, k: usize) -> String {
-        self.inner.unknown_name(k)
-    }
-    fn breakpoints(&self) -> Vec<f64> {
-        self.inner.breakpoints()
-    }
+    forward_line_model!(inner: initial_state, initial_derivative_guess, observe, unknown_name,
+        breakpoints);
     fn last_rejection(&self) -> Option<(f64, String)> {
         self.last.borrow().clone()
     }

@@ -7,12 +7,11 @@ use crate::array::CellArray;
 use crate::energy::StrainEnergy;
 use crate::events::{DivisionLog, EventError};
 use crate::line::array::NONE;
-use crate::line::observe::Snapshot;
 use crate::line::run::LineModel;
 use crate::line::Line;
 use crate::observe::DivisionRecord;
 use crate::scalar::Scalar;
-use integrators::{EventAction, Pattern, ResidualError};
+use integrators::{EventAction, ResidualError};
 
 /// The proliferating continuum (see the [module docs](super)).
 ///
@@ -117,27 +116,7 @@ impl<E: StrainEnergy> DensityContinuum<E> {
 }
 
 impl<E: StrainEnergy> CellArray for DensityContinuum<E> {
-    fn dim(&self) -> usize {
-        self.line.dim()
-    }
-    fn pattern(&self) -> Pattern {
-        self.line.pattern()
-    }
-    fn residual<S: Scalar>(
-        &self,
-        t: f64,
-        y: &[S],
-        yp: &[S],
-        r: &mut [S],
-    ) -> Result<(), ResidualError> {
-        self.line.residual(t, y, yp, r)
-    }
-    fn atol(&self) -> Option<Vec<f64>> {
-        self.line.atol()
-    }
-    fn algebraic(&self) -> Vec<bool> {
-        self.line.algebraic()
-    }
+    integrators::forward_problem!(line: dim, pattern, residual<S: Scalar>, atol, algebraic);
     fn num_events(&self) -> usize {
         self.line.n_cells()
     }
@@ -186,16 +165,7 @@ impl<E: StrainEnergy> CellArray for DensityContinuum<E> {
 }
 
 impl<E: StrainEnergy> LineModel for DensityContinuum<E> {
-    fn initial_state(&self) -> Vec<f64> {
-        self.line.initial_state()
-    }
-    fn initial_derivative_guess(&self) -> Vec<f64> {
-        self.line.initial_derivative_guess()
-    }
-    fn observe(&self, t: f64, y: &[f64], yp: &[f64]) -> Result<Snapshot, ResidualError> {
-        self.line.snapshot(t, y, yp)
-    }
-    fn unknown_name(&self, k: usize) -> String {
-        self.line.unknown_name(k)
-    }
+    // `breakpoints` keeps the default (none), as it always had here
+    crate::line::run::forward_line_model!(line: initial_state, initial_derivative_guess, observe,
+        unknown_name);
 }

@@ -26,6 +26,42 @@ pub fn build(kind: MethodKind) -> Box<dyn Method> {
     }
 }
 
+/// Writes, inside `impl Method for X`, the accessors every method answers from its fields
+/// `t`, `t_prev`, `y`, `yp` (vectors) and `h` (the step to try next): [`Method::t`],
+/// [`Method::t_prev`], [`Method::y`], [`Method::yp`], [`Method::h_next`]. With `one_step`, also
+/// [`Method::step`] as the shared step loop of [`one_step`] (the type implements
+/// `one_step::OneStep`).
+macro_rules! method_accessors {
+    (one_step) => {
+        fn step(
+            &mut self,
+            sys: &mut $crate::system::System<'_>,
+            t_stop: f64,
+        ) -> Result<(), $crate::error::SolverError> {
+            $crate::methods::one_step::step(self, sys, t_stop)
+        }
+        $crate::methods::method_accessors!();
+    };
+    () => {
+        fn t(&self) -> f64 {
+            self.t
+        }
+        fn t_prev(&self) -> f64 {
+            self.t_prev
+        }
+        fn y(&self) -> &[f64] {
+            &self.y
+        }
+        fn yp(&self) -> &[f64] {
+            &self.yp
+        }
+        fn h_next(&self) -> f64 {
+            self.h
+        }
+    };
+}
+pub(crate) use method_accessors;
+
 /// Shared precondition of every one-step method's `step`: the method was started and `t_stop`
 /// lies after the current time.
 pub(crate) fn check_step_request(

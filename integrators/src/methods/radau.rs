@@ -854,25 +854,7 @@ impl Method for Radau5 {
         Ok(())
     }
 
-    fn step(&mut self, sys: &mut System<'_>, t_stop: f64) -> Result<(), SolverError> {
-        one_step::step(self, sys, t_stop)
-    }
-
-    fn t(&self) -> f64 {
-        self.t
-    }
-    fn t_prev(&self) -> f64 {
-        self.t_prev
-    }
-    fn y(&self) -> &[f64] {
-        &self.y
-    }
-    fn yp(&self) -> &[f64] {
-        &self.yp
-    }
-    fn h_next(&self) -> f64 {
-        self.h
-    }
+    super::method_accessors!(one_step);
 
     fn interpolate(&self, t: f64, y: &mut [f64], yp: &mut [f64]) {
         if !self.has_cont || self.t == self.t_prev {

@@ -4,7 +4,7 @@
 
 use integrators::adapters::OdeProblem;
 use integrators::linalg::Matrix;
-use integrators::{EventAction, Pattern, Problem, ResidualError};
+use integrators::{EventAction, Options, Pattern, Problem, ResidualError};
 
 /// Robertson's chemical kinetics as an ODE (Hairer & Wanner II, §IV.1; test set "ROBER").
 pub struct Robertson {
@@ -202,6 +202,58 @@ impl OdeProblem for Heat {
     }
 }
 
+/// A test problem given by its dimension and residual closure alone (dense pattern,
+/// finite-difference Jacobian, no events), optionally with algebraic components: the
+/// problems of single tests, without a trait impl each. Build it with [`residual_fn`].
+pub struct ResidualFn<F> {
+    dim: usize,
+    algebraic: Option<Vec<bool>>,
+    f: F,
+}
+
+/// `F(t, y, ẏ) = r` written by `f` into `r`, in `dim` unknowns.
+pub fn residual_fn<F>(dim: usize, f: F) -> ResidualFn<F>
+where
+    F: FnMut(f64, &[f64], &[f64], &mut [f64]) -> Result<(), ResidualError>,
+{
+    ResidualFn {
+        dim,
+        algebraic: None,
+        f,
+    }
+}
+
+impl<F> ResidualFn<F> {
+    /// Declares which components are algebraic.
+    pub fn algebraic(mut self, flags: Vec<bool>) -> Self {
+        self.algebraic = Some(flags);
+        self
+    }
+}
+
+impl<F> Problem for ResidualFn<F>
+where
+    F: FnMut(f64, &[f64], &[f64], &mut [f64]) -> Result<(), ResidualError>,
+{
+    fn dim(&self) -> usize {
+        self.dim
+    }
+    fn residual(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        r: &mut [f64],
+    ) -> Result<(), ResidualError> {
+        (self.f)(t, y, yp, r)
+    }
+    fn algebraic(&self) -> Vec<bool> {
+        self.algebraic
+            .clone()
+            .unwrap_or_else(|| vec![false; self.dim])
+    }
+}
+
 /// `ẏ = −y`.
 pub struct Decay;
 
@@ -218,6 +270,15 @@ impl Problem for Decay {
     ) -> Result<(), ResidualError> {
         r[0] = yp[0] + y[0];
         Ok(())
+    }
+}
+
+/// `Options` with these tolerances, everything else default.
+pub fn opts(rtol: f64, atol: f64) -> Options {
+    Options {
+        rtol,
+        atol,
+        ..Default::default()
     }
 }
 

@@ -1,11 +1,19 @@
-//! Shared problems and a minimal stepping loop for the method tests (ESDIRK, Radau IIA,
-//! Dormand–Prince). The loop drives a [`Method`] directly through [`System`], independent of the
-//! driver, so that the methods are tested on their own.
+//! Shared problems, a minimal stepping loop and one checking helper per kind of expectation for
+//! the method tests (ESDIRK, Radau IIA, Dormand–Prince). The loop drives a [`Method`] directly
+//! through [`System`], independent of the driver, so that the methods are tested on their own;
+//! each method's test file is then a list of "this method, this case, these expectations":
+//!
+//! * [`Case`] — a problem with its initial value, end time and exact solution;
+//! * [`check_exact`] — end (and dense-output) error against the exact solution, by a [`Bound`];
+//! * [`check_order`] — observed order from a fixed-step sweep;
+//! * [`check_robertson`], [`check_van_der_pol`] — stiff benchmarks against a tight Radau IIA run.
 #![allow(dead_code)]
 
 use integrators::linalg::Matrix;
 use integrators::system::{System, SystemCache};
-use integrators::{Method, Options, Pattern, Problem, ResidualError, SolverError, Stats};
+use integrators::{
+    Method, MethodKind, Options, Pattern, Problem, ResidualError, SolverError, Stats,
+};
 
 /// Result of [`integrate`].
 pub struct Run {
@@ -16,6 +24,14 @@ pub struct Run {
     pub init_stats: Stats,
     /// Largest dense-output error at step midpoints against `exact` (if given).
     pub dense_err: f64,
+}
+
+impl Run {
+    /// Jacobian evaluations after consistent initialisation (the method's own, including its
+    /// starting-step estimate).
+    pub fn method_jacobians(&self) -> usize {
+        self.stats.jacobian_evals - self.init_stats.jacobian_evals
+    }
 }
 
 /// Integrates from `t0` to `t_end` with `method`, stepping until `t_end` is reached. If
@@ -125,17 +141,224 @@ pub fn fixed_step_sweep(
 }
 
 // ---------------------------------------------------------------------------------------------
+// Cases and checks
+// ---------------------------------------------------------------------------------------------
+
+/// `Options` with these tolerances, everything else default.
+pub fn opts(rtol: f64, atol: f64) -> Options {
+    Options {
+        rtol,
+        atol,
+        ..Default::default()
+    }
+}
+
+/// A problem with a closed-form solution.
+pub trait Solved: Problem + Clone + std::fmt::Debug + 'static {
+    /// The exact solution at `t`.
+    fn solution(&self, t: f64) -> Vec<f64>;
+    /// Initial value (default: the solution at `t = 0`).
+    fn y0(&self) -> Vec<f64> {
+        self.solution(0.0)
+    }
+}
+
+/// A test problem on `[0, t_end]` with its initial value and exact solution.
+pub struct Case {
+    /// The problem's `Debug` form, for messages.
+    pub name: String,
+    pub problem: Box<dyn Problem>,
+    pub y0: Vec<f64>,
+    pub t_end: f64,
+    pub exact: Box<dyn Fn(f64) -> Vec<f64>>,
+}
+
+impl Case {
+    /// `problem` on `[0, t_end]` from its [`Solved::y0`].
+    pub fn new<P: Solved>(problem: P, t_end: f64) -> Self {
+        let solved = problem.clone();
+        Self {
+            name: format!("{problem:?}"),
+            y0: problem.y0(),
+            problem: Box::new(problem),
+            t_end,
+            exact: Box::new(move |t| solved.solution(t)),
+        }
+    }
+
+    /// Integrates with a fresh method of `kind` (checking the dense output at every step
+    /// midpoint when `dense`); returns the run and its max-norm error at `t_end`.
+    pub fn run(&mut self, kind: MethodKind, o: &Options, dense: bool) -> (Run, f64) {
+        let exact: &dyn Fn(f64) -> Vec<f64> = &*self.exact;
+        let mut m = integrators::methods::build(kind);
+        let run = integrate(
+            m.as_mut(),
+            self.problem.as_mut(),
+            o,
+            0.0,
+            &self.y0,
+            self.t_end,
+            dense.then_some(exact),
+        )
+        .unwrap_or_else(|e| panic!("{kind} {}: {e}", self.name));
+        let e = max_err(&run.y, &exact(self.t_end));
+        (run, e)
+    }
+}
+
+/// What [`check_exact`] asserts about the errors.
+#[derive(Clone, Copy, Debug)]
+pub enum Bound {
+    /// End error below `end`; dense-output error below `dense` if given.
+    Fixed { end: f64, dense: Option<f64> },
+    /// For a per-step error controller (TR-BDF2: order-2 solution, error per step ≤ tol): on
+    /// non-expanding problems the global error is bounded by the sum of the local tolerances,
+    /// `steps · (rtol·ymax + atol)`, not by `rtol`, which no per-step controller promises. The
+    /// end error (and, if `dense`, the dense-output error) must be below that sum.
+    LocalSum { ymax: f64, dense: bool },
+}
+
+/// Runs `kind` on `case` with `o` and asserts `bound` on the errors; `dense` also checks the
+/// dense output at every step midpoint (and that both step ends reproduce the states).
+pub fn check_exact(
+    kind: MethodKind,
+    case: &mut Case,
+    o: &Options,
+    dense: bool,
+    bound: Bound,
+) -> Run {
+    let (run, e) = case.run(kind, o, dense);
+    let name = &case.name;
+    eprintln!(
+        "{kind} {name}: err {e:e} dense {:e} {:?}",
+        run.dense_err, run.stats
+    );
+    let (end, dense_bound) = match bound {
+        Bound::Fixed { end, dense } => (end, dense),
+        Bound::LocalSum { ymax, dense } => {
+            let sum = run.stats.steps as f64 * (o.rtol * ymax + o.atol);
+            (sum, dense.then_some(sum))
+        }
+    };
+    assert!(e < end, "{kind} {name}: end error {e:e} vs {end:e}");
+    if let Some(d) = dense_bound {
+        assert!(
+            run.dense_err < d,
+            "{kind} {name}: dense error {:e} vs {d:e}",
+            run.dense_err
+        );
+    }
+    run
+}
+
+/// Fixed-step sweep of `kind` on `case` with these step counts; asserts that the fitted order
+/// is `expected ± 0.3`.
+pub fn check_order(kind: MethodKind, case: &mut Case, n_steps: &[usize], expected: f64) {
+    let (hs, errs) = fixed_step_sweep(
+        &|| integrators::methods::build(kind),
+        case.problem.as_mut(),
+        case.t_end,
+        &case.y0,
+        &*case.exact,
+        n_steps,
+        1e-12,
+    );
+    let p = fitted_order(&hs, &errs);
+    eprintln!(
+        "{kind} {} fixed-step errors {errs:?} -> observed order {p:.3}",
+        case.name
+    );
+    assert!(
+        (p - expected).abs() <= 0.3,
+        "{kind} {}: observed order {p}",
+        case.name
+    );
+}
+
+/// Runs `kind` with `o` and the reference Radau IIA with `reference` on `problem` over
+/// `[0, t_end]`; returns both.
+fn with_reference(
+    kind: MethodKind,
+    problem: &mut dyn Problem,
+    y0: &[f64],
+    t_end: f64,
+    o: &Options,
+    reference: &Options,
+) -> (Run, Run) {
+    let mut m = integrators::methods::build(kind);
+    let run = integrate(m.as_mut(), problem, o, 0.0, y0, t_end, None).unwrap();
+    let mut r = integrators::methods::build(MethodKind::Radau);
+    let reference = integrate(r.as_mut(), problem, reference, 0.0, y0, t_end, None).unwrap();
+    eprintln!("{kind}: {:?} ref {:?} {:?}", run.y, reference.y, run.stats);
+    (run, reference)
+}
+
+/// Robertson on `[0, 10⁵]` at `rtol = 10⁻⁶` against Radau IIA at `rtol = 10⁻¹¹`: mass is
+/// conserved to 10⁻⁶, `y1`, `y3` agree to 10⁻⁴ and `y2` to 10⁻³ (relative). Returns the run for
+/// per-method cost pins.
+pub fn check_robertson(kind: MethodKind) -> Run {
+    let (run, reference) = with_reference(
+        kind,
+        &mut Robertson,
+        &[1.0, 0.0, 0.0],
+        1e5,
+        &opts(1e-6, 1e-8),
+        &opts(1e-11, 1e-8),
+    );
+    let sum: f64 = run.y.iter().sum();
+    assert!((sum - 1.0).abs() < 1e-6, "mass {sum}");
+    for i in [0, 2] {
+        let rel = (run.y[i] - reference.y[i]).abs() / reference.y[i].abs();
+        assert!(
+            rel < 1e-4,
+            "component {i}: {} vs {}",
+            run.y[i],
+            reference.y[i]
+        );
+    }
+    let rel = (run.y[1] - reference.y[1]).abs() / reference.y[1].abs();
+    assert!(rel < 1e-3, "y2: {} vs {}", run.y[1], reference.y[1]);
+    run
+}
+
+/// Van der Pol with `μ = 1000` on `[0, 3000]` at `rtol = atol = 10⁻⁶` completes and its `y1(3000)`
+/// agrees with Radau IIA at `10⁻¹⁰` to `rel · max(|y1|, 1)`. Returns the run.
+pub fn check_van_der_pol(kind: MethodKind, rel: f64) -> Run {
+    let (run, reference) = with_reference(
+        kind,
+        &mut VanDerPol { mu: 1000.0 },
+        &[2.0, 0.0],
+        3000.0,
+        &opts(1e-6, 1e-6),
+        &opts(1e-10, 1e-10),
+    );
+    assert!((run.y[0] - reference.y[0]).abs() < rel * reference.y[0].abs().max(1.0));
+    run
+}
+
+/// `y[i−1] − 2y[i] + y[i+1]` with zero values outside `y` (homogeneous Dirichlet ends).
+fn second_difference(y: &[f64], i: usize) -> f64 {
+    let l = if i > 0 { y[i - 1] } else { 0.0 };
+    let r = if i + 1 < y.len() { y[i + 1] } else { 0.0 };
+    l - 2.0 * y[i] + r
+}
+
+// ---------------------------------------------------------------------------------------------
 // Problems
 // ---------------------------------------------------------------------------------------------
 
 /// Linear 2×2 ODE `ẏ = [[-1, 2], [-2, -1]] y`, `y(0) = (1, 0)`:
 /// `y = e^{-t} (cos 2t, −sin 2t)`. Analytic Jacobian.
+#[derive(Clone, Debug)]
 pub struct Linear2;
 
-impl Linear2 {
-    pub fn exact(t: f64) -> Vec<f64> {
+impl Solved for Linear2 {
+    fn solution(&self, t: f64) -> Vec<f64> {
         let e = (-t).exp();
         vec![e * (2.0 * t).cos(), -e * (2.0 * t).sin()]
+    }
+    fn y0(&self) -> Vec<f64> {
+        vec![1.0, 0.0]
     }
 }
 
@@ -172,10 +395,11 @@ impl Problem for Linear2 {
 
 /// Smooth nonlinear, non-autonomous ODE (finite-difference Jacobian):
 /// `ẏ1 = −y1²`, `ẏ2 = cos(t)·y2`, `y(0) = (1, 1)`: `y = (1/(1+t), exp(sin t))`.
+#[derive(Clone, Debug)]
 pub struct Nonlinear2;
 
-impl Nonlinear2 {
-    pub fn exact(t: f64) -> Vec<f64> {
+impl Solved for Nonlinear2 {
+    fn solution(&self, t: f64) -> Vec<f64> {
         vec![1.0 / (1.0 + t), t.sin().exp()]
     }
 }
@@ -260,8 +484,15 @@ impl Problem for VanDerPol {
 /// Mass-matrix problem `M(y)·ẏ = M(y)·g(t, y)` whose solution is that of `ẏ = g` for the
 /// nonlinear `g` of [`Nonlinear2`]; `M` is constant `[[2, 1], [1, 1]]` or state-dependent
 /// `[[2 + y1², 1], [1, 1 + y2²]]`. The residual is `M(y)(ẏ − g(t, y))`.
+#[derive(Clone, Debug)]
 pub struct MassProblem {
     pub state_dependent: bool,
+}
+
+impl Solved for MassProblem {
+    fn solution(&self, t: f64) -> Vec<f64> {
+        Nonlinear2.solution(t)
+    }
 }
 
 impl MassProblem {
@@ -296,10 +527,11 @@ impl Problem for MassProblem {
 /// Semi-explicit index-1 DAE with a nonlinear constraint:
 /// `ẏ1 = y2 − y1`, `0 = y2³ + y2 − (q³ + q)` with `q = cos t + y1`;
 /// `y(0) = (0, 1)`, exact solution `y1 = sin t`, `y2 = cos t + sin t`.
+#[derive(Clone, Debug)]
 pub struct Dae1;
 
-impl Dae1 {
-    pub fn exact(t: f64) -> Vec<f64> {
+impl Solved for Dae1 {
+    fn solution(&self, t: f64) -> Vec<f64> {
         vec![t.sin(), t.cos() + t.sin()]
     }
 }
@@ -328,20 +560,24 @@ impl Problem for Dae1 {
 /// Semi-discrete heat equation `u_t = u_xx` on (0, 1), `u = 0` at both ends, `n` interior
 /// points, banded(1, 1) with an analytic Jacobian. With `u(x, 0) = sin(πx)` the semi-discrete
 /// solution is exactly `sin(πx_i)·exp(−λt)`, `λ = (4/Δx²) sin²(πΔx/2)`.
+#[derive(Clone, Debug)]
 pub struct Heat {
     pub n: usize,
 }
 
-impl Heat {
-    pub fn dx(&self) -> f64 {
-        1.0 / (self.n as f64 + 1.0)
-    }
-    pub fn exact(&self, t: f64) -> Vec<f64> {
+impl Solved for Heat {
+    fn solution(&self, t: f64) -> Vec<f64> {
         let dx = self.dx();
         let lam = 4.0 / (dx * dx) * (std::f64::consts::PI * dx / 2.0).sin().powi(2);
         (0..self.n)
             .map(|i| (std::f64::consts::PI * (i as f64 + 1.0) * dx).sin() * (-lam * t).exp())
             .collect()
+    }
+}
+
+impl Heat {
+    pub fn dx(&self) -> f64 {
+        1.0 / (self.n as f64 + 1.0)
     }
 }
 
@@ -356,12 +592,9 @@ impl Problem for Heat {
         yp: &[f64],
         r: &mut [f64],
     ) -> Result<(), ResidualError> {
-        let n = self.n;
         let k = 1.0 / (self.dx() * self.dx());
-        for i in 0..n {
-            let l = if i > 0 { y[i - 1] } else { 0.0 };
-            let rr = if i + 1 < n { y[i + 1] } else { 0.0 };
-            r[i] = yp[i] - k * (l - 2.0 * y[i] + rr);
+        for i in 0..self.n {
+            r[i] = yp[i] - k * second_difference(y, i);
         }
         Ok(())
     }
@@ -421,9 +654,7 @@ impl Problem for ReactionDiffusion {
         let dx = 1.0 / (n as f64 + 1.0);
         let k = self.d / (dx * dx);
         for i in 0..n {
-            let l = if i > 0 { y[i - 1] } else { 0.0 };
-            let rr = if i + 1 < n { y[i + 1] } else { 0.0 };
-            r[i] = yp[i] - k * (l - 2.0 * y[i] + rr) - y[i] * y[i] * (1.0 - y[i]);
+            r[i] = yp[i] - k * second_difference(y, i) - y[i] * y[i] * (1.0 - y[i]);
         }
         Ok(())
     }
