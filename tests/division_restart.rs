@@ -71,3 +71,43 @@ fn smooth_restart_avoids_rejections_after_divisions() {
         "consistent restart no longer rejects ({rs} per division)"
     );
 }
+
+/// A dividing line whose right end follows the polynomial ramp (stretched by half, so the
+/// cells grow under tension and divide): the ramp's kink at `t_ramp`
+/// (where `l̈` jumps) is forwarded as a breakpoint, so `integrate` restarts there instead of
+/// stepping across it, and the run goes on through the divisions with `l(t)` held exactly.
+#[test]
+fn prescribed_polynomial_ramp_kink_is_a_restart_for_a_dividing_line() {
+    use celltissue::boundary::Ramp;
+    use celltissue::line::run::LineModel;
+    let ramp = Ramp::Polynomial {
+        l0: 100.0,
+        k1: -0.5,
+        t_ramp: 1.0,
+    };
+    let mut p = LineParams::unit_cells(100);
+    p.right = RightEnd::Prescribed(ramp.clone());
+    p.k = 1e-2.into();
+    p.growth = Some(Arc::new(TanhGrowth::default()));
+    let line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+    let div = Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap();
+    assert_eq!(div.breakpoints(), vec![1.0]);
+    let mut prob = ArrayProblem::new(div);
+    let times = [0.5, 1.0, 2.0, 4.0];
+    let traj = integrate(&mut prob, &SolveSettings::default(), &times);
+    assert!(traj.error.is_none(), "{:?}", traj.error);
+    assert!(!prob.array.log.records.is_empty(), "no division happened");
+    assert_eq!(traj.snapshots.len(), times.len());
+    for (snap, &t) in traj.snapshots.iter().zip(&times) {
+        let (l, _) = ramp.eval(t);
+        assert!(
+            (snap.length() - l).abs() < 1e-9 * l,
+            "t = {t}: {} vs {l}",
+            snap.length()
+        );
+        assert!(
+            snap.x.windows(2).all(|w| w[1] > w[0]),
+            "cells out of order at t = {t}"
+        );
+    }
+}

@@ -355,7 +355,8 @@ impl<E: StrainEnergy> CellArray for Dividing<E> {
 }
 
 impl<E: StrainEnergy> LineModel for Dividing<E> {
-    // `breakpoints` keeps the default (none), as it always had here
+    // `breakpoints` forwarded too: a prescribed polynomial-ramp end has a kink at `t_ramp`,
+    // where `integrate` must restart rather than step across it.
     crate::line::run::forward_line_model!(line: initial_state, initial_derivative_guess, observe,
-        unknown_name);
+        unknown_name, breakpoints);
 }

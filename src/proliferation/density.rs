@@ -165,7 +165,8 @@ impl<E: StrainEnergy> CellArray for DensityContinuum<E> {
 }
 
 impl<E: StrainEnergy> LineModel for DensityContinuum<E> {
-    // `breakpoints` keeps the default (none), as it always had here
+    // `breakpoints` forwarded too: a prescribed polynomial-ramp end has a kink at `t_ramp`,
+    // where `integrate` must restart rather than step across it.
     crate::line::run::forward_line_model!(line: initial_state, initial_derivative_guess, observe,
-        unknown_name);
+        unknown_name, breakpoints);
 }
