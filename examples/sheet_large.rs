@@ -4,7 +4,9 @@
 //! (default 10) and prints wall time, work counters and cost per step and per cell-step.
 //!
 //! The linear solver is the sparse direct LU unless `LINSOLVE=iterative` (ILU(0) +
-//! BiCGStab, relative residual `KRYLOV_RTOL`, default 1e-8); `NORM=rms` selects the RMS norm.
+//! BiCGStab stopped by the Newton-aware rule with `newton_factor = KRYLOV_FACTOR`, default
+//! 0.01, or at relative preconditioned residual `KRYLOV_RTOL`, default 1e-8; `KRYLOV_FACTOR=0`
+//! leaves only the latter); `NORM=rms` selects the RMS norm.
 //! `FAMILY=macro` runs the macroscale-fixed family instead of the thesis's raw parameters
 //! (`K = 1/(2n)`, ramp time `n`, default `t_end = n`): `n × n` cells then resolve the same tissue
 //! problem and the step count does not grow with `n`.
@@ -51,6 +53,9 @@ fn main() {
             rtol: env("KRYLOV_RTOL")
                 .and_then(|v| v.parse().ok())
                 .unwrap_or(IterativeSettings::default().rtol),
+            newton_factor: env("KRYLOV_FACTOR")
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(IterativeSettings::default().newton_factor),
             ..IterativeSettings::default()
         }),
         Some(other) => {
