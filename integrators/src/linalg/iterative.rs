@@ -393,9 +393,10 @@ impl IterativeSolver {
             &mut w.v,
             &mut w.t,
         ] {
-            v.clear();
+            // every vector but `x` is fully overwritten before it is read
             v.resize(n, 0.0);
         }
+        w.x.fill(0.0);
         let Work {
             x,
             r,
@@ -432,8 +433,7 @@ impl IterativeSolver {
                     *pi = ri + beta * (*pi - omega * vi);
                 }
             }
-            self.apply_prec_a(p, v);
-            let rv = dot(r_hat, v);
+            let (rv, _) = self.apply_prec_a(p, v, r_hat);
             if rv == 0.0 || !rv.is_finite() {
                 return Err(iter);
             }
@@ -449,8 +449,7 @@ impl IterativeSolver {
                 }
                 return Ok(iter);
             }
-            self.apply_prec_a(r, t);
-            let (ts, tt) = dot2(t, r);
+            let (ts, tt) = self.apply_prec_a(r, t, r);
             if tt == 0.0 || !(ts.is_finite() && tt.is_finite()) {
                 return Err(iter);
             }
@@ -472,9 +471,10 @@ impl IterativeSolver {
         Err(self.settings.max_iters)
     }
 
-    /// `dst = M⁻¹ A src`: one forward sweep (row `i` of `A·src`, minus the `L` part already
+    /// `dst = M⁻¹ A src`, returning `((with, dst), (dst, dst))` (see [`Self::backward`]): one
+    /// forward sweep (row `i` of `A·src`, minus the `L` part already
     /// solved, over the same column indices) and one backward sweep (`U`).
-    fn apply_prec_a(&self, src: &[f64], dst: &mut [f64]) {
+    fn apply_prec_a(&self, src: &[f64], dst: &mut [f64], with: &[f64]) -> (f64, f64) {
         let csr = self.csr.as_ref().expect("factored");
         let (rp, col, diag) = (&csr.row_ptr, &csr.col, &csr.diag);
         let (a, lu) = (&self.a[..], &self.lu[..]);
@@ -489,7 +489,7 @@ impl IterativeSolver {
             }
             dst[i] = acc;
         }
-        self.backward(dst);
+        self.backward(dst, with)
     }
 
     /// `v = M⁻¹ v = U⁻¹ L⁻¹ v`.
@@ -505,14 +505,16 @@ impl IterativeSolver {
             }
             v[i] = acc;
         }
-        self.backward(v);
+        self.backward(v, &[]);
     }
 
-    /// `v = U⁻¹ v = (D⁻¹U)⁻¹ D⁻¹ v`.
-    fn backward(&self, v: &mut [f64]) {
+    /// `v = U⁻¹ v = (D⁻¹U)⁻¹ D⁻¹ v`, returning `((with, v), (v, v))` of the result when
+    /// `with` is non-empty (the BiCGStab dot products, without another pass over `v`).
+    fn backward(&self, v: &mut [f64], with: &[f64]) -> (f64, f64) {
         let csr = self.csr.as_ref().expect("factored");
         let (rp, col, diag) = (&csr.row_ptr, &csr.col, &csr.diag);
         let lu = &self.lu[..];
+        let (mut wv, mut vv) = (0.0, 0.0);
         for i in (0..v.len()).rev() {
             let (d, e) = (diag[i], rp[i + 1]);
             let mut acc = v[i] * self.dinv[i];
@@ -520,7 +522,12 @@ impl IterativeSolver {
                 acc -= f64::from(u) * v[c as usize];
             }
             v[i] = acc;
+            if let Some(&w) = with.get(i) {
+                wv += w * acc;
+                vv += acc * acc;
+            }
         }
+        (wv, vv)
     }
 }
 
@@ -582,17 +589,6 @@ fn axpy_measure(r: &mut [f64], a: f64, v: &[f64], tol: Option<&LinearTolerance<'
         acc.push(*ri, weight(tol, i));
     }
     acc.finish(r.len(), tol)
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
-
-/// `((t, s), (t, t))` in one pass.
-fn dot2(t: &[f64], s: &[f64]) -> (f64, f64) {
-    t.iter().zip(s).fold((0.0, 0.0), |(ts, tt), (&ti, &si)| {
-        (ts + ti * si, tt + ti * ti)
-    })
 }
 
 /// The end of a BiCGStab iteration in one pass: `x += α p + ω s`, `r = s − ω t` (`s` is in
@@ -810,7 +806,7 @@ mod tests {
         };
         let v: Vec<f64> = (0..n).map(|k| ((k as f64) * 1.3).cos()).collect();
         let mut ours = vec![0.0; n];
-        it.apply_prec_a(&v, &mut ours);
+        it.apply_prec_a(&v, &mut ours, &[]);
         let mut reference = vec![0.0; n];
         m.mul_vec(&v, &mut reference);
         {
