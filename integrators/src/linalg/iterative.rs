@@ -419,9 +419,9 @@ impl IterativeSolver {
         let l2_threshold = self.settings.rtol * self.settings.rtol * r0.l2sq;
         let w_threshold = weighted.map_or(-1.0, |t| self.settings.newton_factor * t.target);
         let done = |m: &Measure| m.l2sq <= l2_threshold || m.weighted <= w_threshold;
-        if done(&r0) {
-            return Ok(0);
-        }
+        // No early exit on `r₀` even when it already passes the weighted test: `x = 0` would be
+        // a zero Newton correction, which BDF takes as converged at once (bypassing its
+        // contraction checks); at least one iteration gives a correction accurate to the target.
         r_hat.copy_from_slice(r);
         let mut rho = r0.l2sq; // (r̂, r)
         let (mut omega, mut beta) = (0.0f64, 0.0f64);
