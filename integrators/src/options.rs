@@ -108,8 +108,9 @@ pub struct IterativeSettings {
     /// The default, 0.01, is tighter than SUNDIALS' 0.05: the preconditioned residual
     /// underestimates the error by the conditioning of `M⁻¹A` (6–14× on a grid operator in the
     /// unit tests), and with the max norm that noise reaches the BDF error estimate — on the
-    /// 500 × 500 macroscale sheet 0.05 took 84 steps against 71 with exact solves, 0.01 took
-    /// 72 at nearly the same Krylov work (573 against 538 iterations).
+    /// 500 × 500 macroscale sheet (measured during development, see BENCHMARKS.md) 0.05 took
+    /// 84 steps against 71 with exact solves, 0.01 took 72 at nearly the same Krylov work
+    /// (573 against 538 iterations).
     pub newton_factor: f64,
 }
 
