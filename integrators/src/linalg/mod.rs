@@ -10,8 +10,9 @@
 
 //!
 //! Layout: [`dense`](self) (faer LU), `banded` (hand-written `dgbtrf`-style LU), `sparse` (faer
-//! sparse LU with cached symbolic analysis), `iterative` (ILU(0) from `faer-precond`, BiCGStab with a Newton-aware stopping rule on CSR kernels), `complex_pair` (Radau's real 2n form). This file
-//! holds the public types and dispatches by pattern.
+//! sparse LU with cached symbolic analysis), `iterative` (ILU(0) from `faer-precond`, BiCGStab
+//! with a Newton-aware stopping rule on CSR kernels), `complex_pair` (Radau's real 2n form).
+//! This file holds the public types and dispatches by pattern.
 //!
 //! ```
 //! use integrators::linalg::{LinearSolver, Matrix};
