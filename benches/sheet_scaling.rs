@@ -1,9 +1,11 @@
 //! Cost of the discrete uniaxial sheet vs N·M (MODEL.md §4.1; free top, K = ½, m = 0,
 //! neo-Hookean, BDF rtol 1e-6, atol 1e-8 in cell units, max error norm), integrated to t = 10,
 //! with the sparse direct LU (`direct/…`) and with ILU(0) + BiCGStab (`iterative/…`, default
-//! [`IterativeSettings`]).
+//! [`IterativeSettings`]: BDF's Newton-aware stopping rule).
 //! Run: `cargo bench --bench sheet_scaling`. The large cases are the example
-//! `LINSOLVE=iterative cargo run --release --example sheet_large -- 1000 10`.
+//! `LINSOLVE=iterative cargo run --release --example sheet_large -- 1000 10` (raw parameters) and
+//! `FAMILY=macro LINSOLVE=iterative cargo run --release --example sheet_large -- 1000` (the
+//! macroscale-fixed family of the issue #5 target).
 
 use celltissue::array::ArrayProblem;
 use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};

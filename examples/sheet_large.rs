@@ -4,7 +4,10 @@
 //! (default 10) and prints wall time, work counters and cost per step and per cell-step.
 //!
 //! The linear solver is the sparse direct LU unless `LINSOLVE=iterative` (ILU(0) +
-//! BiCGStab, relative residual `KRYLOV_RTOL`, default 1e-8); `NORM=rms` selects the RMS norm.
+//! BiCGStab stopped by the Newton-aware rule with `newton_factor = KRYLOV_FACTOR`, default
+//! 0.01, or at relative preconditioned residual `KRYLOV_RTOL`, default 1e-8; `KRYLOV_FACTOR=0`
+//! leaves only the latter); `NORM=rms` selects the RMS norm. `FINAL_STATE=path` writes the
+//! state at `t_end` as raw little-endian `f64`s (to compare runs).
 //! `FAMILY=macro` runs the macroscale-fixed family instead of the thesis's raw parameters
 //! (`K = 1/(2n)`, ramp time `n`, default `t_end = n`): `n × n` cells then resolve the same tissue
 //! problem and the step count does not grow with `n`.
@@ -51,6 +54,9 @@ fn main() {
             rtol: env("KRYLOV_RTOL")
                 .and_then(|v| v.parse().ok())
                 .unwrap_or(IterativeSettings::default().rtol),
+            newton_factor: env("KRYLOV_FACTOR")
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(IterativeSettings::default().newton_factor),
             ..IterativeSettings::default()
         }),
         Some(other) => {
@@ -76,6 +82,14 @@ fn main() {
     match Solver::new(MethodKind::Bdf, opts).solve(&mut prob, 0.0, &y0, &[t_end]) {
         Ok(sol) => {
             let wall = start.elapsed().as_secs_f64();
+            if let Some(path) = env("FINAL_STATE") {
+                // raw little-endian f64 of the state at t_end, for comparing runs
+                let bytes: Vec<u8> = sol.y[0].iter().flat_map(|v| v.to_le_bytes()).collect();
+                if let Err(e) = std::fs::write(&path, bytes) {
+                    eprintln!("FINAL_STATE = {path:?}: {e}");
+                    std::process::exit(2);
+                }
+            }
             let s = sol.stats;
             let per_step = wall / s.steps.max(1) as f64;
             println!(

@@ -272,9 +272,20 @@ impl<'a> System<'a> {
 
     /// Counted in-place solve with the last factorisation.
     pub fn solve(&mut self, solver: &LinearSolver, b: &mut [f64]) {
+        self.solve_to(solver, b, None);
+    }
+
+    /// As [`solve`](System::solve), with the caller's Newton tolerance for an iterative solver
+    /// ([`LinearSolver::solve_in_place_to`]).
+    pub fn solve_to(
+        &mut self,
+        solver: &LinearSolver,
+        b: &mut [f64],
+        tol: Option<&crate::linalg::LinearTolerance<'_>>,
+    ) {
         self.stats.linear_solves += 1;
         let before = solver.krylov_counters();
-        solver.solve_in_place(b);
+        solver.solve_in_place_to(b, tol);
         let after = solver.krylov_counters();
         self.stats.krylov_iterations += after.iterations - before.iterations;
         self.stats.krylov_failures += after.failures - before.failures;

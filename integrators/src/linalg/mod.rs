@@ -10,8 +10,9 @@
 
 //!
 //! Layout: [`dense`](self) (faer LU), `banded` (hand-written `dgbtrf`-style LU), `sparse` (faer
-//! sparse LU with cached symbolic analysis), `iterative` (ILU(0) + BiCGStab from crates), `complex_pair` (Radau's real 2n form). This file
-//! holds the public types and dispatches by pattern.
+//! sparse LU with cached symbolic analysis), `iterative` (ILU(0) from `faer-precond`, BiCGStab
+//! with a Newton-aware stopping rule on CSR kernels), `complex_pair` (Radau's real 2n form).
+//! This file holds the public types and dispatches by pattern.
 //!
 //! ```
 //! use integrators::linalg::{LinearSolver, Matrix};
@@ -35,7 +36,7 @@ mod dense;
 mod iterative;
 mod sparse;
 
-pub use iterative::KrylovCounters;
+pub use iterative::{KrylovCounters, LinearTolerance};
 
 use std::sync::Arc;
 
@@ -316,7 +317,7 @@ impl LinearSolver {
     ///     m.add(i, i, 4.0);
     ///     if i > 0 { m.add(i, i - 1, -1.0); m.add(i - 1, i, -1.5); }
     /// }
-    /// let it = LinearSolverChoice::Iterative(IterativeSettings { rtol: 1e-12, max_iters: 50 });
+    /// let it = LinearSolverChoice::Iterative(IterativeSettings { rtol: 1e-12, max_iters: 50, newton_factor: 0.0 });
     /// let mut s = LinearSolver::with_choice(50, &p, it);
     /// s.factor(&m).unwrap();
     /// let mut b = vec![1.0; 50];
@@ -398,11 +399,17 @@ impl LinearSolver {
     ///
     /// Panics if there is no successful factorisation (programmer error).
     pub fn solve_in_place(&self, b: &mut [f64]) {
+        self.solve_in_place_to(b, None);
+    }
+    /// As [`solve_in_place`](Self::solve_in_place), telling an iterative solver how accurate
+    /// the solution must be for the caller's Newton iteration (see [`LinearTolerance`] and
+    /// [`crate::IterativeSettings`]); direct solvers ignore `tol`.
+    pub fn solve_in_place_to(&self, b: &mut [f64], tol: Option<&LinearTolerance<'_>>) {
         match &self.inner {
             Inner::Dense(lu) => lu.solve(b),
             Inner::Banded(lu) => lu.solve(b),
             Inner::Sparse(lu) => lu.solve(b),
-            Inner::Iterative(it) => it.solve(b),
+            Inner::Iterative(it) => it.solve(b, tol),
         }
     }
     /// Whether the last `factor` created a new symbolic factorisation (for statistics).

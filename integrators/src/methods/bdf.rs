@@ -65,7 +65,7 @@
 use std::collections::VecDeque;
 
 use crate::error::{ErrorKind, SolverError};
-use crate::linalg::{LinearSolver, Matrix};
+use crate::linalg::{LinearSolver, LinearTolerance, Matrix};
 use crate::method::Method;
 use crate::options::ErrorNorm;
 use crate::pattern::Pattern;
@@ -524,7 +524,18 @@ impl Bdf {
             // δ = −scale·J⁻¹F: solving for F and negating afterwards is bitwise the same as
             // solving for −F (every rounding is sign-symmetric), and saves a pass. One fused
             // pass then stores δ in `res`, updates the iterate and accumulates ‖δ‖.
-            sys.solve(self.lin.as_ref().expect("allocated"), &mut self.res);
+            // an iterative solver stops once its error is a small fraction of EPS_NEWT in the
+            // Newton norm (inexact Newton, as IDA; see `IterativeSettings`)
+            let tol = LinearTolerance {
+                weights: &self.nwt,
+                norm: sys.opts.norm,
+                target: EPS_NEWT,
+            };
+            sys.solve_to(
+                self.lin.as_ref().expect("allocated"),
+                &mut self.res,
+                Some(&tol),
+            );
             let mut acc = NormAcc::new(sys.opts.norm);
             for ((((d, yc), ypc), e), w) in self
                 .res
