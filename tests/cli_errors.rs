@@ -139,6 +139,19 @@ fn bad_output_times_and_solver_are_named() {
         &[],
         "solver.norm",
     );
+    rejects(
+        "linsolve",
+        &format!("{GOOD}[solver]\nlinear_solver = \"gmres\"\n"),
+        &[],
+        "solver.linear_solver",
+    );
+    // the iterative solver is for sheets; GOOD is a line
+    rejects(
+        "linsolve_line",
+        &format!("{GOOD}[solver]\nlinear_solver = \"iterative\"\n"),
+        &[],
+        "solver.linear_solver",
+    );
 }
 
 #[test]

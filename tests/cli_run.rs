@@ -240,3 +240,53 @@ force = 1.0
         assert!(top[2].as_f64().unwrap() > top[1].as_f64().unwrap());
     }
 }
+
+/// `solver.linear_solver = "iterative"` reaches a sheet run (Krylov iterations are counted,
+/// the choice is recorded in the summary) and gives the direct solver's answer: both runs are
+/// BDF at rtol 1e-8, so they agree to a small multiple of their own global errors.
+#[test]
+fn iterative_linear_solver_from_the_scenario_matches_direct() {
+    let text = |linear: &str| {
+        format!(
+            r#"
+name = "sheet"
+[output]
+series = [0, 0.5, 1, 2, 5]
+[model]
+kind = "sheet"
+models = ["discrete"]
+cells_x = 12
+cells_y = 8
+[solver]
+rtol = 1e-8
+atol = 1e-10
+linear_solver = "{linear}"
+"#
+        )
+    };
+    let (_, direct) = run_text("cli_run_sheet_direct", &text("direct"));
+    let (_, iter) = run_text("cli_run_sheet_iterative", &text("iterative"));
+    let (d, i) = (&direct["runs"][0], &iter["runs"][0]);
+    assert!(d.get("error").is_none() && i.get("error").is_none());
+    // (counters that stayed 0 may be left out of the summary)
+    assert_eq!(d["stats"]["krylov_iterations"].as_f64().unwrap_or(0.0), 0.0);
+    assert!(i["stats"]["krylov_iterations"].as_f64().unwrap() > 0.0);
+    assert_eq!(
+        i["parameters"]["solver"]["linear_solver"]["kind"],
+        "iterative"
+    );
+    assert_eq!(d["parameters"]["solver"]["linear_solver"], "direct");
+    for key in ["max_pressure", "mean_height"] {
+        let (a, b) = (
+            d["series"][key].as_array().unwrap(),
+            i["series"][key].as_array().unwrap(),
+        );
+        for (x, y) in a.iter().zip(b) {
+            let (x, y) = (x.as_f64().unwrap(), y.as_f64().unwrap());
+            assert!(
+                (x - y).abs() <= 1e-6 * x.abs().max(1.0),
+                "{key}: {x} vs {y}"
+            );
+        }
+    }
+}

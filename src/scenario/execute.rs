@@ -23,6 +23,7 @@ pub fn run_spec_in(spec: &RunSpec, dir: Option<&Path>) -> RunRecord {
             rtol: spec.solver.rtol,
             atol: spec.solver.atol,
             norm: spec.solver.norm,
+            linear_solver: spec.solver.linear_solver,
             ..Default::default()
         },
     };

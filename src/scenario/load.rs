@@ -8,6 +8,7 @@ use super::overrides::{apply, parse_path, parse_set};
 use super::schema::{PlotSettings, RawScenario, SolverChoice};
 use super::times::parse_times;
 use crate::observe::ModelKind;
+use integrators::LinearSolverChoice;
 use std::path::Path;
 
 /// Output times of a run.
@@ -168,6 +169,16 @@ pub fn resolve(table: toml::Table) -> Result<Scenario, ScenarioError> {
             },
         };
         let section = parse_model(&one.model).map_err(ctx)?;
+        if solver.linear_solver != LinearSolverChoice::Direct
+            && !matches!(section.config, ModelConfig::Sheet(..))
+        {
+            return Err(ctx(ScenarioError::key(
+                "solver.linear_solver",
+                "= \"iterative\" applies to sheet models only (sparse Jacobians); lines, rings \
+                 and the shear column use the banded or sparse LU"
+                    .to_string(),
+            )));
+        }
         for &model in &section.models {
             let mut label = model_name(model).to_string();
             if let Some(p) = &point {
@@ -386,6 +397,47 @@ K = 1.0
         assert_eq!(e.key_name(), Some("solver.method"));
         let e = load(BASE, &["model.cells=0"]).unwrap_err();
         assert_eq!(e.key_name(), Some("model.cells"));
+    }
+
+    #[test]
+    fn iterative_linear_solver_is_parsed_for_sheets_and_checked() {
+        let sheet = r#"
+name = "s"
+description = "test"
+[output]
+series = [0, 1]
+[model]
+kind = "sheet"
+cells_x = 4
+cells_y = 3
+[solver]
+linear_solver = "iterative"
+krylov_rtol = 1e-6
+"#;
+        let s = load(sheet, &["solver.newton_factor=0.05"]).unwrap();
+        assert_eq!(
+            s.runs[0].solver.linear_solver,
+            LinearSolverChoice::Iterative(integrators::IterativeSettings {
+                rtol: 1e-6,
+                max_iters: 200,
+                newton_factor: 0.05,
+            })
+        );
+        for (set, key) in [
+            ("solver.krylov_rtol=1.5", "solver.krylov_rtol"),
+            ("solver.krylov_max_iters=0", "solver.krylov_max_iters"),
+            ("solver.newton_factor=-0.1", "solver.newton_factor"),
+            ("solver.linear_solver=\"lu\"", "solver.linear_solver"),
+        ] {
+            let e = load(sheet, &[set]).unwrap_err();
+            assert_eq!(e.key_name(), Some(key), "{set}: {e}");
+        }
+        let e = load(BASE, &["solver.linear_solver=iterative"]).unwrap_err();
+        assert_eq!(e.key_name(), Some("solver.linear_solver"));
+        assert_eq!(
+            load(BASE, &[]).unwrap().runs[0].solver.linear_solver,
+            LinearSolverChoice::Direct
+        );
     }
 
     #[test]

@@ -3,7 +3,7 @@
 //! (see [`super::model`]), which owns and validates the rest of the keys.
 
 use super::error::ScenarioError;
-use integrators::{ErrorNorm, MethodKind};
+use integrators::{ErrorNorm, IterativeSettings, LinearSolverChoice, MethodKind};
 use serde::{Deserialize, Serialize};
 
 /// The file's top level as written (before sweep expansion and model parsing).
@@ -45,6 +45,16 @@ pub struct SolverSection {
     pub atol: f64,
     /// Error norm: `"max"` (default for cell arrays) or `"rms"`.
     pub norm: String,
+    /// Linear solver of the Newton iterations: `"direct"` (default: banded or sparse LU) or
+    /// `"iterative"` (ILU(0)-preconditioned BiCGStab; sheet models only).
+    pub linear_solver: String,
+    /// Iterative solver: relative preconditioned residual at which every solve stops, in (0, 1).
+    pub krylov_rtol: f64,
+    /// Iterative solver: most BiCGStab iterations per solve, ≥ 1.
+    pub krylov_max_iters: usize,
+    /// Iterative solver: fraction of the Newton tolerance the linear error may reach, in
+    /// [0, 1); 0 keeps only `krylov_rtol`.
+    pub newton_factor: f64,
 }
 
 impl Default for SolverSection {
@@ -54,6 +64,10 @@ impl Default for SolverSection {
             rtol: 1e-6,
             atol: 1e-8,
             norm: "max".into(),
+            linear_solver: "direct".into(),
+            krylov_rtol: IterativeSettings::default().rtol,
+            krylov_max_iters: IterativeSettings::default().max_iters,
+            newton_factor: IterativeSettings::default().newton_factor,
         }
     }
 }
@@ -71,6 +85,27 @@ pub struct SolverChoice {
     /// Error norm of the local error and Newton tests.
     #[serde(serialize_with = "norm_name")]
     pub norm: ErrorNorm,
+    /// Linear solver of the Newton iterations.
+    #[serde(serialize_with = "linear_solver_fields")]
+    pub linear_solver: LinearSolverChoice,
+}
+
+fn linear_solver_fields<S: serde::Serializer>(
+    c: &LinearSolverChoice,
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    use serde::ser::SerializeMap;
+    match c {
+        LinearSolverChoice::Direct => s.serialize_str("direct"),
+        LinearSolverChoice::Iterative(it) => {
+            let mut m = s.serialize_map(Some(4))?;
+            m.serialize_entry("kind", "iterative")?;
+            m.serialize_entry("krylov_rtol", &it.rtol)?;
+            m.serialize_entry("krylov_max_iters", &it.max_iters)?;
+            m.serialize_entry("newton_factor", &it.newton_factor)?;
+            m.end()
+        }
+    }
 }
 
 fn norm_name<S: serde::Serializer>(n: &ErrorNorm, s: S) -> Result<S::Ok, S::Error> {
@@ -105,11 +140,46 @@ impl SolverSection {
         }
         let norm =
             ErrorNorm::parse(&self.norm).map_err(|e| ScenarioError::key("solver.norm", e))?;
+        let linear_solver = match self.linear_solver.as_str() {
+            "direct" => LinearSolverChoice::Direct,
+            "iterative" => {
+                if !(self.krylov_rtol > 0.0 && self.krylov_rtol < 1.0) {
+                    return Err(ScenarioError::key(
+                        "solver.krylov_rtol",
+                        format!("= {} must be in (0, 1)", self.krylov_rtol),
+                    ));
+                }
+                if self.krylov_max_iters == 0 {
+                    return Err(ScenarioError::key(
+                        "solver.krylov_max_iters",
+                        "= 0 must be at least 1".to_string(),
+                    ));
+                }
+                if !(self.newton_factor >= 0.0 && self.newton_factor < 1.0) {
+                    return Err(ScenarioError::key(
+                        "solver.newton_factor",
+                        format!("= {} must be in [0, 1)", self.newton_factor),
+                    ));
+                }
+                LinearSolverChoice::Iterative(IterativeSettings {
+                    rtol: self.krylov_rtol,
+                    max_iters: self.krylov_max_iters,
+                    newton_factor: self.newton_factor,
+                })
+            }
+            other => {
+                return Err(ScenarioError::key(
+                    "solver.linear_solver",
+                    format!("= \"{other}\" must be \"direct\" or \"iterative\""),
+                ))
+            }
+        };
         Ok(SolverChoice {
             method,
             rtol: self.rtol,
             atol: self.atol,
             norm,
+            linear_solver,
         })
     }
 }
