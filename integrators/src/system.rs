@@ -280,6 +280,23 @@ impl<'a> System<'a> {
         self.stats.krylov_failures += after.failures - before.failures;
     }
 
+    /// Counted in-place solve that also maps every solution component (see
+    /// [`LinearSolver::solve_in_place_map`]: the banded tridiagonal solver fuses the map into
+    /// its backward sweep).
+    pub fn solve_map(
+        &mut self,
+        solver: &LinearSolver,
+        b: &mut [f64],
+        map: impl FnMut(usize, f64) -> f64,
+    ) {
+        self.stats.linear_solves += 1;
+        let before = solver.krylov_counters();
+        solver.solve_in_place_map(b, map);
+        let after = solver.krylov_counters();
+        self.stats.krylov_iterations += after.iterations - before.iterations;
+        self.stats.krylov_failures += after.failures - before.failures;
+    }
+
     /// Error weights `w_i = 1/(rtol·|y_i| + atol_i)`, zero for algebraic components when
     /// `opts.suppress_algebraic`.
     pub fn error_weights(&self, y: &[f64], w: &mut [f64]) {

@@ -68,13 +68,171 @@ pub(crate) struct BandLu {
     /// band is latency-bound).
     dinv: Vec<f64>,
     factored: bool,
+    /// Compact factors for `l = u = 1` (then `ab`, `ipiv` and `dinv` stay empty).
+    tri: Option<TriLu>,
     /// Multiply–add count of the last factorisation.
     pub(crate) flops: usize,
+}
+
+/// LU factors of a tridiagonal matrix with partial pivoting, stored by role instead of in the
+/// `dgbtrf` band layout: the forward sweep streams 9 bytes per row (multiplier and interchange
+/// flag) instead of a 32-byte band column plus an 8-byte pivot index, the backward sweep 24
+/// (`U`'s two super-diagonals and the pivot reciprocal, interleaved so they arrive in one
+/// stream). The arithmetic is `dgbtf2`/`dgbtrs` at `l = u = 1`, operation for operation.
+#[derive(Clone, Debug)]
+struct TriLu {
+    /// `L(j+1, j)`.
+    mult: Vec<f64>,
+    /// Whether rows `j` and `j+1` were interchanged at step `j`.
+    swap: Vec<bool>,
+    /// Column `j` of `U`: `[U(j−2, j), U(j−1, j), 1/U(j, j)]` (the first is interchange fill).
+    ucol: Vec<[f64; 3]>,
+}
+
+impl TriLu {
+    fn new(n: usize) -> Self {
+        Self {
+            mult: vec![0.0; n],
+            swap: vec![false; n],
+            ucol: vec![[0.0; 3]; n],
+        }
+    }
+
+    /// `dgbtf2` at `l = u = 1` on the matrix whose column `j` holds `col(j) = [A(j−1, j),
+    /// A(j, j), A(j+1, j)]` (entries outside the matrix are read and must be finite, as the
+    /// band storage's zero slots are). One streaming pass: the entries are loaded as the
+    /// elimination reaches them, so a combined matrix `A + β·B` is never stored. Returns the
+    /// multiply–add count, or `Err(column)`: the first column holding a non-finite entry if
+    /// there is one (as the band path's up-front check reports), else the zero pivot's.
+    #[inline(always)]
+    fn factor(&mut self, n: usize, col: impl Fn(usize) -> [f64; 3]) -> Result<usize, usize> {
+        debug_assert!(n >= 2);
+        let first_bad = |col: &dyn Fn(usize) -> [f64; 3]| {
+            (0..n).find(|&j| col(j).iter().any(|v| !v.is_finite()))
+        };
+        let (mult, swap, ucol) = (&mut self.mult[..n], &mut self.swap[..n], &mut self.ucol[..n]);
+        let c0 = col(0);
+        let c1 = col(1);
+        let mut finite = c0.iter().chain(&c1).all(|v| v.is_finite());
+        // the current (partly eliminated) row j: entries at columns j and j+1
+        let (mut p0, mut p1) = (c0[1], c1[0]);
+        // original row j+1 is (c_j[2], c_{j+1}[1], c_{j+2}[0]); the next column is loaded ahead
+        let mut cur = c0;
+        let mut next = c1;
+        // U(j−2, j) and U(j−1, j) for the column being finished, U(j−1, j+1) for the next
+        let (mut u2, mut u1, mut u2_next) = (0.0, 0.0, 0.0);
+        let mut flops = 0usize;
+        let mut ju = 0usize;
+        for j in 0..n - 1 {
+            let after = if j + 2 < n {
+                let c = col(j + 2);
+                finite &= c.iter().all(|v| v.is_finite());
+                c
+            } else {
+                [0.0; 3]
+            };
+            let (a, d, c) = (cur[2], next[1], after[0]);
+            let swapped = a.abs() > p0.abs();
+            let piv = if swapped { a } else { p0 };
+            if piv == 0.0 || !piv.is_finite() {
+                return Err(first_bad(&col).unwrap_or(j));
+            }
+            let inv = 1.0 / piv;
+            ju = ju.max((j + 1 + usize::from(swapped)).min(n - 1));
+            flops += ju - j;
+            swap[j] = swapped;
+            ucol[j] = [u2, u1, inv];
+            // U(j, j+1), U(j, j+2); the remaining row j+1
+            let (r1, r2, q0, q1);
+            if swapped {
+                let m = p0 * inv;
+                mult[j] = m;
+                (r1, r2) = (d, c);
+                q0 = if d != 0.0 { p1 - m * d } else { p1 };
+                // the fill slot starts at zero; it exists only while j+2 < n
+                q1 = if c != 0.0 { 0.0 - m * c } else { 0.0 };
+            } else {
+                let m = a * inv;
+                mult[j] = m;
+                (r1, r2) = (p1, 0.0);
+                q0 = if p1 != 0.0 { d - m * p1 } else { d };
+                q1 = c;
+            }
+            u1 = r1;
+            u2 = u2_next;
+            u2_next = r2;
+            (p0, p1) = (q0, q1);
+            cur = next;
+            next = after;
+        }
+        // last column: a 1×1 pivot
+        if p0 == 0.0 || !p0.is_finite() {
+            return Err(first_bad(&col).unwrap_or(n - 1));
+        }
+        swap[n - 1] = false;
+        mult[n - 1] = 0.0;
+        ucol[n - 1] = [u2, u1, 1.0 / p0];
+        if !finite {
+            return Err(first_bad(&col).unwrap_or(n - 1));
+        }
+        Ok(flops)
+    }
+
+    /// `dgbtrs` at `l = u = 1`; `map(j, x_j)` is stored in `b[j]` as each solution component
+    /// is found (in decreasing `j`), so a caller's pass over the solution rides along with the
+    /// latency-bound backward sweep instead of being a separate pass over memory.
+    #[inline(always)]
+    fn solve_map(&self, b: &mut [f64], mut map: impl FnMut(usize, f64) -> f64) {
+        let n = b.len();
+        let (mult, swap, ucol) = (&self.mult[..n], &self.swap[..n], &self.ucol[..n]);
+        // forward: L with the row interchanges; the running entries stay in registers
+        let mut cur = b[0];
+        for j in 0..n - 1 {
+            let mut nxt = b[j + 1];
+            if swap[j] {
+                std::mem::swap(&mut cur, &mut nxt);
+            }
+            b[j] = cur;
+            if cur != 0.0 {
+                nxt -= mult[j] * cur;
+            }
+            cur = nxt;
+        }
+        // backward: U has two super-diagonals (the second from interchanges); U(−1, 0),
+        // U(−2, 0) and U(−1, 1) are stored as zeros, so the updates past the top are harmless
+        let mut a0 = cur;
+        let mut a1 = b[n - 2];
+        for j in (0..n).rev() {
+            let [u2, u1, dinv] = ucol[j];
+            let x = a0 * dinv;
+            let mut a2 = if j >= 2 { b[j - 2] } else { 0.0 };
+            if x != 0.0 {
+                a1 -= u1 * x;
+                a2 -= u2 * x;
+            }
+            b[j] = map(j, x);
+            a0 = a1;
+            a1 = a2;
+        }
+    }
 }
 
 impl BandLu {
     pub(crate) fn new(n: usize, lower: usize, upper: usize) -> Self {
         let shape = BandMatrix::zeros(n, lower, upper);
+        if (shape.lower, shape.upper) == (1, 1) {
+            return Self {
+                n,
+                l: 1,
+                u: 1,
+                ab: Vec::new(),
+                ipiv: Vec::new(),
+                dinv: Vec::new(),
+                factored: false,
+                tri: Some(TriLu::new(n)),
+                flops: 0,
+            };
+        }
         Self {
             n,
             l: shape.lower,
@@ -83,14 +241,33 @@ impl BandLu {
             ipiv: vec![0; n],
             dinv: vec![0.0; n],
             factored: false,
+            tri: None,
             flops: 0,
         }
+    }
+
+    /// Runs the compact tridiagonal factorisation on the column entries `col(j)`.
+    fn factor_tri(&mut self, col: impl Fn(usize) -> [f64; 3]) -> Result<(), usize> {
+        self.factored = false;
+        self.flops = 0;
+        let tri = self.tri.as_mut().expect("tridiagonal solver");
+        let res = tri.factor(self.n, col);
+        if let Ok(f) = res {
+            self.flops = f;
+        }
+        self.factored = res.is_ok();
+        res.map(|_| ())
     }
 
     /// Factorises `m` (same shape as given to [`BandLu::new`]). `Err(column)` on a zero or
     /// non-finite pivot, or a non-finite entry.
     pub(crate) fn factor(&mut self, m: &BandMatrix) -> Result<(), usize> {
         self.check_shape(m);
+        if self.tri.is_some() {
+            // band column j: [fill, A(j−1, j), A(j, j), A(j+1, j)]
+            let d = &m.data[..4 * self.n];
+            return self.factor_tri(|j| [d[4 * j + 1], d[4 * j + 2], d[4 * j + 3]]);
+        }
         self.ab.copy_from_slice(&m.data);
         self.factor_loaded()
     }
@@ -107,6 +284,18 @@ impl BandLu {
     ) -> Result<(), usize> {
         self.check_shape(a);
         self.check_shape(b);
+        if self.tri.is_some() {
+            // the same `a_k + beta·b_k` per entry, fed to the elimination as it streams
+            let (x, y) = (&a.data[..4 * self.n], &b.data[..4 * self.n]);
+            return self.factor_tri(|j| {
+                let k = 4 * j;
+                [
+                    x[k + 1] + beta * y[k + 1],
+                    x[k + 2] + beta * y[k + 2],
+                    x[k + 3] + beta * y[k + 3],
+                ]
+            });
+        }
         self.factored = false;
         self.flops = 0;
         // one pass: combine, zero the fill slots, check finiteness
@@ -158,7 +347,6 @@ impl BandLu {
     /// Elimination on the loaded, checked storage.
     fn eliminate(&mut self) -> Result<(), usize> {
         let res = match (self.l, self.u) {
-            (1, 1) => self.factor_impl(1, 1),
             (2, 2) => self.factor_impl(2, 2),
             (l, u) => self.factor_impl(l, u),
         };
@@ -241,57 +429,30 @@ impl BandLu {
             "LinearSolver::solve_in_place before a successful factor"
         );
         assert_eq!(b.len(), self.n, "right-hand side length mismatch");
-        match (self.l, self.u) {
-            (1, 1) => self.solve_tridiagonal(b),
-            (2, 2) => self.solve_impl(2, 2, b),
-            (l, u) => self.solve_impl(l, u, b),
+        match (self.l, self.u, &self.tri) {
+            (_, _, Some(tri)) => tri.solve_map(b, |_, x| x),
+            (2, 2, _) => self.solve_impl(2, 2, b),
+            (l, u, _) => self.solve_impl(l, u, b),
         }
     }
 
-    /// [`solve_impl`](Self::solve_impl) for `l = u = 1` with the running entries kept in
-    /// registers: in the generic loop every row waits for the store of the previous row's
-    /// update to be forwarded back from memory. Same operations in the same order, so the
-    /// result is bitwise that of the generic loop.
-    fn solve_tridiagonal(&self, b: &mut [f64]) {
-        let n = self.n;
-        if n == 0 {
-            return;
-        }
-        // ld = 4, kv = 2: column j holds [U(j−2, j) (interchange fill), U(j−1, j), U(j, j),
-        // multiplier L(j+1, j)].
-        let ab = &self.ab[..4 * n];
-        // forward: L with the row interchanges (ipiv[j] is j or j + 1)
-        let mut cur = b[0];
-        for j in 0..n - 1 {
-            let mut nxt = b[j + 1];
-            if self.ipiv[j] != j {
-                std::mem::swap(&mut cur, &mut nxt);
-            }
-            b[j] = cur;
-            if cur != 0.0 {
-                nxt -= ab[4 * j + 3] * cur;
-            }
-            cur = nxt;
-        }
-        b[n - 1] = cur;
-        // backward: U has two super-diagonals (the second one from interchanges)
-        let mut a0 = b[n - 1];
-        let mut a1 = if n >= 2 { b[n - 2] } else { 0.0 };
-        for j in (0..n).rev() {
-            let x = a0 * self.dinv[j];
-            b[j] = x;
-            let mut a2 = if j >= 2 { b[j - 2] } else { 0.0 };
-            if x != 0.0 {
-                let col = &ab[4 * j..4 * j + 4];
-                if j >= 1 {
-                    a1 -= col[1] * x;
-                }
-                if j >= 2 {
-                    a2 -= col[0] * x;
+    /// [`solve`](Self::solve), then `b[j] = map(j, x_j)` for every component. The tridiagonal
+    /// path applies `map` inside its backward sweep (in decreasing `j`); the others after the
+    /// solve, in increasing `j`.
+    pub(crate) fn solve_map(&self, b: &mut [f64], mut map: impl FnMut(usize, f64) -> f64) {
+        assert!(
+            self.factored,
+            "LinearSolver::solve_in_place before a successful factor"
+        );
+        assert_eq!(b.len(), self.n, "right-hand side length mismatch");
+        match &self.tri {
+            Some(tri) => tri.solve_map(b, map),
+            None => {
+                self.solve(b);
+                for (j, v) in b.iter_mut().enumerate() {
+                    *v = map(j, *v);
                 }
             }
-            a0 = a1;
-            a1 = a2;
         }
     }
 

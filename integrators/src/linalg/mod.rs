@@ -405,6 +405,35 @@ impl LinearSolver {
             Inner::Iterative(it) => it.solve(b),
         }
     }
+    /// [`solve_in_place`](Self::solve_in_place), then `b[j] = map(j, x_j)` for every
+    /// component, in an order of the solver's choosing: the tridiagonal banded solver applies
+    /// `map` inside its backward sweep (decreasing `j`), which saves the caller a separate pass
+    /// over the solution; the others apply it afterwards in increasing `j`.
+    ///
+    /// ```
+    /// use integrators::linalg::{LinearSolver, Matrix};
+    /// use integrators::Pattern;
+    /// let p = Pattern::Banded { lower: 1, upper: 1 };
+    /// let mut m = Matrix::zeros(3, &p);
+    /// for i in 0..3 {
+    ///     m.add(i, i, 4.0);
+    ///     if i > 0 { m.add(i, i - 1, -1.0); m.add(i - 1, i, -1.0); }
+    /// }
+    /// let mut lu = LinearSolver::new(3, &p);
+    /// lu.factor(&m).unwrap();
+    /// let mut b = vec![3.0, 2.0, 3.0];
+    /// lu.solve_in_place_map(&mut b, |_, x| -x);
+    /// assert!(b.iter().all(|x| (x + 1.0).abs() < 1e-14));
+    /// ```
+    pub fn solve_in_place_map(&self, b: &mut [f64], mut map: impl FnMut(usize, f64) -> f64) {
+        if let Inner::Banded(lu) = &self.inner {
+            return lu.solve_map(b, map);
+        }
+        self.solve_in_place(b);
+        for (j, v) in b.iter_mut().enumerate() {
+            *v = map(j, *v);
+        }
+    }
     /// Whether the last `factor` created a new symbolic factorisation (for statistics).
     pub fn last_factor_was_symbolic(&self) -> bool {
         match &self.inner {

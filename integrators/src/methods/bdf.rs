@@ -136,7 +136,7 @@ pub struct Bdf {
     vals: VecDeque<Vec<f64>>,
     /// `ẏ` at the start's double node.
     yp0: Vec<f64>,
-    y: Vec<f64>,
+    /// `ẏ` of the last accepted point (its `y` is the newest history vector, `vals[0]`).
     yp: Vec<f64>,
     jy: Option<Matrix>,
     jyp: Option<Matrix>,
@@ -149,14 +149,17 @@ pub struct Bdf {
     steps_since_jac: usize,
     /// Newton convergence-rate factor `ρ/(1-ρ)`.
     ss: f64,
-    ypred: Vec<f64>,
-    yppred: Vec<f64>,
+    /// Newton iterate (starts as the predictor).
     ycur: Vec<f64>,
     ypcur: Vec<f64>,
     ee: Vec<f64>,
     res: Vec<f64>,
+    /// Error weights, only when they differ from the Newton weights (suppressed algebraic
+    /// components); otherwise empty and [`Bdf::ewt`] answers `nwt`.
     ewt: Vec<f64>,
     nwt: Vec<f64>,
+    /// Whether `ewt` is stored separately.
+    ewt_separate: bool,
 }
 
 impl Default for Bdf {
@@ -220,6 +223,16 @@ fn worst(v: &[f64], w: &[f64]) -> Option<usize> {
         }
     }
     best
+}
+
+/// Outputs and inputs of the weights pass fused into the predictor ([`Bdf::predict`]).
+struct Weights<'a> {
+    nwt: &'a mut [f64],
+    /// Separate error weights (suppressed algebraic components), if any.
+    ewt: Option<&'a mut [f64]>,
+    atol: &'a [f64],
+    algebraic: &'a [bool],
+    rtol: f64,
 }
 
 /// Up to `NC` history vectors with their coefficients (see `Bdf::items`).
@@ -297,7 +310,6 @@ impl Bdf {
             times: VecDeque::new(),
             vals: VecDeque::new(),
             yp0: Vec::new(),
-            y: Vec::new(),
             yp: Vec::new(),
             jy: None,
             jyp: None,
@@ -308,14 +320,22 @@ impl Bdf {
             c_fact: 0.0,
             steps_since_jac: 0,
             ss: 20.0,
-            ypred: Vec::new(),
-            yppred: Vec::new(),
             ycur: Vec::new(),
             ypcur: Vec::new(),
             ee: Vec::new(),
             res: Vec::new(),
             ewt: Vec::new(),
             nwt: Vec::new(),
+            ewt_separate: false,
+        }
+    }
+
+    /// Error weights (the Newton weights unless algebraic components are suppressed).
+    fn ewt(&self) -> &[f64] {
+        if self.ewt_separate {
+            &self.ewt
+        } else {
+            &self.nwt
         }
     }
 
@@ -342,6 +362,42 @@ impl Bdf {
     /// Value and derivative at `t` of the polynomial through the first `m` history nodes:
     /// `y = Σ p_j·v_j`, `ẏ = Σ p'_j·v_j`, computed block-wise so each input is read once.
     fn poly(&self, m: usize, t: f64, y: &mut [f64], yp: &mut [f64]) {
+        self.poly_impl(m, t, y, yp, None);
+    }
+
+    /// The predictor for a step to `t_new` from the first `m` history nodes, written into
+    /// `ycur`/`ẏcur` (the Newton iteration starts there and the Jacobian is evaluated there),
+    /// and in the same pass the error and Newton weights from the last accepted state.
+    fn predict(&mut self, sys: &System<'_>, m: usize, t_new: f64) {
+        let mut y = std::mem::take(&mut self.ycur);
+        let mut yp = std::mem::take(&mut self.ypcur);
+        let mut nwt = std::mem::take(&mut self.nwt);
+        let mut ewt = std::mem::take(&mut self.ewt);
+        let weights = Weights {
+            nwt: &mut nwt,
+            ewt: if self.ewt_separate {
+                Some(&mut ewt)
+            } else {
+                None
+            },
+            atol: sys.atol(),
+            algebraic: sys.algebraic(),
+            rtol: sys.opts.rtol,
+        };
+        self.poly_impl(m, t_new, &mut y, &mut yp, Some(weights));
+        (self.ycur, self.ypcur, self.nwt, self.ewt) = (y, yp, nwt, ewt);
+    }
+
+    /// [`poly`](Self::poly), optionally also filling the weights from the newest history
+    /// vector (block by block, so the vector is read once for both).
+    fn poly_impl(
+        &self,
+        m: usize,
+        t: f64,
+        y: &mut [f64],
+        yp: &mut [f64],
+        mut weights: Option<Weights<'_>>,
+    ) {
         let z: Vec<f64> = self.times.iter().take(m).copied().collect();
         let mut p = [0.0; NC];
         let mut dp = [0.0; NC];
@@ -360,6 +416,21 @@ impl Bdf {
                 for ((yi, ypi), &x) in yb.iter_mut().zip(ypb.iter_mut()).zip(vb) {
                     *yi += a * x;
                     *ypi += b * x;
+                }
+            }
+            if let Some(w) = weights.as_mut() {
+                // the Newton weights are the error weights without the suppression of
+                // algebraic components, as in `System::error_weights`
+                let rtol = w.rtol;
+                let (y0, atol) = (&self.vals[0][s..e], &w.atol[s..e]);
+                for ((nw, yi), a) in w.nwt[s..e].iter_mut().zip(y0).zip(atol) {
+                    *nw = 1.0 / (rtol * yi.abs() + a);
+                }
+                if let Some(ew) = w.ewt.as_mut() {
+                    let alg = &w.algebraic[s..e];
+                    for ((ewi, &nw), &is_alg) in ew[s..e].iter_mut().zip(&w.nwt[s..e]).zip(alg) {
+                        *ewi = if is_alg { 0.0 } else { nw };
+                    }
                 }
             }
             s = e;
@@ -419,7 +490,7 @@ impl Bdf {
         let mut s = 0;
         while s < n {
             let e = (s + BLK).min(n);
-            let (yb, wb) = (&self.ycur[s..e], &self.ewt[s..e]);
+            let (yb, wb) = (&self.ycur[s..e], &self.ewt()[s..e]);
             for (d, w) in self.ee[s..e].iter().zip(wb) {
                 acc_e.push(d * w);
             }
@@ -452,7 +523,8 @@ impl Bdf {
         }
     }
 
-    /// Jacobian (if needed) and factorisation for `α`, then simplified Newton from the predictor.
+    /// Jacobian (if needed) and factorisation for `α`, then simplified Newton from the predictor
+    /// (which [`Bdf::predict`] has written into `ycur`/`ẏcur`).
     fn newton(&mut self, sys: &mut System<'_>, t_new: f64, alpha: f64) -> Result<(), NewtonFail> {
         let n = self.n;
         self.ensure_linalg(sys);
@@ -461,8 +533,8 @@ impl Bdf {
             let jy = self.jy.as_mut().expect("allocated");
             let jyp = self.jyp.as_mut().expect("allocated");
             let r = sys
-                .jacobian(t_new, &self.ypred, &self.yppred, 0.0, jy)
-                .and_then(|_| sys.jacobian(t_new, &self.ypred, &self.yppred, 1.0, jyp));
+                .jacobian(t_new, &self.ycur, &self.ypcur, 0.0, jy)
+                .and_then(|_| sys.jacobian(t_new, &self.ycur, &self.ypcur, 1.0, jyp));
             match r {
                 Ok(()) => {}
                 Err(StepFailure::Recoverable { reason, component }) => {
@@ -506,9 +578,6 @@ impl Bdf {
             2.0 / (1.0 + alpha / self.c_fact)
         };
 
-        self.ycur.copy_from_slice(&self.ypred);
-        self.ypcur.copy_from_slice(&self.yppred);
-        self.ee.iter_mut().for_each(|e| *e = 0.0);
         let mut oldnrm = 0.0;
         let maxit = sys.opts.max_newton_iters;
         let first_step = self.steps_since_start == 0;
@@ -522,24 +591,32 @@ impl Bdf {
             }
             sys.stats.newton_iterations += 1;
             // δ = −scale·J⁻¹F: solving for F and negating afterwards is bitwise the same as
-            // solving for −F (every rounding is sign-symmetric), and saves a pass. One fused
-            // pass then stores δ in `res`, updates the iterate and accumulates ‖δ‖.
-            sys.solve(self.lin.as_ref().expect("allocated"), &mut self.res);
+            // solving for −F (every rounding is sign-symmetric). The solve hands each
+            // component to one fused update that stores δ in `res`, updates the iterate and
+            // the accumulated correction (`ee` starts as the first δ) and accumulates ‖δ‖; the
+            // tridiagonal solver runs it inside its backward sweep.
             let mut acc = NormAcc::new(sys.opts.norm);
-            for ((((d, yc), ypc), e), w) in self
-                .res
-                .iter_mut()
-                .zip(self.ycur.iter_mut())
-                .zip(self.ypcur.iter_mut())
-                .zip(self.ee.iter_mut())
-                .zip(&self.nwt)
             {
-                let di = if scale != 1.0 { -(*d * scale) } else { -*d };
-                *d = di;
-                *yc += di;
-                *ypc += alpha * di;
-                *e += di;
-                acc.push(di * w);
+                let first = m == 0;
+                let (yc, ypc, ee, w) = (
+                    &mut self.ycur[..n],
+                    &mut self.ypcur[..n],
+                    &mut self.ee[..n],
+                    &self.nwt[..n],
+                );
+                let lin = self.lin.as_ref().expect("allocated");
+                sys.solve_map(lin, &mut self.res, |i, d| {
+                    let di = if scale != 1.0 { -(d * scale) } else { -d };
+                    yc[i] += di;
+                    ypc[i] += alpha * di;
+                    if first {
+                        ee[i] = di;
+                    } else {
+                        ee[i] += di;
+                    }
+                    acc.push(di * w[i]);
+                    di
+                });
             }
             let delnrm = acc.finish(n);
             if !delnrm.is_finite() {
@@ -616,18 +693,21 @@ impl Method for Bdf {
             self.iter = None;
             self.lin = None;
             for v in [
-                &mut self.ypred,
-                &mut self.yppred,
                 &mut self.ycur,
                 &mut self.ypcur,
                 &mut self.ee,
                 &mut self.res,
-                &mut self.ewt,
                 &mut self.nwt,
             ] {
                 v.clear();
                 v.resize(n, 0.0);
             }
+        }
+        self.ewt_separate =
+            sys.opts.suppress_algebraic && sys.algebraic().iter().any(|&is_alg| is_alg);
+        self.ewt.clear();
+        if self.ewt_separate {
+            self.ewt.resize(n, 0.0);
         }
         self.jac_valid = false;
         self.jac_current = false;
@@ -635,7 +715,6 @@ impl Method for Bdf {
         self.ss = 20.0;
         self.t = t;
         self.t_prev = t;
-        self.y = y.to_vec();
         self.yp = yp.to_vec();
         self.yp0 = yp.to_vec();
         self.times.clear();
@@ -680,30 +759,8 @@ impl Method for Bdf {
         }
         let opts = sys.opts;
         let n = self.n;
-        // weights from the state at the start of the step
-        // (one pass for both: the Newton weights are the error weights without suppression of
-        // algebraic components, as in `System::error_weights`)
-        {
-            let (atol, alg) = (sys.atol(), sys.algebraic());
-            assert!(atol.len() == n && alg.len() == n && self.y.len() == n);
-            let suppress = opts.suppress_algebraic;
-            for ((((ew, nw), yi), a), &is_alg) in self
-                .ewt
-                .iter_mut()
-                .zip(self.nwt.iter_mut())
-                .zip(&self.y)
-                .zip(atol)
-                .zip(alg)
-            {
-                let w = 1.0 / (opts.rtol * yi.abs() + a);
-                *nw = w;
-                *ew = if suppress && is_alg { 0.0 } else { w };
-            }
-        }
         if self.h_pending {
-            let (y0, yp0) = (std::mem::take(&mut self.y), std::mem::take(&mut self.yp0));
-            self.h = sys.initial_step(self.t, &y0, &yp0, t_stop - self.t, 1, false);
-            (self.y, self.yp0) = (y0, yp0);
+            self.h = sys.initial_step(self.t, &self.vals[0], &self.yp0, t_stop - self.t, 1, false);
             self.h_pending = false;
         }
         let fixed = opts.fixed_step;
@@ -726,21 +783,16 @@ impl Method for Bdf {
             let k = self.k.min(self.times.len() - 1);
             self.k = k;
             let m = k + 1;
-            // predictor
-            {
-                let mut a = std::mem::take(&mut self.ypred);
-                let mut b = std::mem::take(&mut self.yppred);
-                self.poly(m, t_new, &mut a, &mut b);
-                self.ypred = a;
-                self.yppred = b;
-            }
+            // predictor (and the weights from the state at the start of the step)
+            self.predict(sys, m, t_new);
             let alpha = self.alpha(k, t_new);
             self.jac_current = false;
             let mut outcome = self.newton(sys, t_new, alpha);
             if let Err(NewtonFail::NoConvergence(_)) = outcome {
                 if !self.jac_current {
-                    // stale Jacobian: refresh and retry the same step
+                    // stale Jacobian: refresh and retry the same step from the predictor
                     self.jac_valid = false;
+                    self.predict(sys, m, t_new);
                     outcome = self.newton(sys, t_new, alpha);
                 }
             }
@@ -833,7 +885,7 @@ impl Method for Bdf {
                 nef += 1;
                 sys.stats.error_test_failures += 1;
                 sys.stats.rejected_steps += 1;
-                last = LastFailure::ErrorTest(worst(&self.ee, &self.ewt));
+                last = LastFailure::ErrorTest(worst(&self.ee, self.ewt()));
                 let (r, kk) = if nef == 1 || self.steps_since_start == 0 {
                     // on the first step after a (re)start the step size is a guess (or the
                     // hint from before an event): trust the estimate for large reductions
@@ -901,14 +953,12 @@ impl Method for Bdf {
             } else {
                 vec![0.0; n]
             };
-            let mut buf = buf;
-            // the new state moves into y/ẏ (the next Newton overwrites ycur/ypcur from the
-            // predictor), the history keeps a copy
-            std::mem::swap(&mut self.y, &mut self.ycur);
+            // the new state moves into the history (it is `y`) and `ẏ` by swapping buffers;
+            // the next predictor overwrites ycur/ypcur
+            let y_new = std::mem::replace(&mut self.ycur, buf);
             std::mem::swap(&mut self.yp, &mut self.ypcur);
-            buf.copy_from_slice(&self.y);
             self.times.push_front(t_new);
-            self.vals.push_front(buf);
+            self.vals.push_front(y_new);
             self.k_last = k;
             sys.stats.steps += 1;
             self.steps_since_jac += 1;
@@ -955,7 +1005,7 @@ impl Method for Bdf {
     }
 
     fn y(&self) -> &[f64] {
-        &self.y
+        self.vals.front().map_or(&[], |v| v)
     }
 
     fn yp(&self) -> &[f64] {
@@ -968,7 +1018,7 @@ impl Method for Bdf {
 
     fn interpolate(&self, t: f64, y: &mut [f64], yp: &mut [f64]) {
         if self.t == self.t_prev || t == self.t {
-            y.copy_from_slice(&self.y);
+            y.copy_from_slice(&self.vals[0]);
             yp.copy_from_slice(&self.yp);
             return;
         }
