@@ -287,7 +287,7 @@ impl<'a> System<'a> {
         &mut self,
         solver: &LinearSolver,
         b: &mut [f64],
-        map: impl FnMut(usize, f64) -> f64,
+        map: &mut impl crate::linalg::SolutionMap,
     ) {
         self.stats.linear_solves += 1;
         let before = solver.krylov_counters();

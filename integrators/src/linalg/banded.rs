@@ -14,7 +14,54 @@
 //! [`BandLu::factor_combination`] builds `A + β·B` straight into the factor storage (the BDF's
 //! iteration matrix `∂F/∂y + α·∂F/∂ẏ`) in the same pass that checks finiteness.
 
-use super::BandMatrix;
+use super::{BandMatrix, SolutionMap};
+
+/// Column entries `[A(j−1, j), A(j, j), A(j+1, j)]` of a tridiagonal matrix, for
+/// [`TriLu::factor`] (a trait with always-inlined methods, not a closure, so the streaming
+/// loop is not left with a call per column).
+trait TriColumns {
+    fn col(&self, j: usize) -> [f64; 3];
+}
+
+/// Columns read from band storage (`ld = 4`: `[fill, A(j−1, j), A(j, j), A(j+1, j)]`).
+struct BandColumns<'a>(&'a [f64]);
+
+impl TriColumns for BandColumns<'_> {
+    #[inline(always)]
+    fn col(&self, j: usize) -> [f64; 3] {
+        let c = &self.0[4 * j..4 * j + 4];
+        [c[1], c[2], c[3]]
+    }
+}
+
+/// Columns of `a + beta·b` from two band storages, each entry `a_k + beta·b_k`.
+struct CombinedColumns<'a> {
+    a: &'a [f64],
+    beta: f64,
+    b: &'a [f64],
+}
+
+impl TriColumns for CombinedColumns<'_> {
+    #[inline(always)]
+    fn col(&self, j: usize) -> [f64; 3] {
+        let (x, y) = (&self.a[4 * j..4 * j + 4], &self.b[4 * j..4 * j + 4]);
+        [
+            x[1] + self.beta * y[1],
+            x[2] + self.beta * y[2],
+            x[3] + self.beta * y[3],
+        ]
+    }
+}
+
+/// The identity map (a plain solve).
+struct Identity;
+
+impl SolutionMap for Identity {
+    #[inline(always)]
+    fn map(&mut self, _j: usize, x: f64) -> f64 {
+        x
+    }
+}
 
 impl BandMatrix {
     /// A zero `n × n` band matrix; `lower`/`upper` are clamped to `n − 1`.
@@ -105,11 +152,10 @@ impl TriLu {
     /// multiply–add count, or `Err(column)`: the first column holding a non-finite entry if
     /// there is one (as the band path's up-front check reports), else the zero pivot's.
     #[inline(always)]
-    fn factor(&mut self, n: usize, col: impl Fn(usize) -> [f64; 3]) -> Result<usize, usize> {
+    fn factor<C: TriColumns>(&mut self, n: usize, cols: &C) -> Result<usize, usize> {
         debug_assert!(n >= 2);
-        let first_bad = |col: &dyn Fn(usize) -> [f64; 3]| {
-            (0..n).find(|&j| col(j).iter().any(|v| !v.is_finite()))
-        };
+        let col = |j| cols.col(j);
+        let first_bad = |cols: &C| (0..n).find(|&j| cols.col(j).iter().any(|v| !v.is_finite()));
         let (mult, swap, ucol) = (&mut self.mult[..n], &mut self.swap[..n], &mut self.ucol[..n]);
         let c0 = col(0);
         let c1 = col(1);
@@ -135,7 +181,7 @@ impl TriLu {
             let swapped = a.abs() > p0.abs();
             let piv = if swapped { a } else { p0 };
             if piv == 0.0 || !piv.is_finite() {
-                return Err(first_bad(&col).unwrap_or(j));
+                return Err(first_bad(cols).unwrap_or(j));
             }
             let inv = 1.0 / piv;
             ju = ju.max((j + 1 + usize::from(swapped)).min(n - 1));
@@ -167,13 +213,13 @@ impl TriLu {
         }
         // last column: a 1×1 pivot
         if p0 == 0.0 || !p0.is_finite() {
-            return Err(first_bad(&col).unwrap_or(n - 1));
+            return Err(first_bad(cols).unwrap_or(n - 1));
         }
         swap[n - 1] = false;
         mult[n - 1] = 0.0;
         ucol[n - 1] = [u2, u1, 1.0 / p0];
         if !finite {
-            return Err(first_bad(&col).unwrap_or(n - 1));
+            return Err(first_bad(cols).unwrap_or(n - 1));
         }
         Ok(flops)
     }
@@ -182,7 +228,7 @@ impl TriLu {
     /// is found (in decreasing `j`), so a caller's pass over the solution rides along with the
     /// latency-bound backward sweep instead of being a separate pass over memory.
     #[inline(always)]
-    fn solve_map(&self, b: &mut [f64], mut map: impl FnMut(usize, f64) -> f64) {
+    fn solve_map<M: SolutionMap>(&self, b: &mut [f64], map: &mut M) {
         let n = b.len();
         let (mult, swap, ucol) = (&self.mult[..n], &self.swap[..n], &self.ucol[..n]);
         // forward: L with the row interchanges; the running entries stay in registers
@@ -210,7 +256,7 @@ impl TriLu {
                 a1 -= u1 * x;
                 a2 -= u2 * x;
             }
-            b[j] = map(j, x);
+            b[j] = map.map(j, x);
             a0 = a1;
             a1 = a2;
         }
@@ -247,11 +293,11 @@ impl BandLu {
     }
 
     /// Runs the compact tridiagonal factorisation on the column entries `col(j)`.
-    fn factor_tri(&mut self, col: impl Fn(usize) -> [f64; 3]) -> Result<(), usize> {
+    fn factor_tri<C: TriColumns>(&mut self, cols: &C) -> Result<(), usize> {
         self.factored = false;
         self.flops = 0;
         let tri = self.tri.as_mut().expect("tridiagonal solver");
-        let res = tri.factor(self.n, col);
+        let res = tri.factor(self.n, cols);
         if let Ok(f) = res {
             self.flops = f;
         }
@@ -265,8 +311,7 @@ impl BandLu {
         self.check_shape(m);
         if self.tri.is_some() {
             // band column j: [fill, A(j−1, j), A(j, j), A(j+1, j)]
-            let d = &m.data[..4 * self.n];
-            return self.factor_tri(|j| [d[4 * j + 1], d[4 * j + 2], d[4 * j + 3]]);
+            return self.factor_tri(&BandColumns(&m.data[..4 * self.n]));
         }
         self.ab.copy_from_slice(&m.data);
         self.factor_loaded()
@@ -286,14 +331,10 @@ impl BandLu {
         self.check_shape(b);
         if self.tri.is_some() {
             // the same `a_k + beta·b_k` per entry, fed to the elimination as it streams
-            let (x, y) = (&a.data[..4 * self.n], &b.data[..4 * self.n]);
-            return self.factor_tri(|j| {
-                let k = 4 * j;
-                [
-                    x[k + 1] + beta * y[k + 1],
-                    x[k + 2] + beta * y[k + 2],
-                    x[k + 3] + beta * y[k + 3],
-                ]
+            return self.factor_tri(&CombinedColumns {
+                a: &a.data[..4 * self.n],
+                beta,
+                b: &b.data[..4 * self.n],
             });
         }
         self.factored = false;
@@ -430,7 +471,7 @@ impl BandLu {
         );
         assert_eq!(b.len(), self.n, "right-hand side length mismatch");
         match (self.l, self.u, &self.tri) {
-            (_, _, Some(tri)) => tri.solve_map(b, |_, x| x),
+            (_, _, Some(tri)) => tri.solve_map(b, &mut Identity),
             (2, 2, _) => self.solve_impl(2, 2, b),
             (l, u, _) => self.solve_impl(l, u, b),
         }
@@ -439,7 +480,7 @@ impl BandLu {
     /// [`solve`](Self::solve), then `b[j] = map(j, x_j)` for every component. The tridiagonal
     /// path applies `map` inside its backward sweep (in decreasing `j`); the others after the
     /// solve, in increasing `j`.
-    pub(crate) fn solve_map(&self, b: &mut [f64], mut map: impl FnMut(usize, f64) -> f64) {
+    pub(crate) fn solve_map<M: SolutionMap>(&self, b: &mut [f64], map: &mut M) {
         assert!(
             self.factored,
             "LinearSolver::solve_in_place before a successful factor"
@@ -450,7 +491,7 @@ impl BandLu {
             None => {
                 self.solve(b);
                 for (j, v) in b.iter_mut().enumerate() {
-                    *v = map(j, *v);
+                    *v = map.map(j, *v);
                 }
             }
         }

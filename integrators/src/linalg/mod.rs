@@ -99,6 +99,15 @@ pub(crate) enum Inner {
     Iterative(Box<iterative::IterativeSolver>),
 }
 
+/// A per-component map applied to a solution as the solver produces it
+/// ([`LinearSolver::solve_in_place_map`]). A trait rather than a closure so that an
+/// implementation can mark [`map`](SolutionMap::map) `#[inline(always)]`: the solver's loops
+/// call it once per component, and a call there costs more than a small update.
+pub trait SolutionMap {
+    /// The value stored for solution component `j`, given its value `x`.
+    fn map(&mut self, j: usize, x: f64) -> f64;
+}
+
 /// Index of the first non-finite value.
 pub(crate) fn first_non_finite(v: &[f64]) -> Option<usize> {
     v.iter().position(|x| !x.is_finite())
@@ -405,14 +414,18 @@ impl LinearSolver {
             Inner::Iterative(it) => it.solve(b),
         }
     }
-    /// [`solve_in_place`](Self::solve_in_place), then `b[j] = map(j, x_j)` for every
+    /// [`solve_in_place`](Self::solve_in_place), then `b[j] = map.map(j, x_j)` for every
     /// component, in an order of the solver's choosing: the tridiagonal banded solver applies
-    /// `map` inside its backward sweep (decreasing `j`), which saves the caller a separate pass
-    /// over the solution; the others apply it afterwards in increasing `j`.
+    /// the map inside its backward sweep (decreasing `j`), which saves the caller a separate
+    /// pass over the solution; the others apply it afterwards in increasing `j`.
     ///
     /// ```
-    /// use integrators::linalg::{LinearSolver, Matrix};
+    /// use integrators::linalg::{LinearSolver, Matrix, SolutionMap};
     /// use integrators::Pattern;
+    /// struct Negate;
+    /// impl SolutionMap for Negate {
+    ///     fn map(&mut self, _j: usize, x: f64) -> f64 { -x }
+    /// }
     /// let p = Pattern::Banded { lower: 1, upper: 1 };
     /// let mut m = Matrix::zeros(3, &p);
     /// for i in 0..3 {
@@ -422,16 +435,16 @@ impl LinearSolver {
     /// let mut lu = LinearSolver::new(3, &p);
     /// lu.factor(&m).unwrap();
     /// let mut b = vec![3.0, 2.0, 3.0];
-    /// lu.solve_in_place_map(&mut b, |_, x| -x);
+    /// lu.solve_in_place_map(&mut b, &mut Negate);
     /// assert!(b.iter().all(|x| (x + 1.0).abs() < 1e-14));
     /// ```
-    pub fn solve_in_place_map(&self, b: &mut [f64], mut map: impl FnMut(usize, f64) -> f64) {
+    pub fn solve_in_place_map<M: SolutionMap>(&self, b: &mut [f64], map: &mut M) {
         if let Inner::Banded(lu) = &self.inner {
             return lu.solve_map(b, map);
         }
         self.solve_in_place(b);
         for (j, v) in b.iter_mut().enumerate() {
-            *v = map(j, *v);
+            *v = map.map(j, *v);
         }
     }
     /// Whether the last `factor` created a new symbolic factorisation (for statistics).

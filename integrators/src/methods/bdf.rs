@@ -65,7 +65,7 @@
 use std::collections::VecDeque;
 
 use crate::error::{ErrorKind, SolverError};
-use crate::linalg::{LinearSolver, Matrix};
+use crate::linalg::{LinearSolver, Matrix, SolutionMap};
 use crate::method::Method;
 use crate::options::ErrorNorm;
 use crate::pattern::Pattern;
@@ -223,6 +223,42 @@ fn worst(v: &[f64], w: &[f64]) -> Option<usize> {
         }
     }
     best
+}
+
+/// The per-component Newton update, applied by the linear solve as each component of
+/// `J⁻¹F` is found ([`System::solve_map`]).
+struct NewtonUpdate<'a> {
+    y: &'a mut [f64],
+    yp: &'a mut [f64],
+    ee: &'a mut [f64],
+    w: &'a [f64],
+    scale: f64,
+    alpha: f64,
+    /// First iteration: `ee` starts as this correction.
+    first: bool,
+    acc: NormAcc,
+}
+
+impl SolutionMap for NewtonUpdate<'_> {
+    /// `δ_i = −scale·d_i`; updates `y`, `ẏ`, the accumulated correction and the norm; returns
+    /// `δ_i`.
+    #[inline(always)]
+    fn map(&mut self, i: usize, d: f64) -> f64 {
+        let di = if self.scale != 1.0 {
+            -(d * self.scale)
+        } else {
+            -d
+        };
+        self.y[i] += di;
+        self.yp[i] += self.alpha * di;
+        if self.first {
+            self.ee[i] = di;
+        } else {
+            self.ee[i] += di;
+        }
+        self.acc.push(di * self.w[i]);
+        di
+    }
 }
 
 /// Outputs and inputs of the weights pass fused into the predictor ([`Bdf::predict`]).
@@ -595,30 +631,19 @@ impl Bdf {
             // component to one fused update that stores δ in `res`, updates the iterate and
             // the accumulated correction (`ee` starts as the first δ) and accumulates ‖δ‖; the
             // tridiagonal solver runs it inside its backward sweep.
-            let mut acc = NormAcc::new(sys.opts.norm);
-            {
-                let first = m == 0;
-                let (yc, ypc, ee, w) = (
-                    &mut self.ycur[..n],
-                    &mut self.ypcur[..n],
-                    &mut self.ee[..n],
-                    &self.nwt[..n],
-                );
-                let lin = self.lin.as_ref().expect("allocated");
-                sys.solve_map(lin, &mut self.res, |i, d| {
-                    let di = if scale != 1.0 { -(d * scale) } else { -d };
-                    yc[i] += di;
-                    ypc[i] += alpha * di;
-                    if first {
-                        ee[i] = di;
-                    } else {
-                        ee[i] += di;
-                    }
-                    acc.push(di * w[i]);
-                    di
-                });
-            }
-            let delnrm = acc.finish(n);
+            let mut upd = NewtonUpdate {
+                y: &mut self.ycur[..n],
+                yp: &mut self.ypcur[..n],
+                ee: &mut self.ee[..n],
+                w: &self.nwt[..n],
+                scale,
+                alpha,
+                first: m == 0,
+                acc: NormAcc::new(sys.opts.norm),
+            };
+            let lin = self.lin.as_ref().expect("allocated");
+            sys.solve_map(lin, &mut self.res, &mut upd);
+            let delnrm = upd.acc.finish(n);
             if !delnrm.is_finite() {
                 return Err(NewtonFail::NoConvergence(worst(&self.res, &self.nwt)));
             }
