@@ -9,8 +9,10 @@
 //!
 //! Performance notes (the solve of a narrow band is bound by the latency of its serial
 //! recurrences, not by flops): the pivots' reciprocals are stored so the back substitution
-//! multiplies instead of dividing; `(l, u) = (1, 1)` and `(2, 2)` run copies of the loops with
-//! literal band widths, and the tridiagonal solve carries its running entries in registers;
+//! multiplies instead of dividing; `(l, u) = (2, 2)` runs a copy of the loops with literal band
+//! widths; tridiagonal matrices (`l = u = 1`, the lines and the heat equation) get
+//! their own compact, two-ended factorisation with partial pivoting ([`TriLu`]: two independent
+//! dependency chains, and a third of the memory traffic of the band layout);
 //! [`BandLu::factor_combination`] builds `A + β·B` straight into the factor storage (the BDF's
 //! iteration matrix `∂F/∂y + α·∂F/∂ẏ`) in the same pass that checks finiteness.
 
@@ -121,144 +123,202 @@ pub(crate) struct BandLu {
     pub(crate) flops: usize,
 }
 
-/// LU factors of a tridiagonal matrix with partial pivoting, stored by role instead of in the
-/// `dgbtrf` band layout: the forward sweep streams 9 bytes per row (multiplier and interchange
-/// flag) instead of a 32-byte band column plus an 8-byte pivot index, the backward sweep 24
-/// (`U`'s two super-diagonals and the pivot reciprocal, interleaved so they arrive in one
-/// stream). The arithmetic is `dgbtf2`/`dgbtrs` at `l = u = 1`, operation for operation.
+/// LU factors of a tridiagonal matrix with partial pivoting, eliminated from both ends at once
+/// ("twisted", burn-at-both-ends) and stored by role instead of in the `dgbtrf` band layout.
+///
+/// *Why*: a tridiagonal factorisation and its solves are serial recurrences (each row waits for
+/// a multiply, a subtraction and, in the factorisation, a division on the previous row), so one
+/// sweep runs at the latency of that chain, not at the memory's bandwidth. Gaussian elimination
+/// with partial pivoting (GEPP) in the column order `0, 1, …, k−1, n−1, n−2, …, k+1, k` touches
+/// rows `0..=k` in its first `k` steps and rows `k+1..n` in the next `n−2−k`, so with
+/// `k = (n−2)/2` the two halves are independent and run interleaved in one loop: two dependency
+/// chains for the CPU to overlap. It is ordinary GEPP on `A` with permuted columns (each step
+/// picks the larger of the two candidates in its column), so it keeps partial pivoting's
+/// robustness for matrices that are not diagonally dominant; only the rounding differs from
+/// the top-down `dgbtf2` order.
+///
+/// Storage: the forward sweep streams 9 bytes per row (multiplier and interchange flag) instead
+/// of a 32-byte band column and an 8-byte pivot index; the backward sweep 24 (the `U` row's two
+/// off-diagonal entries and its pivot reciprocal, interleaved into one stream).
 #[derive(Clone, Debug)]
 struct TriLu {
-    /// `L(j+1, j)`.
+    /// Twist index: rows `0..k` are eliminated downwards, `k+2..n` upwards, then rows `k+1`
+    /// and `k`.
+    k: usize,
+    /// Multiplier of the step that pivots in row `j`.
     mult: Vec<f64>,
-    /// Whether rows `j` and `j+1` were interchanged at step `j`.
+    /// Whether that step interchanged its two rows.
     swap: Vec<bool>,
-    /// Column `j` of `U`: `[U(j−2, j), U(j−1, j), 1/U(j, j)]` (the first is interchange fill).
-    ucol: Vec<[f64; 3]>,
+    /// Row `j` of `U`: `[u₂, u₁, 1/pivot]`, the entries two and one columns away from the
+    /// pivot towards the twist (right of it for `j < k`, left of it for `j > k`).
+    urow: Vec<[f64; 3]>,
+}
+
+/// One GEPP step on two rows of a tridiagonal matrix: the current (already updated) row with
+/// entries `p0` in the pivot column and `p1` one column on, and the other candidate row with
+/// `a` in the pivot column, `d` and `c` one and two columns on. Returns `None` on a zero or
+/// non-finite pivot, else `(swapped, multiplier, [u₂, u₁, 1/pivot], remaining row)`.
+#[inline(always)]
+#[allow(clippy::type_complexity)]
+fn tri_step(
+    p0: f64,
+    p1: f64,
+    a: f64,
+    d: f64,
+    c: f64,
+) -> Option<(bool, f64, [f64; 3], (f64, f64))> {
+    let swapped = a.abs() > p0.abs();
+    let piv = if swapped { a } else { p0 };
+    if piv == 0.0 || !piv.is_finite() {
+        return None;
+    }
+    let inv = 1.0 / piv;
+    Some(if swapped {
+        let m = p0 * inv;
+        (true, m, [c, d, inv], (p1 - m * d, -(m * c)))
+    } else {
+        let m = a * inv;
+        (false, m, [0.0, p1, inv], (d - m * p1, c))
+    })
 }
 
 impl TriLu {
     fn new(n: usize) -> Self {
         Self {
+            k: 0,
             mult: vec![0.0; n],
             swap: vec![false; n],
-            ucol: vec![[0.0; 3]; n],
+            urow: vec![[0.0; 3]; n],
         }
     }
 
-    /// `dgbtf2` at `l = u = 1` on the matrix whose column `j` holds `col(j) = [A(j−1, j),
-    /// A(j, j), A(j+1, j)]` (entries outside the matrix are read and must be finite, as the
-    /// band storage's zero slots are). One streaming pass: the entries are loaded as the
-    /// elimination reaches them, so a combined matrix `A + β·B` is never stored. Returns the
-    /// multiply–add count, or `Err(column)`: the first column holding a non-finite entry if
-    /// there is one (as the band path's up-front check reports), else the zero pivot's.
+    /// Twisted GEPP on the `n × n` (`n ≥ 2`) matrix whose column `j` holds `cols.col(j) =
+    /// [A(j−1, j), A(j, j), A(j+1, j)]` (entries outside the matrix are read and must be
+    /// finite, as the band storage's zero slots are). One streaming pass from each end: the
+    /// entries are loaded as the elimination reaches them, so a combined matrix `A + β·B` is
+    /// never stored. Returns the multiply–add count, or `Err(column)`: the first column holding
+    /// a non-finite entry if there is one (as the band path's up-front check reports), else
+    /// the column whose pivot was zero.
     #[inline(always)]
     fn factor<C: TriColumns>(&mut self, n: usize, cols: &C) -> Result<usize, usize> {
         debug_assert!(n >= 2);
-        let col = |j| cols.col(j);
         let first_bad = |cols: &C| (0..n).find(|&j| cols.col(j).iter().any(|v| !v.is_finite()));
-        let (mult, swap, ucol) = (&mut self.mult[..n], &mut self.swap[..n], &mut self.ucol[..n]);
-        let c0 = col(0);
-        let c1 = col(1);
-        let mut finite = c0.iter().chain(&c1).all(|v| v.is_finite());
-        // the current (partly eliminated) row j: entries at columns j and j+1
-        let (mut p0, mut p1) = (c0[1], c1[0]);
-        // original row j+1 is (c_j[2], c_{j+1}[1], c_{j+2}[0]); the next column is loaded ahead
-        let mut cur = c0;
-        let mut next = c1;
-        // U(j−2, j) and U(j−1, j) for the column being finished, U(j−1, j+1) for the next
-        let (mut u2, mut u1, mut u2_next) = (0.0, 0.0, 0.0);
+        let k = (n - 2) / 2;
+        let (top_len, bot_len) = (k, n - 2 - k);
+        self.k = k;
+        let (mult, swap, urow) = (&mut self.mult[..n], &mut self.swap[..n], &mut self.urow[..n]);
+        let mut finite = true;
+        let mut load = |j: usize| {
+            let c = cols.col(j);
+            finite &= c.iter().all(|v| v.is_finite());
+            c
+        };
         let mut flops = 0usize;
-        let mut ju = 0usize;
-        for j in 0..n - 1 {
-            let after = if j + 2 < n {
-                let c = col(j + 2);
-                finite &= c.iter().all(|v| v.is_finite());
-                c
-            } else {
-                [0.0; 3]
-            };
-            let (a, d, c) = (cur[2], next[1], after[0]);
-            let swapped = a.abs() > p0.abs();
-            let piv = if swapped { a } else { p0 };
-            if piv == 0.0 || !piv.is_finite() {
+        // downwards: the current row j has (tp0, tp1) in columns (j, j+1); the other candidate
+        // is row j+1 = (col(j)[2], col(j+1)[1], col(j+2)[0])
+        let (mut t_cur, mut t_next) = (load(0), load(1));
+        let (mut tp0, mut tp1) = (t_cur[1], t_next[0]);
+        // upwards: the current row j has (bp0, bp1) in columns (j, j−1); the other candidate is
+        // row j−1 = (col(j)[0], col(j−1)[1], col(j−2)[2])
+        let (mut b_cur, mut b_next) = (load(n - 1), load(n - 2));
+        let (mut bp0, mut bp1) = (b_cur[1], b_next[2]);
+        for i in 0..bot_len {
+            if i < top_len {
+                let j = i;
+                let after = load(j + 2);
+                let Some((sw, m, u, q)) = tri_step(tp0, tp1, t_cur[2], t_next[1], after[0])
+                else {
+                    return Err(first_bad(cols).unwrap_or(j));
+                };
+                (swap[j], mult[j], urow[j]) = (sw, m, u);
+                flops += 1 + usize::from(sw);
+                (tp0, tp1) = q;
+                (t_cur, t_next) = (t_next, after);
+            }
+            let j = n - 1 - i;
+            let after = load(j - 2);
+            let Some((sw, m, u, q)) = tri_step(bp0, bp1, b_cur[0], b_next[1], after[2]) else {
                 return Err(first_bad(cols).unwrap_or(j));
-            }
-            let inv = 1.0 / piv;
-            ju = ju.max((j + 1 + usize::from(swapped)).min(n - 1));
-            flops += ju - j;
-            swap[j] = swapped;
-            ucol[j] = [u2, u1, inv];
-            // U(j, j+1), U(j, j+2); the remaining row j+1
-            let (r1, r2, q0, q1);
-            if swapped {
-                let m = p0 * inv;
-                mult[j] = m;
-                (r1, r2) = (d, c);
-                q0 = if d != 0.0 { p1 - m * d } else { p1 };
-                // the fill slot starts at zero; it exists only while j+2 < n
-                q1 = if c != 0.0 { 0.0 - m * c } else { 0.0 };
-            } else {
-                let m = a * inv;
-                mult[j] = m;
-                (r1, r2) = (p1, 0.0);
-                q0 = if p1 != 0.0 { d - m * p1 } else { d };
-                q1 = c;
-            }
-            u1 = r1;
-            u2 = u2_next;
-            u2_next = r2;
-            (p0, p1) = (q0, q1);
-            cur = next;
-            next = after;
+            };
+            (swap[j], mult[j], urow[j]) = (sw, m, u);
+            flops += 1 + usize::from(sw);
+            (bp0, bp1) = q;
+            (b_cur, b_next) = (b_next, after);
         }
-        // last column: a 1×1 pivot
-        if p0 == 0.0 || !p0.is_finite() {
-            return Err(first_bad(cols).unwrap_or(n - 1));
+        // column k+1: the upward current row k+1 against the downward current row k (which
+        // has tp0 in column k and tp1 in column k+1); then the 1×1 pivot of column k
+        let Some((sw, m, u, (r, _))) = tri_step(bp0, bp1, tp1, tp0, 0.0) else {
+            return Err(first_bad(cols).unwrap_or(k + 1));
+        };
+        (swap[k + 1], mult[k + 1], urow[k + 1]) = (sw, m, u);
+        flops += 1;
+        if r == 0.0 || !r.is_finite() {
+            return Err(first_bad(cols).unwrap_or(k));
         }
-        swap[n - 1] = false;
-        mult[n - 1] = 0.0;
-        ucol[n - 1] = [u2, u1, 1.0 / p0];
+        (swap[k], mult[k], urow[k]) = (false, 0.0, [0.0, 0.0, 1.0 / r]);
         if !finite {
-            return Err(first_bad(cols).unwrap_or(n - 1));
+            return Err(first_bad(cols).unwrap_or(k));
         }
         Ok(flops)
     }
 
-    /// `dgbtrs` at `l = u = 1`; `map(j, x_j)` is stored in `b[j]` as each solution component
-    /// is found (in decreasing `j`), so a caller's pass over the solution rides along with the
-    /// latency-bound backward sweep instead of being a separate pass over memory.
+    /// Solve with the twisted factors; `map.map(j, x_j)` is stored in `b[j]` as each solution
+    /// component is found (outwards from the twist), so a caller's pass over the solution
+    /// rides along with the latency-bound back substitution instead of being a separate pass
+    /// over memory.
     #[inline(always)]
     fn solve_map<M: SolutionMap>(&self, b: &mut [f64], map: &mut M) {
         let n = b.len();
-        let (mult, swap, ucol) = (&self.mult[..n], &self.swap[..n], &self.ucol[..n]);
-        // forward: L with the row interchanges; the running entries stay in registers
-        let mut cur = b[0];
-        for j in 0..n - 1 {
-            let mut nxt = b[j + 1];
+        let k = self.k;
+        let (top_len, bot_len) = (k, n - 2 - k);
+        let (mult, swap, urow) = (&self.mult[..n], &self.swap[..n], &self.urow[..n]);
+        // forward: L⁻¹ with the interchanges, both halves at once (running entries in registers)
+        let (mut tc, mut bc) = (b[0], b[n - 1]);
+        for i in 0..bot_len {
+            if i < top_len {
+                let j = i;
+                let mut nx = b[j + 1];
+                if swap[j] {
+                    std::mem::swap(&mut tc, &mut nx);
+                }
+                b[j] = tc;
+                tc = nx - mult[j] * tc;
+            }
+            let j = n - 1 - i;
+            let mut nx = b[j - 1];
             if swap[j] {
-                std::mem::swap(&mut cur, &mut nxt);
+                std::mem::swap(&mut bc, &mut nx);
             }
-            b[j] = cur;
-            if cur != 0.0 {
-                nxt -= mult[j] * cur;
-            }
-            cur = nxt;
+            b[j] = bc;
+            bc = nx - mult[j] * bc;
         }
-        // backward: U has two super-diagonals (the second from interchanges); U(−1, 0),
-        // U(−2, 0) and U(−1, 1) are stored as zeros, so the updates past the top are harmless
-        let mut a0 = cur;
-        let mut a1 = b[n - 2];
-        for j in (0..n).rev() {
-            let [u2, u1, dinv] = ucol[j];
-            let x = a0 * dinv;
-            let mut a2 = if j >= 2 { b[j - 2] } else { 0.0 };
-            if x != 0.0 {
-                a1 -= u1 * x;
-                a2 -= u2 * x;
+        // column k+1 (rows k+1 and k), then column k
+        if swap[k + 1] {
+            std::mem::swap(&mut bc, &mut tc);
+        }
+        tc -= mult[k + 1] * bc;
+        // backward: x_k, x_{k+1}, then outwards in both directions at once
+        let xk = tc * urow[k][2];
+        let [_, u1, inv] = urow[k + 1];
+        let xk1 = (bc - u1 * xk) * inv;
+        b[k] = map.map(k, xk);
+        b[k + 1] = map.map(k + 1, xk1);
+        // (x_{j+1}, x_{j+2}) going up, (x_{j−1}, x_{j−2}) going down
+        let (mut t1, mut t2) = (xk, xk1);
+        let (mut d1, mut d2) = (xk1, xk);
+        for i in 0..bot_len {
+            if i < top_len {
+                let j = k - 1 - i;
+                let [u2, u1, inv] = urow[j];
+                let x = (b[j] - u2 * t2 - u1 * t1) * inv;
+                b[j] = map.map(j, x);
+                (t1, t2) = (x, t1);
             }
+            let j = k + 2 + i;
+            let [u2, u1, inv] = urow[j];
+            let x = (b[j] - u2 * d2 - u1 * d1) * inv;
             b[j] = map.map(j, x);
-            a0 = a1;
-            a1 = a2;
+            (d1, d2) = (x, d1);
         }
     }
 }
@@ -368,9 +428,9 @@ impl BandLu {
         );
     }
 
-    /// Factorises the matrix already copied into `self.ab`. The common narrow bands are
-    /// dispatched to copies of the same code with the band widths as literal constants, so the
-    /// compiler unrolls the short inner loops (a tridiagonal line is the hot case).
+    /// Factorises the matrix already copied into `self.ab`. The pentadiagonal band is
+    /// dispatched to a copy of the same code with the band widths as literal constants, so the
+    /// compiler unrolls the short inner loops (tridiagonal matrices take [`TriLu`] instead).
     fn factor_loaded(&mut self) -> Result<(), usize> {
         self.factored = false;
         self.flops = 0;
