@@ -267,7 +267,7 @@ impl TriLu {
     /// rides along with the latency-bound back substitution instead of being a separate pass
     /// over memory.
     #[inline(always)]
-    fn solve_map<M: SolutionMap>(&self, b: &mut [f64], map: &mut M) {
+    fn solve_map<M: SolutionMap>(&self, b: &mut [f64], mut map: M) -> M {
         let n = b.len();
         let k = self.k;
         let (top_len, bot_len) = (k, n - 2 - k);
@@ -320,6 +320,7 @@ impl TriLu {
             b[j] = map.map(j, x);
             (d1, d2) = (x, d1);
         }
+        map
     }
 }
 
@@ -531,7 +532,9 @@ impl BandLu {
         );
         assert_eq!(b.len(), self.n, "right-hand side length mismatch");
         match (self.l, self.u, &self.tri) {
-            (_, _, Some(tri)) => tri.solve_map(b, &mut Identity),
+            (_, _, Some(tri)) => {
+                tri.solve_map(b, Identity);
+            }
             (2, 2, _) => self.solve_impl(2, 2, b),
             (l, u, _) => self.solve_impl(l, u, b),
         }
@@ -540,7 +543,7 @@ impl BandLu {
     /// [`solve`](Self::solve), then `b[j] = map(j, x_j)` for every component. The tridiagonal
     /// path applies `map` inside its backward sweep (in decreasing `j`); the others after the
     /// solve, in increasing `j`.
-    pub(crate) fn solve_map<M: SolutionMap>(&self, b: &mut [f64], map: &mut M) {
+    pub(crate) fn solve_map<M: SolutionMap>(&self, b: &mut [f64], mut map: M) -> M {
         assert!(
             self.factored,
             "LinearSolver::solve_in_place before a successful factor"
@@ -553,6 +556,7 @@ impl BandLu {
                 for (j, v) in b.iter_mut().enumerate() {
                     *v = map.map(j, *v);
                 }
+                map
             }
         }
     }

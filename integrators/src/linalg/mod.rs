@@ -180,7 +180,9 @@ impl Matrix {
         }
     }
     /// Adds `v` to entry `(i, j)`. Entries outside the pattern are a programmer error (panics in
-    /// debug builds, ignored in release).
+    /// debug builds, ignored in release). Inlinable across crates: user Jacobians call it once
+    /// per entry.
+    #[inline]
     pub fn add(&mut self, i: usize, j: usize, v: f64) {
         match self.position(i, j) {
             Some(k) => self.values_mut()[k] += v,
@@ -188,6 +190,7 @@ impl Matrix {
         }
     }
     /// Overwrites entry `(i, j)` with `v` (same pattern rules as [`add`](Matrix::add)).
+    #[inline]
     pub fn set(&mut self, i: usize, j: usize, v: f64) {
         match self.position(i, j) {
             Some(k) => self.values_mut()[k] = v,
@@ -195,6 +198,7 @@ impl Matrix {
         }
     }
     /// Entry `(i, j)` (0 outside the pattern).
+    #[inline]
     pub fn get(&self, i: usize, j: usize) -> f64 {
         match (self.position(i, j), self) {
             (None, _) => 0.0,
@@ -435,10 +439,14 @@ impl LinearSolver {
     /// let mut lu = LinearSolver::new(3, &p);
     /// lu.factor(&m).unwrap();
     /// let mut b = vec![3.0, 2.0, 3.0];
-    /// lu.solve_in_place_map(&mut b, &mut Negate);
+    /// lu.solve_in_place_map(&mut b, Negate);
     /// assert!(b.iter().all(|x| (x + 1.0).abs() < 1e-14));
     /// ```
-    pub fn solve_in_place_map<M: SolutionMap>(&self, b: &mut [f64], map: &mut M) {
+    ///
+    /// The map is taken by value and handed back: held in a local of the solver, its fields
+    /// (running norms, slice pointers) stay in registers, where behind a reference every store
+    /// into the solution would make the compiler reload them.
+    pub fn solve_in_place_map<M: SolutionMap>(&self, b: &mut [f64], mut map: M) -> M {
         if let Inner::Banded(lu) = &self.inner {
             return lu.solve_map(b, map);
         }
@@ -446,6 +454,7 @@ impl LinearSolver {
         for (j, v) in b.iter_mut().enumerate() {
             *v = map.map(j, *v);
         }
+        map
     }
     /// Whether the last `factor` created a new symbolic factorisation (for statistics).
     pub fn last_factor_was_symbolic(&self) -> bool {

@@ -455,9 +455,8 @@ fn twisted_tridiagonal_lu_matches_dense_lu() {
                     2.0 * x
                 }
             }
-            let mut rec = Record(vec![None; n]);
             let mut x2 = b.clone();
-            lu.solve_in_place_map(&mut x2, &mut rec);
+            let rec = lu.solve_in_place_map(&mut x2, Record(vec![None; n]));
             for j in 0..n {
                 assert_eq!(rec.0[j], Some(xb[j]), "n={n} j={j}");
                 assert_eq!(x2[j], 2.0 * xb[j]);

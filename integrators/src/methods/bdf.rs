@@ -631,7 +631,7 @@ impl Bdf {
             // component to one fused update that stores δ in `res`, updates the iterate and
             // the accumulated correction (`ee` starts as the first δ) and accumulates ‖δ‖; the
             // tridiagonal solver runs it inside its backward sweep.
-            let mut upd = NewtonUpdate {
+            let upd = NewtonUpdate {
                 y: &mut self.ycur[..n],
                 yp: &mut self.ypcur[..n],
                 ee: &mut self.ee[..n],
@@ -642,7 +642,7 @@ impl Bdf {
                 acc: NormAcc::new(sys.opts.norm),
             };
             let lin = self.lin.as_ref().expect("allocated");
-            sys.solve_map(lin, &mut self.res, &mut upd);
+            let upd = sys.solve_map(lin, &mut self.res, upd);
             let delnrm = upd.acc.finish(n);
             if !delnrm.is_finite() {
                 return Err(NewtonFail::NoConvergence(worst(&self.res, &self.nwt)));
