@@ -160,13 +160,7 @@ struct TriLu {
 /// non-finite pivot, else `(swapped, multiplier, [u₂, u₁, 1/pivot], remaining row)`.
 #[inline(always)]
 #[allow(clippy::type_complexity)]
-fn tri_step(
-    p0: f64,
-    p1: f64,
-    a: f64,
-    d: f64,
-    c: f64,
-) -> Option<(bool, f64, [f64; 3], (f64, f64))> {
+fn tri_step(p0: f64, p1: f64, a: f64, d: f64, c: f64) -> Option<(bool, f64, [f64; 3], (f64, f64))> {
     let swapped = a.abs() > p0.abs();
     let piv = if swapped { a } else { p0 };
     if piv == 0.0 || !piv.is_finite() {
@@ -206,7 +200,11 @@ impl TriLu {
         let k = (n - 2) / 2;
         let (top_len, bot_len) = (k, n - 2 - k);
         self.k = k;
-        let (mult, swap, urow) = (&mut self.mult[..n], &mut self.swap[..n], &mut self.urow[..n]);
+        let (mult, swap, urow) = (
+            &mut self.mult[..n],
+            &mut self.swap[..n],
+            &mut self.urow[..n],
+        );
         let mut finite = true;
         let mut load = |j: usize| {
             let c = cols.col(j);
@@ -226,8 +224,7 @@ impl TriLu {
             if i < top_len {
                 let j = i;
                 let after = load(j + 2);
-                let Some((sw, m, u, q)) = tri_step(tp0, tp1, t_cur[2], t_next[1], after[0])
-                else {
+                let Some((sw, m, u, q)) = tri_step(tp0, tp1, t_cur[2], t_next[1], after[0]) else {
                     return Err(first_bad(cols).unwrap_or(j));
                 };
                 (swap[j], mult[j], urow[j]) = (sw, m, u);

@@ -443,7 +443,10 @@ fn twisted_tridiagonal_lu_matches_dense_lu() {
             let xb = solve(&m, &p, &b).expect("nonsingular");
             let scale = xd.iter().fold(1.0f64, |a, x| a.max(x.abs()));
             assert!(max_diff(&xb, &xd) <= 1e-9 * scale, "n={n} kind={kind}");
-            assert!(residual_norm(&m, &xb, &b) <= 1e-10 * scale, "n={n} kind={kind}");
+            assert!(
+                residual_norm(&m, &xb, &b) <= 1e-10 * scale,
+                "n={n} kind={kind}"
+            );
             // the fused map sees every component once, with its own index
             let mut lu = LinearSolver::new(n, &p);
             lu.factor(&m).unwrap();
@@ -498,7 +501,11 @@ fn twisted_tridiagonal_combination_and_errors() {
             for i in col.saturating_sub(1)..(col + 2).min(n) {
                 zero.set(i, col, 0.0);
             }
-            assert_eq!(solve(&zero, &p, &rhs), Err(col), "zero column n={n} col={col}");
+            assert_eq!(
+                solve(&zero, &p, &rhs),
+                Err(col),
+                "zero column n={n} col={col}"
+            );
         }
     }
 }
