@@ -36,12 +36,17 @@
 //!
 //! For large banded systems a step is bound by passes over `n`-vectors, so the vector work is
 //! fused: the iteration matrix is combined straight into the LU storage
-//! ([`System::factor_combination`]); each Newton iteration is one solve plus one pass that
-//! forms `δ`, updates `y`, `ẏ`, the accumulated correction and the norm; the local-error norm and
-//! the order-selection norms (orders `k−1`, `k−2`, `k+1`) come from one block-wise sweep over
-//! the history; the error and Newton weights from one pass; an accepted state moves into place
-//! by swapping buffers. All of it is bitwise equal to the unfused arithmetic (same operations,
-//! same summation order), so the step sequence is unchanged.
+//! ([`System::factor_combination`]); the predictor is written straight into the Newton iterate
+//! (no separate predictor vectors to copy from; a retry after a Jacobian refresh recomputes it)
+//! in the same block-wise pass that computes the error and Newton weights (one vector when no
+//! algebraic component is suppressed); each Newton iteration is one solve whose back
+//! substitution applies the update as each component is found ([`System::solve_map`]: `δ`,
+//! `y`, `ẏ`, the accumulated correction — which starts as the first `δ`, no zero-fill — and the
+//! norm); the local-error norm and the order-selection norms (orders `k−1`, `k−2`, `k+1`) come
+//! from one block-wise sweep over the history; an accepted state moves into the history by
+//! swapping buffers (the newest history vector *is* `y`). Only the order of the RMS sums in the
+//! Newton norm differs from the unfused arithmetic (the tridiagonal solve produces components
+//! from its middle outwards); the pinned step counts are unchanged.
 //!
 //! # Step control
 //!
