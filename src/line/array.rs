@@ -485,6 +485,15 @@ impl<E: StrainEnergy> Line<E> {
 
     /// Structural entries `(row, col)` of the Jacobian, from the stencil.
     pub fn jacobian_entries(&self) -> Vec<(usize, usize)> {
+        let mut entries = Vec::new();
+        self.for_each_jacobian_entry(|i, j| entries.push((i, j)));
+        entries
+    }
+
+    /// Calls `f(row, col)` for every structural entry of the Jacobian (with repeats), without
+    /// storing them: the banded pattern of a long line needs only the widest offsets, and a
+    /// list of the 10⁷ entries of a 10⁶-cell line would be 100+ MB of fresh memory.
+    pub fn for_each_jacobian_entry(&self, mut f: impl FnMut(usize, usize)) {
         let n = self.n_cells();
         let lay = &self.layout;
         let periodic = self.right.is_periodic();
@@ -506,13 +515,14 @@ impl<E: StrainEnergy> Line<E> {
                 None
             }
         };
-        let mut entries = Vec::new();
         let mut deps = Vec::new();
         for c in 1..=n {
             if lay.gi[c - 1] != NONE {
                 deps.clear();
                 cell_deps(c, &mut deps);
-                entries.extend(deps.iter().map(|&k| (lay.gi[c - 1], k)));
+                for &k in &deps {
+                    f(lay.gi[c - 1], k);
+                }
             }
         }
         for b in 0..=n {
@@ -521,19 +531,20 @@ impl<E: StrainEnergy> Line<E> {
                 continue;
             }
             let b = b as isize;
-            let cells: Vec<isize> = match self.form {
-                DragForm::Boundary => vec![b, b + 1],
-                DragForm::Centre => vec![b - 1, b, b + 1],
+            let cells: &[isize] = match self.form {
+                DragForm::Boundary => &[b, b + 1],
+                DragForm::Centre => &[b - 1, b, b + 1],
             };
             deps.clear();
-            for c in cells {
+            for &c in cells {
                 if let Some(c) = wrap(c) {
                     cell_deps(c, &mut deps);
                 }
             }
-            entries.extend(deps.iter().map(|&k| (row, k)));
+            for &k in &deps {
+                f(row, k);
+            }
         }
-        entries
     }
 }
 
@@ -543,21 +554,20 @@ impl<E: StrainEnergy> CellArray for Line<E> {
     }
 
     fn pattern(&self) -> Pattern {
-        let entries = self.jacobian_entries();
         if self.right.is_periodic() {
             return Pattern::Sparse(Arc::new(SparsityPattern::from_entries(
                 self.layout.dim,
-                &entries,
+                &self.jacobian_entries(),
             )));
         }
         let (mut lower, mut upper) = (0, 0);
-        for (i, j) in entries {
+        self.for_each_jacobian_entry(|i, j| {
             if i > j {
                 lower = lower.max(i - j);
             } else {
                 upper = upper.max(j - i);
             }
-        }
+        });
         Pattern::Banded { lower, upper }
     }
 
