@@ -153,6 +153,32 @@ impl<'a> System<'a> {
         }
     }
 
+    /// Threads the integrators (and cell arrays) may use for the vector passes and residual
+    /// sweeps of large problems: 2 when the machine has two or more cores, else 1; the
+    /// environment variable `INTEGRATORS_THREADS=1` forces one (for single-thread
+    /// measurements). Read once per process. Work is split only above
+    /// [`System::PARALLEL_MIN`] unknowns, where a thread's start-up (tens of µs) is a small
+    /// share of a pass.
+    ///
+    /// ```
+    /// let t = integrators::System::worker_threads();
+    /// assert!(t == 1 || t == 2);
+    /// ```
+    pub fn worker_threads() -> usize {
+        static THREADS: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
+        *THREADS.get_or_init(|| {
+            let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+            let wanted = std::env::var("INTEGRATORS_THREADS")
+                .ok()
+                .and_then(|v| v.parse::<usize>().ok())
+                .unwrap_or(2);
+            wanted.clamp(1, 2).min(cores)
+        })
+    }
+
+    /// Problem size from which passes are split over [`System::worker_threads`] threads.
+    pub const PARALLEL_MIN: usize = 1 << 16;
+
     /// Problem dimension (as cached at the last rebuild).
     pub fn dim(&self) -> usize {
         self.cache.n

@@ -7,7 +7,7 @@
 //! Unknowns are interleaved `(g₁, x₁, g₂, x₂, …)` (growth) or just the free boundary positions;
 //! the residual streams over the cells once, keeping only the previous cell, so it allocates
 //! nothing and costs O(N). Lines of at least [`PAR_MIN_CELLS`] cells sweep the two halves on two
-//! threads ([`residual_threads`]; `CELLTISSUE_THREADS=1` keeps one), with the same result.
+//! threads (`INTEGRATORS_THREADS=1` keeps one), with the same result.
 
 use crate::array::CellArray;
 use crate::boundary::RightEnd;
@@ -22,24 +22,10 @@ use std::sync::Arc;
 pub const NONE: usize = usize::MAX;
 
 /// Lines with at least this many cells (and not closed into a ring) evaluate their residual on
-/// two threads, each sweeping half of the cells; below it a thread's start-up (tens of µs)
+/// two threads when [`integrators::System::worker_threads`] allows (`INTEGRATORS_THREADS=1`
+/// keeps one), each sweeping half of the cells; below it a thread's start-up (tens of µs)
 /// would be a noticeable share of a sweep. The result is bitwise that of the serial sweep.
-pub const PAR_MIN_CELLS: usize = 1 << 16;
-
-/// Threads for the residual sweep of a large line: 2 when the machine has two or more cores,
-/// else 1; the environment variable `CELLTISSUE_THREADS=1` forces the serial sweep (for
-/// single-thread measurements). Read once per process.
-pub fn residual_threads() -> usize {
-    static THREADS: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
-    *THREADS.get_or_init(|| {
-        let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
-        let wanted = std::env::var("CELLTISSUE_THREADS")
-            .ok()
-            .and_then(|v| v.parse::<usize>().ok())
-            .unwrap_or(2);
-        wanted.clamp(1, 2).min(cores)
-    })
-}
+pub const PAR_MIN_CELLS: usize = integrators::System::PARALLEL_MIN;
 
 /// Per-cell data, one `Vec` per field, cells in order `1..=N` at index `0..N`. Inserting a cell
 /// (division) is one `insert` per field, O(N).
@@ -579,7 +565,7 @@ impl<E: StrainEnergy> CellArray for Line<E> {
         r: &mut [S],
     ) -> Result<(), ResidualError> {
         let n = self.n_cells();
-        if n >= PAR_MIN_CELLS && residual_threads() >= 2 {
+        if n >= PAR_MIN_CELLS && integrators::System::worker_threads() >= 2 {
             if let Some(res) = self.residual_two_threads(t, y, yp, r, n / 2) {
                 return res;
             }

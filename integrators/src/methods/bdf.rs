@@ -213,6 +213,97 @@ fn interp_coeffs(z: &[f64], t: f64, p: &mut [f64; NC], dp: &mut [f64; NC]) {
     }
 }
 
+/// Where a vector pass of length `n` is split over two threads: a block boundary near the
+/// middle, or 0 (no split) below [`System::PARALLEL_MIN`] or with one worker thread.
+fn split_point(n: usize) -> usize {
+    if n < System::PARALLEL_MIN || System::worker_threads() < 2 {
+        return 0;
+    }
+    (n / 2) / BLK * BLK
+}
+
+/// The predictor (and optionally the weights) for components `lo..lo + y.len()`: `y`, `yp`
+/// and the weights' outputs are that range's slices, the history vectors, `y0` (the newest,
+/// for the weights) and the weights' inputs are whole vectors.
+fn poly_blocks(
+    items: &[(&[f64], f64, f64)],
+    y0: &[f64],
+    lo: usize,
+    y: &mut [f64],
+    yp: &mut [f64],
+    mut weights: Option<Weights<'_>>,
+) {
+    let n = y.len();
+    let mut s = 0;
+    while s < n {
+        let e = (s + BLK).min(n);
+        let (yb, ypb) = (&mut y[s..e], &mut yp[s..e]);
+        yb.fill(0.0);
+        ypb.fill(0.0);
+        for &(v, a, b) in items {
+            let vb = &v[lo + s..lo + e];
+            for ((yi, ypi), &x) in yb.iter_mut().zip(ypb.iter_mut()).zip(vb) {
+                *yi += a * x;
+                *ypi += b * x;
+            }
+        }
+        if let Some(w) = weights.as_mut() {
+            // the Newton weights are the error weights without the suppression of algebraic
+            // components, as in `System::error_weights`
+            let rtol = w.rtol;
+            let (yb0, atol) = (&y0[lo + s..lo + e], &w.atol[lo + s..lo + e]);
+            for ((nw, yi), a) in w.nwt[s..e].iter_mut().zip(yb0).zip(atol) {
+                *nw = 1.0 / (rtol * yi.abs() + a);
+            }
+            if let Some(ew) = w.ewt.as_mut() {
+                let alg = &w.algebraic[lo + s..lo + e];
+                for ((ewi, &nw), &is_alg) in ew[s..e].iter_mut().zip(&w.nwt[s..e]).zip(alg) {
+                    *ewi = if is_alg { 0.0 } else { nw };
+                }
+            }
+        }
+        s = e;
+    }
+}
+
+/// The error-norm sweep of [`Bdf::error_norms`] over components `lo..hi`: the accumulator of
+/// `ee` and one per order in `items`.
+fn norm_blocks(
+    items: &[Items<'_>],
+    ycur: &[f64],
+    ewt: &[f64],
+    ee: &[f64],
+    norm: ErrorNorm,
+    lo: usize,
+    hi: usize,
+) -> (NormAcc, [NormAcc; 3]) {
+    let mut buf = [0.0; BLK];
+    let mut acc_e = NormAcc::new(norm);
+    let mut acc = [NormAcc::new(norm); 3];
+    let mut s = lo;
+    while s < hi {
+        let e = (s + BLK).min(hi);
+        let (yb, wb) = (&ycur[s..e], &ewt[s..e]);
+        for (d, w) in ee[s..e].iter().zip(wb) {
+            acc_e.push(d * w);
+        }
+        for (it, a) in items.iter().zip(acc.iter_mut()) {
+            let b = &mut buf[..e - s];
+            b.fill(0.0);
+            for &(v, c, _) in it.as_slice() {
+                for (bi, &x) in b.iter_mut().zip(&v[s..e]) {
+                    *bi += c * x;
+                }
+            }
+            for ((bi, yi), wi) in b.iter().zip(yb).zip(wb) {
+                a.push((yi - bi) * wi);
+            }
+        }
+        s = e;
+    }
+    (acc_e, acc)
+}
+
 /// Index of the largest `|v_i w_i|`.
 fn worst(v: &[f64], w: &[f64]) -> Option<usize> {
     let mut best = None;
@@ -318,6 +409,17 @@ impl NormAcc {
             self.nan |= a.is_nan();
             self.max = if a > self.max { a } else { self.max };
         }
+    }
+
+    /// Adds the products another accumulator (of the same kind) has seen.
+    fn merge(&mut self, other: &NormAcc) {
+        self.sum += other.sum;
+        self.nan |= other.nan;
+        self.max = if other.max > self.max {
+            other.max
+        } else {
+            self.max
+        };
     }
 
     fn finish(&self, n: usize) -> f64 {
@@ -437,7 +539,7 @@ impl Bdf {
         t: f64,
         y: &mut [f64],
         yp: &mut [f64],
-        mut weights: Option<Weights<'_>>,
+        weights: Option<Weights<'_>>,
     ) {
         let z: Vec<f64> = self.times.iter().take(m).copied().collect();
         let mut p = [0.0; NC];
@@ -445,37 +547,44 @@ impl Bdf {
         interp_coeffs(&z, t, &mut p, &mut dp);
         let items = self.items(&p, &dp, m);
         let items = items.as_slice();
+        let y0 = &self.vals[0][..];
         let n = y.len();
-        let mut s = 0;
-        while s < n {
-            let e = (s + BLK).min(n);
-            let (yb, ypb) = (&mut y[s..e], &mut yp[s..e]);
-            yb.fill(0.0);
-            ypb.fill(0.0);
-            for &(v, a, b) in items {
-                let vb = &v[s..e];
-                for ((yi, ypi), &x) in yb.iter_mut().zip(ypb.iter_mut()).zip(vb) {
-                    *yi += a * x;
-                    *ypi += b * x;
-                }
-            }
-            if let Some(w) = weights.as_mut() {
-                // the Newton weights are the error weights without the suppression of
-                // algebraic components, as in `System::error_weights`
-                let rtol = w.rtol;
-                let (y0, atol) = (&self.vals[0][s..e], &w.atol[s..e]);
-                for ((nw, yi), a) in w.nwt[s..e].iter_mut().zip(y0).zip(atol) {
-                    *nw = 1.0 / (rtol * yi.abs() + a);
-                }
-                if let Some(ew) = w.ewt.as_mut() {
-                    let alg = &w.algebraic[s..e];
-                    for ((ewi, &nw), &is_alg) in ew[s..e].iter_mut().zip(&w.nwt[s..e]).zip(alg) {
-                        *ewi = if is_alg { 0.0 } else { nw };
-                    }
-                }
-            }
-            s = e;
+        let mid = split_point(n);
+        if mid == 0 {
+            poly_blocks(items, y0, 0, y, yp, weights);
+            return;
         }
+        // two halves on two threads (same arithmetic per component)
+        let (y1, y2) = y.split_at_mut(mid);
+        let (yp1, yp2) = yp.split_at_mut(mid);
+        let (w1, w2) = match weights {
+            None => (None, None),
+            Some(w) => {
+                let (n1, n2) = w.nwt.split_at_mut(mid);
+                let (e1, e2) = match w.ewt {
+                    Some(e) => {
+                        let (e1, e2) = e.split_at_mut(mid);
+                        (Some(e1), Some(e2))
+                    }
+                    None => (None, None),
+                };
+                let half = |nwt, ewt| Weights {
+                    nwt,
+                    ewt,
+                    atol: w.atol,
+                    algebraic: w.algebraic,
+                    rtol: w.rtol,
+                };
+                (Some(half(n1, e1)), Some(half(n2, e2)))
+            }
+        };
+        std::thread::scope(|sc| {
+            let second = sc.spawn(|| poly_blocks(items, y0, mid, y2, yp2, w2));
+            poly_blocks(items, y0, 0, y1, yp1, w1);
+            second
+                .join()
+                .unwrap_or_else(|e| std::panic::resume_unwind(e));
+        });
     }
 
     /// `α_m = Σ_{j=1..m} 1/(t_new - t_{j-1})` over the stored history.
@@ -525,30 +634,29 @@ impl Bdf {
             .zip(orders)
             .map(|(c, &m)| self.items(c, &zero, m + 1))
             .collect();
-        let mut buf = [0.0; BLK];
-        let mut acc_e = NormAcc::new(norm);
-        let mut acc = [NormAcc::new(norm); 3];
-        let mut s = 0;
-        while s < n {
-            let e = (s + BLK).min(n);
-            let (yb, wb) = (&self.ycur[s..e], &self.ewt()[s..e]);
-            for (d, w) in self.ee[s..e].iter().zip(wb) {
-                acc_e.push(d * w);
+        let ewt = self.ewt();
+        let mid = split_point(n);
+        let (acc_e, acc) = if mid == 0 {
+            norm_blocks(&items, &self.ycur, ewt, &self.ee, norm, 0, n)
+        } else {
+            // two halves on two threads; the partial norms are merged (an RMS sum in two parts)
+            let (ycur, ee, items) = (&self.ycur[..], &self.ee[..], &items[..]);
+            let ((e1, a1), (e2, a2)) = std::thread::scope(|sc| {
+                let second = sc.spawn(|| norm_blocks(items, ycur, ewt, ee, norm, mid, n));
+                let first = norm_blocks(items, ycur, ewt, ee, norm, 0, mid);
+                let second = second
+                    .join()
+                    .unwrap_or_else(|e| std::panic::resume_unwind(e));
+                (first, second)
+            });
+            let mut acc = a1;
+            for (a, b) in acc.iter_mut().zip(&a2) {
+                a.merge(b);
             }
-            for (it, a) in items.iter().zip(acc.iter_mut()) {
-                let b = &mut buf[..e - s];
-                b.fill(0.0);
-                for &(v, c, _) in it.as_slice() {
-                    for (bi, &x) in b.iter_mut().zip(&v[s..e]) {
-                        *bi += c * x;
-                    }
-                }
-                for ((bi, yi), wi) in b.iter().zip(yb).zip(wb) {
-                    a.push((yi - bi) * wi);
-                }
-            }
-            s = e;
-        }
+            let mut acc_e = e1;
+            acc_e.merge(&e2);
+            (acc_e, acc)
+        };
         for (o, a) in out.iter_mut().zip(&acc) {
             *o = a.finish(n);
         }
@@ -1074,6 +1182,63 @@ mod tests {
         let d: f64 = (0..4).map(|i| dp[i] * f(z[i])).sum();
         assert!((v - f(1.3)).abs() < 1e-12);
         assert!((d - df(1.3)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn split_vector_passes_match_the_whole_pass() {
+        // the two-thread split of the predictor/weights pass and of the error-norm sweep, run
+        // here on one thread at a block boundary: predictor and weights bitwise, norms merged
+        let n = 3 * BLK + 17;
+        let vec_of = |k: f64| -> Vec<f64> { (0..n).map(|i| (i as f64 * k).sin() + 1.5).collect() };
+        let (h0, h1, h2) = (vec_of(0.3), vec_of(0.7), vec_of(1.1));
+        let mut list = [(&[][..], 0.0, 0.0); NC];
+        list[0] = (&h0[..], 1.7, 0.4);
+        list[1] = (&h1[..], -0.9, -1.3);
+        list[2] = (&h2[..], 0.2, 0.9);
+        let items = Items { list, len: 3 };
+        let atol = vec![1e-6; n];
+        let alg: Vec<bool> = (0..n).map(|i| i % 5 == 0).collect();
+        let run = |mid: usize| {
+            let (mut y, mut yp, mut nw, mut ew) =
+                (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+            let (y1, y2) = y.split_at_mut(mid);
+            let (yp1, yp2) = yp.split_at_mut(mid);
+            let (n1, n2) = nw.split_at_mut(mid);
+            let (e1, e2) = ew.split_at_mut(mid);
+            let w = |nwt, ewt| Weights {
+                nwt,
+                ewt: Some(ewt),
+                atol: &atol,
+                algebraic: &alg,
+                rtol: 1e-3,
+            };
+            poly_blocks(items.as_slice(), &h0, 0, y1, yp1, Some(w(n1, e1)));
+            poly_blocks(items.as_slice(), &h0, mid, y2, yp2, Some(w(n2, e2)));
+            (y, yp, nw, ew)
+        };
+        let whole = run(n);
+        let split = run(BLK);
+        assert_eq!(whole, split);
+        let (ycur, ee) = (vec_of(0.5), vec_of(0.9));
+        let norm_items = [Items { list, len: 3 }, Items { list, len: 2 }];
+        for norm in [ErrorNorm::Max, ErrorNorm::Rms] {
+            let (e, a) = norm_blocks(&norm_items, &ycur, &whole.3, &ee, norm, 0, n);
+            let (mut e1, mut a1) = norm_blocks(&norm_items, &ycur, &whole.3, &ee, norm, 0, BLK);
+            let (e2, a2) = norm_blocks(&norm_items, &ycur, &whole.3, &ee, norm, BLK, n);
+            e1.merge(&e2);
+            for (x, y) in a1.iter_mut().zip(&a2) {
+                x.merge(y);
+            }
+            let close = |x: f64, y: f64| (x - y).abs() <= 1e-14 * x.abs().max(1e-300);
+            assert!(close(e.finish(n), e1.finish(n)), "{norm:?}");
+            // (two orders in the sweep: the third accumulator stays empty)
+            for (x, y) in a.iter().zip(&a1).take(norm_items.len()) {
+                assert!(
+                    x.finish(n) > 0.0 && close(x.finish(n), y.finish(n)),
+                    "{norm:?}"
+                );
+            }
+        }
     }
 
     #[test]
