@@ -176,8 +176,11 @@ impl<'a> System<'a> {
         })
     }
 
-    /// Problem size from which passes are split over [`System::worker_threads`] threads.
-    pub const PARALLEL_MIN: usize = 1 << 16;
+    /// Problem size from which passes are split over [`System::worker_threads`] threads. Set
+    /// high on purpose: on a shared machine the second thread may wait for a core while the
+    /// first waits for it, which at 10⁵ unknowns (a pass of ~0.1 ms) was measured to cost
+    /// more than the split saves.
+    pub const PARALLEL_MIN: usize = 1 << 18;
 
     /// Problem dimension (as cached at the last rebuild).
     pub fn dim(&self) -> usize {
