@@ -328,7 +328,7 @@ impl<'a> System<'a> {
     /// Counted in-place solve that also maps every solution component (see
     /// [`LinearSolver::solve_in_place_map`]: the banded tridiagonal solver fuses the map into
     /// its backward sweep).
-    pub fn solve_map<M: crate::linalg::SolutionMap>(
+    pub fn solve_map<M: crate::linalg::SolutionMap + Send>(
         &mut self,
         solver: &LinearSolver,
         b: &mut [f64],

@@ -319,6 +319,90 @@ impl TriLu {
         }
         map
     }
+
+    /// [`solve_map`](Self::solve_map) with the two halves on two threads: the downward half
+    /// (rows `0..=k`) and the upward half (rows `k+1..n`) of each sweep touch disjoint parts
+    /// of `b`, and only the twist rows `k`, `k+1` join them. `map` is split at `k + 1`
+    /// ([`SolutionMap::split`]; a map that cannot be split gets the one-thread solve). Same
+    /// operations per component as the one-thread solve.
+    fn solve_map_two_threads<M: SolutionMap + Send>(&self, b: &mut [f64], map: M) -> M {
+        let n = b.len();
+        let k = self.k;
+        let (mut first, mut second) = match map.split(k + 1) {
+            Ok(halves) => halves,
+            Err(map) => return self.solve_map(b, map),
+        };
+        let (mult, swap, urow) = (&self.mult[..n], &self.swap[..n], &self.urow[..n]);
+        let (top, bot) = b.split_at_mut(k + 1);
+        // forward: downward over rows 0..=k, upward over rows n−1..=k+1 (bot[i] is row k+1+i)
+        let down = |top: &mut [f64]| {
+            let mut tc = top[0];
+            for j in 0..k {
+                let mut nx = top[j + 1];
+                if swap[j] {
+                    std::mem::swap(&mut tc, &mut nx);
+                }
+                top[j] = tc;
+                tc = nx - mult[j] * tc;
+            }
+            tc
+        };
+        let up = |bot: &mut [f64]| {
+            let m = bot.len();
+            let mut bc = bot[m - 1];
+            for j in (k + 2..n).rev() {
+                let i = j - (k + 1);
+                let mut nx = bot[i - 1];
+                if swap[j] {
+                    std::mem::swap(&mut bc, &mut nx);
+                }
+                bot[i] = bc;
+                bc = nx - mult[j] * bc;
+            }
+            bc
+        };
+        let (mut tc, mut bc) = std::thread::scope(|sc| {
+            let h = sc.spawn(|| up(&mut *bot));
+            let tc = down(&mut *top);
+            (
+                tc,
+                h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)),
+            )
+        });
+        // the twist rows
+        if swap[k + 1] {
+            std::mem::swap(&mut bc, &mut tc);
+        }
+        tc -= mult[k + 1] * bc;
+        let xk = tc * urow[k][2];
+        let [_, u1, inv] = urow[k + 1];
+        let xk1 = (bc - u1 * xk) * inv;
+        top[k] = first.map(k, xk);
+        bot[0] = second.map(k + 1, xk1);
+        // backward: outwards from the twist, one half per thread
+        std::thread::scope(|sc| {
+            let h = sc.spawn(|| {
+                let (mut d1, mut d2) = (xk1, xk);
+                for j in k + 2..n {
+                    let [u2, u1, inv] = urow[j];
+                    let i = j - (k + 1);
+                    let x = (bot[i] - u2 * d2 - u1 * d1) * inv;
+                    bot[i] = second.map(j, x);
+                    (d1, d2) = (x, d1);
+                }
+            });
+            let (mut t1, mut t2) = (xk, xk1);
+            for j in (0..k).rev() {
+                let [u2, u1, inv] = urow[j];
+                let x = (top[j] - u2 * t2 - u1 * t1) * inv;
+                top[j] = first.map(j, x);
+                (t1, t2) = (x, t1);
+            }
+            h.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
+        });
+        first.merge(second);
+        first
+    }
 }
 
 impl BandLu {
@@ -540,14 +624,20 @@ impl BandLu {
     /// [`solve`](Self::solve), then `b[j] = map(j, x_j)` for every component. The tridiagonal
     /// path applies `map` inside its backward sweep (in decreasing `j`); the others after the
     /// solve, in increasing `j`.
-    pub(crate) fn solve_map<M: SolutionMap>(&self, b: &mut [f64], mut map: M) -> M {
+    pub(crate) fn solve_map<M: SolutionMap + Send>(&self, b: &mut [f64], mut map: M) -> M {
         assert!(
             self.factored,
             "LinearSolver::solve_in_place before a successful factor"
         );
         assert_eq!(b.len(), self.n, "right-hand side length mismatch");
         match &self.tri {
-            Some(tri) => tri.solve_map(b, map),
+            Some(tri) => {
+                if b.len() >= crate::System::PARALLEL_MIN && crate::System::worker_threads() >= 2 {
+                    tri.solve_map_two_threads(b, map)
+                } else {
+                    tri.solve_map(b, map)
+                }
+            }
             None => {
                 self.solve(b);
                 for (j, v) in b.iter_mut().enumerate() {
@@ -592,6 +682,87 @@ impl BandLu {
                 for (bi, &uij) in b[lo..j].iter_mut().zip(ucol) {
                     *bi -= uij * bj;
                 }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Records each component once (at its global index) and splits at any point.
+    struct Record<'a> {
+        off: usize,
+        out: &'a mut [Option<f64>],
+        calls: usize,
+    }
+
+    impl SolutionMap for Record<'_> {
+        fn map(&mut self, j: usize, x: f64) -> f64 {
+            let slot = &mut self.out[j - self.off];
+            assert!(slot.is_none(), "component {j} mapped twice");
+            *slot = Some(x);
+            self.calls += 1;
+            -x
+        }
+        fn split(self, mid: usize) -> Result<(Self, Self), Self> {
+            let (a, b) = self.out.split_at_mut(mid - self.off);
+            Ok((
+                Record {
+                    off: self.off,
+                    out: a,
+                    calls: self.calls,
+                },
+                Record {
+                    off: mid,
+                    out: b,
+                    calls: 0,
+                },
+            ))
+        }
+        fn merge(&mut self, other: Self) {
+            self.calls += other.calls;
+        }
+    }
+
+    #[test]
+    fn two_thread_tridiagonal_solve_is_the_one_thread_solve() {
+        // every small size, with pivoting forced (zero diagonal entries): bitwise equal
+        // components, each mapped exactly once, the split map's state merged back
+        for n in (2..=40).chain([101, 256]) {
+            let mut data = vec![0.0; 4 * n];
+            for j in 0..n {
+                let f = j as f64;
+                data[4 * j + 1] = if j > 0 { (1.3 * f).sin() } else { 0.0 };
+                data[4 * j + 2] = if j % 3 == 1 {
+                    0.0
+                } else {
+                    0.5 + (0.7 * f).cos()
+                };
+                data[4 * j + 3] = if j + 1 < n { (2.1 * f).cos() } else { 0.0 };
+            }
+            let mut lu = TriLu::new(n);
+            if lu.factor(n, &BandColumns(&data)).is_err() {
+                continue;
+            }
+            let rhs: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin() + 0.1).collect();
+            let mut one = rhs.clone();
+            lu.solve_map(&mut one, Identity);
+            let mut seen = vec![None; n];
+            let mut two = rhs.clone();
+            let rec = lu.solve_map_two_threads(
+                &mut two,
+                Record {
+                    off: 0,
+                    out: &mut seen,
+                    calls: 0,
+                },
+            );
+            assert_eq!(rec.calls, n, "n={n}");
+            for j in 0..n {
+                assert_eq!(seen[j], Some(one[j]), "n={n} j={j}");
+                assert_eq!(two[j], -one[j], "n={n} j={j}");
             }
         }
     }

@@ -106,6 +106,26 @@ pub(crate) enum Inner {
 pub trait SolutionMap {
     /// The value stored for solution component `j`, given its value `x`.
     fn map(&mut self, j: usize, x: f64) -> f64;
+
+    /// Splits into a map for components `0..mid` and one for `mid..` (still called with the
+    /// global index `j`), so a solver may run the two halves on two threads; `Err(self)` (the
+    /// default) when the map cannot be split.
+    fn split(self, mid: usize) -> Result<(Self, Self), Self>
+    where
+        Self: Sized,
+    {
+        let _ = mid;
+        Err(self)
+    }
+
+    /// Folds the state a second half (from [`split`](SolutionMap::split)) accumulated into
+    /// this one, which the solver then returns.
+    fn merge(&mut self, other: Self)
+    where
+        Self: Sized,
+    {
+        let _ = other;
+    }
 }
 
 /// Index of the first non-finite value.
@@ -446,7 +466,7 @@ impl LinearSolver {
     /// The map is taken by value and handed back: held in a local of the solver, its fields
     /// (running norms, slice pointers) stay in registers, where behind a reference every store
     /// into the solution would make the compiler reload them.
-    pub fn solve_in_place_map<M: SolutionMap>(&self, b: &mut [f64], mut map: M) -> M {
+    pub fn solve_in_place_map<M: SolutionMap + Send>(&self, b: &mut [f64], mut map: M) -> M {
         if let Inner::Banded(lu) = &self.inner {
             return lu.solve_map(b, map);
         }

@@ -324,6 +324,8 @@ fn worst(v: &[f64], w: &[f64]) -> Option<usize> {
 /// The per-component Newton update, applied by the linear solve as each component of
 /// `J⁻¹F` is found ([`System::solve_map`]).
 struct NewtonUpdate<'a> {
+    /// Global index of `y[0]` (non-zero for the second half of a split).
+    off: usize,
     y: &'a mut [f64],
     yp: &'a mut [f64],
     ee: &'a mut [f64],
@@ -340,6 +342,7 @@ impl SolutionMap for NewtonUpdate<'_> {
     /// `δ_i`.
     #[inline(always)]
     fn map(&mut self, i: usize, d: f64) -> f64 {
+        let i = i - self.off;
         let di = if self.scale != 1.0 {
             -(d * self.scale)
         } else {
@@ -354,6 +357,41 @@ impl SolutionMap for NewtonUpdate<'_> {
         }
         self.acc.push(di * self.w[i]);
         di
+    }
+
+    fn split(self, mid: usize) -> Result<(Self, Self), Self> {
+        let at = mid - self.off;
+        let (y1, y2) = self.y.split_at_mut(at);
+        let (yp1, yp2) = self.yp.split_at_mut(at);
+        let (ee1, ee2) = self.ee.split_at_mut(at);
+        let (w1, w2) = self.w.split_at(at);
+        let half = |off, y, yp, ee, w| NewtonUpdate {
+            off,
+            y,
+            yp,
+            ee,
+            w,
+            scale: self.scale,
+            alpha: self.alpha,
+            first: self.first,
+            acc: NormAcc::new(ErrorNorm::Rms),
+        };
+        let mut a = half(self.off, y1, yp1, ee1, w1);
+        let mut b = half(mid, y2, yp2, ee2, w2);
+        (a.acc, b.acc) = (
+            self.acc,
+            NormAcc {
+                sum: 0.0,
+                max: 0.0,
+                nan: false,
+                ..self.acc
+            },
+        );
+        Ok((a, b))
+    }
+
+    fn merge(&mut self, other: Self) {
+        self.acc.merge(&other.acc);
     }
 }
 
@@ -745,6 +783,7 @@ impl Bdf {
             // the accumulated correction (`ee` starts as the first δ) and accumulates ‖δ‖; the
             // tridiagonal solver runs it inside its backward sweep.
             let upd = NewtonUpdate {
+                off: 0,
                 y: &mut self.ycur[..n],
                 yp: &mut self.ypcur[..n],
                 ee: &mut self.ee[..n],
