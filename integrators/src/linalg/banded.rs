@@ -383,8 +383,7 @@ impl TriLu {
         std::thread::scope(|sc| {
             let h = sc.spawn(|| {
                 let (mut d1, mut d2) = (xk1, xk);
-                for j in k + 2..n {
-                    let [u2, u1, inv] = urow[j];
+                for (j, &[u2, u1, inv]) in urow.iter().enumerate().skip(k + 2) {
                     let i = j - (k + 1);
                     let x = (bot[i] - u2 * d2 - u1 * d1) * inv;
                     bot[i] = second.map(j, x);
