@@ -7,6 +7,8 @@
 //! environment variables `METHOD` (bdf, esdirk, radau), `RTOL` (default 1e-6) and `NORM` (max,
 //! the default, or rms) override the solver.
 //! `DISCRETE_ONLY=1` skips the continuum runs. Prints the work counters of the discrete run.
+//! From 2¹⁸ unknowns the residual and the BDF's vector sweeps use two threads;
+//! `INTEGRATORS_THREADS=1` keeps one (for single-thread timings).
 //! Single-shot wall times; the criterion numbers are in `benches/line_scaling.rs`.
 
 use celltissue::line::build::{continuum, discrete};

@@ -55,6 +55,21 @@ pub struct SystemCache {
     /// Work vectors of the Jacobian assembly (kept across calls: a large line would otherwise
     /// allocate and page-fault four fresh `n`-vectors per Jacobian).
     pub(crate) jac_work: [Vec<f64>; 4],
+    /// Buffers of [`System::consistent_init`], kept between calls: a start calls it twice (the
+    /// solver's initial state and `initial_step`'s trial point), and for a large problem
+    /// faulting in fresh pages for a Jacobian and eight vectors each time costs more than the
+    /// arithmetic. Dropped by [`rebuild`](SystemCache::rebuild).
+    pub(crate) init_work: Option<Box<InitWork>>,
+}
+
+/// Scratch of [`System::consistent_init`] (see [`SystemCache`]'s `init_work`).
+pub(crate) struct InitWork {
+    jac: Matrix,
+    /// Kept for banded patterns only: a sparse LU's symbolic analysis is counted in the
+    /// statistics, and reusing it would change them.
+    lu: Option<LinearSolver>,
+    /// `r, δ, w, w_new, y_new, ẏ_new, r_new, δ_new`.
+    vecs: [Vec<f64>; 8],
 }
 
 impl SystemCache {
@@ -111,6 +126,7 @@ impl SystemCache {
         self.atol = atol;
         self.algebraic = algebraic;
         self.colour_cols = colour_cols;
+        self.init_work = None;
         Ok(())
     }
 
@@ -136,6 +152,35 @@ impl<'a> System<'a> {
             cache,
         }
     }
+
+    /// Threads the integrators (and cell arrays) may use for the vector passes and residual
+    /// sweeps of large problems: 2 when the machine has two or more cores, else 1; the
+    /// environment variable `INTEGRATORS_THREADS=1` forces one (for single-thread
+    /// measurements). Read once per process. Work is split only above
+    /// [`System::PARALLEL_MIN`] unknowns, where a thread's start-up (tens of µs) is a small
+    /// share of a pass.
+    ///
+    /// ```
+    /// let t = integrators::System::worker_threads();
+    /// assert!(t == 1 || t == 2);
+    /// ```
+    pub fn worker_threads() -> usize {
+        static THREADS: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
+        *THREADS.get_or_init(|| {
+            let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+            let wanted = std::env::var("INTEGRATORS_THREADS")
+                .ok()
+                .and_then(|v| v.parse::<usize>().ok())
+                .unwrap_or(2);
+            wanted.clamp(1, 2).min(cores)
+        })
+    }
+
+    /// Problem size from which passes are split over [`System::worker_threads`] threads. Set
+    /// high on purpose: on a shared machine the second thread may wait for a core while the
+    /// first waits for it, which at 10⁵ unknowns (a pass of ~0.1 ms) was measured to cost
+    /// more than the split saves.
+    pub const PARALLEL_MIN: usize = 1 << 18;
 
     /// Problem dimension (as cached at the last rebuild).
     pub fn dim(&self) -> usize {
@@ -272,23 +317,33 @@ impl<'a> System<'a> {
 
     /// Counted in-place solve with the last factorisation.
     pub fn solve(&mut self, solver: &LinearSolver, b: &mut [f64]) {
-        self.solve_to(solver, b, None);
+        self.stats.linear_solves += 1;
+        let before = solver.krylov_counters();
+        solver.solve_in_place(b);
+        self.count_krylov(solver, before);
     }
 
-    /// As [`solve`](System::solve), with the caller's Newton tolerance for an iterative solver
-    /// ([`LinearSolver::solve_in_place_to`]).
-    pub fn solve_to(
+    fn count_krylov(&mut self, solver: &LinearSolver, before: crate::linalg::KrylovCounters) {
+        let after = solver.krylov_counters();
+        self.stats.krylov_iterations += after.iterations - before.iterations;
+        self.stats.krylov_failures += after.failures - before.failures;
+    }
+
+    /// Counted in-place solve that also maps every solution component (see
+    /// [`LinearSolver::solve_in_place_map`]: the banded tridiagonal solver fuses the map into
+    /// its backward sweep), with the caller's Newton tolerance for an iterative solver.
+    pub fn solve_map<M: crate::linalg::SolutionMap + Send>(
         &mut self,
         solver: &LinearSolver,
         b: &mut [f64],
         tol: Option<&crate::linalg::LinearTolerance<'_>>,
-    ) {
+        map: M,
+    ) -> M {
         self.stats.linear_solves += 1;
         let before = solver.krylov_counters();
-        solver.solve_in_place_to(b, tol);
-        let after = solver.krylov_counters();
-        self.stats.krylov_iterations += after.iterations - before.iterations;
-        self.stats.krylov_failures += after.failures - before.failures;
+        let map = solver.solve_in_place_map(b, tol, map);
+        self.count_krylov(solver, before);
+        map
     }
 
     /// Error weights `w_i = 1/(rtol·|y_i| + atol_i)`, zero for algebraic components when
@@ -352,6 +407,40 @@ impl<'a> System<'a> {
         if n == 0 {
             return Ok(());
         }
+        let mut work = match self.cache.init_work.take() {
+            Some(w) if w.jac.n() == n => w,
+            _ => Box::new(InitWork {
+                jac: self.new_matrix(),
+                lu: None,
+                vecs: Default::default(),
+            }),
+        };
+        let mut lu = match work.lu.take() {
+            Some(lu) => lu,
+            None => self.new_linear_solver(),
+        };
+        for v in work.vecs.iter_mut() {
+            v.resize(n, 0.0);
+        }
+        let res = self.consistent_init_with(t, y, yp, &mut work.jac, &mut lu, &mut work.vecs);
+        if matches!(self.pattern(), Pattern::Banded { .. }) {
+            work.lu = Some(lu);
+        }
+        self.cache.init_work = Some(work);
+        res
+    }
+
+    /// [`consistent_init`](Self::consistent_init) with its scratch.
+    fn consistent_init_with(
+        &mut self,
+        t: f64,
+        y: &mut [f64],
+        yp: &mut [f64],
+        jac: &mut Matrix,
+        lu: &mut LinearSolver,
+        vecs: &mut [Vec<f64>; 8],
+    ) -> Result<(), SolverError> {
+        let [r, delta, w, w_new, y_new, yp_new, r_new, d_new] = vecs;
         let algebraic = self.cache.algebraic.clone();
         let init_err = |why: String, component: Option<usize>| {
             SolverError::new(ErrorKind::Initialisation(why), t, component)
@@ -369,16 +458,7 @@ impl<'a> System<'a> {
                 w[i] = 1.0 / (rtol * u.abs() + atol[i]);
             }
         };
-        let mut jac = self.new_matrix();
-        let mut lu = self.new_linear_solver();
-        let mut r = vec![0.0; n];
-        let mut delta = vec![0.0; n];
-        let mut w = vec![0.0; n];
-        let mut w_new = vec![0.0; n];
-        let mut y_new = y.to_vec();
-        let mut yp_new = yp.to_vec();
-        let mut r_new = vec![0.0; n];
-        self.residual(t, y, yp, &mut r)
+        self.residual(t, y, yp, r)
             .map_err(|f| to_error(f, "residual at the initial state"))?;
         let mut last_norm = f64::INFINITY;
         for _ in 0..INIT_MAX_ITERS {
@@ -391,29 +471,29 @@ impl<'a> System<'a> {
                 Columns::Init {
                     algebraic: &algebraic,
                 },
-                Some(&r),
-                &mut jac,
+                Some(&r[..]),
+                jac,
             )
             .map_err(|f| to_error(f, "Jacobian at the initial state"))?;
-            self.factor(&mut lu, &jac).map_err(|f| {
+            self.factor(lu, jac).map_err(|f| {
                 to_error(
                     f,
                     "∂F/∂(ẏ differential, y algebraic) is singular (index > 1, or a component \
                      flagged differential whose ẏ does not appear in F)",
                 )
             })?;
-            delta.copy_from_slice(&r);
-            self.solve(&lu, &mut delta);
-            weights(y, yp, &self.cache.atol, &mut w);
-            let dnorm = Self::wrms(&delta, &w);
+            delta.copy_from_slice(r);
+            self.solve(lu, delta);
+            weights(y, yp, &self.cache.atol, w);
+            let dnorm = Self::wrms(delta, w);
             if !dnorm.is_finite() {
                 return Err(init_err(
                     "non-finite Newton update".into(),
-                    Self::worst_component(&delta, &w),
+                    Self::worst_component(delta, w),
                 ));
             }
             if dnorm <= INIT_TOL {
-                apply(&algebraic, y, yp, &delta, 1.0);
+                apply(&algebraic, y, yp, delta, 1.0);
                 return Ok(());
             }
             // damped step: merit = ‖M⁻¹·F‖ with the current factorisation
@@ -421,19 +501,19 @@ impl<'a> System<'a> {
             loop {
                 y_new.copy_from_slice(y);
                 yp_new.copy_from_slice(yp);
-                apply(&algebraic, &mut y_new, &mut yp_new, &delta, lambda);
-                let accepted = match self.residual(t, &y_new, &yp_new, &mut r_new) {
+                apply(&algebraic, y_new, yp_new, delta, lambda);
+                let accepted = match self.residual(t, y_new, yp_new, r_new) {
                     Ok(()) => {
-                        let mut d_new = r_new.clone();
-                        self.solve(&lu, &mut d_new);
+                        d_new.copy_from_slice(r_new);
+                        self.solve(lu, d_new);
                         // convergence is judged with the trial point's weights, descent with the
                         // current iterate's (those of `dnorm`)
-                        let nnorm = Self::wrms(&d_new, &w);
-                        weights(&y_new, &yp_new, &self.cache.atol, &mut w_new);
-                        if Self::wrms(&d_new, &w_new) <= INIT_TOL {
-                            y.copy_from_slice(&y_new);
-                            yp.copy_from_slice(&yp_new);
-                            apply(&algebraic, y, yp, &d_new, 1.0);
+                        let nnorm = Self::wrms(d_new, w);
+                        weights(y_new, yp_new, &self.cache.atol, w_new);
+                        if Self::wrms(d_new, w_new) <= INIT_TOL {
+                            y.copy_from_slice(y_new);
+                            yp.copy_from_slice(yp_new);
+                            apply(&algebraic, y, yp, d_new, 1.0);
                             return Ok(());
                         }
                         nnorm.is_finite() && nnorm <= (1.0 - 1e-4 * lambda) * dnorm
@@ -451,13 +531,13 @@ impl<'a> System<'a> {
                             "damped Newton could not reduce the residual (weighted update \
                              norm {dnorm:.3e})"
                         ),
-                        worst_abs(&r),
+                        worst_abs(r),
                     ));
                 }
             }
-            y.copy_from_slice(&y_new);
-            yp.copy_from_slice(&yp_new);
-            std::mem::swap(&mut r, &mut r_new);
+            y.copy_from_slice(y_new);
+            yp.copy_from_slice(yp_new);
+            std::mem::swap(r, r_new);
             last_norm = dnorm;
         }
         Err(init_err(
@@ -465,7 +545,7 @@ impl<'a> System<'a> {
                 "Newton did not converge in {INIT_MAX_ITERS} iterations (last weighted update \
                  norm {last_norm:.3e})"
             ),
-            worst_abs(&r),
+            worst_abs(r),
         ))
     }
 }

@@ -6,7 +6,8 @@
 //!
 //! Unknowns are interleaved `(g₁, x₁, g₂, x₂, …)` (growth) or just the free boundary positions;
 //! the residual streams over the cells once, keeping only the previous cell, so it allocates
-//! nothing and costs O(N).
+//! nothing and costs O(N). Lines of at least [`PAR_MIN_CELLS`] cells sweep the two halves on two
+//! threads (`INTEGRATORS_THREADS=1` keeps one), with the same result.
 
 use crate::array::CellArray;
 use crate::boundary::RightEnd;
@@ -19,6 +20,12 @@ use std::sync::Arc;
 
 /// Marker for "not an unknown" in the layout maps.
 pub const NONE: usize = usize::MAX;
+
+/// Lines with at least this many cells (and not closed into a ring) evaluate their residual on
+/// two threads when [`integrators::System::worker_threads`] allows (`INTEGRATORS_THREADS=1`
+/// keeps one), each sweeping half of the cells; below it a thread's start-up (tens of µs)
+/// would be a noticeable share of a sweep. The result is bitwise that of the serial sweep.
+pub const PAR_MIN_CELLS: usize = integrators::System::PARALLEL_MIN;
 
 /// Per-cell data, one `Vec` per field, cells in order `1..=N` at index `0..N`. Inserting a cell
 /// (division) is one `insert` per field, O(N).
@@ -193,12 +200,20 @@ impl<E: StrainEnergy> Line<E> {
     }
 
     /// Position and velocity of boundary `j` at `(t, y, ẏ)`.
-    #[inline]
+    #[inline(always)]
     pub fn boundary<S: Scalar>(&self, j: usize, t: f64, y: &[S], yp: &[S]) -> (S, S) {
+        // the common case (a free boundary) inline in the residual's loop; the ends apart
         let k = self.layout.xi[j];
         if k != NONE {
             return (y[k], yp[k]);
         }
+        self.end_boundary(j, t, y, yp)
+    }
+
+    /// [`boundary`](Line::boundary) of a boundary that is not an unknown (a wall, a
+    /// prescribed end or the ring's seam copy).
+    #[inline(never)]
+    fn end_boundary<S: Scalar>(&self, j: usize, t: f64, y: &[S], yp: &[S]) -> (S, S) {
         let n = self.n_cells();
         if j == 0 {
             return (S::from(0.0), S::from(0.0));
@@ -337,8 +352,134 @@ impl<E: StrainEnergy> Line<E> {
         }
     }
 
+    /// The residual with cells `1..c0` on this thread and `c0..=N` on a second one, or `None`
+    /// when the line cannot be split there (a ring, or `c0` outside `2..N`). The rows of cells
+    /// `1..c0` all come before the row of boundary `c0 − 1`, which starts the second half's
+    /// rows, so the halves write disjoint slices of `r`. Same result as the serial sweep,
+    /// including which error is reported (the first half's, if both fail).
+    fn residual_two_threads<S: Scalar>(
+        &self,
+        t: f64,
+        y: &[S],
+        yp: &[S],
+        r: &mut [S],
+        c0: usize,
+    ) -> Option<Result<(), ResidualError>> {
+        let n = self.n_cells();
+        if self.right.is_periodic() || c0 < 2 || c0 > n {
+            return None;
+        }
+        let split = self.layout.xi[c0 - 1];
+        if split == NONE {
+            return None;
+        }
+        let (ra, rb) = r.split_at_mut(split);
+        let (res_a, res_b) = std::thread::scope(|s| {
+            let second = s.spawn(|| self.residual_cells(t, y, yp, rb, split, c0, n));
+            let first = self.residual_cells(t, y, yp, ra, 0, 1, c0 - 1);
+            let second = second
+                .join()
+                .unwrap_or_else(|e| std::panic::resume_unwind(e));
+            (first, second)
+        });
+        Some(res_a.and(res_b))
+    }
+
+    /// The residual rows of cells `first..=last` (and of the free right end when `last = N`),
+    /// written to `r[row − off]`: the serial sweep is `(1, N)` with `off = 0`; a sweep that
+    /// starts inside the line first evaluates the two cells before `first` for its running
+    /// state (the previous cell and, for the cell-centre form, the face force left of it), so
+    /// every row is computed by the same expression as in the serial sweep.
+    #[allow(clippy::too_many_arguments)]
+    fn residual_cells<S: Scalar>(
+        &self,
+        t: f64,
+        y: &[S],
+        yp: &[S],
+        r: &mut [S],
+        off: usize,
+        first: usize,
+        last: usize,
+    ) -> Result<(), ResidualError> {
+        let n = self.n_cells();
+        let lay = &self.layout;
+        // F_{b−1} for the cell-centre form (F₀ = 0 at the wall).
+        let (mut prev, mut f_prev, mut left) = if first == 1 {
+            let prev = if self.right.is_periodic() {
+                Some(self.eval_cell(n, t, y, yp)?)
+            } else {
+                None
+            };
+            (prev, S::from(0.0), self.boundary(0, t, y, yp))
+        } else {
+            let lb = self.boundary(first - 2, t, y, yp);
+            let (p, right) = self.eval_cell_from(first - 1, t, y, yp, lb)?;
+            let f_prev = if first >= 3 {
+                let llb = self.boundary(first - 3, t, y, yp);
+                let (pp, _) = self.eval_cell_from(first - 2, t, y, yp, llb)?;
+                self.width.face(pp.w, p.w) * (p.sigma - pp.sigma)
+            } else {
+                S::from(0.0)
+            };
+            (Some(p), f_prev, right)
+        };
+        for c in first..=last {
+            let (cur, right) = self.eval_cell_from(c, t, y, yp, left)?;
+            left = right;
+            let gk = lay.gi[c - 1];
+            if gk != NONE {
+                if let Some(law) = &self.growth {
+                    let (rate, drate) = law.rate(cur.sigma.re());
+                    r[gk - off] = yp[gk] - cur.sigma.lift(rate, drate);
+                }
+            }
+            if let Some(p) = prev {
+                let b = c - 1;
+                let f = self.width.face(p.w, cur.w) * (cur.sigma - p.sigma);
+                let row = lay.xi[b];
+                match self.form {
+                    DragForm::Boundary => {
+                        if row != NONE {
+                            let kappa = (p.kappa + cur.kappa) * 0.5;
+                            r[row - off] = kappa * p.vr * self.k_face[b] - f;
+                        }
+                    }
+                    DragForm::Centre => {
+                        if row != NONE {
+                            r[row - off] =
+                                p.kappa * (p.vl + p.vr) * self.cells.k_cell[b - 1] - f_prev - f;
+                        }
+                        f_prev = f;
+                    }
+                }
+            }
+            prev = Some(cur);
+        }
+        if last == n && self.right.is_free() {
+            let p = prev.expect("at least one cell");
+            let row = lay.xi[n];
+            let f_n = -(p.w * p.sigma) + self.f_ext(t);
+            r[row - off] = match self.form {
+                DragForm::Boundary => p.kappa * p.vr * self.k_face[n] - f_n,
+                DragForm::Centre => {
+                    p.kappa * (p.vl + p.vr) * self.cells.k_cell[n - 1] - f_prev - f_n
+                }
+            };
+        }
+        Ok(())
+    }
+
     /// Structural entries `(row, col)` of the Jacobian, from the stencil.
     pub fn jacobian_entries(&self) -> Vec<(usize, usize)> {
+        let mut entries = Vec::new();
+        self.for_each_jacobian_entry(|i, j| entries.push((i, j)));
+        entries
+    }
+
+    /// Calls `f(row, col)` for every structural entry of the Jacobian (with repeats), without
+    /// storing them: the banded pattern of a long line needs only the widest offsets, and a
+    /// list of the 10⁷ entries of a 10⁶-cell line would be 100+ MB of fresh memory.
+    pub fn for_each_jacobian_entry(&self, mut f: impl FnMut(usize, usize)) {
         let n = self.n_cells();
         let lay = &self.layout;
         let periodic = self.right.is_periodic();
@@ -360,13 +501,14 @@ impl<E: StrainEnergy> Line<E> {
                 None
             }
         };
-        let mut entries = Vec::new();
         let mut deps = Vec::new();
         for c in 1..=n {
             if lay.gi[c - 1] != NONE {
                 deps.clear();
                 cell_deps(c, &mut deps);
-                entries.extend(deps.iter().map(|&k| (lay.gi[c - 1], k)));
+                for &k in &deps {
+                    f(lay.gi[c - 1], k);
+                }
             }
         }
         for b in 0..=n {
@@ -375,19 +517,20 @@ impl<E: StrainEnergy> Line<E> {
                 continue;
             }
             let b = b as isize;
-            let cells: Vec<isize> = match self.form {
-                DragForm::Boundary => vec![b, b + 1],
-                DragForm::Centre => vec![b - 1, b, b + 1],
+            let cells: &[isize] = match self.form {
+                DragForm::Boundary => &[b, b + 1],
+                DragForm::Centre => &[b - 1, b, b + 1],
             };
             deps.clear();
-            for c in cells {
+            for &c in cells {
                 if let Some(c) = wrap(c) {
                     cell_deps(c, &mut deps);
                 }
             }
-            entries.extend(deps.iter().map(|&k| (row, k)));
+            for &k in &deps {
+                f(row, k);
+            }
         }
-        entries
     }
 }
 
@@ -397,21 +540,20 @@ impl<E: StrainEnergy> CellArray for Line<E> {
     }
 
     fn pattern(&self) -> Pattern {
-        let entries = self.jacobian_entries();
         if self.right.is_periodic() {
             return Pattern::Sparse(Arc::new(SparsityPattern::from_entries(
                 self.layout.dim,
-                &entries,
+                &self.jacobian_entries(),
             )));
         }
         let (mut lower, mut upper) = (0, 0);
-        for (i, j) in entries {
+        self.for_each_jacobian_entry(|i, j| {
             if i > j {
                 lower = lower.max(i - j);
             } else {
                 upper = upper.max(j - i);
             }
-        }
+        });
         Pattern::Banded { lower, upper }
     }
 
@@ -423,60 +565,12 @@ impl<E: StrainEnergy> CellArray for Line<E> {
         r: &mut [S],
     ) -> Result<(), ResidualError> {
         let n = self.n_cells();
-        let lay = &self.layout;
-        let periodic = self.right.is_periodic();
-        let mut prev = if periodic {
-            Some(self.eval_cell(n, t, y, yp)?)
-        } else {
-            None
-        };
-        // F_{b−1} for the cell-centre form (F₀ = 0 at the wall).
-        let mut f_prev = S::from(0.0);
-        let mut left = self.boundary(0, t, y, yp);
-        for c in 1..=n {
-            let (cur, right) = self.eval_cell_from(c, t, y, yp, left)?;
-            left = right;
-            let gk = lay.gi[c - 1];
-            if gk != NONE {
-                if let Some(law) = &self.growth {
-                    let (rate, drate) = law.rate(cur.sigma.re());
-                    r[gk] = yp[gk] - cur.sigma.lift(rate, drate);
-                }
+        if n >= PAR_MIN_CELLS && integrators::System::worker_threads() >= 2 {
+            if let Some(res) = self.residual_two_threads(t, y, yp, r, n / 2) {
+                return res;
             }
-            if let Some(p) = prev {
-                let b = c - 1;
-                let f = self.width.face(p.w, cur.w) * (cur.sigma - p.sigma);
-                let row = lay.xi[b];
-                match self.form {
-                    DragForm::Boundary => {
-                        if row != NONE {
-                            let kappa = (p.kappa + cur.kappa) * 0.5;
-                            r[row] = kappa * p.vr * self.k_face[b] - f;
-                        }
-                    }
-                    DragForm::Centre => {
-                        if row != NONE {
-                            r[row] =
-                                p.kappa * (p.vl + p.vr) * self.cells.k_cell[b - 1] - f_prev - f;
-                        }
-                        f_prev = f;
-                    }
-                }
-            }
-            prev = Some(cur);
         }
-        if self.right.is_free() {
-            let p = prev.expect("at least one cell");
-            let row = lay.xi[n];
-            let f_n = -(p.w * p.sigma) + self.f_ext(t);
-            r[row] = match self.form {
-                DragForm::Boundary => p.kappa * p.vr * self.k_face[n] - f_n,
-                DragForm::Centre => {
-                    p.kappa * (p.vl + p.vr) * self.cells.k_cell[n - 1] - f_prev - f_n
-                }
-            };
-        }
-        Ok(())
+        self.residual_cells(t, y, yp, r, 0, 1, n)
     }
 
     fn atol(&self) -> Option<Vec<f64>> {
@@ -526,5 +620,107 @@ impl<E: StrainEnergy> CellArray for Line<E> {
             alg[k] = drag == 0.0 && !visc;
         }
         alg
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::boundary::RightEnd;
+    use crate::cell::{Field, TanhGrowth};
+    use crate::line::build::{discrete, LineParams};
+    use crate::NeoHookean;
+    use num_dual::Dual64;
+
+    fn line(n: usize, form: DragForm, growth: bool, free: bool) -> Line<NeoHookean> {
+        let mut p = LineParams::unit_cells(n);
+        p.k = Field::Constant(0.3);
+        p.eta = Field::Constant(0.7);
+        p.mu = Field::gaussian_bump(1.0, 1.0, 0.5, 0.2);
+        p.form = form;
+        if growth {
+            p.growth = Some(Arc::new(TanhGrowth::default()));
+        }
+        if free {
+            p.right = RightEnd::Free(None);
+        }
+        discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap()
+    }
+
+    fn state(line: &Line<NeoHookean>) -> (Vec<f64>, Vec<f64>) {
+        let mut y = line.initial_state();
+        for (i, v) in y.iter_mut().enumerate() {
+            *v += 0.05 * ((i as f64) * 0.7).sin();
+        }
+        let yp = (0..y.len())
+            .map(|i| 0.1 * ((i as f64) * 1.3).cos())
+            .collect();
+        (y, yp)
+    }
+
+    #[test]
+    fn two_thread_residual_is_the_serial_one() {
+        // every split point of small lines (both drag forms, with and without growth, free
+        // or prescribed end), in f64 and in dual numbers: bitwise the serial rows
+        for form in [DragForm::Boundary, DragForm::Centre] {
+            for (growth, free) in [(false, false), (true, true), (false, true)] {
+                let l = line(9, form, growth, free);
+                let (y, yp) = state(&l);
+                let n = y.len();
+                let mut serial = vec![0.0; n];
+                l.residual_cells(0.3, &y, &yp, &mut serial, 0, 1, 9)
+                    .unwrap();
+                let yd: Vec<Dual64> = y.iter().map(|&v| Dual64::new(v, 0.5)).collect();
+                let ypd: Vec<Dual64> = yp.iter().map(|&v| Dual64::new(v, -0.25)).collect();
+                let mut serial_d = vec![Dual64::new(0.0, 0.0); n];
+                l.residual_cells(0.3, &yd, &ypd, &mut serial_d, 0, 1, 9)
+                    .unwrap();
+                for c0 in 2..=9 {
+                    let mut r = vec![f64::NAN; n];
+                    l.residual_two_threads(0.3, &y, &yp, &mut r, c0)
+                        .expect("splittable")
+                        .unwrap();
+                    assert_eq!(r, serial, "{form:?} growth={growth} free={free} c0={c0}");
+                    let mut rd = vec![Dual64::new(f64::NAN, f64::NAN); n];
+                    l.residual_two_threads(0.3, &yd, &ypd, &mut rd, c0)
+                        .expect("splittable")
+                        .unwrap();
+                    for (a, b) in rd.iter().zip(&serial_d) {
+                        assert_eq!((a.re, a.eps), (b.re, b.eps), "dual c0={c0}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn two_thread_residual_reports_the_serial_error() {
+        // a collapsed cell in either half: the same error as the serial sweep
+        let l = line(12, DragForm::Centre, false, false);
+        for bad in [2usize, 5, 6, 7, 11] {
+            let (mut y, yp) = state(&l);
+            // boundary `bad` moved onto boundary `bad − 1`: cell `bad` has zero stretch
+            y[l.layout.xi[bad]] = y[l.layout.xi[bad - 1]];
+            let mut r = vec![0.0; y.len()];
+            let serial = l.residual_cells(0.0, &y, &yp, &mut r, 0, 1, 12);
+            assert!(serial.is_err());
+            for c0 in [3, 6, 7, 10] {
+                let two = l.residual_two_threads(0.0, &y, &yp, &mut r, c0).unwrap();
+                assert_eq!(two, serial, "bad={bad} c0={c0}");
+            }
+        }
+    }
+
+    #[test]
+    fn large_lines_take_the_two_thread_path_with_the_serial_result() {
+        let n = PAR_MIN_CELLS + 5;
+        let l = line(n, DragForm::Boundary, false, false);
+        let (y, yp) = state(&l);
+        let mut serial = vec![0.0; y.len()];
+        l.residual_cells(0.1, &y, &yp, &mut serial, 0, 1, n)
+            .unwrap();
+        let mut r = vec![0.0; y.len()];
+        l.residual(0.1, &y, &yp, &mut r).unwrap();
+        assert_eq!(r, serial);
     }
 }

@@ -9,12 +9,61 @@
 //!
 //! Performance notes (the solve of a narrow band is bound by the latency of its serial
 //! recurrences, not by flops): the pivots' reciprocals are stored so the back substitution
-//! multiplies instead of dividing; `(l, u) = (1, 1)` and `(2, 2)` run copies of the loops with
-//! literal band widths, and the tridiagonal solve carries its running entries in registers;
+//! multiplies instead of dividing; `(l, u) = (2, 2)` runs a copy of the loops with literal band
+//! widths; tridiagonal matrices (`l = u = 1`, the lines and the heat equation) get
+//! their own compact, two-ended factorisation with partial pivoting ([`TriLu`]: two independent
+//! dependency chains, and a third of the memory traffic of the band layout);
 //! [`BandLu::factor_combination`] builds `A + β·B` straight into the factor storage (the BDF's
 //! iteration matrix `∂F/∂y + α·∂F/∂ẏ`) in the same pass that checks finiteness.
 
-use super::BandMatrix;
+use super::{BandMatrix, SolutionMap};
+
+/// Column entries `[A(j−1, j), A(j, j), A(j+1, j)]` of a tridiagonal matrix, for
+/// [`TriLu::factor`] (a trait with always-inlined methods, not a closure, so the streaming
+/// loop is not left with a call per column).
+trait TriColumns {
+    fn col(&self, j: usize) -> [f64; 3];
+}
+
+/// Columns read from band storage (`ld = 4`: `[fill, A(j−1, j), A(j, j), A(j+1, j)]`).
+struct BandColumns<'a>(&'a [f64]);
+
+impl TriColumns for BandColumns<'_> {
+    #[inline(always)]
+    fn col(&self, j: usize) -> [f64; 3] {
+        let c = &self.0[4 * j..4 * j + 4];
+        [c[1], c[2], c[3]]
+    }
+}
+
+/// Columns of `a + beta·b` from two band storages, each entry `a_k + beta·b_k`.
+struct CombinedColumns<'a> {
+    a: &'a [f64],
+    beta: f64,
+    b: &'a [f64],
+}
+
+impl TriColumns for CombinedColumns<'_> {
+    #[inline(always)]
+    fn col(&self, j: usize) -> [f64; 3] {
+        let (x, y) = (&self.a[4 * j..4 * j + 4], &self.b[4 * j..4 * j + 4]);
+        [
+            x[1] + self.beta * y[1],
+            x[2] + self.beta * y[2],
+            x[3] + self.beta * y[3],
+        ]
+    }
+}
+
+/// The identity map (a plain solve).
+struct Identity;
+
+impl SolutionMap for Identity {
+    #[inline(always)]
+    fn map(&mut self, _j: usize, x: f64) -> f64 {
+        x
+    }
+}
 
 impl BandMatrix {
     /// A zero `n × n` band matrix; `lower`/`upper` are clamped to `n − 1`.
@@ -68,13 +117,309 @@ pub(crate) struct BandLu {
     /// band is latency-bound).
     dinv: Vec<f64>,
     factored: bool,
+    /// Compact factors for `l = u = 1` (then `ab`, `ipiv` and `dinv` stay empty).
+    tri: Option<TriLu>,
     /// Multiply–add count of the last factorisation.
     pub(crate) flops: usize,
+}
+
+/// LU factors of a tridiagonal matrix with partial pivoting, eliminated from both ends at once
+/// ("twisted", burn-at-both-ends) and stored by role instead of in the `dgbtrf` band layout.
+///
+/// *Why*: a tridiagonal factorisation and its solves are serial recurrences (each row waits for
+/// a multiply, a subtraction and, in the factorisation, a division on the previous row), so one
+/// sweep runs at the latency of that chain, not at the memory's bandwidth. Gaussian elimination
+/// with partial pivoting (GEPP) in the column order `0, 1, …, k−1, n−1, n−2, …, k+1, k` touches
+/// rows `0..=k` in its first `k` steps and rows `k+1..n` in the next `n−2−k`, so with
+/// `k = (n−2)/2` the two halves are independent and run interleaved in one loop: two dependency
+/// chains for the CPU to overlap. It is ordinary GEPP on `A` with permuted columns (each step
+/// picks the larger of the two candidates in its column), so it keeps partial pivoting's
+/// robustness for matrices that are not diagonally dominant; only the rounding differs from
+/// the top-down `dgbtf2` order.
+///
+/// Storage: the forward sweep streams 9 bytes per row (multiplier and interchange flag) instead
+/// of a 32-byte band column and an 8-byte pivot index; the backward sweep 24 (the `U` row's two
+/// off-diagonal entries and its pivot reciprocal, interleaved into one stream).
+#[derive(Clone, Debug)]
+struct TriLu {
+    /// Twist index: rows `0..k` are eliminated downwards, `k+2..n` upwards, then rows `k+1`
+    /// and `k`.
+    k: usize,
+    /// Multiplier of the step that pivots in row `j`.
+    mult: Vec<f64>,
+    /// Whether that step interchanged its two rows.
+    swap: Vec<bool>,
+    /// Row `j` of `U`: `[u₂, u₁, 1/pivot]`, the entries two and one columns away from the
+    /// pivot towards the twist (right of it for `j < k`, left of it for `j > k`).
+    urow: Vec<[f64; 3]>,
+}
+
+/// One GEPP step on two rows of a tridiagonal matrix: the current (already updated) row with
+/// entries `p0` in the pivot column and `p1` one column on, and the other candidate row with
+/// `a` in the pivot column, `d` and `c` one and two columns on. Returns `None` on a zero or
+/// non-finite pivot, else `(swapped, multiplier, [u₂, u₁, 1/pivot], remaining row)`.
+#[inline(always)]
+#[allow(clippy::type_complexity)]
+fn tri_step(p0: f64, p1: f64, a: f64, d: f64, c: f64) -> Option<(bool, f64, [f64; 3], (f64, f64))> {
+    let swapped = a.abs() > p0.abs();
+    let piv = if swapped { a } else { p0 };
+    if piv == 0.0 || !piv.is_finite() {
+        return None;
+    }
+    let inv = 1.0 / piv;
+    Some(if swapped {
+        let m = p0 * inv;
+        (true, m, [c, d, inv], (p1 - m * d, -(m * c)))
+    } else {
+        let m = a * inv;
+        (false, m, [0.0, p1, inv], (d - m * p1, c))
+    })
+}
+
+impl TriLu {
+    fn new(n: usize) -> Self {
+        Self {
+            k: 0,
+            mult: vec![0.0; n],
+            swap: vec![false; n],
+            urow: vec![[0.0; 3]; n],
+        }
+    }
+
+    /// Twisted GEPP on the `n × n` (`n ≥ 2`) matrix whose column `j` holds `cols.col(j) =
+    /// [A(j−1, j), A(j, j), A(j+1, j)]` (entries outside the matrix are read and must be
+    /// finite, as the band storage's zero slots are). One streaming pass from each end: the
+    /// entries are loaded as the elimination reaches them, so a combined matrix `A + β·B` is
+    /// never stored. Returns the multiply–add count, or `Err(column)`: the first column holding
+    /// a non-finite entry if there is one (as the band path's up-front check reports), else
+    /// the column whose pivot was zero.
+    #[inline(always)]
+    fn factor<C: TriColumns>(&mut self, n: usize, cols: &C) -> Result<usize, usize> {
+        debug_assert!(n >= 2);
+        let first_bad = |cols: &C| (0..n).find(|&j| cols.col(j).iter().any(|v| !v.is_finite()));
+        let k = (n - 2) / 2;
+        let (top_len, bot_len) = (k, n - 2 - k);
+        self.k = k;
+        let (mult, swap, urow) = (
+            &mut self.mult[..n],
+            &mut self.swap[..n],
+            &mut self.urow[..n],
+        );
+        let mut finite = true;
+        let mut load = |j: usize| {
+            let c = cols.col(j);
+            finite &= c.iter().all(|v| v.is_finite());
+            c
+        };
+        let mut flops = 0usize;
+        // downwards: the current row j has (tp0, tp1) in columns (j, j+1); the other candidate
+        // is row j+1 = (col(j)[2], col(j+1)[1], col(j+2)[0])
+        let (mut t_cur, mut t_next) = (load(0), load(1));
+        let (mut tp0, mut tp1) = (t_cur[1], t_next[0]);
+        // upwards: the current row j has (bp0, bp1) in columns (j, j−1); the other candidate is
+        // row j−1 = (col(j)[0], col(j−1)[1], col(j−2)[2])
+        let (mut b_cur, mut b_next) = (load(n - 1), load(n - 2));
+        let (mut bp0, mut bp1) = (b_cur[1], b_next[2]);
+        for i in 0..bot_len {
+            if i < top_len {
+                let j = i;
+                let after = load(j + 2);
+                let Some((sw, m, u, q)) = tri_step(tp0, tp1, t_cur[2], t_next[1], after[0]) else {
+                    return Err(first_bad(cols).unwrap_or(j));
+                };
+                (swap[j], mult[j], urow[j]) = (sw, m, u);
+                flops += 1 + usize::from(sw);
+                (tp0, tp1) = q;
+                (t_cur, t_next) = (t_next, after);
+            }
+            let j = n - 1 - i;
+            let after = load(j - 2);
+            let Some((sw, m, u, q)) = tri_step(bp0, bp1, b_cur[0], b_next[1], after[2]) else {
+                return Err(first_bad(cols).unwrap_or(j));
+            };
+            (swap[j], mult[j], urow[j]) = (sw, m, u);
+            flops += 1 + usize::from(sw);
+            (bp0, bp1) = q;
+            (b_cur, b_next) = (b_next, after);
+        }
+        // column k+1: the upward current row k+1 against the downward current row k (which
+        // has tp0 in column k and tp1 in column k+1); then the 1×1 pivot of column k
+        let Some((sw, m, u, (r, _))) = tri_step(bp0, bp1, tp1, tp0, 0.0) else {
+            return Err(first_bad(cols).unwrap_or(k + 1));
+        };
+        (swap[k + 1], mult[k + 1], urow[k + 1]) = (sw, m, u);
+        flops += 1;
+        if r == 0.0 || !r.is_finite() {
+            return Err(first_bad(cols).unwrap_or(k));
+        }
+        (swap[k], mult[k], urow[k]) = (false, 0.0, [0.0, 0.0, 1.0 / r]);
+        if !finite {
+            return Err(first_bad(cols).unwrap_or(k));
+        }
+        Ok(flops)
+    }
+
+    /// Solve with the twisted factors; `map.map(j, x_j)` is stored in `b[j]` as each solution
+    /// component is found (outwards from the twist), so a caller's pass over the solution
+    /// rides along with the latency-bound back substitution instead of being a separate pass
+    /// over memory.
+    #[inline(always)]
+    fn solve_map<M: SolutionMap>(&self, b: &mut [f64], mut map: M) -> M {
+        let n = b.len();
+        let k = self.k;
+        let (top_len, bot_len) = (k, n - 2 - k);
+        let (mult, swap, urow) = (&self.mult[..n], &self.swap[..n], &self.urow[..n]);
+        // forward: L⁻¹ with the interchanges, both halves at once (running entries in registers)
+        let (mut tc, mut bc) = (b[0], b[n - 1]);
+        for i in 0..bot_len {
+            if i < top_len {
+                let j = i;
+                let mut nx = b[j + 1];
+                if swap[j] {
+                    std::mem::swap(&mut tc, &mut nx);
+                }
+                b[j] = tc;
+                tc = nx - mult[j] * tc;
+            }
+            let j = n - 1 - i;
+            let mut nx = b[j - 1];
+            if swap[j] {
+                std::mem::swap(&mut bc, &mut nx);
+            }
+            b[j] = bc;
+            bc = nx - mult[j] * bc;
+        }
+        // column k+1 (rows k+1 and k), then column k
+        if swap[k + 1] {
+            std::mem::swap(&mut bc, &mut tc);
+        }
+        tc -= mult[k + 1] * bc;
+        // backward: x_k, x_{k+1}, then outwards in both directions at once
+        let xk = tc * urow[k][2];
+        let [_, u1, inv] = urow[k + 1];
+        let xk1 = (bc - u1 * xk) * inv;
+        b[k] = map.map(k, xk);
+        b[k + 1] = map.map(k + 1, xk1);
+        // (x_{j+1}, x_{j+2}) going up, (x_{j−1}, x_{j−2}) going down
+        let (mut t1, mut t2) = (xk, xk1);
+        let (mut d1, mut d2) = (xk1, xk);
+        for i in 0..bot_len {
+            if i < top_len {
+                let j = k - 1 - i;
+                let [u2, u1, inv] = urow[j];
+                let x = (b[j] - u2 * t2 - u1 * t1) * inv;
+                b[j] = map.map(j, x);
+                (t1, t2) = (x, t1);
+            }
+            let j = k + 2 + i;
+            let [u2, u1, inv] = urow[j];
+            let x = (b[j] - u2 * d2 - u1 * d1) * inv;
+            b[j] = map.map(j, x);
+            (d1, d2) = (x, d1);
+        }
+        map
+    }
+
+    /// [`solve_map`](Self::solve_map) with the two halves on two threads: the downward half
+    /// (rows `0..=k`) and the upward half (rows `k+1..n`) of each sweep touch disjoint parts
+    /// of `b`, and only the twist rows `k`, `k+1` join them. `map` is split at `k + 1`
+    /// ([`SolutionMap::split`]; a map that cannot be split gets the one-thread solve). Same
+    /// operations per component as the one-thread solve.
+    fn solve_map_two_threads<M: SolutionMap + Send>(&self, b: &mut [f64], map: M) -> M {
+        let n = b.len();
+        let k = self.k;
+        let (mut first, mut second) = match map.split(k + 1) {
+            Ok(halves) => halves,
+            Err(map) => return self.solve_map(b, map),
+        };
+        let (mult, swap, urow) = (&self.mult[..n], &self.swap[..n], &self.urow[..n]);
+        let (top, bot) = b.split_at_mut(k + 1);
+        // forward: downward over rows 0..=k, upward over rows n−1..=k+1 (bot[i] is row k+1+i)
+        let down = |top: &mut [f64]| {
+            let mut tc = top[0];
+            for j in 0..k {
+                let mut nx = top[j + 1];
+                if swap[j] {
+                    std::mem::swap(&mut tc, &mut nx);
+                }
+                top[j] = tc;
+                tc = nx - mult[j] * tc;
+            }
+            tc
+        };
+        let up = |bot: &mut [f64]| {
+            let m = bot.len();
+            let mut bc = bot[m - 1];
+            for j in (k + 2..n).rev() {
+                let i = j - (k + 1);
+                let mut nx = bot[i - 1];
+                if swap[j] {
+                    std::mem::swap(&mut bc, &mut nx);
+                }
+                bot[i] = bc;
+                bc = nx - mult[j] * bc;
+            }
+            bc
+        };
+        let (mut tc, mut bc) = std::thread::scope(|sc| {
+            let h = sc.spawn(|| up(&mut *bot));
+            let tc = down(&mut *top);
+            (
+                tc,
+                h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)),
+            )
+        });
+        // the twist rows
+        if swap[k + 1] {
+            std::mem::swap(&mut bc, &mut tc);
+        }
+        tc -= mult[k + 1] * bc;
+        let xk = tc * urow[k][2];
+        let [_, u1, inv] = urow[k + 1];
+        let xk1 = (bc - u1 * xk) * inv;
+        top[k] = first.map(k, xk);
+        bot[0] = second.map(k + 1, xk1);
+        // backward: outwards from the twist, one half per thread
+        std::thread::scope(|sc| {
+            let h = sc.spawn(|| {
+                let (mut d1, mut d2) = (xk1, xk);
+                for (j, &[u2, u1, inv]) in urow.iter().enumerate().skip(k + 2) {
+                    let i = j - (k + 1);
+                    let x = (bot[i] - u2 * d2 - u1 * d1) * inv;
+                    bot[i] = second.map(j, x);
+                    (d1, d2) = (x, d1);
+                }
+            });
+            let (mut t1, mut t2) = (xk, xk1);
+            for j in (0..k).rev() {
+                let [u2, u1, inv] = urow[j];
+                let x = (top[j] - u2 * t2 - u1 * t1) * inv;
+                top[j] = first.map(j, x);
+                (t1, t2) = (x, t1);
+            }
+            h.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
+        });
+        first.merge(second);
+        first
+    }
 }
 
 impl BandLu {
     pub(crate) fn new(n: usize, lower: usize, upper: usize) -> Self {
         let shape = BandMatrix::zeros(n, lower, upper);
+        if (shape.lower, shape.upper) == (1, 1) {
+            return Self {
+                n,
+                l: 1,
+                u: 1,
+                ab: Vec::new(),
+                ipiv: Vec::new(),
+                dinv: Vec::new(),
+                factored: false,
+                tri: Some(TriLu::new(n)),
+                flops: 0,
+            };
+        }
         Self {
             n,
             l: shape.lower,
@@ -83,14 +428,32 @@ impl BandLu {
             ipiv: vec![0; n],
             dinv: vec![0.0; n],
             factored: false,
+            tri: None,
             flops: 0,
         }
+    }
+
+    /// Runs the compact tridiagonal factorisation on the column entries `col(j)`.
+    fn factor_tri<C: TriColumns>(&mut self, cols: &C) -> Result<(), usize> {
+        self.factored = false;
+        self.flops = 0;
+        let tri = self.tri.as_mut().expect("tridiagonal solver");
+        let res = tri.factor(self.n, cols);
+        if let Ok(f) = res {
+            self.flops = f;
+        }
+        self.factored = res.is_ok();
+        res.map(|_| ())
     }
 
     /// Factorises `m` (same shape as given to [`BandLu::new`]). `Err(column)` on a zero or
     /// non-finite pivot, or a non-finite entry.
     pub(crate) fn factor(&mut self, m: &BandMatrix) -> Result<(), usize> {
         self.check_shape(m);
+        if self.tri.is_some() {
+            // band column j: [fill, A(j−1, j), A(j, j), A(j+1, j)]
+            return self.factor_tri(&BandColumns(&m.data[..4 * self.n]));
+        }
         self.ab.copy_from_slice(&m.data);
         self.factor_loaded()
     }
@@ -107,6 +470,14 @@ impl BandLu {
     ) -> Result<(), usize> {
         self.check_shape(a);
         self.check_shape(b);
+        if self.tri.is_some() {
+            // the same `a_k + beta·b_k` per entry, fed to the elimination as it streams
+            return self.factor_tri(&CombinedColumns {
+                a: &a.data[..4 * self.n],
+                beta,
+                b: &b.data[..4 * self.n],
+            });
+        }
         self.factored = false;
         self.flops = 0;
         // one pass: combine, zero the fill slots, check finiteness
@@ -138,9 +509,9 @@ impl BandLu {
         );
     }
 
-    /// Factorises the matrix already copied into `self.ab`. The common narrow bands are
-    /// dispatched to copies of the same code with the band widths as literal constants, so the
-    /// compiler unrolls the short inner loops (a tridiagonal line is the hot case).
+    /// Factorises the matrix already copied into `self.ab`. The pentadiagonal band is
+    /// dispatched to a copy of the same code with the band widths as literal constants, so the
+    /// compiler unrolls the short inner loops (tridiagonal matrices take [`TriLu`] instead).
     fn factor_loaded(&mut self) -> Result<(), usize> {
         self.factored = false;
         self.flops = 0;
@@ -158,7 +529,6 @@ impl BandLu {
     /// Elimination on the loaded, checked storage.
     fn eliminate(&mut self) -> Result<(), usize> {
         let res = match (self.l, self.u) {
-            (1, 1) => self.factor_impl(1, 1),
             (2, 2) => self.factor_impl(2, 2),
             (l, u) => self.factor_impl(l, u),
         };
@@ -241,57 +611,39 @@ impl BandLu {
             "LinearSolver::solve_in_place before a successful factor"
         );
         assert_eq!(b.len(), self.n, "right-hand side length mismatch");
-        match (self.l, self.u) {
-            (1, 1) => self.solve_tridiagonal(b),
-            (2, 2) => self.solve_impl(2, 2, b),
-            (l, u) => self.solve_impl(l, u, b),
+        match (self.l, self.u, &self.tri) {
+            (_, _, Some(tri)) => {
+                tri.solve_map(b, Identity);
+            }
+            (2, 2, _) => self.solve_impl(2, 2, b),
+            (l, u, _) => self.solve_impl(l, u, b),
         }
     }
 
-    /// [`solve_impl`](Self::solve_impl) for `l = u = 1` with the running entries kept in
-    /// registers: in the generic loop every row waits for the store of the previous row's
-    /// update to be forwarded back from memory. Same operations in the same order, so the
-    /// result is bitwise that of the generic loop.
-    fn solve_tridiagonal(&self, b: &mut [f64]) {
-        let n = self.n;
-        if n == 0 {
-            return;
-        }
-        // ld = 4, kv = 2: column j holds [U(j−2, j) (interchange fill), U(j−1, j), U(j, j),
-        // multiplier L(j+1, j)].
-        let ab = &self.ab[..4 * n];
-        // forward: L with the row interchanges (ipiv[j] is j or j + 1)
-        let mut cur = b[0];
-        for j in 0..n - 1 {
-            let mut nxt = b[j + 1];
-            if self.ipiv[j] != j {
-                std::mem::swap(&mut cur, &mut nxt);
-            }
-            b[j] = cur;
-            if cur != 0.0 {
-                nxt -= ab[4 * j + 3] * cur;
-            }
-            cur = nxt;
-        }
-        b[n - 1] = cur;
-        // backward: U has two super-diagonals (the second one from interchanges)
-        let mut a0 = b[n - 1];
-        let mut a1 = if n >= 2 { b[n - 2] } else { 0.0 };
-        for j in (0..n).rev() {
-            let x = a0 * self.dinv[j];
-            b[j] = x;
-            let mut a2 = if j >= 2 { b[j - 2] } else { 0.0 };
-            if x != 0.0 {
-                let col = &ab[4 * j..4 * j + 4];
-                if j >= 1 {
-                    a1 -= col[1] * x;
-                }
-                if j >= 2 {
-                    a2 -= col[0] * x;
+    /// [`solve`](Self::solve), then `b[j] = map(j, x_j)` for every component. The tridiagonal
+    /// path applies `map` inside its backward sweep (in decreasing `j`); the others after the
+    /// solve, in increasing `j`.
+    pub(crate) fn solve_map<M: SolutionMap + Send>(&self, b: &mut [f64], mut map: M) -> M {
+        assert!(
+            self.factored,
+            "LinearSolver::solve_in_place before a successful factor"
+        );
+        assert_eq!(b.len(), self.n, "right-hand side length mismatch");
+        match &self.tri {
+            Some(tri) => {
+                if b.len() >= crate::System::PARALLEL_MIN && crate::System::worker_threads() >= 2 {
+                    tri.solve_map_two_threads(b, map)
+                } else {
+                    tri.solve_map(b, map)
                 }
             }
-            a0 = a1;
-            a1 = a2;
+            None => {
+                self.solve(b);
+                for (j, v) in b.iter_mut().enumerate() {
+                    *v = map.map(j, *v);
+                }
+                map
+            }
         }
     }
 
@@ -329,6 +681,87 @@ impl BandLu {
                 for (bi, &uij) in b[lo..j].iter_mut().zip(ucol) {
                     *bi -= uij * bj;
                 }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Records each component once (at its global index) and splits at any point.
+    struct Record<'a> {
+        off: usize,
+        out: &'a mut [Option<f64>],
+        calls: usize,
+    }
+
+    impl SolutionMap for Record<'_> {
+        fn map(&mut self, j: usize, x: f64) -> f64 {
+            let slot = &mut self.out[j - self.off];
+            assert!(slot.is_none(), "component {j} mapped twice");
+            *slot = Some(x);
+            self.calls += 1;
+            -x
+        }
+        fn split(self, mid: usize) -> Result<(Self, Self), Self> {
+            let (a, b) = self.out.split_at_mut(mid - self.off);
+            Ok((
+                Record {
+                    off: self.off,
+                    out: a,
+                    calls: self.calls,
+                },
+                Record {
+                    off: mid,
+                    out: b,
+                    calls: 0,
+                },
+            ))
+        }
+        fn merge(&mut self, other: Self) {
+            self.calls += other.calls;
+        }
+    }
+
+    #[test]
+    fn two_thread_tridiagonal_solve_is_the_one_thread_solve() {
+        // every small size, with pivoting forced (zero diagonal entries): bitwise equal
+        // components, each mapped exactly once, the split map's state merged back
+        for n in (2..=40).chain([101, 256]) {
+            let mut data = vec![0.0; 4 * n];
+            for j in 0..n {
+                let f = j as f64;
+                data[4 * j + 1] = if j > 0 { (1.3 * f).sin() } else { 0.0 };
+                data[4 * j + 2] = if j % 3 == 1 {
+                    0.0
+                } else {
+                    0.5 + (0.7 * f).cos()
+                };
+                data[4 * j + 3] = if j + 1 < n { (2.1 * f).cos() } else { 0.0 };
+            }
+            let mut lu = TriLu::new(n);
+            if lu.factor(n, &BandColumns(&data)).is_err() {
+                continue;
+            }
+            let rhs: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin() + 0.1).collect();
+            let mut one = rhs.clone();
+            lu.solve_map(&mut one, Identity);
+            let mut seen = vec![None; n];
+            let mut two = rhs.clone();
+            let rec = lu.solve_map_two_threads(
+                &mut two,
+                Record {
+                    off: 0,
+                    out: &mut seen,
+                    calls: 0,
+                },
+            );
+            assert_eq!(rec.calls, n, "n={n}");
+            for j in 0..n {
+                assert_eq!(seen[j], Some(one[j]), "n={n} j={j}");
+                assert_eq!(two[j], -one[j], "n={n} j={j}");
             }
         }
     }

@@ -100,6 +100,35 @@ pub(crate) enum Inner {
     Iterative(Box<iterative::IterativeSolver>),
 }
 
+/// A per-component map applied to a solution as the solver produces it
+/// ([`LinearSolver::solve_in_place_map`]). A trait rather than a closure so that an
+/// implementation can mark [`map`](SolutionMap::map) `#[inline(always)]`: the solver's loops
+/// call it once per component, and a call there costs more than a small update.
+pub trait SolutionMap {
+    /// The value stored for solution component `j`, given its value `x`.
+    fn map(&mut self, j: usize, x: f64) -> f64;
+
+    /// Splits into a map for components `0..mid` and one for `mid..` (still called with the
+    /// global index `j`), so a solver may run the two halves on two threads; `Err(self)` (the
+    /// default) when the map cannot be split.
+    fn split(self, mid: usize) -> Result<(Self, Self), Self>
+    where
+        Self: Sized,
+    {
+        let _ = mid;
+        Err(self)
+    }
+
+    /// Folds the state a second half (from [`split`](SolutionMap::split)) accumulated into
+    /// this one, which the solver then returns.
+    fn merge(&mut self, other: Self)
+    where
+        Self: Sized,
+    {
+        let _ = other;
+    }
+}
+
 /// Index of the first non-finite value.
 pub(crate) fn first_non_finite(v: &[f64]) -> Option<usize> {
     v.iter().position(|x| !x.is_finite())
@@ -172,7 +201,9 @@ impl Matrix {
         }
     }
     /// Adds `v` to entry `(i, j)`. Entries outside the pattern are a programmer error (panics in
-    /// debug builds, ignored in release).
+    /// debug builds, ignored in release). Inlinable across crates: user Jacobians call it once
+    /// per entry.
+    #[inline]
     pub fn add(&mut self, i: usize, j: usize, v: f64) {
         match self.position(i, j) {
             Some(k) => self.values_mut()[k] += v,
@@ -180,6 +211,7 @@ impl Matrix {
         }
     }
     /// Overwrites entry `(i, j)` with `v` (same pattern rules as [`add`](Matrix::add)).
+    #[inline]
     pub fn set(&mut self, i: usize, j: usize, v: f64) {
         match self.position(i, j) {
             Some(k) => self.values_mut()[k] = v,
@@ -187,6 +219,7 @@ impl Matrix {
         }
     }
     /// Entry `(i, j)` (0 outside the pattern).
+    #[inline]
     pub fn get(&self, i: usize, j: usize) -> f64 {
         match (self.position(i, j), self) {
             (None, _) => 0.0,
@@ -411,6 +444,49 @@ impl LinearSolver {
             Inner::Sparse(lu) => lu.solve(b),
             Inner::Iterative(it) => it.solve(b, tol),
         }
+    }
+    /// [`solve_in_place`](Self::solve_in_place), then `b[j] = map.map(j, x_j)` for every
+    /// component, in an order of the solver's choosing: the tridiagonal banded solver applies
+    /// the map inside its backward sweep (decreasing `j`), which saves the caller a separate
+    /// pass over the solution; the others apply it afterwards in increasing `j`.
+    ///
+    /// ```
+    /// use integrators::linalg::{LinearSolver, Matrix, SolutionMap};
+    /// use integrators::Pattern;
+    /// struct Negate;
+    /// impl SolutionMap for Negate {
+    ///     fn map(&mut self, _j: usize, x: f64) -> f64 { -x }
+    /// }
+    /// let p = Pattern::Banded { lower: 1, upper: 1 };
+    /// let mut m = Matrix::zeros(3, &p);
+    /// for i in 0..3 {
+    ///     m.add(i, i, 4.0);
+    ///     if i > 0 { m.add(i, i - 1, -1.0); m.add(i - 1, i, -1.0); }
+    /// }
+    /// let mut lu = LinearSolver::new(3, &p);
+    /// lu.factor(&m).unwrap();
+    /// let mut b = vec![3.0, 2.0, 3.0];
+    /// lu.solve_in_place_map(&mut b, None, Negate);
+    /// assert!(b.iter().all(|x| (x + 1.0).abs() < 1e-14));
+    /// ```
+    ///
+    /// The map is taken by value and handed back: held in a local of the solver, its fields
+    /// (running norms, slice pointers) stay in registers, where behind a reference every store
+    /// into the solution would make the compiler reload them.
+    pub fn solve_in_place_map<M: SolutionMap + Send>(
+        &self,
+        b: &mut [f64],
+        tol: Option<&LinearTolerance<'_>>,
+        mut map: M,
+    ) -> M {
+        if let Inner::Banded(lu) = &self.inner {
+            return lu.solve_map(b, map);
+        }
+        self.solve_in_place_to(b, tol);
+        for (j, v) in b.iter_mut().enumerate() {
+            *v = map.map(j, *v);
+        }
+        map
     }
     /// Whether the last `factor` created a new symbolic factorisation (for statistics).
     pub fn last_factor_was_symbolic(&self) -> bool {

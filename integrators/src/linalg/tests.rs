@@ -416,3 +416,96 @@ fn complex_pair_solves_the_complex_system() {
         }
     }
 }
+
+#[test]
+fn twisted_tridiagonal_lu_matches_dense_lu() {
+    // the two-ended tridiagonal path at every small size (both halves, the twist rows and the
+    // odd/even split), on matrices that are not diagonally dominant and on ones whose diagonal
+    // is zero (every step must pivot), against faer's dense LU
+    let mut rng = Rng(11);
+    let p = Pattern::Banded { lower: 1, upper: 1 };
+    let mut checked = 0;
+    for n in (2..=41).chain([100, 257]) {
+        for kind in 0..3 {
+            let mut m = random_band(&mut rng, n, 1, 1, kind == 0);
+            if kind == 2 {
+                for i in 0..n {
+                    m.set(i, i, 0.0);
+                }
+            }
+            let b: Vec<f64> = (0..n).map(|_| rng.next()).collect();
+            let d = to_dense(&m);
+            let Ok(xd) = solve(&d, &Pattern::Dense, &b) else {
+                // a singular draw (zero diagonal, odd n): the banded path must say so too
+                assert!(solve(&m, &p, &b).is_err(), "n={n} kind={kind}");
+                continue;
+            };
+            let xb = solve(&m, &p, &b).expect("nonsingular");
+            let scale = xd.iter().fold(1.0f64, |a, x| a.max(x.abs()));
+            assert!(max_diff(&xb, &xd) <= 1e-9 * scale, "n={n} kind={kind}");
+            assert!(
+                residual_norm(&m, &xb, &b) <= 1e-10 * scale,
+                "n={n} kind={kind}"
+            );
+            // the fused map sees every component once, with its own index
+            let mut lu = LinearSolver::new(n, &p);
+            lu.factor(&m).unwrap();
+            struct Record(Vec<Option<f64>>);
+            impl crate::linalg::SolutionMap for Record {
+                fn map(&mut self, j: usize, x: f64) -> f64 {
+                    assert!(self.0[j].is_none(), "component {j} mapped twice");
+                    self.0[j] = Some(x);
+                    2.0 * x
+                }
+            }
+            let mut x2 = b.clone();
+            let rec = lu.solve_in_place_map(&mut x2, None, Record(vec![None; n]));
+            for j in 0..n {
+                assert_eq!(rec.0[j], Some(xb[j]), "n={n} j={j}");
+                assert_eq!(x2[j], 2.0 * xb[j]);
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked >= 100, "{checked}");
+}
+
+#[test]
+fn twisted_tridiagonal_combination_and_errors() {
+    // factor_combination (A + β·B streamed into the factors) agrees with factorising the sum;
+    // a NaN or a zero column anywhere (either half, or the twist) is Err(that column)
+    let mut rng = Rng(5);
+    let p = Pattern::Banded { lower: 1, upper: 1 };
+    for n in [2, 3, 4, 9, 10, 33] {
+        let a = random_band(&mut rng, n, 1, 1, false);
+        let bm = random_band(&mut rng, n, 1, 1, false);
+        let beta = 0.37;
+        let mut sum = Matrix::zeros(n, &p);
+        sum.axpby(1.0, 1.0, &a);
+        sum.axpby(1.0, beta, &bm);
+        let rhs: Vec<f64> = (0..n).map(|_| rng.next()).collect();
+        let Ok(x_sum) = solve(&sum, &p, &rhs) else {
+            continue;
+        };
+        let mut lu = LinearSolver::new(n, &p);
+        let mut scratch = Matrix::zeros(n, &p);
+        lu.factor_combination(&a, beta, &bm, &mut scratch).unwrap();
+        let mut x = rhs.clone();
+        lu.solve_in_place(&mut x);
+        assert_eq!(x, x_sum, "n={n}");
+        for col in 0..n {
+            let mut bad = sum.clone();
+            bad.set(col, col, f64::NAN);
+            assert_eq!(solve(&bad, &p, &rhs), Err(col), "NaN n={n} col={col}");
+            let mut zero = sum.clone();
+            for i in col.saturating_sub(1)..(col + 2).min(n) {
+                zero.set(i, col, 0.0);
+            }
+            assert_eq!(
+                solve(&zero, &p, &rhs),
+                Err(col),
+                "zero column n={n} col={col}"
+            );
+        }
+    }
+}

@@ -36,12 +36,17 @@
 //!
 //! For large banded systems a step is bound by passes over `n`-vectors, so the vector work is
 //! fused: the iteration matrix is combined straight into the LU storage
-//! ([`System::factor_combination`]); each Newton iteration is one solve plus one pass that
-//! forms `δ`, updates `y`, `ẏ`, the accumulated correction and the norm; the local-error norm and
-//! the order-selection norms (orders `k−1`, `k−2`, `k+1`) come from one block-wise sweep over
-//! the history; the error and Newton weights from one pass; an accepted state moves into place
-//! by swapping buffers. All of it is bitwise equal to the unfused arithmetic (same operations,
-//! same summation order), so the step sequence is unchanged.
+//! ([`System::factor_combination`]); the predictor is written straight into the Newton iterate
+//! (no separate predictor vectors to copy from; a retry after a Jacobian refresh recomputes it)
+//! in the same block-wise pass that computes the error and Newton weights (one vector when no
+//! algebraic component is suppressed); each Newton iteration is one solve whose back
+//! substitution applies the update as each component is found ([`System::solve_map`]: `δ`,
+//! `y`, `ẏ`, the accumulated correction — which starts as the first `δ`, no zero-fill — and the
+//! norm); the local-error norm and the order-selection norms (orders `k−1`, `k−2`, `k+1`) come
+//! from one block-wise sweep over the history; an accepted state moves into the history by
+//! swapping buffers (the newest history vector *is* `y`). Only the order of the RMS sums in the
+//! Newton norm differs from the unfused arithmetic (the tridiagonal solve produces components
+//! from its middle outwards); the pinned step counts are unchanged.
 //!
 //! # Step control
 //!
@@ -65,7 +70,7 @@
 use std::collections::VecDeque;
 
 use crate::error::{ErrorKind, SolverError};
-use crate::linalg::{LinearSolver, LinearTolerance, Matrix};
+use crate::linalg::{LinearSolver, LinearTolerance, Matrix, SolutionMap};
 use crate::method::Method;
 use crate::options::ErrorNorm;
 use crate::pattern::Pattern;
@@ -136,7 +141,7 @@ pub struct Bdf {
     vals: VecDeque<Vec<f64>>,
     /// `ẏ` at the start's double node.
     yp0: Vec<f64>,
-    y: Vec<f64>,
+    /// `ẏ` of the last accepted point (its `y` is the newest history vector, `vals[0]`).
     yp: Vec<f64>,
     jy: Option<Matrix>,
     jyp: Option<Matrix>,
@@ -149,14 +154,17 @@ pub struct Bdf {
     steps_since_jac: usize,
     /// Newton convergence-rate factor `ρ/(1-ρ)`.
     ss: f64,
-    ypred: Vec<f64>,
-    yppred: Vec<f64>,
+    /// Newton iterate (starts as the predictor).
     ycur: Vec<f64>,
     ypcur: Vec<f64>,
     ee: Vec<f64>,
     res: Vec<f64>,
+    /// Error weights, only when they differ from the Newton weights (suppressed algebraic
+    /// components); otherwise empty and [`Bdf::ewt`] answers `nwt`.
     ewt: Vec<f64>,
     nwt: Vec<f64>,
+    /// Whether `ewt` is stored separately.
+    ewt_separate: bool,
 }
 
 impl Default for Bdf {
@@ -205,6 +213,97 @@ fn interp_coeffs(z: &[f64], t: f64, p: &mut [f64; NC], dp: &mut [f64; NC]) {
     }
 }
 
+/// Where a vector pass of length `n` is split over two threads: a block boundary near the
+/// middle, or 0 (no split) below [`System::PARALLEL_MIN`] or with one worker thread.
+fn split_point(n: usize) -> usize {
+    if n < System::PARALLEL_MIN || System::worker_threads() < 2 {
+        return 0;
+    }
+    (n / 2) / BLK * BLK
+}
+
+/// The predictor (and optionally the weights) for components `lo..lo + y.len()`: `y`, `yp`
+/// and the weights' outputs are that range's slices, the history vectors, `y0` (the newest,
+/// for the weights) and the weights' inputs are whole vectors.
+fn poly_blocks(
+    items: &[(&[f64], f64, f64)],
+    y0: &[f64],
+    lo: usize,
+    y: &mut [f64],
+    yp: &mut [f64],
+    mut weights: Option<Weights<'_>>,
+) {
+    let n = y.len();
+    let mut s = 0;
+    while s < n {
+        let e = (s + BLK).min(n);
+        let (yb, ypb) = (&mut y[s..e], &mut yp[s..e]);
+        yb.fill(0.0);
+        ypb.fill(0.0);
+        for &(v, a, b) in items {
+            let vb = &v[lo + s..lo + e];
+            for ((yi, ypi), &x) in yb.iter_mut().zip(ypb.iter_mut()).zip(vb) {
+                *yi += a * x;
+                *ypi += b * x;
+            }
+        }
+        if let Some(w) = weights.as_mut() {
+            // the Newton weights are the error weights without the suppression of algebraic
+            // components, as in `System::error_weights`
+            let rtol = w.rtol;
+            let (yb0, atol) = (&y0[lo + s..lo + e], &w.atol[lo + s..lo + e]);
+            for ((nw, yi), a) in w.nwt[s..e].iter_mut().zip(yb0).zip(atol) {
+                *nw = 1.0 / (rtol * yi.abs() + a);
+            }
+            if let Some(ew) = w.ewt.as_mut() {
+                let alg = &w.algebraic[lo + s..lo + e];
+                for ((ewi, &nw), &is_alg) in ew[s..e].iter_mut().zip(&w.nwt[s..e]).zip(alg) {
+                    *ewi = if is_alg { 0.0 } else { nw };
+                }
+            }
+        }
+        s = e;
+    }
+}
+
+/// The error-norm sweep of [`Bdf::error_norms`] over components `lo..hi`: the accumulator of
+/// `ee` and one per order in `items`.
+fn norm_blocks(
+    items: &[Items<'_>],
+    ycur: &[f64],
+    ewt: &[f64],
+    ee: &[f64],
+    norm: ErrorNorm,
+    lo: usize,
+    hi: usize,
+) -> (NormAcc, [NormAcc; 3]) {
+    let mut buf = [0.0; BLK];
+    let mut acc_e = NormAcc::new(norm);
+    let mut acc = [NormAcc::new(norm); 3];
+    let mut s = lo;
+    while s < hi {
+        let e = (s + BLK).min(hi);
+        let (yb, wb) = (&ycur[s..e], &ewt[s..e]);
+        for (d, w) in ee[s..e].iter().zip(wb) {
+            acc_e.push(d * w);
+        }
+        for (it, a) in items.iter().zip(acc.iter_mut()) {
+            let b = &mut buf[..e - s];
+            b.fill(0.0);
+            for &(v, c, _) in it.as_slice() {
+                for (bi, &x) in b.iter_mut().zip(&v[s..e]) {
+                    *bi += c * x;
+                }
+            }
+            for ((bi, yi), wi) in b.iter().zip(yb).zip(wb) {
+                a.push((yi - bi) * wi);
+            }
+        }
+        s = e;
+    }
+    (acc_e, acc)
+}
+
 /// Index of the largest `|v_i w_i|`.
 fn worst(v: &[f64], w: &[f64]) -> Option<usize> {
     let mut best = None;
@@ -220,6 +319,90 @@ fn worst(v: &[f64], w: &[f64]) -> Option<usize> {
         }
     }
     best
+}
+
+/// The per-component Newton update, applied by the linear solve as each component of
+/// `J⁻¹F` is found ([`System::solve_map`]).
+struct NewtonUpdate<'a> {
+    /// Global index of `y[0]` (non-zero for the second half of a split).
+    off: usize,
+    y: &'a mut [f64],
+    yp: &'a mut [f64],
+    ee: &'a mut [f64],
+    w: &'a [f64],
+    scale: f64,
+    alpha: f64,
+    /// First iteration: `ee` starts as this correction.
+    first: bool,
+    acc: NormAcc,
+}
+
+impl SolutionMap for NewtonUpdate<'_> {
+    /// `δ_i = −scale·d_i`; updates `y`, `ẏ`, the accumulated correction and the norm; returns
+    /// `δ_i`.
+    #[inline(always)]
+    fn map(&mut self, i: usize, d: f64) -> f64 {
+        let i = i - self.off;
+        let di = if self.scale != 1.0 {
+            -(d * self.scale)
+        } else {
+            -d
+        };
+        self.y[i] += di;
+        self.yp[i] += self.alpha * di;
+        if self.first {
+            self.ee[i] = di;
+        } else {
+            self.ee[i] += di;
+        }
+        self.acc.push(di * self.w[i]);
+        di
+    }
+
+    fn split(self, mid: usize) -> Result<(Self, Self), Self> {
+        let at = mid - self.off;
+        let (y1, y2) = self.y.split_at_mut(at);
+        let (yp1, yp2) = self.yp.split_at_mut(at);
+        let (ee1, ee2) = self.ee.split_at_mut(at);
+        let (w1, w2) = self.w.split_at(at);
+        let half = |off, y, yp, ee, w| NewtonUpdate {
+            off,
+            y,
+            yp,
+            ee,
+            w,
+            scale: self.scale,
+            alpha: self.alpha,
+            first: self.first,
+            acc: NormAcc::new(ErrorNorm::Rms),
+        };
+        let mut a = half(self.off, y1, yp1, ee1, w1);
+        let mut b = half(mid, y2, yp2, ee2, w2);
+        (a.acc, b.acc) = (
+            self.acc,
+            NormAcc {
+                sum: 0.0,
+                max: 0.0,
+                nan: false,
+                ..self.acc
+            },
+        );
+        Ok((a, b))
+    }
+
+    fn merge(&mut self, other: Self) {
+        self.acc.merge(&other.acc);
+    }
+}
+
+/// Outputs and inputs of the weights pass fused into the predictor ([`Bdf::predict`]).
+struct Weights<'a> {
+    nwt: &'a mut [f64],
+    /// Separate error weights (suppressed algebraic components), if any.
+    ewt: Option<&'a mut [f64]>,
+    atol: &'a [f64],
+    algebraic: &'a [bool],
+    rtol: f64,
 }
 
 /// Up to `NC` history vectors with their coefficients (see `Bdf::items`).
@@ -266,6 +449,17 @@ impl NormAcc {
         }
     }
 
+    /// Adds the products another accumulator (of the same kind) has seen.
+    fn merge(&mut self, other: &NormAcc) {
+        self.sum += other.sum;
+        self.nan |= other.nan;
+        self.max = if other.max > self.max {
+            other.max
+        } else {
+            self.max
+        };
+    }
+
     fn finish(&self, n: usize) -> f64 {
         if n == 0 {
             0.0
@@ -297,7 +491,6 @@ impl Bdf {
             times: VecDeque::new(),
             vals: VecDeque::new(),
             yp0: Vec::new(),
-            y: Vec::new(),
             yp: Vec::new(),
             jy: None,
             jyp: None,
@@ -308,14 +501,22 @@ impl Bdf {
             c_fact: 0.0,
             steps_since_jac: 0,
             ss: 20.0,
-            ypred: Vec::new(),
-            yppred: Vec::new(),
             ycur: Vec::new(),
             ypcur: Vec::new(),
             ee: Vec::new(),
             res: Vec::new(),
             ewt: Vec::new(),
             nwt: Vec::new(),
+            ewt_separate: false,
+        }
+    }
+
+    /// Error weights (the Newton weights unless algebraic components are suppressed).
+    fn ewt(&self) -> &[f64] {
+        if self.ewt_separate {
+            &self.ewt
+        } else {
+            &self.nwt
         }
     }
 
@@ -342,28 +543,86 @@ impl Bdf {
     /// Value and derivative at `t` of the polynomial through the first `m` history nodes:
     /// `y = Σ p_j·v_j`, `ẏ = Σ p'_j·v_j`, computed block-wise so each input is read once.
     fn poly(&self, m: usize, t: f64, y: &mut [f64], yp: &mut [f64]) {
+        self.poly_impl(m, t, y, yp, None);
+    }
+
+    /// The predictor for a step to `t_new` from the first `m` history nodes, written into
+    /// `ycur`/`ẏcur` (the Newton iteration starts there and the Jacobian is evaluated there),
+    /// and in the same pass the error and Newton weights from the last accepted state.
+    fn predict(&mut self, sys: &System<'_>, m: usize, t_new: f64) {
+        let mut y = std::mem::take(&mut self.ycur);
+        let mut yp = std::mem::take(&mut self.ypcur);
+        let mut nwt = std::mem::take(&mut self.nwt);
+        let mut ewt = std::mem::take(&mut self.ewt);
+        let weights = Weights {
+            nwt: &mut nwt,
+            ewt: if self.ewt_separate {
+                Some(&mut ewt)
+            } else {
+                None
+            },
+            atol: sys.atol(),
+            algebraic: sys.algebraic(),
+            rtol: sys.opts.rtol,
+        };
+        self.poly_impl(m, t_new, &mut y, &mut yp, Some(weights));
+        (self.ycur, self.ypcur, self.nwt, self.ewt) = (y, yp, nwt, ewt);
+    }
+
+    /// [`poly`](Self::poly), optionally also filling the weights from the newest history
+    /// vector (block by block, so the vector is read once for both).
+    fn poly_impl(
+        &self,
+        m: usize,
+        t: f64,
+        y: &mut [f64],
+        yp: &mut [f64],
+        weights: Option<Weights<'_>>,
+    ) {
         let z: Vec<f64> = self.times.iter().take(m).copied().collect();
         let mut p = [0.0; NC];
         let mut dp = [0.0; NC];
         interp_coeffs(&z, t, &mut p, &mut dp);
         let items = self.items(&p, &dp, m);
         let items = items.as_slice();
+        let y0 = &self.vals[0][..];
         let n = y.len();
-        let mut s = 0;
-        while s < n {
-            let e = (s + BLK).min(n);
-            let (yb, ypb) = (&mut y[s..e], &mut yp[s..e]);
-            yb.fill(0.0);
-            ypb.fill(0.0);
-            for &(v, a, b) in items {
-                let vb = &v[s..e];
-                for ((yi, ypi), &x) in yb.iter_mut().zip(ypb.iter_mut()).zip(vb) {
-                    *yi += a * x;
-                    *ypi += b * x;
-                }
-            }
-            s = e;
+        let mid = split_point(n);
+        if mid == 0 {
+            poly_blocks(items, y0, 0, y, yp, weights);
+            return;
         }
+        // two halves on two threads (same arithmetic per component)
+        let (y1, y2) = y.split_at_mut(mid);
+        let (yp1, yp2) = yp.split_at_mut(mid);
+        let (w1, w2) = match weights {
+            None => (None, None),
+            Some(w) => {
+                let (n1, n2) = w.nwt.split_at_mut(mid);
+                let (e1, e2) = match w.ewt {
+                    Some(e) => {
+                        let (e1, e2) = e.split_at_mut(mid);
+                        (Some(e1), Some(e2))
+                    }
+                    None => (None, None),
+                };
+                let half = |nwt, ewt| Weights {
+                    nwt,
+                    ewt,
+                    atol: w.atol,
+                    algebraic: w.algebraic,
+                    rtol: w.rtol,
+                };
+                (Some(half(n1, e1)), Some(half(n2, e2)))
+            }
+        };
+        std::thread::scope(|sc| {
+            let second = sc.spawn(|| poly_blocks(items, y0, mid, y2, yp2, w2));
+            poly_blocks(items, y0, 0, y1, yp1, w1);
+            second
+                .join()
+                .unwrap_or_else(|e| std::panic::resume_unwind(e));
+        });
     }
 
     /// `α_m = Σ_{j=1..m} 1/(t_new - t_{j-1})` over the stored history.
@@ -413,30 +672,29 @@ impl Bdf {
             .zip(orders)
             .map(|(c, &m)| self.items(c, &zero, m + 1))
             .collect();
-        let mut buf = [0.0; BLK];
-        let mut acc_e = NormAcc::new(norm);
-        let mut acc = [NormAcc::new(norm); 3];
-        let mut s = 0;
-        while s < n {
-            let e = (s + BLK).min(n);
-            let (yb, wb) = (&self.ycur[s..e], &self.ewt[s..e]);
-            for (d, w) in self.ee[s..e].iter().zip(wb) {
-                acc_e.push(d * w);
+        let ewt = self.ewt();
+        let mid = split_point(n);
+        let (acc_e, acc) = if mid == 0 {
+            norm_blocks(&items, &self.ycur, ewt, &self.ee, norm, 0, n)
+        } else {
+            // two halves on two threads; the partial norms are merged (an RMS sum in two parts)
+            let (ycur, ee, items) = (&self.ycur[..], &self.ee[..], &items[..]);
+            let ((e1, a1), (e2, a2)) = std::thread::scope(|sc| {
+                let second = sc.spawn(|| norm_blocks(items, ycur, ewt, ee, norm, mid, n));
+                let first = norm_blocks(items, ycur, ewt, ee, norm, 0, mid);
+                let second = second
+                    .join()
+                    .unwrap_or_else(|e| std::panic::resume_unwind(e));
+                (first, second)
+            });
+            let mut acc = a1;
+            for (a, b) in acc.iter_mut().zip(&a2) {
+                a.merge(b);
             }
-            for (it, a) in items.iter().zip(acc.iter_mut()) {
-                let b = &mut buf[..e - s];
-                b.fill(0.0);
-                for &(v, c, _) in it.as_slice() {
-                    for (bi, &x) in b.iter_mut().zip(&v[s..e]) {
-                        *bi += c * x;
-                    }
-                }
-                for ((bi, yi), wi) in b.iter().zip(yb).zip(wb) {
-                    a.push((yi - bi) * wi);
-                }
-            }
-            s = e;
-        }
+            let mut acc_e = e1;
+            acc_e.merge(&e2);
+            (acc_e, acc)
+        };
         for (o, a) in out.iter_mut().zip(&acc) {
             *o = a.finish(n);
         }
@@ -452,7 +710,8 @@ impl Bdf {
         }
     }
 
-    /// Jacobian (if needed) and factorisation for `α`, then simplified Newton from the predictor.
+    /// Jacobian (if needed) and factorisation for `α`, then simplified Newton from the predictor
+    /// (which [`Bdf::predict`] has written into `ycur`/`ẏcur`).
     fn newton(&mut self, sys: &mut System<'_>, t_new: f64, alpha: f64) -> Result<(), NewtonFail> {
         let n = self.n;
         self.ensure_linalg(sys);
@@ -461,8 +720,8 @@ impl Bdf {
             let jy = self.jy.as_mut().expect("allocated");
             let jyp = self.jyp.as_mut().expect("allocated");
             let r = sys
-                .jacobian(t_new, &self.ypred, &self.yppred, 0.0, jy)
-                .and_then(|_| sys.jacobian(t_new, &self.ypred, &self.yppred, 1.0, jyp));
+                .jacobian(t_new, &self.ycur, &self.ypcur, 0.0, jy)
+                .and_then(|_| sys.jacobian(t_new, &self.ycur, &self.ypcur, 1.0, jyp));
             match r {
                 Ok(()) => {}
                 Err(StepFailure::Recoverable { reason, component }) => {
@@ -506,9 +765,6 @@ impl Bdf {
             2.0 / (1.0 + alpha / self.c_fact)
         };
 
-        self.ycur.copy_from_slice(&self.ypred);
-        self.ypcur.copy_from_slice(&self.yppred);
-        self.ee.iter_mut().for_each(|e| *e = 0.0);
         let mut oldnrm = 0.0;
         let maxit = sys.opts.max_newton_iters;
         let first_step = self.steps_since_start == 0;
@@ -522,8 +778,21 @@ impl Bdf {
             }
             sys.stats.newton_iterations += 1;
             // δ = −scale·J⁻¹F: solving for F and negating afterwards is bitwise the same as
-            // solving for −F (every rounding is sign-symmetric), and saves a pass. One fused
-            // pass then stores δ in `res`, updates the iterate and accumulates ‖δ‖.
+            // solving for −F (every rounding is sign-symmetric). The solve hands each
+            // component to one fused update that stores δ in `res`, updates the iterate and
+            // the accumulated correction (`ee` starts as the first δ) and accumulates ‖δ‖; the
+            // tridiagonal solver runs it inside its backward sweep.
+            let upd = NewtonUpdate {
+                off: 0,
+                y: &mut self.ycur[..n],
+                yp: &mut self.ypcur[..n],
+                ee: &mut self.ee[..n],
+                w: &self.nwt[..n],
+                scale,
+                alpha,
+                first: m == 0,
+                acc: NormAcc::new(sys.opts.norm),
+            };
             // an iterative solver stops once its error is a small fraction of EPS_NEWT in the
             // Newton norm (inexact Newton, as IDA; see `IterativeSettings`)
             let tol = LinearTolerance {
@@ -531,28 +800,9 @@ impl Bdf {
                 norm: sys.opts.norm,
                 target: EPS_NEWT,
             };
-            sys.solve_to(
-                self.lin.as_ref().expect("allocated"),
-                &mut self.res,
-                Some(&tol),
-            );
-            let mut acc = NormAcc::new(sys.opts.norm);
-            for ((((d, yc), ypc), e), w) in self
-                .res
-                .iter_mut()
-                .zip(self.ycur.iter_mut())
-                .zip(self.ypcur.iter_mut())
-                .zip(self.ee.iter_mut())
-                .zip(&self.nwt)
-            {
-                let di = if scale != 1.0 { -(*d * scale) } else { -*d };
-                *d = di;
-                *yc += di;
-                *ypc += alpha * di;
-                *e += di;
-                acc.push(di * w);
-            }
-            let delnrm = acc.finish(n);
+            let lin = self.lin.as_ref().expect("allocated");
+            let upd = sys.solve_map(lin, &mut self.res, Some(&tol), upd);
+            let delnrm = upd.acc.finish(n);
             if !delnrm.is_finite() {
                 return Err(NewtonFail::NoConvergence(worst(&self.res, &self.nwt)));
             }
@@ -627,18 +877,21 @@ impl Method for Bdf {
             self.iter = None;
             self.lin = None;
             for v in [
-                &mut self.ypred,
-                &mut self.yppred,
                 &mut self.ycur,
                 &mut self.ypcur,
                 &mut self.ee,
                 &mut self.res,
-                &mut self.ewt,
                 &mut self.nwt,
             ] {
                 v.clear();
                 v.resize(n, 0.0);
             }
+        }
+        self.ewt_separate =
+            sys.opts.suppress_algebraic && sys.algebraic().iter().any(|&is_alg| is_alg);
+        self.ewt.clear();
+        if self.ewt_separate {
+            self.ewt.resize(n, 0.0);
         }
         self.jac_valid = false;
         self.jac_current = false;
@@ -646,7 +899,6 @@ impl Method for Bdf {
         self.ss = 20.0;
         self.t = t;
         self.t_prev = t;
-        self.y = y.to_vec();
         self.yp = yp.to_vec();
         self.yp0 = yp.to_vec();
         self.times.clear();
@@ -691,30 +943,8 @@ impl Method for Bdf {
         }
         let opts = sys.opts;
         let n = self.n;
-        // weights from the state at the start of the step
-        // (one pass for both: the Newton weights are the error weights without suppression of
-        // algebraic components, as in `System::error_weights`)
-        {
-            let (atol, alg) = (sys.atol(), sys.algebraic());
-            assert!(atol.len() == n && alg.len() == n && self.y.len() == n);
-            let suppress = opts.suppress_algebraic;
-            for ((((ew, nw), yi), a), &is_alg) in self
-                .ewt
-                .iter_mut()
-                .zip(self.nwt.iter_mut())
-                .zip(&self.y)
-                .zip(atol)
-                .zip(alg)
-            {
-                let w = 1.0 / (opts.rtol * yi.abs() + a);
-                *nw = w;
-                *ew = if suppress && is_alg { 0.0 } else { w };
-            }
-        }
         if self.h_pending {
-            let (y0, yp0) = (std::mem::take(&mut self.y), std::mem::take(&mut self.yp0));
-            self.h = sys.initial_step(self.t, &y0, &yp0, t_stop - self.t, 1, false);
-            (self.y, self.yp0) = (y0, yp0);
+            self.h = sys.initial_step(self.t, &self.vals[0], &self.yp0, t_stop - self.t, 1, false);
             self.h_pending = false;
         }
         let fixed = opts.fixed_step;
@@ -737,21 +967,16 @@ impl Method for Bdf {
             let k = self.k.min(self.times.len() - 1);
             self.k = k;
             let m = k + 1;
-            // predictor
-            {
-                let mut a = std::mem::take(&mut self.ypred);
-                let mut b = std::mem::take(&mut self.yppred);
-                self.poly(m, t_new, &mut a, &mut b);
-                self.ypred = a;
-                self.yppred = b;
-            }
+            // predictor (and the weights from the state at the start of the step)
+            self.predict(sys, m, t_new);
             let alpha = self.alpha(k, t_new);
             self.jac_current = false;
             let mut outcome = self.newton(sys, t_new, alpha);
             if let Err(NewtonFail::NoConvergence(_)) = outcome {
                 if !self.jac_current {
-                    // stale Jacobian: refresh and retry the same step
+                    // stale Jacobian: refresh and retry the same step from the predictor
                     self.jac_valid = false;
+                    self.predict(sys, m, t_new);
                     outcome = self.newton(sys, t_new, alpha);
                 }
             }
@@ -844,7 +1069,7 @@ impl Method for Bdf {
                 nef += 1;
                 sys.stats.error_test_failures += 1;
                 sys.stats.rejected_steps += 1;
-                last = LastFailure::ErrorTest(worst(&self.ee, &self.ewt));
+                last = LastFailure::ErrorTest(worst(&self.ee, self.ewt()));
                 let (r, kk) = if nef == 1 || self.steps_since_start == 0 {
                     // on the first step after a (re)start the step size is a guess (or the
                     // hint from before an event): trust the estimate for large reductions
@@ -912,14 +1137,12 @@ impl Method for Bdf {
             } else {
                 vec![0.0; n]
             };
-            let mut buf = buf;
-            // the new state moves into y/ẏ (the next Newton overwrites ycur/ypcur from the
-            // predictor), the history keeps a copy
-            std::mem::swap(&mut self.y, &mut self.ycur);
+            // the new state moves into the history (it is `y`) and `ẏ` by swapping buffers;
+            // the next predictor overwrites ycur/ypcur
+            let y_new = std::mem::replace(&mut self.ycur, buf);
             std::mem::swap(&mut self.yp, &mut self.ypcur);
-            buf.copy_from_slice(&self.y);
             self.times.push_front(t_new);
-            self.vals.push_front(buf);
+            self.vals.push_front(y_new);
             self.k_last = k;
             sys.stats.steps += 1;
             self.steps_since_jac += 1;
@@ -966,7 +1189,7 @@ impl Method for Bdf {
     }
 
     fn y(&self) -> &[f64] {
-        &self.y
+        self.vals.front().map_or(&[], |v| v)
     }
 
     fn yp(&self) -> &[f64] {
@@ -979,7 +1202,7 @@ impl Method for Bdf {
 
     fn interpolate(&self, t: f64, y: &mut [f64], yp: &mut [f64]) {
         if self.t == self.t_prev || t == self.t {
-            y.copy_from_slice(&self.y);
+            y.copy_from_slice(&self.vals[0]);
             yp.copy_from_slice(&self.yp);
             return;
         }
@@ -1005,6 +1228,63 @@ mod tests {
         let d: f64 = (0..4).map(|i| dp[i] * f(z[i])).sum();
         assert!((v - f(1.3)).abs() < 1e-12);
         assert!((d - df(1.3)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn split_vector_passes_match_the_whole_pass() {
+        // the two-thread split of the predictor/weights pass and of the error-norm sweep, run
+        // here on one thread at a block boundary: predictor and weights bitwise, norms merged
+        let n = 3 * BLK + 17;
+        let vec_of = |k: f64| -> Vec<f64> { (0..n).map(|i| (i as f64 * k).sin() + 1.5).collect() };
+        let (h0, h1, h2) = (vec_of(0.3), vec_of(0.7), vec_of(1.1));
+        let mut list = [(&[][..], 0.0, 0.0); NC];
+        list[0] = (&h0[..], 1.7, 0.4);
+        list[1] = (&h1[..], -0.9, -1.3);
+        list[2] = (&h2[..], 0.2, 0.9);
+        let items = Items { list, len: 3 };
+        let atol = vec![1e-6; n];
+        let alg: Vec<bool> = (0..n).map(|i| i % 5 == 0).collect();
+        let run = |mid: usize| {
+            let (mut y, mut yp, mut nw, mut ew) =
+                (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+            let (y1, y2) = y.split_at_mut(mid);
+            let (yp1, yp2) = yp.split_at_mut(mid);
+            let (n1, n2) = nw.split_at_mut(mid);
+            let (e1, e2) = ew.split_at_mut(mid);
+            let w = |nwt, ewt| Weights {
+                nwt,
+                ewt: Some(ewt),
+                atol: &atol,
+                algebraic: &alg,
+                rtol: 1e-3,
+            };
+            poly_blocks(items.as_slice(), &h0, 0, y1, yp1, Some(w(n1, e1)));
+            poly_blocks(items.as_slice(), &h0, mid, y2, yp2, Some(w(n2, e2)));
+            (y, yp, nw, ew)
+        };
+        let whole = run(n);
+        let split = run(BLK);
+        assert_eq!(whole, split);
+        let (ycur, ee) = (vec_of(0.5), vec_of(0.9));
+        let norm_items = [Items { list, len: 3 }, Items { list, len: 2 }];
+        for norm in [ErrorNorm::Max, ErrorNorm::Rms] {
+            let (e, a) = norm_blocks(&norm_items, &ycur, &whole.3, &ee, norm, 0, n);
+            let (mut e1, mut a1) = norm_blocks(&norm_items, &ycur, &whole.3, &ee, norm, 0, BLK);
+            let (e2, a2) = norm_blocks(&norm_items, &ycur, &whole.3, &ee, norm, BLK, n);
+            e1.merge(&e2);
+            for (x, y) in a1.iter_mut().zip(&a2) {
+                x.merge(y);
+            }
+            let close = |x: f64, y: f64| (x - y).abs() <= 1e-14 * x.abs().max(1e-300);
+            assert!(close(e.finish(n), e1.finish(n)), "{norm:?}");
+            // (two orders in the sweep: the third accumulator stays empty)
+            for (x, y) in a.iter().zip(&a1).take(norm_items.len()) {
+                assert!(
+                    x.finish(n) > 0.0 && close(x.finish(n), y.finish(n)),
+                    "{norm:?}"
+                );
+            }
+        }
     }
 
     #[test]
