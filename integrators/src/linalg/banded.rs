@@ -259,6 +259,21 @@ impl TriLu {
         Ok(flops)
     }
 
+    /// The two twist rows `k`, `k+1` of the solve: the last forward elimination (column
+    /// `k+1`) on the running entries `tc` (downward sweep) and `bc` (upward sweep), then
+    /// `(x_k, x_{k+1})`, where the backward sweeps start.
+    #[inline(always)]
+    fn twist(&self, mut tc: f64, mut bc: f64) -> (f64, f64) {
+        let k = self.k;
+        if self.swap[k + 1] {
+            std::mem::swap(&mut bc, &mut tc);
+        }
+        tc -= self.mult[k + 1] * bc;
+        let xk = tc * self.urow[k][2];
+        let [_, u1, inv] = self.urow[k + 1];
+        (xk, (bc - u1 * xk) * inv)
+    }
+
     /// Solve with the twisted factors; `map.map(j, x_j)` is stored in `b[j]` as each solution
     /// component is found (outwards from the twist), so a caller's pass over the solution
     /// rides along with the latency-bound back substitution instead of being a separate pass
@@ -289,15 +304,9 @@ impl TriLu {
             b[j] = bc;
             bc = nx - mult[j] * bc;
         }
-        // column k+1 (rows k+1 and k), then column k
-        if swap[k + 1] {
-            std::mem::swap(&mut bc, &mut tc);
-        }
-        tc -= mult[k + 1] * bc;
-        // backward: x_k, x_{k+1}, then outwards in both directions at once
-        let xk = tc * urow[k][2];
-        let [_, u1, inv] = urow[k + 1];
-        let xk1 = (bc - u1 * xk) * inv;
+        // column k+1 (rows k+1 and k), then column k; backward: x_k, x_{k+1}, then outwards in
+        // both directions at once
+        let (xk, xk1) = self.twist(tc, bc);
         b[k] = map.map(k, xk);
         b[k + 1] = map.map(k + 1, xk1);
         // (x_{j+1}, x_{j+2}) going up, (x_{j−1}, x_{j−2}) going down
@@ -361,7 +370,7 @@ impl TriLu {
             }
             bc
         };
-        let (mut tc, mut bc) = std::thread::scope(|sc| {
+        let (tc, bc) = std::thread::scope(|sc| {
             let h = sc.spawn(|| up(&mut *bot));
             let tc = down(&mut *top);
             (
@@ -369,14 +378,7 @@ impl TriLu {
                 h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)),
             )
         });
-        // the twist rows
-        if swap[k + 1] {
-            std::mem::swap(&mut bc, &mut tc);
-        }
-        tc -= mult[k + 1] * bc;
-        let xk = tc * urow[k][2];
-        let [_, u1, inv] = urow[k + 1];
-        let xk1 = (bc - u1 * xk) * inv;
+        let (xk, xk1) = self.twist(tc, bc);
         top[k] = first.map(k, xk);
         bot[0] = second.map(k + 1, xk1);
         // backward: outwards from the twist, one half per thread
