@@ -7,8 +7,8 @@
 //! environment variables `METHOD` (bdf, esdirk, radau), `RTOL` (default 1e-6) and `NORM` (max,
 //! the default, or rms) override the solver.
 //! `DISCRETE_ONLY=1` skips the continuum runs. Prints the work counters of the discrete run.
-//! From 2¹⁸ unknowns the residual and the BDF's vector sweeps use two threads;
-//! `INTEGRATORS_THREADS=1` keeps one (for single-thread timings).
+//! `THREADS=2` passes `threads = 2` to the solve (default 1): from 2¹⁸ unknowns the residual,
+//! the BDF's vector sweeps and the tridiagonal solve then run in two halves on two threads.
 //! Single-shot wall times; the criterion numbers are in `benches/line_scaling.rs`.
 
 use celltissue::line::build::{continuum, discrete};
@@ -44,6 +44,7 @@ fn run(n_cells: usize, nodes: Option<usize>) -> (Vec<f64>, f64, integrators::Sta
         norm: env("NORM")
             .map(|v| ErrorNorm::parse(&v).expect("NORM = max | rms"))
             .unwrap_or(ErrorNorm::Max),
+        threads: env("THREADS").and_then(|v| v.parse().ok()).unwrap_or(1),
     };
     let start = Instant::now();
     let mut prob = ArrayProblem::new(line);

@@ -4,7 +4,8 @@
 //! `cargo bench -p integrators --bench heat` first prints a one-shot report (`REPORT` lines:
 //! steps, seconds per step for each N, and the least-squares exponent of time/step against N;
 //! target ≤ 1.1), then runs the criterion group (time per step, via `iter_custom`). Set
-//! `HEAT_REPORT=0` to skip the report, `HEAT_MAX_N` to cap N (default 1e6).
+//! `HEAT_REPORT=0` to skip the report, `HEAT_MAX_N` to cap N (default 1e6), `THREADS=2` to pass
+//! `Options::threads = 2` (default 1: benchmarks are single-threaded unless asked).
 //!
 //! With `--features diffsol-compare` the same problem is also solved by diffsol's BDF at equal
 //! tolerances and the report prints both times and both errors against the exact semi-discrete
@@ -25,8 +26,17 @@ fn opts() -> Options {
     Options {
         rtol: 1e-6,
         atol: 1e-9,
+        threads: threads(),
         ..Default::default()
     }
+}
+
+/// `THREADS` from the environment of the bench run (default 1).
+fn threads() -> usize {
+    std::env::var("THREADS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(1)
 }
 
 /// One solve: (wall time, steps, max error against the exact semi-discrete solution).

@@ -44,6 +44,13 @@ pub struct Options {
     pub norm: ErrorNorm,
     /// How the Newton systems are solved (default: [`LinearSolverChoice::Direct`]).
     pub linear_solver: LinearSolverChoice,
+    /// Threads a solve may use (≥ 1; default 1 — parallelism is passed in, never global).
+    /// With 2 or more, problems of at least [`crate::System::PARALLEL_MIN`] unknowns split
+    /// BDF's vector passes and the tridiagonal solve in two halves on two threads, and the
+    /// problem is told through [`crate::Problem::set_threads`] (celltissue's line splits its
+    /// residual sweep). Only two-way splits exist, so values above 2 act as 2. Results do not
+    /// depend on it beyond the summation order of norms.
+    pub threads: usize,
 }
 
 /// How the linear systems of the Newton iterations are solved.
@@ -197,6 +204,7 @@ impl Default for Options {
             fixed_order: None,
             norm: ErrorNorm::Rms,
             linear_solver: LinearSolverChoice::Direct,
+            threads: 1,
         }
     }
 }
@@ -256,6 +264,9 @@ impl Options {
                     it.newton_factor
                 ));
             }
+        }
+        if self.threads == 0 {
+            return Err("threads = 0 must be at least 1".into());
         }
         if self.event_tol.is_nan() || self.event_tol <= 0.0 {
             return Err(format!("event_tol = {} must be positive", self.event_tol));

@@ -151,4 +151,9 @@ pub trait Problem {
     /// derivative of the smooth solution it relaxes to. The corrector still solves the
     /// residual exactly, so only the predictor changes. Default: keep the consistent `ẏ`.
     fn restart_derivative(&mut self, _t: f64, _y: &[f64], _yp: &mut [f64]) {}
+
+    /// Called by the solver before it integrates, with [`crate::Options::threads`]: the most
+    /// threads the problem's own evaluations (residual, directional derivatives) may use.
+    /// Default: ignore it (evaluate on the calling thread).
+    fn set_threads(&mut self, _threads: usize) {}
 }

@@ -489,6 +489,8 @@ where
     if let Err(e) = opts.validate() {
         return invalid(run, e);
     }
+    // parallelism is passed in: the problem learns how many threads it may use
+    p.set_threads(opts.threads);
     if !t0.is_finite() {
         return invalid(run, format!("t0 = {t0} is not finite"));
     }

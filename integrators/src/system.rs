@@ -153,30 +153,15 @@ impl<'a> System<'a> {
         }
     }
 
-    /// Threads the integrators (and cell arrays) may use for the vector passes and residual
-    /// sweeps of large problems: 2 when the machine has two or more cores, else 1; the
-    /// environment variable `INTEGRATORS_THREADS=1` forces one (for single-thread
-    /// measurements). Read once per process. Work is split only above
+    /// Threads this solve may use for its vector passes: [`Options::threads`] capped at 2
+    /// (passes are split in two halves at most). Work is split only above
     /// [`System::PARALLEL_MIN`] unknowns, where a thread's start-up (tens of µs) is a small
     /// share of a pass.
-    ///
-    /// ```
-    /// let t = integrators::System::worker_threads();
-    /// assert!(t == 1 || t == 2);
-    /// ```
-    pub fn worker_threads() -> usize {
-        static THREADS: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
-        *THREADS.get_or_init(|| {
-            let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
-            let wanted = std::env::var("INTEGRATORS_THREADS")
-                .ok()
-                .and_then(|v| v.parse::<usize>().ok())
-                .unwrap_or(2);
-            wanted.clamp(1, 2).min(cores)
-        })
+    pub fn threads(&self) -> usize {
+        self.opts.threads.clamp(1, 2)
     }
 
-    /// Problem size from which passes are split over [`System::worker_threads`] threads. Set
+    /// Problem size from which passes are split over [`System::threads`] threads. Set
     /// high on purpose: on a shared machine the second thread may wait for a core while the
     /// first waits for it, which at 10⁵ unknowns (a pass of ~0.1 ms) was measured to cost
     /// more than the split saves.
@@ -247,7 +232,10 @@ impl<'a> System<'a> {
     /// A linear solver for the current pattern (symbolic analysis happens at first factor),
     /// direct or iterative as [`Options::linear_solver`] says.
     pub fn new_linear_solver(&self) -> LinearSolver {
-        LinearSolver::with_choice(self.dim(), self.pattern(), self.opts.linear_solver)
+        let mut lin =
+            LinearSolver::with_choice(self.dim(), self.pattern(), self.opts.linear_solver);
+        lin.set_threads(self.threads());
+        lin
     }
 
     /// Evaluates `J = ∂F/∂y + c·∂F/∂ẏ` at `(t, y, ẏ)` into `jac` (zeroed first): the problem's

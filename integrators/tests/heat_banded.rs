@@ -62,3 +62,52 @@ fn bdf_heat_banded_matches_exact_solution() {
         }
     }
 }
+
+/// `Options::threads = 2` above `System::PARALLEL_MIN` unknowns splits BDF's predictor/weights
+/// and error-norm passes and the twisted tridiagonal solve in two halves on two threads. Only
+/// the summation order of the norms differs from one thread, so the two runs take the same
+/// steps and agree to round-off.
+#[test]
+fn two_threads_give_the_one_thread_solution() {
+    let n = integrators::System::PARALLEL_MIN + 1001;
+    let run = |threads: usize| {
+        let mut p = Ode(Heat {
+            n,
+            exact_jacobian: true,
+        });
+        let y0 = p.0.initial();
+        let o = integrators::Options {
+            threads,
+            ..opts(1e-6, 1e-9)
+        };
+        Solver::new(MethodKind::Bdf, o)
+            .solve(&mut p, 0.0, &y0, &[0.02])
+            .unwrap()
+    };
+    let (one, two) = (run(1), run(2));
+    assert_eq!(one.stats.steps, two.stats.steps);
+    assert_eq!(one.stats.newton_iterations, two.stats.newton_iterations);
+    let diff = one.y[0]
+        .iter()
+        .zip(&two.y[0])
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(diff < 1e-12, "max difference {diff:e}");
+}
+
+#[test]
+fn zero_threads_is_a_named_input_error() {
+    let mut p = Ode(Heat {
+        n: 10,
+        exact_jacobian: true,
+    });
+    let y0 = p.0.initial();
+    let o = integrators::Options {
+        threads: 0,
+        ..opts(1e-6, 1e-9)
+    };
+    let e = Solver::new(MethodKind::Bdf, o)
+        .solve(&mut p, 0.0, &y0, &[0.02])
+        .unwrap_err();
+    assert!(e.error.to_string().contains("threads"), "{}", e.error);
+}

@@ -79,6 +79,11 @@ pub trait CellArray {
     /// Derivative the integrator restarts from after a modifying event (see
     /// [`integrators::Problem::restart_derivative`]); default: the consistent one.
     fn restart_derivative(&mut self, _t: f64, _y: &[f64], _yp: &mut [f64]) {}
+
+    /// Threads the residual sweep may use, passed in by the solver from
+    /// [`integrators::Options::threads`] (see [`integrators::Problem::set_threads`]); default:
+    /// ignore it.
+    fn set_threads(&mut self, _threads: usize) {}
 }
 
 /// Adapter: any [`CellArray`] as an [`integrators::Problem`] with exact AD directional
@@ -106,7 +111,7 @@ impl<A: CellArray> ArrayProblem<A> {
 
 impl<A: CellArray> Problem for ArrayProblem<A> {
     integrators::forward_problem!(array: dim, residual, pattern, atol, algebraic, num_events,
-        events, handle_event, restart_derivative);
+        events, handle_event, restart_derivative, set_threads);
 
     fn directional(
         &mut self,

@@ -235,7 +235,8 @@ impl<E: StrainEnergy> Dividing<E> {
 }
 
 impl<E: StrainEnergy> CellArray for Dividing<E> {
-    integrators::forward_problem!(line: dim, pattern, residual<S: Scalar>, atol, algebraic);
+    integrators::forward_problem!(line: dim, pattern, residual<S: Scalar>, atol, algebraic,
+        set_threads);
     fn num_events(&self) -> usize {
         self.line.n_cells()
     }

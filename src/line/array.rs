@@ -7,7 +7,7 @@
 //! Unknowns are interleaved `(g₁, x₁, g₂, x₂, …)` (growth) or just the free boundary positions;
 //! the residual streams over the cells once, keeping only the previous cell, so it allocates
 //! nothing and costs O(N). Lines of at least [`PAR_MIN_CELLS`] cells sweep the two halves on two
-//! threads (`INTEGRATORS_THREADS=1` keeps one), with the same result.
+//! threads when the solver passes `threads ≥ 2`, with the same result.
 
 use crate::array::CellArray;
 use crate::boundary::RightEnd;
@@ -22,9 +22,10 @@ use std::sync::Arc;
 pub const NONE: usize = usize::MAX;
 
 /// Lines with at least this many cells (and not closed into a ring) evaluate their residual on
-/// two threads when [`integrators::System::worker_threads`] allows (`INTEGRATORS_THREADS=1`
-/// keeps one), each sweeping half of the cells; below it a thread's start-up (tens of µs)
-/// would be a noticeable share of a sweep. The result is bitwise that of the serial sweep.
+/// two threads when the solver passes `threads ≥ 2` ([`integrators::Options::threads`], via
+/// [`CellArray::set_threads`]), each sweeping half of the cells; below it a thread's start-up
+/// (tens of µs) would be a noticeable share of a sweep. The result is bitwise that of the
+/// serial sweep.
 pub const PAR_MIN_CELLS: usize = integrators::System::PARALLEL_MIN;
 
 /// Per-cell data, one `Vec` per field, cells in order `1..=N` at index `0..N`. Inserting a cell
@@ -129,6 +130,9 @@ pub struct Line<E: StrainEnergy> {
     pub atol_cell: f64,
     /// Unknown layout.
     pub layout: Layout,
+    /// Threads of the residual sweep (1 unless the solver passes more through
+    /// [`CellArray::set_threads`]); two halves from [`PAR_MIN_CELLS`] cells when ≥ 2.
+    pub threads: usize,
 }
 
 impl<E: StrainEnergy> Line<E> {
@@ -539,6 +543,10 @@ impl<E: StrainEnergy> CellArray for Line<E> {
         self.layout.dim
     }
 
+    fn set_threads(&mut self, threads: usize) {
+        self.threads = threads.max(1);
+    }
+
     fn pattern(&self) -> Pattern {
         if self.right.is_periodic() {
             return Pattern::Sparse(Arc::new(SparsityPattern::from_entries(
@@ -565,7 +573,7 @@ impl<E: StrainEnergy> CellArray for Line<E> {
         r: &mut [S],
     ) -> Result<(), ResidualError> {
         let n = self.n_cells();
-        if n >= PAR_MIN_CELLS && integrators::System::worker_threads() >= 2 {
+        if n >= PAR_MIN_CELLS && self.threads >= 2 {
             if let Some(res) = self.residual_two_threads(t, y, yp, r, n / 2) {
                 return res;
             }

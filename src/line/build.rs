@@ -203,6 +203,7 @@ fn assemble<E: StrainEnergy>(
         growth: p.growth.clone(),
         l0_total,
         atol_cell: p.atol_cell,
+        threads: 1,
         layout: Layout::default(),
     };
     line.rebuild_layout();

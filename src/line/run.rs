@@ -37,6 +37,10 @@ pub struct SolveSettings {
     /// Error norm (default [`ErrorNorm::Max`]: a line's dynamics concentrate at its ends,
     /// where the RMS norm would dilute the local error by `√N`; see [`ErrorNorm`]).
     pub norm: ErrorNorm,
+    /// Threads the solve may use ([`integrators::Options::threads`]; default 1). With 2, lines
+    /// of at least [`crate::line::array::PAR_MIN_CELLS`] cells split their residual sweep and
+    /// the integrator's vector passes and tridiagonal solve in two halves.
+    pub threads: usize,
 }
 
 impl Default for SolveSettings {
@@ -46,6 +50,7 @@ impl Default for SolveSettings {
             rtol: 1e-6,
             atol: 1e-8,
             norm: ErrorNorm::Max,
+            threads: 1,
         }
     }
 }
@@ -175,7 +180,7 @@ impl<A> Watched<A> {
 
 impl<A: LineModel> CellArray for Watched<A> {
     integrators::forward_problem!(inner: dim, pattern, atol, algebraic, num_events, events,
-        handle_event, restart_derivative);
+        handle_event, restart_derivative, set_threads);
     fn residual<S: Scalar>(
         &self,
         t: f64,
@@ -256,6 +261,7 @@ pub fn integrate<A: LineModel>(
         rtol: settings.rtol,
         atol: settings.atol,
         norm: settings.norm,
+        threads: settings.threads,
         ..Default::default()
     };
     let solver = Solver::new(settings.method, opts);

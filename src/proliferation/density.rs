@@ -116,7 +116,8 @@ impl<E: StrainEnergy> DensityContinuum<E> {
 }
 
 impl<E: StrainEnergy> CellArray for DensityContinuum<E> {
-    integrators::forward_problem!(line: dim, pattern, residual<S: Scalar>, atol, algebraic);
+    integrators::forward_problem!(line: dim, pattern, residual<S: Scalar>, atol, algebraic,
+        set_threads);
     fn num_events(&self) -> usize {
         self.line.n_cells()
     }

@@ -24,6 +24,7 @@ pub fn run_spec_in(spec: &RunSpec, dir: Option<&Path>) -> RunRecord {
             atol: spec.solver.atol,
             norm: spec.solver.norm,
             linear_solver: spec.solver.linear_solver,
+            threads: spec.solver.threads,
             ..Default::default()
         },
     };
@@ -55,6 +56,7 @@ pub fn run_spec_in(spec: &RunSpec, dir: Option<&Path>) -> RunRecord {
                 rtol: spec.solver.rtol,
                 atol: spec.solver.atol,
                 norm: spec.solver.norm,
+                threads: spec.solver.threads,
             };
             let times = OutputTimes {
                 series: spec.times.series.clone(),
@@ -68,6 +70,7 @@ pub fn run_spec_in(spec: &RunSpec, dir: Option<&Path>) -> RunRecord {
                 rtol: spec.solver.rtol,
                 atol: spec.solver.atol,
                 norm: spec.solver.norm,
+                threads: spec.solver.threads,
             };
             let times = OutputTimes {
                 series: spec.times.series.clone(),

@@ -428,6 +428,7 @@ krylov_rtol = 1e-6
             ("solver.krylov_max_iters=0", "solver.krylov_max_iters"),
             ("solver.newton_factor=-0.1", "solver.newton_factor"),
             ("solver.linear_solver=\"lu\"", "solver.linear_solver"),
+            ("solver.threads=0", "solver.threads"),
         ] {
             let e = load(sheet, &[set]).unwrap_err();
             assert_eq!(e.key_name(), Some(key), "{set}: {e}");

@@ -55,6 +55,8 @@ pub struct SolverSection {
     /// Iterative solver: fraction of the Newton tolerance the linear error may reach, in
     /// [0, 1); 0 keeps only `krylov_rtol`.
     pub newton_factor: f64,
+    /// Threads a run may use, ≥ 1 (default 1; 2 splits the passes of lines with ≥ 2¹⁸ cells).
+    pub threads: usize,
 }
 
 impl Default for SolverSection {
@@ -68,6 +70,7 @@ impl Default for SolverSection {
             krylov_rtol: IterativeSettings::default().rtol,
             krylov_max_iters: IterativeSettings::default().max_iters,
             newton_factor: IterativeSettings::default().newton_factor,
+            threads: 1,
         }
     }
 }
@@ -88,6 +91,8 @@ pub struct SolverChoice {
     /// Linear solver of the Newton iterations.
     #[serde(serialize_with = "linear_solver_fields")]
     pub linear_solver: LinearSolverChoice,
+    /// Threads a run may use.
+    pub threads: usize,
 }
 
 fn linear_solver_fields<S: serde::Serializer>(
@@ -174,12 +179,19 @@ impl SolverSection {
                 ))
             }
         };
+        if self.threads == 0 {
+            return Err(ScenarioError::key(
+                "solver.threads",
+                "= 0 must be at least 1".to_string(),
+            ));
+        }
         Ok(SolverChoice {
             method,
             rtol: self.rtol,
             atol: self.atol,
             norm,
             linear_solver,
+            threads: self.threads,
         })
     }
 }

@@ -121,6 +121,9 @@ pub(crate) struct BandLu {
     tri: Option<TriLu>,
     /// Multiply–add count of the last factorisation.
     pub(crate) flops: usize,
+    /// Threads the tridiagonal solve may use (2: the twisted halves run concurrently from
+    /// [`crate::System::PARALLEL_MIN`] unknowns). Set by [`super::LinearSolver::set_threads`].
+    pub(crate) threads: usize,
 }
 
 /// LU factors of a tridiagonal matrix with partial pivoting, eliminated from both ends at once
@@ -420,6 +423,7 @@ impl BandLu {
                 factored: false,
                 tri: Some(TriLu::new(n)),
                 flops: 0,
+                threads: 1,
             };
         }
         Self {
@@ -432,6 +436,7 @@ impl BandLu {
             factored: false,
             tri: None,
             flops: 0,
+            threads: 1,
         }
     }
 
@@ -633,7 +638,7 @@ impl BandLu {
         assert_eq!(b.len(), self.n, "right-hand side length mismatch");
         match &self.tri {
             Some(tri) => {
-                if b.len() >= crate::System::PARALLEL_MIN && crate::System::worker_threads() >= 2 {
+                if b.len() >= crate::System::PARALLEL_MIN && self.threads >= 2 {
                     tri.solve_map_two_threads(b, map)
                 } else {
                     tri.solve_map(b, map)

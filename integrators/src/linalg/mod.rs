@@ -336,6 +336,22 @@ impl LinearSolver {
         };
         Self { inner }
     }
+    /// Lets solves use up to `threads` threads where the solver can split its work (the
+    /// tridiagonal solve of at least [`crate::System::PARALLEL_MIN`] unknowns: its two twisted
+    /// halves); other solvers ignore it. Default 1.
+    ///
+    /// ```
+    /// use integrators::linalg::LinearSolver;
+    /// use integrators::Pattern;
+    /// let mut lu = LinearSolver::new(4, &Pattern::Banded { lower: 1, upper: 1 });
+    /// lu.set_threads(2);
+    /// ```
+    pub fn set_threads(&mut self, threads: usize) {
+        if let Inner::Banded(lu) = &mut self.inner {
+            lu.threads = threads.max(1);
+        }
+    }
+
     /// A solver for `n × n` matrices with this pattern, direct or iterative as `choice` says
     /// (the iterative solver applies to sparse patterns only; others get their direct LU).
     ///

@@ -165,6 +165,8 @@ pub struct Bdf {
     nwt: Vec<f64>,
     /// Whether `ewt` is stored separately.
     ewt_separate: bool,
+    /// Threads of the vector passes ([`System::threads`], taken at `start`).
+    threads: usize,
 }
 
 impl Default for Bdf {
@@ -214,9 +216,9 @@ fn interp_coeffs(z: &[f64], t: f64, p: &mut [f64; NC], dp: &mut [f64; NC]) {
 }
 
 /// Where a vector pass of length `n` is split over two threads: a block boundary near the
-/// middle, or 0 (no split) below [`System::PARALLEL_MIN`] or with one worker thread.
-fn split_point(n: usize) -> usize {
-    if n < System::PARALLEL_MIN || System::worker_threads() < 2 {
+/// middle, or 0 (no split) below [`System::PARALLEL_MIN`] or with one thread.
+fn split_point(n: usize, threads: usize) -> usize {
+    if n < System::PARALLEL_MIN || threads < 2 {
         return 0;
     }
     (n / 2) / BLK * BLK
@@ -508,6 +510,7 @@ impl Bdf {
             ewt: Vec::new(),
             nwt: Vec::new(),
             ewt_separate: false,
+            threads: 1,
         }
     }
 
@@ -587,7 +590,7 @@ impl Bdf {
         let items = items.as_slice();
         let y0 = &self.vals[0][..];
         let n = y.len();
-        let mid = split_point(n);
+        let mid = split_point(n, self.threads);
         if mid == 0 {
             poly_blocks(items, y0, 0, y, yp, weights);
             return;
@@ -673,7 +676,7 @@ impl Bdf {
             .map(|(c, &m)| self.items(c, &zero, m + 1))
             .collect();
         let ewt = self.ewt();
-        let mid = split_point(n);
+        let mid = split_point(n, self.threads);
         let (acc_e, acc) = if mid == 0 {
             norm_blocks(&items, &self.ycur, ewt, &self.ee, norm, 0, n)
         } else {
@@ -857,6 +860,7 @@ impl Method for Bdf {
         h: Option<f64>,
     ) -> Result<(), SolverError> {
         let n = sys.dim();
+        self.threads = sys.threads();
         if y.len() != n || yp.len() != n {
             return Err(SolverError::new(
                 ErrorKind::InvalidInput(format!(
