@@ -91,15 +91,22 @@ impl LineParams {
         self.ref_lengths.iter().sum()
     }
 
-    fn check(&self) -> Result<(), LineError> {
+    /// Checks every parameter; returns `l₀ = Σ L₀,j` (the same sum as
+    /// [`total_length`](Self::total_length)), found in the pass that checks the lengths.
+    fn check(&self) -> Result<f64, LineError> {
         if self.ref_lengths.is_empty() {
             return Err(LineError::invalid("cells", "0", ">= 1"));
         }
-        if let Some(l) = self
-            .ref_lengths
-            .iter()
-            .find(|l| !(**l > 0.0 && l.is_finite()))
-        {
+        // one branch-free pass: the sum, and whether every length is positive and finite
+        let (total, all_ok) = self.ref_lengths.iter().fold((0.0, true), |(s, ok), &l| {
+            (s + l, ok & (l > 0.0 && l.is_finite()))
+        });
+        if !all_ok {
+            let l = self
+                .ref_lengths
+                .iter()
+                .find(|l| !(**l > 0.0 && l.is_finite()))
+                .expect("a bad length exists");
             return Err(LineError::invalid("ref_lengths", l, "finite and > 0"));
         }
         if self.form == DragForm::Centre && self.right.is_periodic() {
@@ -117,7 +124,7 @@ impl LineParams {
         self.mu.validate("mu", true).map_err(LineError::Field)?;
         self.eta.validate("eta", false).map_err(LineError::Field)?;
         self.k.validate("K", false).map_err(LineError::Field)?;
-        Ok(())
+        Ok(total)
     }
 }
 
@@ -229,12 +236,36 @@ pub fn continuum<E: StrainEnergy>(
     p: &LineParams,
     n: usize,
 ) -> Result<Line<E>, LineError> {
-    p.check()?;
+    let l0 = p.check()?;
     if n == 0 {
         return Err(LineError::invalid("nodes", n, ">= 1"));
     }
-    let l0 = p.total_length();
     let h = l0 / n as f64;
     let mean_cell = l0 / p.ref_lengths.len() as f64;
     assemble(energy, p, vec![h; n], h / mean_cell)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::NeoHookean;
+
+    #[test]
+    fn bad_reference_lengths_are_named_and_good_ones_give_l0() {
+        let law = NeoHookean::new(1.0).unwrap();
+        let mut p = LineParams::unit_cells(7);
+        p.ref_lengths[3] = 0.5;
+        assert_eq!(p.check().unwrap(), p.total_length());
+        assert_eq!(continuum(law.clone(), &p, 3).unwrap().l0_total, 6.5);
+        for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            p.ref_lengths[5] = bad;
+            for e in [
+                discrete(law.clone(), &p).err(),
+                continuum(law.clone(), &p, 3).err(),
+            ] {
+                let msg = e.expect("rejected").to_string();
+                assert!(msg.contains("ref_lengths"), "{bad}: {msg}");
+            }
+        }
+    }
 }

@@ -159,7 +159,11 @@ impl LineConfig {
 
     /// `l₀`.
     pub fn l0(&self) -> f64 {
-        self.lengths().iter().sum()
+        // no `lengths()` here: a uniform line of N cells needs no N-vector to know its length
+        match &self.ref_lengths {
+            Some(v) => v.iter().sum(),
+            None => self.cells as f64 * self.cell_length,
+        }
     }
 
     /// Checks every key; the error names the key and its valid range.
