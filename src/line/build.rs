@@ -256,13 +256,10 @@ mod tests {
         let mut p = LineParams::unit_cells(7);
         p.ref_lengths[3] = 0.5;
         assert_eq!(p.check().unwrap(), p.total_length());
-        assert_eq!(continuum(law.clone(), &p, 3).unwrap().l0_total, 6.5);
+        assert_eq!(continuum(law, &p, 3).unwrap().l0_total, 6.5);
         for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
             p.ref_lengths[5] = bad;
-            for e in [
-                discrete(law.clone(), &p).err(),
-                continuum(law.clone(), &p, 3).err(),
-            ] {
+            for e in [discrete(law, &p).err(), continuum(law, &p, 3).err()] {
                 let msg = e.expect("rejected").to_string();
                 assert!(msg.contains("ref_lengths"), "{bad}: {msg}");
             }
