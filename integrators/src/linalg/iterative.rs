@@ -283,21 +283,9 @@ impl IterativeSolver {
         pattern: &Arc<SparsityPattern>,
         values: &[f64],
     ) -> Result<(), usize> {
-        assert!(
-            Arc::ptr_eq(pattern, &self.pattern) || **pattern == *self.pattern,
-            "sparse matrix pattern differs from the solver's (create a new LinearSolver)"
-        );
-        assert_eq!(
-            values.len(),
-            self.pattern.nnz(),
-            "sparse value length mismatch"
-        );
         self.factored = false;
         self.last_symbolic = false;
-        if let Some(k) = first_non_finite(values) {
-            let cp = self.pattern.col_ptr();
-            return Err(cp.partition_point(|&s| s <= k).saturating_sub(1));
-        }
+        super::check_sparse_values(&self.pattern, pattern, values)?;
         let n = self.pattern.n();
         if n == 0 {
             self.factored = true;

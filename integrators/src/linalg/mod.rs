@@ -134,6 +134,25 @@ pub(crate) fn first_non_finite(v: &[f64]) -> Option<usize> {
     v.iter().position(|x| !x.is_finite())
 }
 
+/// The checks every sparse factorisation starts with: `pattern` is the solver's own (`own`;
+/// a different one is a programmer error: panic), `values` has its length, and every value is
+/// finite — else `Err(column)` of the first non-finite entry, reported like a zero pivot.
+pub(crate) fn check_sparse_values(
+    own: &Arc<crate::SparsityPattern>,
+    pattern: &Arc<crate::SparsityPattern>,
+    values: &[f64],
+) -> Result<(), usize> {
+    assert!(
+        Arc::ptr_eq(pattern, own) || **pattern == **own,
+        "sparse matrix pattern differs from the solver's (create a new LinearSolver)"
+    );
+    assert_eq!(values.len(), own.nnz(), "sparse value length mismatch");
+    match first_non_finite(values) {
+        Some(k) => Err(own.col_ptr().partition_point(|&s| s <= k).saturating_sub(1)),
+        None => Ok(()),
+    }
+}
+
 impl Matrix {
     /// A zero `n × n` matrix with the given pattern (band widths are clamped to `n − 1`).
     pub fn zeros(n: usize, pattern: &Pattern) -> Self {

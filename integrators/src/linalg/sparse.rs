@@ -48,21 +48,10 @@ impl SparseLu {
         pattern: &Arc<SparsityPattern>,
         values: &[f64],
     ) -> Result<(), usize> {
-        assert!(
-            Arc::ptr_eq(pattern, &self.pattern) || **pattern == *self.pattern,
-            "sparse matrix pattern differs from the solver's (create a new LinearSolver)"
-        );
-        assert_eq!(
-            values.len(),
-            self.pattern.nnz(),
-            "sparse value length mismatch"
-        );
         self.factored = false;
         self.last_symbolic = false;
+        super::check_sparse_values(&self.pattern, pattern, values)?;
         let n = self.pattern.n();
-        if let Some(k) = first_non_finite(values) {
-            return Err(column_of(&self.pattern, k));
-        }
         if n == 0 {
             self.factored = true;
             return Ok(());
@@ -131,10 +120,4 @@ impl SparseLu {
 /// faer's view of a pattern.
 fn structure(p: &SparsityPattern) -> SymbolicSparseColMatRef<'_, usize> {
     SymbolicSparseColMatRef::new_checked(p.n(), p.n(), p.col_ptr(), None, p.row_idx())
-}
-
-/// Column owning value position `k` of a CSC pattern.
-fn column_of(p: &SparsityPattern, k: usize) -> usize {
-    let cp = p.col_ptr();
-    cp.partition_point(|&s| s <= k).saturating_sub(1)
 }
