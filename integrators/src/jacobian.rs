@@ -100,6 +100,22 @@ fn user_jacobian(
     cols: Columns<'_>,
     jac: &mut Matrix,
 ) -> Result<bool, StepFailure> {
+    if sys.cache.no_user_jacobian {
+        return Ok(false);
+    }
+    let provided = user_jacobian_columns(sys, t, y, yp, cols, jac)?;
+    sys.cache.no_user_jacobian = !provided;
+    Ok(provided)
+}
+
+fn user_jacobian_columns(
+    sys: &mut System<'_>,
+    t: f64,
+    y: &[f64],
+    yp: &[f64],
+    cols: Columns<'_>,
+    jac: &mut Matrix,
+) -> Result<bool, StepFailure> {
     match cols {
         Columns::Iteration { c } => {
             jac.set_zero();

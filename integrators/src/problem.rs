@@ -95,7 +95,9 @@ pub trait Problem {
     }
 
     /// Full iteration matrix `J = ∂F/∂y + c·∂F/∂ẏ`, added into `jac` (which is zeroed and shaped
-    /// by [`pattern`](Problem::pattern)). Return `Ok(false)` (the default) if not provided.
+    /// by [`pattern`](Problem::pattern)). Return `Ok(false)` (the default) if not provided:
+    /// the solver then stops asking (and stops zeroing a matrix for it) until the problem is
+    /// resized, so the answer must not depend on `(t, y, ẏ, c)`.
     fn jacobian(
         &mut self,
         _t: f64,

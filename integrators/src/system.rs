@@ -60,6 +60,10 @@ pub struct SystemCache {
     /// faulting in fresh pages for a Jacobian and eight vectors each time costs more than the
     /// arithmetic. Dropped by [`rebuild`](SystemCache::rebuild).
     pub(crate) init_work: Option<Box<InitWork>>,
+    /// Set once [`Problem::jacobian`] has returned `Ok(false)`: later Jacobians skip it (and
+    /// the zero fill of the matrix it would have written, a whole pass over a large band).
+    /// Cleared by [`rebuild`](SystemCache::rebuild).
+    pub(crate) no_user_jacobian: bool,
 }
 
 /// Scratch of [`System::consistent_init`] (see [`SystemCache`]'s `init_work`).
@@ -127,6 +131,7 @@ impl SystemCache {
         self.algebraic = algebraic;
         self.colour_cols = colour_cols;
         self.init_work = None;
+        self.no_user_jacobian = false;
         Ok(())
     }
 
