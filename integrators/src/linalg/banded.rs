@@ -142,7 +142,8 @@ pub(crate) struct BandLu {
 ///
 /// Storage: the forward sweep streams 9 bytes per row (multiplier and interchange flag) instead
 /// of a 32-byte band column and an 8-byte pivot index; the backward sweep 24 (the `U` row's two
-/// off-diagonal entries and its pivot reciprocal, interleaved into one stream).
+/// off-diagonal entries divided by the pivot and the pivot's reciprocal, interleaved into one
+/// stream).
 #[derive(Clone, Debug)]
 struct TriLu {
     /// Twist index: rows `0..k` are eliminated downwards, `k+2..n` upwards, then rows `k+1`
@@ -152,15 +153,19 @@ struct TriLu {
     mult: Vec<f64>,
     /// Whether that step interchanged its two rows.
     swap: Vec<bool>,
-    /// Row `j` of `U`: `[u₂, u₁, 1/pivot]`, the entries two and one columns away from the
-    /// pivot towards the twist (right of it for `j < k`, left of it for `j > k`).
+    /// Row `j` of `U` divided by its pivot: `[u₂/pivot, u₁/pivot, 1/pivot]`, with `u₂`, `u₁`
+    /// the entries two and one columns away from the pivot towards the twist (right of it for
+    /// `j < k`, left of it for `j > k`).
     urow: Vec<[f64; 3]>,
 }
 
 /// One GEPP step on two rows of a tridiagonal matrix: the current (already updated) row with
 /// entries `p0` in the pivot column and `p1` one column on, and the other candidate row with
 /// `a` in the pivot column, `d` and `c` one and two columns on. Returns `None` on a zero or
-/// non-finite pivot, else `(swapped, multiplier, [u₂, u₁, 1/pivot], remaining row)`.
+/// non-finite pivot, else `(swapped, multiplier, [u₂/pivot, u₁/pivot, 1/pivot], remaining
+/// row)`: the `U` row is stored divided by its pivot, so the back substitution's dependency
+/// chain is one multiply and one subtraction per row instead of two multiplies and a
+/// subtraction.
 #[inline(always)]
 #[allow(clippy::type_complexity)]
 fn tri_step(p0: f64, p1: f64, a: f64, d: f64, c: f64) -> Option<(bool, f64, [f64; 3], (f64, f64))> {
@@ -172,11 +177,98 @@ fn tri_step(p0: f64, p1: f64, a: f64, d: f64, c: f64) -> Option<(bool, f64, [f64
     let inv = 1.0 / piv;
     Some(if swapped {
         let m = p0 * inv;
-        (true, m, [c, d, inv], (p1 - m * d, -(m * c)))
+        (true, m, [c * inv, d * inv, inv], (p1 - m * d, -(m * c)))
     } else {
         let m = a * inv;
-        (false, m, [0.0, p1, inv], (d - m * p1, c))
+        (false, m, [0.0, p1 * inv, inv], (d - m * p1, c))
     })
+}
+
+/// The running state of one of the two elimination sweeps of [`TriLu::factor`]: the current
+/// row's entries in the pivot column and the next (`p0`, `p1`), and the two columns loaded
+/// ahead of it. The downward sweep reads a column as `[above, diagonal, below]`, the upward
+/// sweep mirrored, so one step function serves both (`DOWN` picks the orientation).
+#[derive(Clone, Copy)]
+struct Sweep<const DOWN: bool> {
+    p0: f64,
+    p1: f64,
+    cur: [f64; 3],
+    next: [f64; 3],
+}
+
+impl<const DOWN: bool> Sweep<DOWN> {
+    /// Starts from the first two columns of the sweep (`first`, then its neighbour inwards).
+    #[inline(always)]
+    fn new(first: [f64; 3], next: [f64; 3]) -> Self {
+        let (p1, _) = Self::outer(next);
+        Self {
+            p0: first[1],
+            p1,
+            cur: first,
+            next,
+        }
+    }
+
+    /// A column's `(entry towards the start of the sweep, entry away from it)`.
+    #[inline(always)]
+    fn outer(c: [f64; 3]) -> (f64, f64) {
+        if DOWN {
+            (c[0], c[2])
+        } else {
+            (c[2], c[0])
+        }
+    }
+
+    /// One GEPP step, with `after` the column two on from the pivot column; `None` on a bad
+    /// pivot.
+    #[inline(always)]
+    fn step(&mut self, after: [f64; 3]) -> Option<(bool, f64, [f64; 3])> {
+        let (_, away) = Self::outer(self.cur);
+        let (towards, _) = Self::outer(after);
+        let (sw, m, u, q) = tri_step(self.p0, self.p1, away, self.next[1], towards)?;
+        (self.p0, self.p1) = q;
+        (self.cur, self.next) = (self.next, after);
+        Some((sw, m, u))
+    }
+}
+
+/// One sweep of [`TriLu::factor`] with its bookkeeping: multiply–adds so far and whether
+/// every column it loaded was finite.
+struct Half<const DOWN: bool> {
+    sweep: Sweep<DOWN>,
+    flops: usize,
+    finite: bool,
+}
+
+impl<const DOWN: bool> Half<DOWN> {
+    /// Loads the sweep's first two columns.
+    #[inline(always)]
+    fn start<C: TriColumns>(cols: &C, first: usize, second: usize) -> Self {
+        let (a, b) = (cols.col(first), cols.col(second));
+        Self {
+            sweep: Sweep::new(a, b),
+            flops: 0,
+            finite: a.iter().chain(&b).all(|v| v.is_finite()),
+        }
+    }
+
+    /// Eliminates the current pivot column, loading column `after` (two on), and stores the
+    /// row's interchange flag, multiplier and scaled `U` row in `out`. `Err` on a zero or
+    /// non-finite pivot.
+    #[inline(always)]
+    fn step<C: TriColumns>(
+        &mut self,
+        cols: &C,
+        after: usize,
+        out: (&mut bool, &mut f64, &mut [f64; 3]),
+    ) -> Result<(), ()> {
+        let c = cols.col(after);
+        self.finite &= c.iter().all(|v| v.is_finite());
+        let (sw, m, u) = self.sweep.step(c).ok_or(())?;
+        (*out.0, *out.1, *out.2) = (sw, m, u);
+        self.flops += 1 + usize::from(sw);
+        Ok(())
+    }
 }
 
 impl TriLu {
@@ -193,11 +285,18 @@ impl TriLu {
     /// [A(j−1, j), A(j, j), A(j+1, j)]` (entries outside the matrix are read and must be
     /// finite, as the band storage's zero slots are). One streaming pass from each end: the
     /// entries are loaded as the elimination reaches them, so a combined matrix `A + β·B` is
-    /// never stored. Returns the multiply–add count, or `Err(column)`: the first column holding
-    /// a non-finite entry if there is one (as the band path's up-front check reports), else
-    /// the column whose pivot was zero.
+    /// never stored. With `two_threads` the downward and the upward sweep run on two threads
+    /// (they touch disjoint rows until the twist), else interleaved in one loop; the
+    /// arithmetic is the same. Returns the multiply–add count, or `Err(column)`: the first
+    /// column holding a non-finite entry if there is one (as the band path's up-front check
+    /// reports), else the column whose pivot was zero (the first the one-thread order meets).
     #[inline(always)]
-    fn factor<C: TriColumns>(&mut self, n: usize, cols: &C) -> Result<usize, usize> {
+    fn factor<C: TriColumns + Sync>(
+        &mut self,
+        n: usize,
+        cols: &C,
+        two_threads: bool,
+    ) -> Result<usize, usize> {
         debug_assert!(n >= 2);
         let first_bad = |cols: &C| (0..n).find(|&j| cols.col(j).iter().any(|v| !v.is_finite()));
         let k = (n - 2) / 2;
@@ -208,58 +307,91 @@ impl TriLu {
             &mut self.swap[..n],
             &mut self.urow[..n],
         );
-        let mut finite = true;
-        let mut load = |j: usize| {
-            let c = cols.col(j);
-            finite &= c.iter().all(|v| v.is_finite());
-            c
-        };
-        let mut flops = 0usize;
-        // downwards: the current row j has (tp0, tp1) in columns (j, j+1); the other candidate
-        // is row j+1 = (col(j)[2], col(j+1)[1], col(j+2)[0])
-        let (mut t_cur, mut t_next) = (load(0), load(1));
-        let (mut tp0, mut tp1) = (t_cur[1], t_next[0]);
-        // upwards: the current row j has (bp0, bp1) in columns (j, j−1); the other candidate is
-        // row j−1 = (col(j)[0], col(j−1)[1], col(j−2)[2])
-        let (mut b_cur, mut b_next) = (load(n - 1), load(n - 2));
-        let (mut bp0, mut bp1) = (b_cur[1], b_next[2]);
-        for i in 0..bot_len {
-            if i < top_len {
-                let j = i;
-                let after = load(j + 2);
-                let Some((sw, m, u, q)) = tri_step(tp0, tp1, t_cur[2], t_next[1], after[0]) else {
-                    return Err(first_bad(cols).unwrap_or(j));
-                };
-                (swap[j], mult[j], urow[j]) = (sw, m, u);
-                flops += 1 + usize::from(sw);
-                (tp0, tp1) = q;
-                (t_cur, t_next) = (t_next, after);
+        // downwards: the current row j has its entries in columns (j, j+1); the other
+        // candidate is row j+1 = (col(j)[2], col(j+1)[1], col(j+2)[0]). Upwards mirrored: row
+        // j in columns (j, j−1) against row j−1 = (col(j)[0], col(j−1)[1], col(j−2)[2]).
+        let mut down = Half::<true>::start(cols, 0, 1);
+        let mut up = Half::<false>::start(cols, n - 1, n - 2);
+        let failed = if two_threads {
+            let (m_top, m_bot) = mult.split_at_mut(k + 1);
+            let (s_top, s_bot) = swap.split_at_mut(k + 1);
+            let (u_top, u_bot) = urow.split_at_mut(k + 1);
+            // the upward sweep's state moves to its thread and back (two sweeps' running
+            // states side by side on one stack would share a cache line, written every row)
+            let (rd, ru, up_back) = std::thread::scope(|sc| {
+                let h = sc.spawn(move || {
+                    for i in 0..bot_len {
+                        let j = n - 1 - i;
+                        let r = j - (k + 1);
+                        let out = (&mut s_bot[r], &mut m_bot[r], &mut u_bot[r]);
+                        if up.step(cols, j - 2, out).is_err() {
+                            return (up, Err((i, 1, j)));
+                        }
+                    }
+                    (up, Ok(()))
+                });
+                let mut rd = Ok(());
+                for j in 0..top_len {
+                    if down
+                        .step(cols, j + 2, (&mut s_top[j], &mut m_top[j], &mut u_top[j]))
+                        .is_err()
+                    {
+                        rd = Err((j, 0, j));
+                        break;
+                    }
+                }
+                let (up, ru) = h.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
+                (rd, ru, up)
+            });
+            up = up_back;
+            // the failure the interleaved loop meets first: step i, downward before upward
+            match (rd, ru) {
+                (Ok(()), Ok(())) => None,
+                (Err(e), Ok(())) | (Ok(()), Err(e)) => Some(e.2),
+                (Err(d), Err(u)) => Some(d.min(u).2),
             }
-            let j = n - 1 - i;
-            let after = load(j - 2);
-            let Some((sw, m, u, q)) = tri_step(bp0, bp1, b_cur[0], b_next[1], after[2]) else {
-                return Err(first_bad(cols).unwrap_or(j));
-            };
-            (swap[j], mult[j], urow[j]) = (sw, m, u);
-            flops += 1 + usize::from(sw);
-            (bp0, bp1) = q;
-            (b_cur, b_next) = (b_next, after);
+        } else {
+            let mut failed = None;
+            for i in 0..bot_len {
+                if i < top_len {
+                    let j = i;
+                    if down
+                        .step(cols, j + 2, (&mut swap[j], &mut mult[j], &mut urow[j]))
+                        .is_err()
+                    {
+                        failed = Some(j);
+                        break;
+                    }
+                }
+                let j = n - 1 - i;
+                if up
+                    .step(cols, j - 2, (&mut swap[j], &mut mult[j], &mut urow[j]))
+                    .is_err()
+                {
+                    failed = Some(j);
+                    break;
+                }
+            }
+            failed
+        };
+        if let Some(j) = failed {
+            return Err(first_bad(cols).unwrap_or(j));
         }
         // column k+1: the upward current row k+1 against the downward current row k (which
-        // has tp0 in column k and tp1 in column k+1); then the 1×1 pivot of column k
-        let Some((sw, m, u, (r, _))) = tri_step(bp0, bp1, tp1, tp0, 0.0) else {
+        // has p0 in column k and p1 in column k+1); then the 1×1 pivot of column k
+        let (d, u) = (down.sweep, up.sweep);
+        let Some((sw, m, ur, (r, _))) = tri_step(u.p0, u.p1, d.p1, d.p0, 0.0) else {
             return Err(first_bad(cols).unwrap_or(k + 1));
         };
-        (swap[k + 1], mult[k + 1], urow[k + 1]) = (sw, m, u);
-        flops += 1;
+        (swap[k + 1], mult[k + 1], urow[k + 1]) = (sw, m, ur);
         if r == 0.0 || !r.is_finite() {
             return Err(first_bad(cols).unwrap_or(k));
         }
         (swap[k], mult[k], urow[k]) = (false, 0.0, [0.0, 0.0, 1.0 / r]);
-        if !finite {
+        if !(down.finite && up.finite) {
             return Err(first_bad(cols).unwrap_or(k));
         }
-        Ok(flops)
+        Ok(down.flops + up.flops + 1)
     }
 
     /// The two twist rows `k`, `k+1` of the solve: the last forward elimination (column
@@ -273,8 +405,8 @@ impl TriLu {
         }
         tc -= self.mult[k + 1] * bc;
         let xk = tc * self.urow[k][2];
-        let [_, u1, inv] = self.urow[k + 1];
-        (xk, (bc - u1 * xk) * inv)
+        let [_, v1, inv] = self.urow[k + 1];
+        (xk, bc * inv - v1 * xk)
     }
 
     /// Solve with the twisted factors; `map.map(j, x_j)` is stored in `b[j]` as each solution
@@ -318,14 +450,14 @@ impl TriLu {
         for i in 0..bot_len {
             if i < top_len {
                 let j = k - 1 - i;
-                let [u2, u1, inv] = urow[j];
-                let x = (b[j] - u2 * t2 - u1 * t1) * inv;
+                let [v2, v1, inv] = urow[j];
+                let x = (b[j] * inv - v2 * t2) - v1 * t1;
                 b[j] = map.map(j, x);
                 (t1, t2) = (x, t1);
             }
             let j = k + 2 + i;
-            let [u2, u1, inv] = urow[j];
-            let x = (b[j] - u2 * d2 - u1 * d1) * inv;
+            let [v2, v1, inv] = urow[j];
+            let x = (b[j] * inv - v2 * d2) - v1 * d1;
             b[j] = map.map(j, x);
             (d1, d2) = (x, d1);
         }
@@ -388,17 +520,17 @@ impl TriLu {
         std::thread::scope(|sc| {
             let h = sc.spawn(|| {
                 let (mut d1, mut d2) = (xk1, xk);
-                for (j, &[u2, u1, inv]) in urow.iter().enumerate().skip(k + 2) {
+                for (j, &[v2, v1, inv]) in urow.iter().enumerate().skip(k + 2) {
                     let i = j - (k + 1);
-                    let x = (bot[i] - u2 * d2 - u1 * d1) * inv;
+                    let x = (bot[i] * inv - v2 * d2) - v1 * d1;
                     bot[i] = second.map(j, x);
                     (d1, d2) = (x, d1);
                 }
             });
             let (mut t1, mut t2) = (xk, xk1);
             for j in (0..k).rev() {
-                let [u2, u1, inv] = urow[j];
-                let x = (top[j] - u2 * t2 - u1 * t1) * inv;
+                let [v2, v1, inv] = urow[j];
+                let x = (top[j] * inv - v2 * t2) - v1 * t1;
                 top[j] = first.map(j, x);
                 (t1, t2) = (x, t1);
             }
@@ -441,11 +573,12 @@ impl BandLu {
     }
 
     /// Runs the compact tridiagonal factorisation on the column entries `col(j)`.
-    fn factor_tri<C: TriColumns>(&mut self, cols: &C) -> Result<(), usize> {
+    fn factor_tri<C: TriColumns + Sync>(&mut self, cols: &C) -> Result<(), usize> {
         self.factored = false;
         self.flops = 0;
         let tri = self.tri.as_mut().expect("tridiagonal solver");
-        let res = tri.factor(self.n, cols);
+        let two = self.n >= crate::System::PARALLEL_MIN && self.threads >= 2;
+        let res = tri.factor(self.n, cols, two);
         if let Ok(f) = res {
             self.flops = f;
         }
@@ -732,24 +865,61 @@ mod tests {
         }
     }
 
+    /// Column entries for the tests: pivoting forced by zero diagonals every third column.
+    fn test_columns(n: usize) -> Vec<f64> {
+        let mut data = vec![0.0; 4 * n];
+        for j in 0..n {
+            let f = j as f64;
+            data[4 * j + 1] = if j > 0 { (1.3 * f).sin() } else { 0.0 };
+            data[4 * j + 2] = if j % 3 == 1 {
+                0.0
+            } else {
+                0.5 + (0.7 * f).cos()
+            };
+            data[4 * j + 3] = if j + 1 < n { (2.1 * f).cos() } else { 0.0 };
+        }
+        data
+    }
+
+    #[test]
+    fn two_thread_tridiagonal_factor_is_the_one_thread_factor() {
+        // bitwise equal factors and flop counts; the same error column for singular matrices
+        // (a zero pivot in either half, or in both) and for a non-finite entry
+        for n in (2..=40).chain([101, 256]) {
+            let data = test_columns(n);
+            let (mut one, mut two) = (TriLu::new(n), TriLu::new(n));
+            let f1 = one.factor(n, &BandColumns(&data), false);
+            let f2 = two.factor(n, &BandColumns(&data), true);
+            assert_eq!(f1, f2, "n={n}");
+            if f1.is_ok() {
+                assert_eq!(one.mult, two.mult, "n={n}");
+                assert_eq!(one.swap, two.swap, "n={n}");
+                assert_eq!(one.urow, two.urow, "n={n}");
+            }
+            let mut zeroed = data.clone();
+            for j in [n / 4, 3 * n / 4] {
+                zeroed[4 * j..4 * j + 4].iter_mut().for_each(|v| *v = 0.0);
+                let a = TriLu::new(n).factor(n, &BandColumns(&zeroed), false);
+                let b = TriLu::new(n).factor(n, &BandColumns(&zeroed), true);
+                assert!(a.is_err(), "n={n}: a zero column is singular");
+                assert_eq!(a, b, "n={n}, zero column {j}");
+            }
+            let mut bad = data.clone();
+            bad[4 * (n - 1) + 2] = f64::NAN;
+            let a = TriLu::new(n).factor(n, &BandColumns(&bad), false);
+            let b = TriLu::new(n).factor(n, &BandColumns(&bad), true);
+            assert_eq!((a, b), (Err(n - 1), Err(n - 1)), "n={n}");
+        }
+    }
+
     #[test]
     fn two_thread_tridiagonal_solve_is_the_one_thread_solve() {
         // every small size, with pivoting forced (zero diagonal entries): bitwise equal
         // components, each mapped exactly once, the split map's state merged back
         for n in (2..=40).chain([101, 256]) {
-            let mut data = vec![0.0; 4 * n];
-            for j in 0..n {
-                let f = j as f64;
-                data[4 * j + 1] = if j > 0 { (1.3 * f).sin() } else { 0.0 };
-                data[4 * j + 2] = if j % 3 == 1 {
-                    0.0
-                } else {
-                    0.5 + (0.7 * f).cos()
-                };
-                data[4 * j + 3] = if j + 1 < n { (2.1 * f).cos() } else { 0.0 };
-            }
+            let data = test_columns(n);
             let mut lu = TriLu::new(n);
-            if lu.factor(n, &BandColumns(&data)).is_err() {
+            if lu.factor(n, &BandColumns(&data), false).is_err() {
                 continue;
             }
             let rhs: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin() + 0.1).collect();
