@@ -48,20 +48,35 @@ impl System<'_> {
         order: usize,
         unit_mass: bool,
     ) -> f64 {
-        let n = self.dim();
-        let clamp = |h: f64, opts: &crate::Options| {
-            let h = if h.is_finite() && h > 0.0 {
-                h
-            } else {
-                1e-6 * span
-            };
-            h.min(span).min(opts.h_max).max(opts.h_min)
-        };
-        if n == 0 {
-            return clamp(span, self.opts);
+        if self.dim() == 0 {
+            return clamp_step(span, span, self.opts);
         }
-        let mut w = vec![0.0; n];
-        self.error_weights(y0, &mut w);
+        // scratch from the system's spares (see `Spares`); every entry is written before use
+        let mut w = self.take_vec();
+        let mut y1 = self.take_vec();
+        let mut yp1 = self.take_vec();
+        let scratch = [&mut w, &mut y1, &mut yp1];
+        let h1 = self.initial_step_with(t0, y0, yp0, span, order, unit_mass, scratch);
+        for v in [w, y1, yp1] {
+            self.give_vec(v);
+        }
+        h1
+    }
+
+    /// [`initial_step`](Self::initial_step) with its scratch (`n ≥ 1`).
+    #[allow(clippy::too_many_arguments)]
+    fn initial_step_with(
+        &mut self,
+        t0: f64,
+        y0: &[f64],
+        yp0: &[f64],
+        span: f64,
+        order: usize,
+        unit_mass: bool,
+        [w, y1, yp1]: [&mut Vec<f64>; 3],
+    ) -> f64 {
+        let clamp = |h: f64, opts: &crate::Options| clamp_step(h, span, opts);
+        self.error_weights(y0, w);
         for (wi, &alg) in w.iter_mut().zip(&self.cache.algebraic) {
             if alg {
                 *wi = 0.0;
@@ -71,30 +86,34 @@ impl System<'_> {
         // the line's 10⁶-cell macroscale run fail late (see the issue #2 note), the RMS start
         // costs fig2_6's continuum a few rejected first tries
         let norm = crate::ErrorNorm::Rms;
-        let d0 = norm.of(y0, &w);
-        let d1 = norm.of(yp0, &w);
+        let d0 = norm.of(y0, w);
+        let d1 = norm.of(yp0, w);
         let h0 = if d0 < 1e-5 || d1 < 1e-5 || !d1.is_finite() {
             1e-6 * span
         } else {
             0.01 * d0 / d1
         };
         let h0 = clamp(h0, self.opts);
-        let mut y1: Vec<f64> = y0.iter().zip(yp0).map(|(y, yp)| y + h0 * yp).collect();
-        let diff: Vec<f64> = if unit_mass {
-            let mut r = vec![0.0; n];
-            if self.residual(t0 + h0, &y1, yp0, &mut r).is_err() {
+        for ((a, y), yp) in y1.iter_mut().zip(y0).zip(yp0) {
+            *a = y + h0 * yp;
+        }
+        // yp1 ends as the difference of the derivatives (or −F for a unit mass)
+        if unit_mass {
+            if self.residual(t0 + h0, y1, yp0, yp1).is_err() {
                 return h0;
             }
-            r.iter().map(|v| -v).collect()
+            yp1.iter_mut().for_each(|v| *v = -*v);
         } else {
-            let mut yp1 = yp0.to_vec();
+            yp1.copy_from_slice(yp0);
             // a failed trial initialisation only means no second-derivative estimate
-            if self.consistent_init(t0 + h0, &mut y1, &mut yp1).is_err() {
+            if self.consistent_init(t0 + h0, y1, yp1).is_err() {
                 return h0;
             }
-            yp1.iter().zip(yp0).map(|(a, b)| a - b).collect()
-        };
-        let d2 = norm.of(&diff, &w) / h0;
+            for (a, b) in yp1.iter_mut().zip(yp0) {
+                *a -= b;
+            }
+        }
+        let d2 = norm.of(yp1, w) / h0;
         let dmax = d1.max(d2);
         let h1 = if dmax <= 1e-15 || !dmax.is_finite() {
             (h0 * 1e-3).max(1e-6 * span)
@@ -103,4 +122,15 @@ impl System<'_> {
         };
         clamp((100.0 * h0).min(h1), self.opts)
     }
+}
+
+/// A step size kept in `[h_min, min(span, h_max)]`; a non-finite or non-positive guess becomes
+/// `10⁻⁶·span`.
+fn clamp_step(h: f64, span: f64, opts: &crate::Options) -> f64 {
+    let h = if h.is_finite() && h > 0.0 {
+        h
+    } else {
+        1e-6 * span
+    };
+    h.min(span).min(opts.h_max).max(opts.h_min)
 }

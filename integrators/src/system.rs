@@ -55,25 +55,28 @@ pub struct SystemCache {
     /// Work vectors of the Jacobian assembly (kept across calls: a large line would otherwise
     /// allocate and page-fault four fresh `n`-vectors per Jacobian).
     pub(crate) jac_work: [Vec<f64>; 4],
-    /// Buffers of [`System::consistent_init`], kept between calls: a start calls it twice (the
-    /// solver's initial state and `initial_step`'s trial point), and for a large problem
-    /// faulting in fresh pages for a Jacobian and eight vectors each time costs more than the
-    /// arithmetic. Dropped by [`rebuild`](SystemCache::rebuild).
-    pub(crate) init_work: Option<Box<InitWork>>,
+    /// Buffers one phase of a solve hands to the next (see [`Spares`]). Dropped by
+    /// [`rebuild`](SystemCache::rebuild).
+    pub(crate) spares: Spares,
     /// Set once [`Problem::jacobian`] has returned `Ok(false)`: later Jacobians skip it (and
     /// the zero fill of the matrix it would have written, a whole pass over a large band).
     /// Cleared by [`rebuild`](SystemCache::rebuild).
     pub(crate) no_user_jacobian: bool,
 }
 
-/// Scratch of [`System::consistent_init`] (see [`SystemCache`]'s `init_work`).
-pub(crate) struct InitWork {
-    jac: Matrix,
-    /// Kept for banded patterns only: a sparse LU's symbolic analysis is counted in the
-    /// statistics, and reusing it would change them.
-    lu: Option<LinearSolver>,
-    /// `r, δ, w, w_new, y_new, ẏ_new, r_new, δ_new`.
-    vecs: [Vec<f64>; 8],
+/// Buffers a finished phase of a solve leaves for the next one (consistent initialisation →
+/// the starting-step estimate → the method's Newton matrices, solver and vectors), all of the
+/// current dimension and pattern. A large problem otherwise faults in fresh pages for every
+/// phase: at 10⁶ unknowns each vector is 2 048 page faults, and a start used to touch ≈ 50 of
+/// them. Taken buffers hold stale values: [`System::take_vec`] and [`System::take_matrix`]
+/// say what their callers must overwrite.
+#[derive(Default)]
+pub(crate) struct Spares {
+    vecs: Vec<Vec<f64>>,
+    matrices: Vec<Matrix>,
+    /// Banded solvers only: a sparse LU's symbolic analysis is counted in the statistics,
+    /// and reusing it would change them.
+    solvers: Vec<LinearSolver>,
 }
 
 impl SystemCache {
@@ -130,7 +133,7 @@ impl SystemCache {
         self.atol = atol;
         self.algebraic = algebraic;
         self.colour_cols = colour_cols;
-        self.init_work = None;
+        self.spares = Spares::default();
         self.no_user_jacobian = false;
         Ok(())
     }
@@ -241,6 +244,62 @@ impl<'a> System<'a> {
             LinearSolver::with_choice(self.dim(), self.pattern(), self.opts.linear_solver);
         lin.set_threads(self.threads());
         lin
+    }
+
+    /// A vector of length [`dim`](Self::dim) from the spares (see [`Spares`]) or freshly
+    /// zeroed; a spare holds stale values, so the caller must write every entry before
+    /// reading it. Hand it back with [`give_vec`](Self::give_vec) when done.
+    pub(crate) fn take_vec(&mut self) -> Vec<f64> {
+        let n = self.dim();
+        match self.cache.spares.vecs.pop() {
+            Some(mut v) => {
+                v.resize(n, 0.0);
+                v
+            }
+            None => vec![0.0; n],
+        }
+    }
+
+    /// Returns a vector to the spares (one of another length is dropped).
+    pub(crate) fn give_vec(&mut self, v: Vec<f64>) {
+        if v.len() == self.dim() {
+            self.cache.spares.vecs.push(v);
+        }
+    }
+
+    /// A matrix of the current pattern from the spares, or [`new_matrix`](Self::new_matrix).
+    /// A spare's structural entries are stale (its other storage slots are zero, as in a new
+    /// one): fill it with [`jacobian`](Self::jacobian) or zero it before use.
+    pub(crate) fn take_matrix(&mut self) -> Matrix {
+        self.cache
+            .spares
+            .matrices
+            .pop()
+            .unwrap_or_else(|| self.new_matrix())
+    }
+
+    /// Returns a matrix to the spares.
+    pub(crate) fn give_matrix(&mut self, m: Matrix) {
+        if m.n() == self.dim() {
+            self.cache.spares.matrices.push(m);
+        }
+    }
+
+    /// A linear solver from the spares (a banded one, factorisation stale), or
+    /// [`new_linear_solver`](Self::new_linear_solver).
+    pub(crate) fn take_solver(&mut self) -> LinearSolver {
+        self.cache
+            .spares
+            .solvers
+            .pop()
+            .unwrap_or_else(|| self.new_linear_solver())
+    }
+
+    /// Returns a linear solver to the spares if the pattern is banded (see [`Spares`]).
+    pub(crate) fn give_solver(&mut self, lu: LinearSolver) {
+        if matches!(self.pattern(), Pattern::Banded { .. }) {
+            self.cache.spares.solvers.push(lu);
+        }
     }
 
     /// Evaluates `J = ∂F/∂y + c·∂F/∂ẏ` at `(t, y, ẏ)` into `jac` (zeroed first): the problem's
@@ -400,26 +459,15 @@ impl<'a> System<'a> {
         if n == 0 {
             return Ok(());
         }
-        let mut work = match self.cache.init_work.take() {
-            Some(w) if w.jac.n() == n => w,
-            _ => Box::new(InitWork {
-                jac: self.new_matrix(),
-                lu: None,
-                vecs: Default::default(),
-            }),
-        };
-        let mut lu = match work.lu.take() {
-            Some(lu) => lu,
-            None => self.new_linear_solver(),
-        };
-        for v in work.vecs.iter_mut() {
-            v.resize(n, 0.0);
+        let mut jac = self.take_matrix();
+        let mut lu = self.take_solver();
+        let mut vecs: [Vec<f64>; 8] = std::array::from_fn(|_| self.take_vec());
+        let res = self.consistent_init_with(t, y, yp, &mut jac, &mut lu, &mut vecs);
+        self.give_matrix(jac);
+        self.give_solver(lu);
+        for v in vecs {
+            self.give_vec(v);
         }
-        let res = self.consistent_init_with(t, y, yp, &mut work.jac, &mut lu, &mut work.vecs);
-        if matches!(self.pattern(), Pattern::Banded { .. }) {
-            work.lu = Some(lu);
-        }
-        self.cache.init_work = Some(work);
         res
     }
 

@@ -371,6 +371,19 @@ impl LinearSolver {
         }
     }
 
+    /// Whether [`factor_combination`](Self::factor_combination) of two band matrices writes
+    /// straight into the factor storage (a banded solver), never touching its `scratch`
+    /// matrix, so a caller may pass an empty one instead of a third `n`-sized matrix.
+    ///
+    /// ```
+    /// use integrators::{linalg::LinearSolver, Pattern};
+    /// assert!(LinearSolver::new(4, &Pattern::Banded { lower: 1, upper: 1 }).combines_in_place());
+    /// assert!(!LinearSolver::new(4, &Pattern::Dense).combines_in_place());
+    /// ```
+    pub fn combines_in_place(&self) -> bool {
+        matches!(self.inner, Inner::Banded(_))
+    }
+
     /// A solver for `n × n` matrices with this pattern, direct or iterative as `choice` says
     /// (the iterative solver applies to sparse patterns only; others get their direct LU).
     ///

@@ -704,12 +704,20 @@ impl Bdf {
         (acc_e.finish(n), out)
     }
 
-    fn ensure_linalg(&mut self, sys: &System<'_>) {
+    /// The Newton matrices and solver, from the system's spares where it has them (the
+    /// consistent initialisation's, already paged in). A banded solver combines
+    /// `J(0) + α·∂F/∂ẏ` in place, so its scratch matrix is an empty stand-in.
+    fn ensure_linalg(&mut self, sys: &mut System<'_>) {
         if self.jy.is_none() {
-            self.jy = Some(sys.new_matrix());
-            self.jyp = Some(sys.new_matrix());
-            self.iter = Some(sys.new_matrix());
-            self.lin = Some(sys.new_linear_solver());
+            self.jy = Some(sys.take_matrix());
+            self.jyp = Some(sys.take_matrix());
+            let lin = sys.take_solver();
+            self.iter = Some(if lin.combines_in_place() {
+                Matrix::zeros(0, &Pattern::Dense)
+            } else {
+                sys.new_matrix()
+            });
+            self.lin = Some(lin);
         }
     }
 
@@ -873,6 +881,10 @@ impl Method for Bdf {
             ));
         }
         let pattern_changed = self.pattern.as_ref() != Some(sys.pattern());
+        // the history goes back to the spares (a restart keeps one node)
+        for v in self.vals.drain(..) {
+            sys.give_vec(v);
+        }
         if n != self.n || pattern_changed {
             self.n = n;
             self.pattern = Some(sys.pattern().clone());
@@ -880,6 +892,8 @@ impl Method for Bdf {
             self.jyp = None;
             self.iter = None;
             self.lin = None;
+            // (every entry of these is written before it is read: predictor, Newton update,
+            // residual, weights)
             for v in [
                 &mut self.ycur,
                 &mut self.ypcur,
@@ -887,8 +901,7 @@ impl Method for Bdf {
                 &mut self.res,
                 &mut self.nwt,
             ] {
-                v.clear();
-                v.resize(n, 0.0);
+                *v = sys.take_vec();
             }
         }
         self.ewt_separate =
@@ -903,14 +916,20 @@ impl Method for Bdf {
         self.ss = 20.0;
         self.t = t;
         self.t_prev = t;
-        self.yp = yp.to_vec();
-        self.yp0 = yp.to_vec();
+        for (v, from) in [(&mut self.yp, yp), (&mut self.yp0, yp)] {
+            if v.len() != n {
+                *v = sys.take_vec();
+            }
+            v.copy_from_slice(from);
+        }
         self.times.clear();
-        self.vals.clear();
         self.times.push_back(t);
         self.times.push_back(t);
-        self.vals.push_back(y.to_vec());
-        self.vals.push_back(y.to_vec());
+        for _ in 0..2 {
+            let mut v = sys.take_vec();
+            v.copy_from_slice(y);
+            self.vals.push_back(v);
+        }
         self.k = 1;
         self.k_last = 1;
         self.steps_at_order = 0;
@@ -946,7 +965,6 @@ impl Method for Bdf {
             ));
         }
         let opts = sys.opts;
-        let n = self.n;
         if self.h_pending {
             self.h = sys.initial_step(self.t, &self.vals[0], &self.yp0, t_stop - self.t, 1, false);
             self.h_pending = false;
@@ -1139,7 +1157,7 @@ impl Method for Bdf {
                 self.times.pop_back();
                 self.vals.pop_back().expect("history")
             } else {
-                vec![0.0; n]
+                sys.take_vec()
             };
             // the new state moves into the history (it is `y`) and `ẏ` by swapping buffers;
             // the next predictor overwrites ycur/ypcur
