@@ -46,7 +46,6 @@ pub struct System<'a> {
 pub struct SystemCache {
     pub(crate) n: usize,
     pub(crate) pattern: Option<Pattern>,
-    pub(crate) colour: Vec<usize>,
     pub(crate) ncolours: usize,
     pub(crate) atol: Vec<f64>,
     pub(crate) algebraic: Vec<bool>,
@@ -121,14 +120,25 @@ impl SystemCache {
                 algebraic.len()
             ));
         }
-        let (colour, ncolours) = pattern.colouring(n);
-        let mut colour_cols = vec![Vec::new(); ncolours];
-        for (j, &k) in colour.iter().enumerate() {
-            colour_cols[k].push(j);
-        }
+        let colour_cols = match pattern {
+            // column j has colour j mod w: each group is a stride, built at its exact size
+            // (no per-column colour vector, no regrowth of ten-million-entry lists)
+            Pattern::Banded { lower, upper } if n > 0 => {
+                let w = (lower + upper + 1).min(n);
+                (0..w).map(|k| (k..n).step_by(w).collect()).collect()
+            }
+            _ => {
+                let (colour, ncolours) = pattern.colouring(n);
+                let mut groups = vec![Vec::new(); ncolours];
+                for (j, &k) in colour.iter().enumerate() {
+                    groups[k].push(j);
+                }
+                groups
+            }
+        };
+        let ncolours = colour_cols.len();
         self.n = n;
         self.pattern = Some(pattern);
-        self.colour = colour;
         self.ncolours = ncolours;
         self.atol = atol;
         self.algebraic = algebraic;

@@ -704,6 +704,23 @@ impl Bdf {
         (acc_e.finish(n), out)
     }
 
+    /// The per-step working vectors, from the system's spares (every entry of these is
+    /// written before it is read: predictor, Newton update, residual, weights).
+    fn ensure_work(&mut self, sys: &mut System<'_>) {
+        let n = self.n;
+        for v in [
+            &mut self.ycur,
+            &mut self.ypcur,
+            &mut self.ee,
+            &mut self.res,
+            &mut self.nwt,
+        ] {
+            if v.len() != n {
+                *v = sys.take_vec();
+            }
+        }
+    }
+
     /// The Newton matrices and solver, from the system's spares where it has them (the
     /// consistent initialisation's, already paged in). A banded solver combines
     /// `J(0) + α·∂F/∂ẏ` in place, so its scratch matrix is an empty stand-in.
@@ -892,8 +909,8 @@ impl Method for Bdf {
             self.jyp = None;
             self.iter = None;
             self.lin = None;
-            // (every entry of these is written before it is read: predictor, Newton update,
-            // residual, weights)
+            // the working vectors are taken at the first step (`ensure_work`), after the
+            // starting-step estimate has handed its scratch back
             for v in [
                 &mut self.ycur,
                 &mut self.ypcur,
@@ -901,7 +918,7 @@ impl Method for Bdf {
                 &mut self.res,
                 &mut self.nwt,
             ] {
-                *v = sys.take_vec();
+                sys.give_vec(std::mem::take(v));
             }
         }
         self.ewt_separate =
@@ -969,6 +986,7 @@ impl Method for Bdf {
             self.h = sys.initial_step(self.t, &self.vals[0], &self.yp0, t_stop - self.t, 1, false);
             self.h_pending = false;
         }
+        self.ensure_work(sys);
         let fixed = opts.fixed_step;
         if let Some(hf) = fixed {
             self.h = hf;
