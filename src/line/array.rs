@@ -15,7 +15,8 @@ use crate::cell::{Active, GrowthLaw};
 use crate::energy::StrainEnergy;
 use crate::scalar::Scalar;
 use crate::substrate::{drag_factor, DragForm, WidthRule};
-use integrators::{Pattern, ResidualError, SparsityPattern};
+use integrators::{JacobianSink, Pattern, ResidualError, SparsityPattern};
+use num_dual::Dual64;
 use std::sync::Arc;
 
 /// Marker for "not an unknown" in the layout maps.
@@ -94,6 +95,96 @@ pub struct CellEval<S> {
     pub vr: S,
     /// Growth stretch `g` (1 without growth).
     pub g: S,
+}
+
+/// A cell evaluated in dual numbers for [`Line::jacobian_into`]: `s` seeded along its right
+/// boundary (`x_j` with derivative 1, `v_j` with `c`), `g` seeded along its growth stretch
+/// (`g_j` with 1, `ġ_j` with `c`; all derivatives zero when `g` is not an unknown).
+#[derive(Clone, Copy)]
+struct LocalCell {
+    s: CellEval<Dual64>,
+    g: CellEval<Dual64>,
+}
+
+impl Default for LocalCell {
+    fn default() -> Self {
+        let z = Dual64::new(0.0, 0.0);
+        let e = CellEval {
+            lam: z,
+            alpha: z,
+            alpha_dot: z,
+            sigma_el: z,
+            sigma: z,
+            w: z,
+            kappa: z,
+            vl: z,
+            vr: z,
+            g: z,
+        };
+        Self { s: e, g: e }
+    }
+}
+
+/// The unknown a cell's derivatives are projected on in [`Line::jacobian_into`].
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Dir {
+    /// An unknown the cell does not depend on.
+    Zero,
+    /// Its left boundary `x_{j−1}`.
+    Left,
+    /// Its right boundary `x_j`.
+    Right,
+    /// Its growth stretch `g_j`.
+    Growth,
+}
+
+impl CellEval<Dual64> {
+    /// The same values with every derivative multiplied by `k`.
+    #[inline(always)]
+    fn scaled(&self, k: f64) -> Self {
+        let f = |v: Dual64| Dual64::new(v.re, k * v.eps);
+        CellEval {
+            lam: f(self.lam),
+            alpha: f(self.alpha),
+            alpha_dot: f(self.alpha_dot),
+            sigma_el: f(self.sigma_el),
+            sigma: f(self.sigma),
+            w: f(self.w),
+            kappa: f(self.kappa),
+            vl: f(self.vl),
+            vr: f(self.vr),
+            g: f(self.g),
+        }
+    }
+
+    /// Seeded along the right boundary, projected on `dir` (the growth direction is not
+    /// derivable from this seed: see [`LocalCell::along`]).
+    #[inline(always)]
+    fn along(&self, dir: Dir, c: f64) -> Self {
+        match dir {
+            Dir::Right => *self,
+            Dir::Left => {
+                // x_{j−1} enters only through x_j − x_{j−1} and v_j − v_{j−1}: negate, and
+                // move the velocity seed from v_j to v_{j−1}
+                let mut e = self.scaled(-1.0);
+                e.vl = Dual64::new(self.vl.re, c);
+                e.vr = Dual64::new(self.vr.re, 0.0);
+                e
+            }
+            Dir::Zero | Dir::Growth => self.scaled(0.0),
+        }
+    }
+}
+
+impl LocalCell {
+    /// The cell's values with derivatives along `dir`.
+    #[inline(always)]
+    fn along(&self, dir: Dir, c: f64) -> CellEval<Dual64> {
+        match dir {
+            Dir::Growth => self.g,
+            _ => self.s.along(dir, c),
+        }
+    }
 }
 
 /// The line of cells (MODEL.md §2), generic over the strain energy `E`.
@@ -288,15 +379,32 @@ impl<E: StrainEnergy> Line<E> {
         t: f64,
         y: &[S],
         yp: &[S],
-        (xl, vl): (S, S),
+        left: (S, S),
     ) -> Result<(CellEval<S>, (S, S)), ResidualError> {
-        let c = &self.cells;
-        let i = j - 1;
-        let (xr, vr) = self.boundary(j, t, y, yp);
-        let (g, gd) = match self.layout.gi[i] {
+        let right = self.boundary(j, t, y, yp);
+        let growth = match self.layout.gi[j - 1] {
             NONE => (S::from(1.0), S::from(0.0)),
             k => (y[k], yp[k]),
         };
+        self.eval_core(j, t, left, right, growth)
+            .map(|e| (e, right))
+    }
+
+    /// Cell `j` (1-based) from its left and right boundaries' `(x, v)` and its `(g, ġ)`: the
+    /// one expression of a cell's stretch, stresses, width and drag factor, shared by the
+    /// residual (any scalar) and the line's own Jacobian ([`Line::jacobian_into`], which seeds
+    /// the cell's local directions in dual numbers).
+    #[inline(always)]
+    fn eval_core<S: Scalar>(
+        &self,
+        j: usize,
+        t: f64,
+        (xl, vl): (S, S),
+        (xr, vr): (S, S),
+        (g, gd): (S, S),
+    ) -> Result<CellEval<S>, ResidualError> {
+        let c = &self.cells;
+        let i = j - 1;
         let inv_l0 = 1.0 / c.l0[i];
         let lam = (xr - xl) * inv_l0;
         let alpha = lam / g;
@@ -330,21 +438,58 @@ impl<E: StrainEnergy> Line<E> {
         }
         let w = inv_a * (self.gamma0 * self.g2);
         let kappa = drag_factor(g, self.g2, self.m);
-        Ok((
-            CellEval {
-                lam,
-                alpha,
-                alpha_dot,
-                sigma_el,
-                sigma,
-                w,
-                kappa,
-                vl,
-                vr,
-                g,
-            },
-            (xr, vr),
-        ))
+        Ok(CellEval {
+            lam,
+            alpha,
+            alpha_dot,
+            sigma_el,
+            sigma,
+            w,
+            kappa,
+            vl,
+            vr,
+            g,
+        })
+    }
+
+    /// The force across the face between cells `p` and `cur`: `W_face (σ_cur − σ_p)`.
+    #[inline(always)]
+    fn face_force<S: Scalar>(&self, p: &CellEval<S>, cur: &CellEval<S>) -> S {
+        self.width.face(p.w, cur.w) * (cur.sigma - p.sigma)
+    }
+
+    /// Row of interior boundary `b` in the boundary drag form (cells `p = b`, `cur = b + 1`).
+    #[inline(always)]
+    fn boundary_row<S: Scalar>(&self, b: usize, p: &CellEval<S>, cur: &CellEval<S>) -> S {
+        let f = self.face_force(p, cur);
+        let kappa = (p.kappa + cur.kappa) * 0.5;
+        kappa * p.vr * self.k_face[b] - f
+    }
+
+    /// Row of interior boundary `b` in the cell-centre drag form: cell `p = b`'s drag minus
+    /// the face forces `f_prev` (left of cell `b`) and `f` (right of it).
+    #[inline(always)]
+    fn centre_row<S: Scalar>(&self, b: usize, p: &CellEval<S>, f_prev: S, f: S) -> S {
+        p.kappa * (p.vl + p.vr) * self.cells.k_cell[b - 1] - f_prev - f
+    }
+
+    /// Row of the free right end (cell `p = N`; `f_prev` is the face force left of cell `N`,
+    /// used by the cell-centre form).
+    #[inline(always)]
+    fn end_row<S: Scalar>(&self, t: f64, p: &CellEval<S>, f_prev: S) -> S {
+        let n = self.n_cells();
+        let f_n = -(p.w * p.sigma) + self.f_ext(t);
+        match self.form {
+            DragForm::Boundary => p.kappa * p.vr * self.k_face[n] - f_n,
+            DragForm::Centre => p.kappa * (p.vl + p.vr) * self.cells.k_cell[n - 1] - f_prev - f_n,
+        }
+    }
+
+    /// Row of cell `cur`'s growth stretch: `ġ − G(σ)` (`ypg` is `ġ`).
+    #[inline(always)]
+    fn growth_row<S: Scalar>(&self, law: &dyn GrowthLaw, ypg: S, cur: &CellEval<S>) -> S {
+        let (rate, drate) = law.rate(cur.sigma.re());
+        ypg - cur.sigma.lift(rate, drate)
     }
 
     /// Applied force on a free right end at `t` (0 if none).
@@ -421,7 +566,7 @@ impl<E: StrainEnergy> Line<E> {
             let f_prev = if first >= 3 {
                 let llb = self.boundary(first - 3, t, y, yp);
                 let (pp, _) = self.eval_cell_from(first - 2, t, y, yp, llb)?;
-                self.width.face(pp.w, p.w) * (p.sigma - pp.sigma)
+                self.face_force(&pp, &p)
             } else {
                 S::from(0.0)
             };
@@ -433,25 +578,22 @@ impl<E: StrainEnergy> Line<E> {
             let gk = lay.gi[c - 1];
             if gk != NONE {
                 if let Some(law) = &self.growth {
-                    let (rate, drate) = law.rate(cur.sigma.re());
-                    r[gk - off] = yp[gk] - cur.sigma.lift(rate, drate);
+                    r[gk - off] = self.growth_row(law.as_ref(), yp[gk], &cur);
                 }
             }
             if let Some(p) = prev {
                 let b = c - 1;
-                let f = self.width.face(p.w, cur.w) * (cur.sigma - p.sigma);
                 let row = lay.xi[b];
                 match self.form {
                     DragForm::Boundary => {
                         if row != NONE {
-                            let kappa = (p.kappa + cur.kappa) * 0.5;
-                            r[row - off] = kappa * p.vr * self.k_face[b] - f;
+                            r[row - off] = self.boundary_row(b, &p, &cur);
                         }
                     }
                     DragForm::Centre => {
+                        let f = self.face_force(&p, &cur);
                         if row != NONE {
-                            r[row - off] =
-                                p.kappa * (p.vl + p.vr) * self.cells.k_cell[b - 1] - f_prev - f;
+                            r[row - off] = self.centre_row(b, &p, f_prev, f);
                         }
                         f_prev = f;
                     }
@@ -461,16 +603,182 @@ impl<E: StrainEnergy> Line<E> {
         }
         if last == n && self.right.is_free() {
             let p = prev.expect("at least one cell");
-            let row = lay.xi[n];
-            let f_n = -(p.w * p.sigma) + self.f_ext(t);
-            r[row - off] = match self.form {
-                DragForm::Boundary => p.kappa * p.vr * self.k_face[n] - f_n,
-                DragForm::Centre => {
-                    p.kappa * (p.vl + p.vr) * self.cells.k_cell[n - 1] - f_prev - f_n
-                }
-            };
+            r[lay.xi[n] - off] = self.end_row(t, &p, f_prev);
         }
         Ok(())
+    }
+
+    /// The iteration matrix `J = ∂F/∂y + c·∂F/∂ẏ` of a non-periodic line, added into `jac`
+    /// (zeroed by the caller, shaped by [`CellArray::pattern`]), in one streaming sweep over
+    /// the cells; `Ok(false)` for a ring (its sparse pattern is left to the coloured AD
+    /// Jacobian of [`crate::ArrayProblem`]).
+    ///
+    /// Each cell is evaluated once by the residual's own cell expression in `Dual64`, seeded
+    /// along its right boundary `x_j` (with `ẏ`-part `c`, as the colouring seeds `v`); a cell
+    /// depends on its boundaries only through `x_j − x_{j−1}` and `v_j − v_{j−1}`, so the
+    /// derivative along `x_{j−1}` is the negated one, apart from the velocities themselves.
+    /// A growing cell is evaluated a second time seeded along `g_j`. Each row is then the
+    /// residual's own row expression evaluated once per column of its stencil with the cells'
+    /// derivatives projected on that column, so every feature of the residual (drag forms,
+    /// `κ = (g g₂)^m`, width rule, viscosity, active stress, growth, ends) is differentiated
+    /// exactly as the coloured AD Jacobian does, at about the cost of one dual residual sweep
+    /// and without dual copies of `y`, `ẏ` and `r`.
+    ///
+    /// ```
+    /// use celltissue::line::build::{discrete, LineParams};
+    /// use celltissue::{CellArray, NeoHookean};
+    /// use integrators::linalg::Matrix;
+    /// let line = discrete(NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(5)).unwrap();
+    /// let y = line.initial_state();
+    /// let mut jac = Matrix::zeros(line.dim(), &line.pattern());
+    /// assert!(line.jacobian_into(0.0, &y, &vec![0.0; y.len()], 1.0, &mut jac).unwrap());
+    /// // at rest, boundary 1 pulls on its own row with stiffness 2·σ_el'(1) = 8μ, plus drag c·K
+    /// assert!(jac.get(0, 0) > 8.0);
+    /// ```
+    pub fn jacobian_into(
+        &self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        c: f64,
+        jac: &mut JacobianSink,
+    ) -> Result<bool, ResidualError> {
+        if self.right.is_periodic() {
+            return Ok(false);
+        }
+        let n = self.n_cells();
+        let lay = &self.layout;
+        let d = Dual64::new;
+        let mut left = self.boundary(0, t, y, yp);
+        // the last three cells, the newest last
+        let mut win: [LocalCell; 3] = [LocalCell::default(); 3];
+        for cell in 1..=n {
+            let right = self.boundary(cell, t, y, yp);
+            let gk = lay.gi[cell - 1];
+            let (g, gd) = match gk {
+                NONE => (1.0, 0.0),
+                k => (y[k], yp[k]),
+            };
+            let (xl, xr) = ((d(left.0, 0.0), d(left.1, 0.0)), (right.0, right.1));
+            let s = self.eval_core(
+                cell,
+                t,
+                xl,
+                (d(xr.0, 1.0), d(xr.1, c)),
+                (d(g, 0.0), d(gd, 0.0)),
+            )?;
+            let ge = if gk != NONE {
+                self.eval_core(
+                    cell,
+                    t,
+                    xl,
+                    (d(xr.0, 0.0), d(xr.1, 0.0)),
+                    (d(g, 1.0), d(gd, c)),
+                )?
+            } else {
+                s.along(Dir::Zero, c)
+            };
+            left = right;
+            win = [win[1], win[2], LocalCell { s, g: ge }];
+            if gk != NONE {
+                if let Some(law) = &self.growth {
+                    let ypg = yp[gk];
+                    self.emit(jac, gk, cell, [&win[2]], c, |e| {
+                        // ġ is seeded with c exactly where g is seeded with 1
+                        self.growth_row(law.as_ref(), d(ypg, c * e[0].g.eps), &e[0])
+                    });
+                }
+            }
+            if cell < 2 {
+                continue;
+            }
+            let b = cell - 1;
+            let row = lay.xi[b];
+            if row == NONE {
+                continue;
+            }
+            match self.form {
+                DragForm::Boundary => {
+                    self.emit(jac, row, b, [&win[1], &win[2]], c, |e| {
+                        self.boundary_row(b, &e[0], &e[1])
+                    })
+                }
+                DragForm::Centre if b >= 2 => {
+                    self.emit(jac, row, b - 1, [&win[0], &win[1], &win[2]], c, |e| {
+                        let f_prev = self.face_force(&e[0], &e[1]);
+                        let f = self.face_force(&e[1], &e[2]);
+                        self.centre_row(b, &e[1], f_prev, f)
+                    })
+                }
+                DragForm::Centre => self.emit(jac, row, b, [&win[1], &win[2]], c, |e| {
+                    let f = self.face_force(&e[0], &e[1]);
+                    self.centre_row(b, &e[0], d(0.0, 0.0), f)
+                }),
+            }
+        }
+        if self.right.is_free() {
+            let row = lay.xi[n];
+            match self.form {
+                DragForm::Centre if n >= 2 => {
+                    self.emit(jac, row, n - 1, [&win[1], &win[2]], c, |e| {
+                        let f_prev = self.face_force(&e[0], &e[1]);
+                        self.end_row(t, &e[1], f_prev)
+                    })
+                }
+                _ => self.emit(jac, row, n, [&win[2]], c, |e| {
+                    self.end_row(t, &e[0], d(0.0, 0.0))
+                }),
+            }
+        }
+        Ok(true)
+    }
+
+    /// Adds row `row` of the Jacobian: `f` (a row expression of the residual) is evaluated
+    /// once per unknown the `Q` consecutive cells `first..first + Q` depend on — their
+    /// boundaries `first − 1 ..= first + Q − 1` and, when growing, their `g` — with every
+    /// cell's derivatives projected on that unknown; the dual part is the entry.
+    #[inline(always)]
+    fn emit<const Q: usize>(
+        &self,
+        jac: &mut JacobianSink,
+        row: usize,
+        first: usize,
+        cells: [&LocalCell; Q],
+        c: f64,
+        f: impl Fn(&[CellEval<Dual64>; Q]) -> Dual64,
+    ) {
+        let lay = &self.layout;
+        for k in 0..=Q {
+            let beta = first - 1 + k;
+            let col = lay.xi[beta];
+            if col == NONE {
+                continue;
+            }
+            let e = std::array::from_fn(|q| {
+                let cell = first + q;
+                let dir = if cell == beta {
+                    Dir::Right
+                } else if cell == beta + 1 {
+                    Dir::Left
+                } else {
+                    Dir::Zero
+                };
+                cells[q].along(dir, c)
+            });
+            jac.add(row, col, f(&e).eps);
+        }
+        if self.growth.is_some() {
+            for k in 0..Q {
+                let col = lay.gi[first + k - 1];
+                if col == NONE {
+                    continue;
+                }
+                let e = std::array::from_fn(|q| {
+                    cells[q].along(if q == k { Dir::Growth } else { Dir::Zero }, c)
+                });
+                jac.add(row, col, f(&e).eps);
+            }
+        }
     }
 
     /// Structural entries `(row, col)` of the Jacobian, from the stencil.
@@ -579,6 +887,17 @@ impl<E: StrainEnergy> CellArray for Line<E> {
             }
         }
         self.residual_cells(t, y, yp, r, 0, 1, n)
+    }
+
+    fn jacobian(
+        &self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        c: f64,
+        jac: &mut JacobianSink,
+    ) -> Result<bool, ResidualError> {
+        self.jacobian_into(t, y, yp, c, jac)
     }
 
     fn atol(&self) -> Option<Vec<f64>> {
