@@ -101,7 +101,10 @@ fn check<E: StrainEnergy + Clone>(name: &str, line: Line<E>) {
             let (own, s_own) = assembled(&mut ArrayProblem::new(line.clone()), t, &y, &yp, c);
             let (ad, s_ad) = assembled(&mut ArrayProblem::new(NoJac(line.clone())), t, &y, &yp, c);
             assert_eq!(s_own.directional_calls, 0, "{name}: own Jacobian not used");
-            assert!(s_ad.directional_calls > 0, "{name}: AD reference not coloured");
+            assert!(
+                s_ad.directional_calls > 0,
+                "{name}: AD reference not coloured"
+            );
             let mut nonzero = 0;
             for i in 0..n {
                 let scale = (0..n).map(|j| ad.get(i, j).abs()).fold(0.0, f64::max);
@@ -116,7 +119,10 @@ fn check<E: StrainEnergy + Clone>(name: &str, line: Line<E>) {
                 }
             }
             // the comparison covers the whole structure, not an empty matrix
-            assert!(nonzero >= 2 * n - 1, "{name}: only {nonzero} nonzero entries");
+            assert!(
+                nonzero >= 2 * n - 1,
+                "{name}: only {nonzero} nonzero entries"
+            );
         }
     }
 }
@@ -150,7 +156,10 @@ fn own_jacobian_equals_coloured_ad_for_every_feature() {
         p.width = WidthRule::Min;
         p.gamma0 = 0.8;
         p.g2 = 1.3;
-        check(&format!("{f} viscous min-width"), discrete(law(), &p).unwrap());
+        check(
+            &format!("{f} viscous min-width"),
+            discrete(law(), &p).unwrap(),
+        );
         // mean width, viscosity, K = 0 (algebraic rows)
         let mut p = base(n);
         p.eta = Field::Constant(0.5);
@@ -170,15 +179,21 @@ fn own_jacobian_equals_coloured_ad_for_every_feature() {
         });
         check(&format!("{f} active ramp"), discrete(law(), &p).unwrap());
         // growth in the state with κ = (g g₂)^m, m ∉ {0, 1}, viscosity, both width rules
-        for (m, width) in [(1.5, WidthRule::Mean), (0.5, WidthRule::Min), (1.0, WidthRule::Mean)]
-        {
+        for (m, width) in [
+            (1.5, WidthRule::Mean),
+            (0.5, WidthRule::Min),
+            (1.0, WidthRule::Mean),
+        ] {
             let mut p = base(n);
             p.growth = Some(Arc::new(TanhGrowth::default()));
             p.m = m;
             p.g2 = 1.2;
             p.eta = Field::Constant(0.4);
             p.width = width;
-            check(&format!("{f} growth m={m} {width:?}"), discrete(law(), &p).unwrap());
+            check(
+                &format!("{f} growth m={m} {width:?}"),
+                discrete(law(), &p).unwrap(),
+            );
         }
         // free right end with an applied force, with and without growth
         for growth in [false, true] {
@@ -189,13 +204,19 @@ fn own_jacobian_equals_coloured_ad_for_every_feature() {
                 p.growth = Some(Arc::new(TanhGrowth::default()));
                 p.m = 1.5;
             }
-            check(&format!("{f} free end growth={growth}"), discrete(law(), &p).unwrap());
+            check(
+                &format!("{f} free end growth={growth}"),
+                discrete(law(), &p).unwrap(),
+            );
         }
         // free end without force, two cells and one cell (short windows)
         for cells in [1, 2] {
             let mut p = base(cells);
             p.right = RightEnd::Free(None);
-            check(&format!("{f} free {cells} cells"), discrete(law(), &p).unwrap());
+            check(
+                &format!("{f} free {cells} cells"),
+                discrete(law(), &p).unwrap(),
+            );
         }
         // continuum line (k_face scaled by h/L̄), another strain energy
         let mut p = base(40);
@@ -260,7 +281,12 @@ fn macroscale_family_steps_unchanged() {
     eprintln!("own: {so:?}\nAD:  {sa:?}");
     assert_eq!(so.directional_calls, 0);
     assert!(sa.directional_calls > 0);
-    assert!(so.steps.abs_diff(sa.steps) <= 2, "steps {} vs {}", so.steps, sa.steps);
+    assert!(
+        so.steps.abs_diff(sa.steps) <= 2,
+        "steps {} vs {}",
+        so.steps,
+        sa.steps
+    );
     assert!(
         so.newton_iterations.abs_diff(sa.newton_iterations) <= 2,
         "Newton iterations {} vs {}",

@@ -860,11 +860,9 @@ impl<E: StrainEnergy> Line<E> {
                 continue;
             }
             match self.form {
-                DragForm::Boundary => {
-                    self.emit(jac, row, b, [&win[w1], &win[w2]], c, |e| {
-                        self.boundary_row(b, &e[0], &e[1])
-                    })
-                }
+                DragForm::Boundary => self.emit(jac, row, b, [&win[w1], &win[w2]], c, |e| {
+                    self.boundary_row(b, &e[0], &e[1])
+                }),
                 DragForm::Centre if b >= 2 => {
                     self.emit(jac, row, b - 1, [&win[w0], &win[w1], &win[w2]], c, |e| {
                         let f_prev = self.face_force(&e[0], &e[1]);
