@@ -78,7 +78,8 @@ pub struct Layout {
 /// followed by it (the builders and cell division do so).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct UniformFields {
-    l0: Option<f64>,
+    /// `1/L₀` when `L₀` is uniform.
+    inv_l0: Option<f64>,
     mu: Option<f64>,
     eta: Option<f64>,
     k_face: Option<f64>,
@@ -93,7 +94,7 @@ impl UniformFields {
             v.iter().all(|x| x.to_bits() == f.to_bits()).then_some(f)
         };
         Self {
-            l0: same(&cells.l0),
+            inv_l0: same(&cells.l0).map(|l| 1.0 / l),
             mu: same(&cells.mu),
             eta: same(&cells.eta),
             k_face: same(k_face),
@@ -525,9 +526,17 @@ impl<E: StrainEnergy> Line<E> {
     ) -> Result<CellEval<S>, ResidualError> {
         let c = &self.cells;
         let i = j - 1;
-        let inv_l0 = 1.0 / self.uniform.l0.unwrap_or_else(|| c.l0[i]);
+        // divisions bound the f64 sweep (≈ 5 per cell): 1/L₀ of a uniform line is computed
+        // once, and without growth (g ≡ 1, ġ ≡ 0) `λ/g` and `1/g` are skipped — the general
+        // expressions reduce exactly (x/1 = x, x·1 = x, x − 0 = x), so the rows are bitwise
+        // the same
+        let inv_l0 = match self.uniform.inv_l0 {
+            Some(v) => v,
+            None => 1.0 / c.l0[i],
+        };
         let lam = (xr - xl) * inv_l0;
-        let alpha = lam / g;
+        let growing = self.growth.is_some();
+        let alpha = if growing { lam / g } else { lam };
         let a = alpha.re();
         if !(a > 0.0 && a.is_finite() && g.re() > 0.0) {
             return Err(ResidualError::Recoverable {
@@ -539,8 +548,12 @@ impl<E: StrainEnergy> Line<E> {
                 component: self.blame(j),
             });
         }
-        let inv_g = g.recip();
-        let alpha_dot = (vr - vl) * inv_l0 * inv_g - alpha * gd * inv_g;
+        let alpha_dot = if growing {
+            let inv_g = g.recip();
+            (vr - vl) * inv_l0 * inv_g - alpha * gd * inv_g
+        } else {
+            (vr - vl) * inv_l0
+        };
         let resp = self.energy.line(a);
         let mu = self.uniform.mu.unwrap_or_else(|| c.mu[i]);
         let sigma_el = alpha.lift(mu * resp.sigma, mu * resp.dsigma);
@@ -1243,7 +1256,9 @@ mod tests {
                 let l = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
                 assert!(l.contiguous().is_some());
                 let u = l.uniform;
-                assert!(u.l0.is_some() && u.mu.is_some() && u.eta.is_some() && u.k_face.is_some());
+                assert!(
+                    u.inv_l0.is_some() && u.mu.is_some() && u.eta.is_some() && u.k_face.is_some()
+                );
                 let (y, yp) = state(&l);
                 let mut r = vec![0.0; y.len()];
                 l.residual(0.4, &y, &yp, &mut r).unwrap();
@@ -1268,14 +1283,14 @@ mod tests {
         p.k = Field::Constant(0.2);
         p.growth = Some(Arc::new(TanhGrowth::default()));
         let mut l = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
-        assert!(l.uniform.l0.is_some());
+        assert!(l.uniform.inv_l0.is_some());
         let before = l.uniform;
         let mut y = l.initial_state();
         y[l.layout.gi[1]] = 1.6;
         y[l.layout.xi[2]] += 0.6;
         l.split_cell(2, 0.0, &mut y).unwrap();
         assert_eq!(l.n_cells(), 6);
-        assert_eq!(l.uniform.l0, None);
+        assert_eq!(l.uniform.inv_l0, None);
         let yp: Vec<f64> = (0..y.len()).map(|i| 0.01 * i as f64).collect();
         let mut r = vec![0.0; y.len()];
         l.residual(0.0, &y, &yp, &mut r).unwrap();
@@ -1306,7 +1321,7 @@ mod tests {
         let act = d.handle_event(0.0, &[2], &mut y, &yp).unwrap();
         assert_eq!(act, EventAction::Modified);
         let line = &d.array.line;
-        assert_eq!(line.uniform.l0, None);
+        assert_eq!(line.uniform.inv_l0, None);
         assert_eq!(line.uniform.k_face, None);
         let mut r = vec![0.0; y.len()];
         line.residual(0.0, &y, &yp, &mut r).unwrap();
