@@ -7,7 +7,13 @@
 //! Unknowns are interleaved `(g₁, x₁, g₂, x₂, …)` (growth) or just the free boundary positions;
 //! the residual streams over the cells once, keeping only the previous cell, so it allocates
 //! nothing and costs O(N). Lines of at least [`PAR_MIN_CELLS`] cells sweep the two halves on two
-//! threads when the solver passes `threads ≥ 2`, with the same result.
+//! threads when the solver passes `threads ≥ 2`, with the same result. Without growth the
+//! layout is read as "boundary `j` is unknown `j − 1`", and per-cell fields that are uniform
+//! (detected by [`Line::rebuild_layout`] / [`Line::refresh_uniform_fields`]) are not streamed.
+//!
+//! A non-periodic line also provides its own iteration matrix ([`Line::jacobian_into`]): one
+//! streaming sweep that differentiates the residual's own cell and row expressions locally in
+//! dual numbers, instead of the integrators' coloured sweeps of the whole residual.
 
 use crate::array::CellArray;
 use crate::boundary::RightEnd;
@@ -331,8 +337,9 @@ impl<E: StrainEnergy> Line<E> {
 
     /// Recomputes the unknown layout from `N`, the right end and the growth flag (call after
     /// inserting or removing cells, or after changing the per-cell fields or `k_face`: it also
-    /// re-detects the fields shared by every cell, [`UniformFields`]). Ordering: ring: `x₀`
-    /// first; then per cell `g_j` (growth) followed by `x_j` when boundary `j` is free.
+    /// re-detects the fields shared by every cell, as [`Line::refresh_uniform_fields`]).
+    /// Ordering: ring: `x₀` first; then per cell `g_j` (growth) followed by `x_j` when
+    /// boundary `j` is free.
     pub fn rebuild_layout(&mut self) {
         self.refresh_uniform_fields();
         let n = self.n_cells();
