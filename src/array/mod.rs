@@ -3,14 +3,15 @@
 //! one generic adapter that turns any cell array into an [`integrators::Problem`]:
 //! plain `f64` residuals, and exact directional derivatives by forward-mode AD (`Dual64`), from
 //! which the integrators assemble the declared banded/sparse Jacobian by column colouring
-//! (a handful of seeds, independent of the number of cells).
+//! (a handful of seeds, independent of the number of cells) — or, when the array provides
+//! it ([`CellArray::jacobian`], the line does), the array's own Jacobian in one sweep.
 //!
 //! Discrete and continuum builders both produce cell arrays: the conservative continuum scheme
 //! is the same array with `n` segments of reference size `h` (MODEL.md §3.3a, §4.3), so new
 //! cell laws and deformation modes plug in here without touching the integrators.
 
 use crate::scalar::Scalar;
-use integrators::{EventAction, Pattern, Problem, ResidualError};
+use integrators::{EventAction, JacobianSink, Pattern, Problem, ResidualError};
 use num_dual::Dual64;
 
 /// A deformation mode of an array of cells, as a residual-form DAE `F(t, y, ẏ) = 0`.
@@ -46,6 +47,24 @@ pub trait CellArray {
         yp: &[S],
         r: &mut [S],
     ) -> Result<(), ResidualError>;
+
+    /// The iteration matrix `J = ∂F/∂y + c·∂F/∂ẏ` at `(t, y, ẏ)`, added into `jac` (zeroed
+    /// and shaped by [`pattern`](CellArray::pattern)); see
+    /// [`integrators::Problem::jacobian`]. Return `Ok(false)` (the default) if not provided:
+    /// [`ArrayProblem`] then builds it from coloured AD directional derivatives of
+    /// [`residual`](CellArray::residual), and the solver stops asking until a resize, so the
+    /// answer may depend on the array's structure (e.g. a ring) but not on `(t, y, ẏ, c)`.
+    /// An implementation must equal the coloured AD Jacobian (the line's is tested against it).
+    fn jacobian(
+        &self,
+        _t: f64,
+        _y: &[f64],
+        _yp: &[f64],
+        _c: f64,
+        _jac: &mut JacobianSink,
+    ) -> Result<bool, ResidualError> {
+        Ok(false)
+    }
 
     /// Per-unknown absolute tolerances (cell-sized quantities), or `None` for the solver's.
     fn atol(&self) -> Option<Vec<f64>> {
@@ -87,7 +106,7 @@ pub trait CellArray {
 }
 
 /// Adapter: any [`CellArray`] as an [`integrators::Problem`] with exact AD directional
-/// derivatives. Reuses its dual-number buffers across calls (no allocation per residual once
+/// derivatives, and the array's own Jacobian when it provides one ([`CellArray::jacobian`]). Reuses its dual-number buffers across calls (no allocation per residual once
 /// warmed up, except after a resize).
 pub struct ArrayProblem<A: CellArray> {
     /// The wrapped array (public so observers can read cell fields).
@@ -112,6 +131,17 @@ impl<A: CellArray> ArrayProblem<A> {
 impl<A: CellArray> Problem for ArrayProblem<A> {
     integrators::forward_problem!(array: dim, residual, pattern, atol, algebraic, num_events,
         events, handle_event, restart_derivative, set_threads);
+
+    fn jacobian(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        c: f64,
+        jac: &mut JacobianSink,
+    ) -> Result<bool, ResidualError> {
+        self.array.jacobian(t, y, yp, c, jac)
+    }
 
     fn directional(
         &mut self,

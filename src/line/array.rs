@@ -7,7 +7,13 @@
 //! Unknowns are interleaved `(g₁, x₁, g₂, x₂, …)` (growth) or just the free boundary positions;
 //! the residual streams over the cells once, keeping only the previous cell, so it allocates
 //! nothing and costs O(N). Lines of at least [`PAR_MIN_CELLS`] cells sweep the two halves on two
-//! threads when the solver passes `threads ≥ 2`, with the same result.
+//! threads when the solver passes `threads ≥ 2`, with the same result. Without growth the
+//! layout is read as "boundary `j` is unknown `j − 1`", and per-cell fields that are uniform
+//! (detected by [`Line::rebuild_layout`] / [`Line::refresh_uniform_fields`]) are not streamed.
+//!
+//! A non-periodic line also provides its own iteration matrix ([`Line::jacobian_into`]): one
+//! streaming sweep that differentiates the residual's own cell and row expressions locally in
+//! dual numbers, instead of the integrators' coloured sweeps of the whole residual.
 
 use crate::array::CellArray;
 use crate::boundary::RightEnd;
@@ -15,7 +21,8 @@ use crate::cell::{Active, GrowthLaw};
 use crate::energy::StrainEnergy;
 use crate::scalar::Scalar;
 use crate::substrate::{drag_factor, DragForm, WidthRule};
-use integrators::{Pattern, ResidualError, SparsityPattern};
+use integrators::{JacobianSink, Pattern, ResidualError, SparsityPattern};
+use num_dual::Dual64;
 use std::sync::Arc;
 
 /// Marker for "not an unknown" in the layout maps.
@@ -71,6 +78,83 @@ pub struct Layout {
     pub dim: usize,
 }
 
+/// The per-cell fields (and the face drag) that hold one value, bit for bit, for every cell:
+/// the residual uses the value instead of streaming the vector (8 bytes per cell and field).
+/// Detected by [`Line::rebuild_layout`], so every change to [`Cells`] or `k_face` must be
+/// followed by it (the builders and cell division do so).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct UniformFields {
+    /// `1/L₀` when `L₀` is uniform.
+    inv_l0: Option<f64>,
+    mu: Option<f64>,
+    eta: Option<f64>,
+    k_face: Option<f64>,
+}
+
+impl UniformFields {
+    /// The fields of `cells` and `k_face` that are uniform.
+    fn of(cells: &Cells, k_face: &[f64]) -> Self {
+        // bitwise equality, so that the residual is bitwise the one that reads the vectors
+        let same = |v: &[f64]| {
+            let f = *v.first()?;
+            v.iter().all(|x| x.to_bits() == f.to_bits()).then_some(f)
+        };
+        Self {
+            inv_l0: same(&cells.l0).map(|l| 1.0 / l),
+            mu: same(&cells.mu),
+            eta: same(&cells.eta),
+            k_face: same(k_face),
+        }
+    }
+}
+
+/// How the residual reads the layout: [`Indexed`] (the maps of [`Layout`]) or [`Contiguous`].
+trait Lookup: Copy {
+    /// Unknown of boundary `j` (or `NONE`).
+    fn xi(&self, j: usize) -> usize;
+    /// Unknown of cell `i + 1`'s growth stretch (or `NONE`).
+    fn gi(&self, i: usize) -> usize;
+}
+
+/// The layout's maps.
+#[derive(Clone, Copy)]
+struct Indexed<'a>(&'a Layout);
+
+impl Lookup for Indexed<'_> {
+    #[inline(always)]
+    fn xi(&self, j: usize) -> usize {
+        self.0.xi[j]
+    }
+    #[inline(always)]
+    fn gi(&self, i: usize) -> usize {
+        self.0.gi[i]
+    }
+}
+
+/// The layout of a line without growth that is not a ring: boundary `j` is unknown `j − 1`
+/// for `1 ≤ j ≤ last`, `last = N − 1` (prescribed end) or `N` (free end); no `g`.
+#[derive(Clone, Copy)]
+struct Contiguous {
+    last: usize,
+}
+
+impl Lookup for Contiguous {
+    #[inline(always)]
+    fn xi(&self, j: usize) -> usize {
+        // j = 0 wraps to usize::MAX, which is ≥ last
+        let k = j.wrapping_sub(1);
+        if k < self.last {
+            k
+        } else {
+            NONE
+        }
+    }
+    #[inline(always)]
+    fn gi(&self, _i: usize) -> usize {
+        NONE
+    }
+}
+
 /// Quantities of one cell at `(t, y, ẏ)`.
 #[derive(Clone, Copy, Debug)]
 pub struct CellEval<S> {
@@ -96,6 +180,96 @@ pub struct CellEval<S> {
     pub g: S,
 }
 
+/// A cell evaluated in dual numbers for [`Line::jacobian_into`]: `s` seeded along its right
+/// boundary (`x_j` with derivative 1, `v_j` with `c`), `g` seeded along its growth stretch
+/// (`g_j` with 1, `ġ_j` with `c`; all derivatives zero when `g` is not an unknown).
+#[derive(Clone, Copy)]
+struct LocalCell {
+    s: CellEval<Dual64>,
+    g: CellEval<Dual64>,
+}
+
+impl Default for LocalCell {
+    fn default() -> Self {
+        let z = Dual64::new(0.0, 0.0);
+        let e = CellEval {
+            lam: z,
+            alpha: z,
+            alpha_dot: z,
+            sigma_el: z,
+            sigma: z,
+            w: z,
+            kappa: z,
+            vl: z,
+            vr: z,
+            g: z,
+        };
+        Self { s: e, g: e }
+    }
+}
+
+/// The unknown a cell's derivatives are projected on in [`Line::jacobian_into`].
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Dir {
+    /// An unknown the cell does not depend on.
+    Zero,
+    /// Its left boundary `x_{j−1}`.
+    Left,
+    /// Its right boundary `x_j`.
+    Right,
+    /// Its growth stretch `g_j`.
+    Growth,
+}
+
+impl CellEval<Dual64> {
+    /// The same values with every derivative multiplied by `k`.
+    #[inline(always)]
+    fn scaled(&self, k: f64) -> Self {
+        let f = |v: Dual64| Dual64::new(v.re, k * v.eps);
+        CellEval {
+            lam: f(self.lam),
+            alpha: f(self.alpha),
+            alpha_dot: f(self.alpha_dot),
+            sigma_el: f(self.sigma_el),
+            sigma: f(self.sigma),
+            w: f(self.w),
+            kappa: f(self.kappa),
+            vl: f(self.vl),
+            vr: f(self.vr),
+            g: f(self.g),
+        }
+    }
+
+    /// Seeded along the right boundary, projected on `dir` (the growth direction is not
+    /// derivable from this seed: see [`LocalCell::along`]).
+    #[inline(always)]
+    fn along(&self, dir: Dir, c: f64) -> Self {
+        match dir {
+            Dir::Right => *self,
+            Dir::Left => {
+                // x_{j−1} enters only through x_j − x_{j−1} and v_j − v_{j−1}: negate, and
+                // move the velocity seed from v_j to v_{j−1}
+                let mut e = self.scaled(-1.0);
+                e.vl = Dual64::new(self.vl.re, c);
+                e.vr = Dual64::new(self.vr.re, 0.0);
+                e
+            }
+            Dir::Zero | Dir::Growth => self.scaled(0.0),
+        }
+    }
+}
+
+impl LocalCell {
+    /// The cell's values with derivatives along `dir`.
+    #[inline(always)]
+    fn along(&self, dir: Dir, c: f64) -> CellEval<Dual64> {
+        match dir {
+            Dir::Growth => self.g,
+            _ => self.s.along(dir, c),
+        }
+    }
+}
+
 /// The line of cells (MODEL.md §2), generic over the strain energy `E`.
 ///
 /// Build one with [`crate::line::build::discrete`] or [`crate::line::build::continuum`]; wrap
@@ -104,9 +278,12 @@ pub struct CellEval<S> {
 pub struct Line<E: StrainEnergy> {
     /// The strain energy (scaled per cell by [`Cells::mu`]).
     pub energy: E,
-    /// Per-cell data.
+    /// Per-cell data. After changing it (or [`k_face`](Line::k_face), the right end or the
+    /// growth law) call [`Line::rebuild_layout`], which also re-detects the fields shared by
+    /// every cell that the residual then does not stream.
     pub cells: Cells,
     /// Drag per boundary `K_j` (`j = 0..=N`), already multiplied by `h/L̄` on a continuum grid.
+    /// Call [`Line::rebuild_layout`] after changing it.
     pub k_face: Vec<f64>,
     /// Drag-area exponent `m`.
     pub m: f64,
@@ -130,6 +307,9 @@ pub struct Line<E: StrainEnergy> {
     pub atol_cell: f64,
     /// Unknown layout.
     pub layout: Layout,
+    /// The per-cell fields that hold one value for every cell (detected by
+    /// [`Line::rebuild_layout`]).
+    pub(crate) uniform: UniformFields,
     /// Threads of the residual sweep (1 unless the solver passes more through
     /// [`CellArray::set_threads`]); two halves from [`PAR_MIN_CELLS`] cells when ≥ 2.
     pub threads: usize,
@@ -146,10 +326,22 @@ impl<E: StrainEnergy> Line<E> {
         self.growth.is_some()
     }
 
+    /// Re-detects which per-cell fields (`L₀`, `μ`, `η`) and the face drag `K_j` hold one
+    /// value for every cell, after they were changed in place without changing `N` (a change
+    /// of `N` goes through [`rebuild_layout`](Line::rebuild_layout), which calls this). The
+    /// residual reads such a field's value instead of streaming its vector, so a stale
+    /// detection would give a wrong residual: every in-place change must be followed by this.
+    pub fn refresh_uniform_fields(&mut self) {
+        self.uniform = UniformFields::of(&self.cells, &self.k_face);
+    }
+
     /// Recomputes the unknown layout from `N`, the right end and the growth flag (call after
-    /// inserting or removing cells). Ordering: ring: `x₀` first; then per cell `g_j` (growth)
-    /// followed by `x_j` when boundary `j` is free.
+    /// inserting or removing cells, or after changing the per-cell fields or `k_face`: it also
+    /// re-detects the fields shared by every cell, as [`Line::refresh_uniform_fields`]).
+    /// Ordering: ring: `x₀` first; then per cell `g_j` (growth) followed by `x_j` when
+    /// boundary `j` is free.
     pub fn rebuild_layout(&mut self) {
+        self.refresh_uniform_fields();
         let n = self.n_cells();
         let mut gi = vec![NONE; n];
         let mut xi = vec![NONE; n + 1];
@@ -206,8 +398,21 @@ impl<E: StrainEnergy> Line<E> {
     /// Position and velocity of boundary `j` at `(t, y, ẏ)`.
     #[inline(always)]
     pub fn boundary<S: Scalar>(&self, j: usize, t: f64, y: &[S], yp: &[S]) -> (S, S) {
+        self.boundary_in(Indexed(&self.layout), j, t, y, yp)
+    }
+
+    /// [`boundary`](Line::boundary) with the layout read through `lk`.
+    #[inline(always)]
+    fn boundary_in<S: Scalar, L: Lookup>(
+        &self,
+        lk: L,
+        j: usize,
+        t: f64,
+        y: &[S],
+        yp: &[S],
+    ) -> (S, S) {
         // the common case (a free boundary) inline in the residual's loop; the ends apart
-        let k = self.layout.xi[j];
+        let k = lk.xi(j);
         if k != NONE {
             return (y[k], yp[k]);
         }
@@ -282,24 +487,63 @@ impl<E: StrainEnergy> Line<E> {
     /// residual streams over the cells and hands each cell's right boundary to the next, so
     /// every boundary is looked up once); also returns the right boundary's `(x, v)`.
     #[inline(always)]
-    fn eval_cell_from<S: Scalar>(
+    pub(crate) fn eval_cell_from<S: Scalar>(
         &self,
         j: usize,
         t: f64,
         y: &[S],
         yp: &[S],
-        (xl, vl): (S, S),
+        left: (S, S),
     ) -> Result<(CellEval<S>, (S, S)), ResidualError> {
-        let c = &self.cells;
-        let i = j - 1;
-        let (xr, vr) = self.boundary(j, t, y, yp);
-        let (g, gd) = match self.layout.gi[i] {
+        self.eval_cell_in(Indexed(&self.layout), j, t, y, yp, left)
+    }
+
+    /// [`eval_cell_from`](Line::eval_cell_from) with the layout read through `lk`.
+    #[inline(always)]
+    fn eval_cell_in<S: Scalar, L: Lookup>(
+        &self,
+        lk: L,
+        j: usize,
+        t: f64,
+        y: &[S],
+        yp: &[S],
+        left: (S, S),
+    ) -> Result<(CellEval<S>, (S, S)), ResidualError> {
+        let right = self.boundary_in(lk, j, t, y, yp);
+        let growth = match lk.gi(j - 1) {
             NONE => (S::from(1.0), S::from(0.0)),
             k => (y[k], yp[k]),
         };
-        let inv_l0 = 1.0 / c.l0[i];
+        self.eval_core(j, t, left, right, growth)
+            .map(|e| (e, right))
+    }
+
+    /// Cell `j` (1-based) from its left and right boundaries' `(x, v)` and its `(g, ġ)`: the
+    /// one expression of a cell's stretch, stresses, width and drag factor, shared by the
+    /// residual (any scalar) and the line's own Jacobian ([`Line::jacobian_into`], which seeds
+    /// the cell's local directions in dual numbers).
+    #[inline(always)]
+    fn eval_core<S: Scalar>(
+        &self,
+        j: usize,
+        t: f64,
+        (xl, vl): (S, S),
+        (xr, vr): (S, S),
+        (g, gd): (S, S),
+    ) -> Result<CellEval<S>, ResidualError> {
+        let c = &self.cells;
+        let i = j - 1;
+        // divisions bound the f64 sweep (≈ 5 per cell): 1/L₀ of a uniform line is computed
+        // once, and without growth (g ≡ 1, ġ ≡ 0) `λ/g` and `1/g` are skipped — the general
+        // expressions reduce exactly (x/1 = x, x·1 = x, x − 0 = x), so the rows are bitwise
+        // the same
+        let inv_l0 = match self.uniform.inv_l0 {
+            Some(v) => v,
+            None => 1.0 / c.l0[i],
+        };
         let lam = (xr - xl) * inv_l0;
-        let alpha = lam / g;
+        let growing = self.growth.is_some();
+        let alpha = if growing { lam / g } else { lam };
         let a = alpha.re();
         if !(a > 0.0 && a.is_finite() && g.re() > 0.0) {
             return Err(ResidualError::Recoverable {
@@ -311,14 +555,18 @@ impl<E: StrainEnergy> Line<E> {
                 component: self.blame(j),
             });
         }
-        let inv_g = g.recip();
-        let alpha_dot = (vr - vl) * inv_l0 * inv_g - alpha * gd * inv_g;
+        let alpha_dot = if growing {
+            let inv_g = g.recip();
+            (vr - vl) * inv_l0 * inv_g - alpha * gd * inv_g
+        } else {
+            (vr - vl) * inv_l0
+        };
         let resp = self.energy.line(a);
-        let mu = c.mu[i];
+        let mu = self.uniform.mu.unwrap_or_else(|| c.mu[i]);
         let sigma_el = alpha.lift(mu * resp.sigma, mu * resp.dsigma);
         let inv_a = alpha.recip();
         let mut sigma = sigma_el;
-        let eta = c.eta[i];
+        let eta = self.uniform.eta.unwrap_or_else(|| c.eta[i]);
         if eta != 0.0 {
             sigma += alpha_dot * eta * (inv_a * inv_a + 1.0);
         }
@@ -330,21 +578,64 @@ impl<E: StrainEnergy> Line<E> {
         }
         let w = inv_a * (self.gamma0 * self.g2);
         let kappa = drag_factor(g, self.g2, self.m);
-        Ok((
-            CellEval {
-                lam,
-                alpha,
-                alpha_dot,
-                sigma_el,
-                sigma,
-                w,
-                kappa,
-                vl,
-                vr,
-                g,
-            },
-            (xr, vr),
-        ))
+        Ok(CellEval {
+            lam,
+            alpha,
+            alpha_dot,
+            sigma_el,
+            sigma,
+            w,
+            kappa,
+            vl,
+            vr,
+            g,
+        })
+    }
+
+    /// `k_face[b]`, without reading the vector when it is uniform.
+    #[inline(always)]
+    fn k_face_at(&self, b: usize) -> f64 {
+        self.uniform.k_face.unwrap_or_else(|| self.k_face[b])
+    }
+
+    /// The force across the face between cells `p` and `cur`: `W_face (σ_cur − σ_p)`.
+    #[inline(always)]
+    fn face_force<S: Scalar>(&self, p: &CellEval<S>, cur: &CellEval<S>) -> S {
+        self.width.face(p.w, cur.w) * (cur.sigma - p.sigma)
+    }
+
+    /// Row of interior boundary `b` in the boundary drag form (cells `p = b`, `cur = b + 1`).
+    #[inline(always)]
+    fn boundary_row<S: Scalar>(&self, b: usize, p: &CellEval<S>, cur: &CellEval<S>) -> S {
+        let f = self.face_force(p, cur);
+        let kappa = (p.kappa + cur.kappa) * 0.5;
+        kappa * p.vr * self.k_face_at(b) - f
+    }
+
+    /// Row of interior boundary `b` in the cell-centre drag form: cell `p = b`'s drag minus
+    /// the face forces `f_prev` (left of cell `b`) and `f` (right of it).
+    #[inline(always)]
+    fn centre_row<S: Scalar>(&self, b: usize, p: &CellEval<S>, f_prev: S, f: S) -> S {
+        p.kappa * (p.vl + p.vr) * self.cells.k_cell[b - 1] - f_prev - f
+    }
+
+    /// Row of the free right end (cell `p = N`; `f_prev` is the face force left of cell `N`,
+    /// used by the cell-centre form).
+    #[inline(always)]
+    fn end_row<S: Scalar>(&self, t: f64, p: &CellEval<S>, f_prev: S) -> S {
+        let n = self.n_cells();
+        let f_n = -(p.w * p.sigma) + self.f_ext(t);
+        match self.form {
+            DragForm::Boundary => p.kappa * p.vr * self.k_face_at(n) - f_n,
+            DragForm::Centre => p.kappa * (p.vl + p.vr) * self.cells.k_cell[n - 1] - f_prev - f_n,
+        }
+    }
+
+    /// Row of cell `cur`'s growth stretch: `ġ − G(σ)` (`ypg` is `ġ`).
+    #[inline(always)]
+    fn growth_row<S: Scalar>(&self, law: &dyn GrowthLaw, ypg: S, cur: &CellEval<S>) -> S {
+        let (rate, drate) = law.rate(cur.sigma.re());
+        ypg - cur.sigma.lift(rate, drate)
     }
 
     /// Applied force on a free right end at `t` (0 if none).
@@ -405,8 +696,43 @@ impl<E: StrainEnergy> Line<E> {
         first: usize,
         last: usize,
     ) -> Result<(), ResidualError> {
+        match self.contiguous() {
+            Some(lk) => self.residual_cells_in(lk, t, y, yp, r, off, first, last),
+            None => self.residual_cells_in(Indexed(&self.layout), t, y, yp, r, off, first, last),
+        }
+    }
+
+    /// The layout of a line without growth that is not a ring, if `self.layout` is that of
+    /// the current `N` and right end: boundary `j`'s unknown is `j − 1` (the wall `x₀` is not
+    /// an unknown), so the residual need not stream `layout.xi` and `layout.gi`. Derived from
+    /// the same inputs as [`Line::rebuild_layout`] and checked against the layout's size in
+    /// O(1), so it is never out of step with the layout itself.
+    #[inline]
+    fn contiguous(&self) -> Option<Contiguous> {
+        if self.growth.is_some() || self.right.is_periodic() {
+            return None;
+        }
         let n = self.n_cells();
-        let lay = &self.layout;
+        let last = n - 1 + self.right.is_free() as usize;
+        (self.layout.dim == last && self.layout.xi.len() == n + 1 && self.layout.gi.len() == n)
+            .then_some(Contiguous { last })
+    }
+
+    /// [`residual_cells`](Line::residual_cells) with the layout read through `lk`.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn residual_cells_in<S: Scalar, L: Lookup>(
+        &self,
+        lay: L,
+        t: f64,
+        y: &[S],
+        yp: &[S],
+        r: &mut [S],
+        off: usize,
+        first: usize,
+        last: usize,
+    ) -> Result<(), ResidualError> {
+        let n = self.n_cells();
         // F_{b−1} for the cell-centre form (F₀ = 0 at the wall).
         let (mut prev, mut f_prev, mut left) = if first == 1 {
             let prev = if self.right.is_periodic() {
@@ -414,44 +740,41 @@ impl<E: StrainEnergy> Line<E> {
             } else {
                 None
             };
-            (prev, S::from(0.0), self.boundary(0, t, y, yp))
+            (prev, S::from(0.0), self.boundary_in(lay, 0, t, y, yp))
         } else {
-            let lb = self.boundary(first - 2, t, y, yp);
-            let (p, right) = self.eval_cell_from(first - 1, t, y, yp, lb)?;
+            let lb = self.boundary_in(lay, first - 2, t, y, yp);
+            let (p, right) = self.eval_cell_in(lay, first - 1, t, y, yp, lb)?;
             let f_prev = if first >= 3 {
-                let llb = self.boundary(first - 3, t, y, yp);
-                let (pp, _) = self.eval_cell_from(first - 2, t, y, yp, llb)?;
-                self.width.face(pp.w, p.w) * (p.sigma - pp.sigma)
+                let llb = self.boundary_in(lay, first - 3, t, y, yp);
+                let (pp, _) = self.eval_cell_in(lay, first - 2, t, y, yp, llb)?;
+                self.face_force(&pp, &p)
             } else {
                 S::from(0.0)
             };
             (Some(p), f_prev, right)
         };
         for c in first..=last {
-            let (cur, right) = self.eval_cell_from(c, t, y, yp, left)?;
+            let (cur, right) = self.eval_cell_in(lay, c, t, y, yp, left)?;
             left = right;
-            let gk = lay.gi[c - 1];
+            let gk = lay.gi(c - 1);
             if gk != NONE {
                 if let Some(law) = &self.growth {
-                    let (rate, drate) = law.rate(cur.sigma.re());
-                    r[gk - off] = yp[gk] - cur.sigma.lift(rate, drate);
+                    r[gk - off] = self.growth_row(law.as_ref(), yp[gk], &cur);
                 }
             }
             if let Some(p) = prev {
                 let b = c - 1;
-                let f = self.width.face(p.w, cur.w) * (cur.sigma - p.sigma);
-                let row = lay.xi[b];
+                let row = lay.xi(b);
                 match self.form {
                     DragForm::Boundary => {
                         if row != NONE {
-                            let kappa = (p.kappa + cur.kappa) * 0.5;
-                            r[row - off] = kappa * p.vr * self.k_face[b] - f;
+                            r[row - off] = self.boundary_row(b, &p, &cur);
                         }
                     }
                     DragForm::Centre => {
+                        let f = self.face_force(&p, &cur);
                         if row != NONE {
-                            r[row - off] =
-                                p.kappa * (p.vl + p.vr) * self.cells.k_cell[b - 1] - f_prev - f;
+                            r[row - off] = self.centre_row(b, &p, f_prev, f);
                         }
                         f_prev = f;
                     }
@@ -461,16 +784,188 @@ impl<E: StrainEnergy> Line<E> {
         }
         if last == n && self.right.is_free() {
             let p = prev.expect("at least one cell");
-            let row = lay.xi[n];
-            let f_n = -(p.w * p.sigma) + self.f_ext(t);
-            r[row - off] = match self.form {
-                DragForm::Boundary => p.kappa * p.vr * self.k_face[n] - f_n,
-                DragForm::Centre => {
-                    p.kappa * (p.vl + p.vr) * self.cells.k_cell[n - 1] - f_prev - f_n
-                }
-            };
+            r[lay.xi(n) - off] = self.end_row(t, &p, f_prev);
         }
         Ok(())
+    }
+
+    /// The iteration matrix `J = ∂F/∂y + c·∂F/∂ẏ` of a non-periodic line, added into `jac`
+    /// (zeroed by the caller, shaped by [`CellArray::pattern`]), in one streaming sweep over
+    /// the cells; `Ok(false)` for a ring (its sparse pattern is left to the coloured AD
+    /// Jacobian of [`crate::ArrayProblem`]).
+    ///
+    /// Each cell is evaluated once by the residual's own cell expression in `Dual64`, seeded
+    /// along its right boundary `x_j` (with `ẏ`-part `c`, as the colouring seeds `v`); a cell
+    /// depends on its boundaries only through `x_j − x_{j−1}` and `v_j − v_{j−1}`, so the
+    /// derivative along `x_{j−1}` is the negated one, apart from the velocities themselves.
+    /// A growing cell is evaluated a second time seeded along `g_j`. Each row is then the
+    /// residual's own row expression evaluated once per column of its stencil with the cells'
+    /// derivatives projected on that column, so every feature of the residual (drag forms,
+    /// `κ = (g g₂)^m`, width rule, viscosity, active stress, growth, ends) is differentiated
+    /// exactly as the coloured AD Jacobian does, at about the cost of one dual residual sweep
+    /// and without dual copies of `y`, `ẏ` and `r`.
+    ///
+    /// ```
+    /// use celltissue::line::build::{discrete, LineParams};
+    /// use celltissue::{CellArray, NeoHookean};
+    /// use integrators::linalg::Matrix;
+    /// let line = discrete(NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(5)).unwrap();
+    /// let y = line.initial_state();
+    /// let mut jac = Matrix::zeros(line.dim(), &line.pattern());
+    /// assert!(line.jacobian_into(0.0, &y, &vec![0.0; y.len()], 1.0, &mut jac).unwrap());
+    /// // at rest and without drag (K = 0), boundary 1's own entry is 2·σ_el'(1) = 8μ, and
+    /// // boundary 2 pulls on it with −σ_el'(1) = −4μ
+    /// assert!((jac.get(0, 0) - 8.0).abs() < 1e-12);
+    /// assert!((jac.get(0, 1) + 4.0).abs() < 1e-12);
+    /// ```
+    pub fn jacobian_into(
+        &self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        c: f64,
+        jac: &mut JacobianSink,
+    ) -> Result<bool, ResidualError> {
+        if self.right.is_periodic() {
+            return Ok(false);
+        }
+        let n = self.n_cells();
+        let lay = &self.layout;
+        let d = Dual64::new;
+        let mut left = self.boundary(0, t, y, yp);
+        // the last three cells in a ring (cell j at j mod 3: moving them would copy 1 KB per cell)
+        let mut win: [LocalCell; 3] = [LocalCell::default(); 3];
+        for cell in 1..=n {
+            let right = self.boundary(cell, t, y, yp);
+            let gk = lay.gi[cell - 1];
+            let (g, gd) = match gk {
+                NONE => (1.0, 0.0),
+                k => (y[k], yp[k]),
+            };
+            let (xl, xr) = ((d(left.0, 0.0), d(left.1, 0.0)), (right.0, right.1));
+            let s = self.eval_core(
+                cell,
+                t,
+                xl,
+                (d(xr.0, 1.0), d(xr.1, c)),
+                (d(g, 0.0), d(gd, 0.0)),
+            )?;
+            let ge = if gk != NONE {
+                self.eval_core(
+                    cell,
+                    t,
+                    xl,
+                    (d(xr.0, 0.0), d(xr.1, 0.0)),
+                    (d(g, 1.0), d(gd, c)),
+                )?
+            } else {
+                s.along(Dir::Zero, c)
+            };
+            left = right;
+            let (w0, w1, w2) = ((cell + 1) % 3, (cell + 2) % 3, cell % 3);
+            win[w2] = LocalCell { s, g: ge };
+            if gk != NONE {
+                if let Some(law) = &self.growth {
+                    let ypg = yp[gk];
+                    self.emit(jac, gk, cell, [&win[w2]], c, |e| {
+                        // ġ is seeded with c exactly where g is seeded with 1
+                        self.growth_row(law.as_ref(), d(ypg, c * e[0].g.eps), &e[0])
+                    });
+                }
+            }
+            if cell < 2 {
+                continue;
+            }
+            let b = cell - 1;
+            let row = lay.xi[b];
+            if row == NONE {
+                continue;
+            }
+            match self.form {
+                DragForm::Boundary => self.emit(jac, row, b, [&win[w1], &win[w2]], c, |e| {
+                    self.boundary_row(b, &e[0], &e[1])
+                }),
+                DragForm::Centre if b >= 2 => {
+                    self.emit(jac, row, b - 1, [&win[w0], &win[w1], &win[w2]], c, |e| {
+                        let f_prev = self.face_force(&e[0], &e[1]);
+                        let f = self.face_force(&e[1], &e[2]);
+                        self.centre_row(b, &e[1], f_prev, f)
+                    })
+                }
+                DragForm::Centre => self.emit(jac, row, b, [&win[w1], &win[w2]], c, |e| {
+                    let f = self.face_force(&e[0], &e[1]);
+                    self.centre_row(b, &e[0], d(0.0, 0.0), f)
+                }),
+            }
+        }
+        if self.right.is_free() {
+            let row = lay.xi[n];
+            let (w1, w2) = ((n + 2) % 3, n % 3);
+            match self.form {
+                DragForm::Centre if n >= 2 => {
+                    self.emit(jac, row, n - 1, [&win[w1], &win[w2]], c, |e| {
+                        let f_prev = self.face_force(&e[0], &e[1]);
+                        self.end_row(t, &e[1], f_prev)
+                    })
+                }
+                _ => self.emit(jac, row, n, [&win[w2]], c, |e| {
+                    self.end_row(t, &e[0], d(0.0, 0.0))
+                }),
+            }
+        }
+        Ok(true)
+    }
+
+    /// Adds row `row` of the Jacobian: `f` (a row expression of the residual) is evaluated
+    /// once per unknown the `Q` consecutive cells `first..first + Q` depend on — their
+    /// boundaries `first − 1 ..= first + Q − 1` and, when growing, their `g` — with every
+    /// cell's derivatives projected on that unknown; the dual part is the entry.
+    #[inline(always)]
+    fn emit<const Q: usize>(
+        &self,
+        jac: &mut JacobianSink,
+        row: usize,
+        first: usize,
+        cells: [&LocalCell; Q],
+        c: f64,
+        f: impl Fn(&[CellEval<Dual64>; Q]) -> Dual64,
+    ) {
+        let lay = &self.layout;
+        for k in 0..=Q {
+            let beta = first - 1 + k;
+            let col = lay.xi[beta];
+            if col == NONE {
+                continue;
+            }
+            // a plain loop: `std::array::from_fn` was left as a call here, and the copies
+            // of its result through the stack stalled on store forwarding
+            let mut e = [cells[0].s; Q];
+            for q in 0..Q {
+                let cell = first + q;
+                let dir = if cell == beta {
+                    Dir::Right
+                } else if cell == beta + 1 {
+                    Dir::Left
+                } else {
+                    Dir::Zero
+                };
+                e[q] = cells[q].along(dir, c);
+            }
+            jac.add(row, col, f(&e).eps);
+        }
+        if self.growth.is_some() {
+            for k in 0..Q {
+                let col = lay.gi[first + k - 1];
+                if col == NONE {
+                    continue;
+                }
+                let mut e = [cells[0].s; Q];
+                for q in 0..Q {
+                    e[q] = cells[q].along(if q == k { Dir::Growth } else { Dir::Zero }, c);
+                }
+                jac.add(row, col, f(&e).eps);
+            }
+        }
     }
 
     /// Structural entries `(row, col)` of the Jacobian, from the stencil.
@@ -579,6 +1074,17 @@ impl<E: StrainEnergy> CellArray for Line<E> {
             }
         }
         self.residual_cells(t, y, yp, r, 0, 1, n)
+    }
+
+    fn jacobian(
+        &self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        c: f64,
+        jac: &mut JacobianSink,
+    ) -> Result<bool, ResidualError> {
+        self.jacobian_into(t, y, yp, c, jac)
     }
 
     fn atol(&self) -> Option<Vec<f64>> {
@@ -730,5 +1236,104 @@ mod tests {
         let mut r = vec![0.0; y.len()];
         l.residual(0.1, &y, &yp, &mut r).unwrap();
         assert_eq!(r, serial);
+    }
+
+    /// The residual of `l` with every layout and field read from the vectors (no contiguous
+    /// layout, no uniform fields): the reference the fast paths must reproduce bitwise.
+    fn reference_residual<S: Scalar>(l: &Line<NeoHookean>, y: &[S], yp: &[S]) -> Vec<S> {
+        let mut slow = l.clone();
+        slow.uniform = UniformFields::default();
+        let mut r = vec![S::from(f64::NAN); y.len()];
+        slow.residual_cells_in(Indexed(&slow.layout), 0.4, y, yp, &mut r, 0, 1, l.n_cells())
+            .unwrap();
+        r
+    }
+
+    #[test]
+    fn fast_paths_give_the_indexed_residual_bitwise() {
+        // uniform fields (l0, mu, eta, K all uniform) and the contiguous layout, in f64 and
+        // dual numbers, both forms, prescribed and free ends: bitwise the indexed sweep
+        for form in [DragForm::Boundary, DragForm::Centre] {
+            for free in [false, true] {
+                let mut p = LineParams::unit_cells(7);
+                p.k = Field::Constant(0.3);
+                p.eta = Field::Constant(0.7);
+                p.form = form;
+                if free {
+                    p.right = RightEnd::Free(None);
+                }
+                let l = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+                assert!(l.contiguous().is_some());
+                let u = l.uniform;
+                assert!(
+                    u.inv_l0.is_some() && u.mu.is_some() && u.eta.is_some() && u.k_face.is_some()
+                );
+                let (y, yp) = state(&l);
+                let mut r = vec![0.0; y.len()];
+                l.residual(0.4, &y, &yp, &mut r).unwrap();
+                assert_eq!(r, reference_residual(&l, &y, &yp), "{form:?} free={free}");
+                let yd: Vec<Dual64> = y.iter().map(|&v| Dual64::new(v, 0.5)).collect();
+                let ypd: Vec<Dual64> = yp.iter().map(|&v| Dual64::new(v, -0.25)).collect();
+                let mut rd = vec![Dual64::new(0.0, 0.0); y.len()];
+                l.residual(0.4, &yd, &ypd, &mut rd).unwrap();
+                for (a, b) in rd.iter().zip(reference_residual(&l, &yd, &ypd)) {
+                    assert_eq!((a.re, a.eps), (b.re, b.eps));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_divided_line_reads_its_changed_fields() {
+        // a growing line with uniform fields; cell 2 divides at g = 1.6, so its daughters have
+        // L₀ = 0.8 and L₀ is no longer uniform: the residual must read the new lengths
+        let mut p = LineParams::unit_cells(5);
+        p.right = RightEnd::Free(None);
+        p.k = Field::Constant(0.2);
+        p.growth = Some(Arc::new(TanhGrowth::default()));
+        let mut l = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+        assert!(l.uniform.inv_l0.is_some());
+        let before = l.uniform;
+        let mut y = l.initial_state();
+        y[l.layout.gi[1]] = 1.6;
+        y[l.layout.xi[2]] += 0.6;
+        l.split_cell(2, 0.0, &mut y).unwrap();
+        assert_eq!(l.n_cells(), 6);
+        assert_eq!(l.uniform.inv_l0, None);
+        let yp: Vec<f64> = (0..y.len()).map(|i| 0.01 * i as f64).collect();
+        let mut r = vec![0.0; y.len()];
+        l.residual(0.0, &y, &yp, &mut r).unwrap();
+        assert_eq!(r, reference_residual(&l, &y, &yp));
+        // and the check can fail: with the detection of before the split, cells 2 and 3
+        // would be read with L₀ = 1
+        let mut stale = l.clone();
+        stale.uniform = before;
+        let mut rs = vec![0.0; y.len()];
+        stale.residual(0.0, &y, &yp, &mut rs).unwrap();
+        assert_ne!(rs, r);
+    }
+
+    #[test]
+    fn density_divisions_refresh_the_uniform_fields() {
+        use crate::proliferation::DensityContinuum;
+        use integrators::{EventAction, Problem};
+        let mut p = LineParams::unit_cells(6);
+        p.right = RightEnd::Free(None);
+        p.k = Field::Constant(0.2);
+        p.growth = Some(Arc::new(TanhGrowth::default()));
+        let l = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+        let mut d = crate::ArrayProblem::new(DensityContinuum::new(l, 6, 1.5).unwrap());
+        let mut y = d.array.line.initial_state();
+        let gk = d.array.line.layout.gi[2];
+        y[gk] = 1.5;
+        let yp = vec![0.0; y.len()];
+        let act = d.handle_event(0.0, &[2], &mut y, &yp).unwrap();
+        assert_eq!(act, EventAction::Modified);
+        let line = &d.array.line;
+        assert_eq!(line.uniform.inv_l0, None);
+        assert_eq!(line.uniform.k_face, None);
+        let mut r = vec![0.0; y.len()];
+        line.residual(0.0, &y, &yp, &mut r).unwrap();
+        assert_eq!(r, reference_residual(line, &y, &yp));
     }
 }

@@ -212,6 +212,7 @@ fn assemble<E: StrainEnergy>(
         atol_cell: p.atol_cell,
         threads: 1,
         layout: Layout::default(),
+        uniform: Default::default(),
     };
     line.rebuild_layout();
     if line.layout.dim == 0 {

@@ -194,6 +194,20 @@ impl<A: LineModel> CellArray for Watched<A> {
         }
         out
     }
+    fn jacobian(
+        &self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        c: f64,
+        jac: &mut integrators::JacobianSink,
+    ) -> Result<bool, ResidualError> {
+        let out = self.inner.jacobian(t, y, yp, c, jac);
+        if let Err(ResidualError::Recoverable { reason, .. }) = &out {
+            *self.last.borrow_mut() = Some((t, reason.clone()));
+        }
+        out
+    }
 }
 
 impl<A: LineModel> LineModel for Watched<A> {

@@ -161,6 +161,8 @@ impl<E: StrainEnergy> CellArray for DensityContinuum<E> {
                 cells_after: cells.round() as usize,
             });
         }
+        // L₀ and K changed in place: the line must re-detect its uniform fields
+        self.line.refresh_uniform_fields();
         Ok(EventAction::Modified)
     }
 }
