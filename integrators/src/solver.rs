@@ -216,6 +216,12 @@ struct Run<'o, O> {
 }
 
 impl<O> Run<'_, O> {
+    /// Records `y` as the last accepted state ([`Solution::y_last`]).
+    fn keep_last(&mut self, y: &[f64]) {
+        self.sol.y_last.clear();
+        self.sol.y_last.extend_from_slice(y);
+    }
+
     fn fail(mut self, kind: ErrorKind, t: f64, component: Option<usize>) -> SolveFailure {
         self.sol.stats = self.stats;
         SolveFailure {
@@ -564,6 +570,7 @@ where
     loop {
         if run.stats.steps >= opts.max_steps {
             let t = method.t();
+            run.keep_last(method.y());
             return Err(run.fail(ErrorKind::TooManySteps(opts.max_steps), t, None));
         }
         {
@@ -576,9 +583,10 @@ where
         }
         let t = method.t();
         run.sol.t_last = t;
-        run.sol.y_last.clear();
-        run.sol.y_last.extend_from_slice(method.y());
+        // `y_last` is copied from the method only where the run can end (here on failure,
+        // before events, at the end): a copy per step is two passes over a large state
         if let Some(i) = method.y().iter().position(|v| !v.is_finite()) {
+            run.keep_last(method.y());
             return Err(run.fail(ErrorKind::NonFinite, t, Some(i)));
         }
 
@@ -586,6 +594,7 @@ where
         let mut a = method.t_prev();
         let mut restarted = false;
         if !g_prev.is_empty() {
+            run.keep_last(method.y());
             if let Err(e) = eval_events(p, t, method.y(), &mut g_new) {
                 return Err(run.fail(ErrorKind::Residual(e), t, None));
             }
@@ -758,6 +767,7 @@ where
         }
         run.emit_interp(p, opts, method, t, true);
         if t >= t_end {
+            run.keep_last(method.y());
             run.sol.stats = run.stats;
             return Ok(run.sol);
         }
