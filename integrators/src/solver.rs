@@ -528,7 +528,7 @@ where
             ),
         );
     }
-    if let Some(i) = y0.iter().position(|v| !v.is_finite()) {
+    if let Some(i) = crate::linalg::first_non_finite(y0) {
         return Err(run.fail(
             ErrorKind::InvalidInput(format!("y0[{i}] = {} is not finite", y0[i])),
             t0,
@@ -585,7 +585,7 @@ where
         run.sol.t_last = t;
         // `y_last` is copied from the method only where the run can end (here on failure,
         // before events, at the end): a copy per step is two passes over a large state
-        if let Some(i) = method.y().iter().position(|v| !v.is_finite()) {
+        if let Some(i) = crate::linalg::first_non_finite(method.y()) {
             run.keep_last(method.y());
             return Err(run.fail(ErrorKind::NonFinite, t, Some(i)));
         }
@@ -706,7 +706,7 @@ where
                                 None,
                             ));
                         }
-                        if let Some(i) = ynew.iter().position(|v| !v.is_finite()) {
+                        if let Some(i) = crate::linalg::first_non_finite(&ynew) {
                             return Err(run.fail(ErrorKind::NonFinite, ts, Some(i)));
                         }
                         if resized {

@@ -129,9 +129,24 @@ pub trait SolutionMap {
     }
 }
 
-/// Index of the first non-finite value.
+/// Index of the first non-finite value. Blocks of 64 are tested branch-free (all-ones
+/// exponent bits; the compiler vectorises the test) and only a block that has one is searched:
+/// a per-element early exit keeps the loop scalar, which on a 10⁶-entry state checked every
+/// step was a measurable share of a solve.
 pub(crate) fn first_non_finite(v: &[f64]) -> Option<usize> {
-    v.iter().position(|x| !x.is_finite())
+    const EXP: u64 = 0x7ff0_0000_0000_0000;
+    const B: usize = 64;
+    let any_bad = |c: &[f64]| c.iter().fold(false, |a, x| a | (x.to_bits() & EXP == EXP));
+    let mut blocks = v.chunks_exact(B);
+    for (k, block) in (&mut blocks).enumerate() {
+        if any_bad(block) {
+            return block.iter().position(|x| !x.is_finite()).map(|i| k * B + i);
+        }
+    }
+    let rest = blocks.remainder();
+    rest.iter()
+        .position(|x| !x.is_finite())
+        .map(|i| v.len() - rest.len() + i)
 }
 
 /// The checks every sparse factorisation starts with: `pattern` is the solver's own (`own`;

@@ -509,3 +509,27 @@ fn twisted_tridiagonal_combination_and_errors() {
         }
     }
 }
+
+#[test]
+fn first_non_finite_finds_the_first_in_any_block() {
+    // every position around the 64-entry blocks, each kind of non-finite value, two of them
+    for n in [0, 1, 63, 64, 65, 200] {
+        let clean = vec![1.5; n];
+        assert_eq!(super::first_non_finite(&clean), None, "n={n}");
+        for i in 0..n {
+            for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+                let mut v = clean.clone();
+                v[i] = bad;
+                if i + 70 < n {
+                    v[i + 70] = f64::NAN;
+                }
+                assert_eq!(super::first_non_finite(&v), Some(i), "n={n} i={i} {bad}");
+            }
+        }
+    }
+    // the largest finite values are finite
+    assert_eq!(
+        super::first_non_finite(&[f64::MAX, -f64::MAX, f64::MIN_POSITIVE]),
+        None
+    );
+}
