@@ -75,18 +75,14 @@ fn write_column(jac: &mut Matrix, j: usize, mut value: impl FnMut(usize) -> f64)
                 *v = value(i);
             }
         }
-        Matrix::Banded(m) => {
-            // no per-column row list: the band rows of column j are contiguous in storage
-            let (r0, r1) = m.col_range(j);
-            let base = j * m.ld() + m.lower + m.upper - j;
-            for (i, v) in (r0..r1).zip(&mut m.data[base + r0..base + r1]) {
-                *v = value(i);
-            }
-        }
-        Matrix::Dense(_) => {
-            for i in jac.column_rows(j) {
-                let v = value(i);
-                jac.set(i, j, v);
+        Matrix::Banded(_) | Matrix::Dense(_) => {
+            // contiguous rows from the column's first structural one (no per-column row list)
+            let r0 = match jac {
+                Matrix::Banded(b) => b.col_range(j).0,
+                _ => 0,
+            };
+            for (k, v) in column_slots_mut(jac, j).iter_mut().enumerate() {
+                *v = value(r0 + k);
             }
         }
     }
@@ -133,18 +129,26 @@ fn user_jacobian_columns(
             if !provided {
                 return Ok(false);
             }
-            let mut j1 = jac.clone();
+            // J(1) in a spare of the same pattern (the same storage layout), then each
+            // differential column becomes J(1) − J(0) slot by slot
+            let mut j1 = sys.take_matrix();
             j1.set_zero();
-            sys.problem
+            let provided = sys
+                .problem
                 .jacobian(t, y, yp, 1.0, &mut j1)
-                .map_err(|e| sys.residual_failure(e, t))?;
-            for (j, &alg) in algebraic.iter().enumerate() {
-                if !alg {
-                    let j0 = jac.clone_column(j);
-                    write_column(jac, j, |i| j1.get(i, j) - j0.get(i));
+                .map_err(|e| sys.residual_failure(e, t));
+            if provided.is_ok() {
+                for (j, &alg) in algebraic.iter().enumerate() {
+                    if !alg {
+                        let (dst, src) = (column_slots_mut(jac, j), column_slots(&j1, j));
+                        for (a, b) in dst.iter_mut().zip(src) {
+                            *a = b - *a;
+                        }
+                    }
                 }
             }
-            Ok(true)
+            sys.give_matrix(j1);
+            provided.map(|_| true)
         }
     }
 }
@@ -317,30 +321,38 @@ fn finite_differences(
     Ok(())
 }
 
-/// A copy of one column's structural entries, for in-place column rewrites.
-trait CloneColumn {
-    fn clone_column(&self, j: usize) -> ColumnCopy;
-}
-
-struct ColumnCopy {
-    rows: Vec<usize>,
-    vals: Vec<f64>,
-}
-
-impl ColumnCopy {
-    fn get(&self, i: usize) -> f64 {
-        match self.rows.binary_search(&i) {
-            Ok(k) => self.vals[k],
-            Err(_) => 0.0,
+/// The storage slots of column `j`'s structural entries, in row order (a dense column, the
+/// band rows of a banded one, the CSC values of a sparse one). Two matrices of one pattern
+/// have the same slots.
+fn column_slots(m: &Matrix, j: usize) -> &[f64] {
+    match m {
+        Matrix::Dense(d) => &d.data[j * d.n..(j + 1) * d.n],
+        Matrix::Banded(b) => {
+            let (r0, r1) = b.col_range(j);
+            let base = j * b.ld() + b.lower + b.upper - j;
+            &b.data[base + r0..base + r1]
+        }
+        Matrix::Sparse(sp) => {
+            let cp = sp.pattern.col_ptr();
+            &sp.values[cp[j]..cp[j + 1]]
         }
     }
 }
 
-impl CloneColumn for Matrix {
-    fn clone_column(&self, j: usize) -> ColumnCopy {
-        let rows = self.column_rows(j);
-        let vals = rows.iter().map(|&i| self.get(i, j)).collect();
-        ColumnCopy { rows, vals }
+/// [`column_slots`], mutable.
+fn column_slots_mut(m: &mut Matrix, j: usize) -> &mut [f64] {
+    match m {
+        Matrix::Dense(d) => &mut d.data[j * d.n..(j + 1) * d.n],
+        Matrix::Banded(b) => {
+            let (r0, r1) = b.col_range(j);
+            let base = j * b.ld() + b.lower + b.upper - j;
+            &mut b.data[base + r0..base + r1]
+        }
+        Matrix::Sparse(sp) => {
+            let cp = sp.pattern.col_ptr();
+            let range = cp[j]..cp[j + 1];
+            &mut sp.values[range]
+        }
     }
 }
 
