@@ -64,13 +64,18 @@ fn bdf_heat_banded_matches_exact_solution() {
 }
 
 /// `Options::threads = 2` above `System::PARALLEL_MIN` unknowns splits BDF's predictor/weights
-/// and error-norm passes and the twisted tridiagonal solve in two halves on two threads. Only
-/// the summation order of the norms differs from one thread, so the two runs take the same
-/// steps and agree to round-off.
+/// and error-norm passes and the twisted tridiagonal factorisation and solve in two halves on two
+/// threads, each half with the one-thread arithmetic. With the max norm nothing else differs:
+/// the two runs are bitwise identical. With the RMS norm (the default) the norms' sums are
+/// split in two, so the step sizes differ in their last bits: the runs take the same steps and
+/// Newton iterations and agree far below the integration tolerance (`rtol·max|y| = 1e-6`). The
+/// bound is 1e-5 of it: measured 4.0e-13 when BDF accumulated its Newton corrections, 1.0e-12
+/// since it recomputes `y_new − predictor` from the history (session 4), whose cancellation
+/// lets the split sums' last bits reach the step sizes.
 #[test]
 fn two_threads_give_the_one_thread_solution() {
     let n = integrators::System::PARALLEL_MIN + 1001;
-    let run = |threads: usize| {
+    let run = |threads: usize, norm: integrators::ErrorNorm| {
         let mut p = Ode(Heat {
             n,
             exact_jacobian: true,
@@ -78,21 +83,31 @@ fn two_threads_give_the_one_thread_solution() {
         let y0 = p.0.initial();
         let o = integrators::Options {
             threads,
+            norm,
             ..opts(1e-6, 1e-9)
         };
         Solver::new(MethodKind::Bdf, o)
             .solve(&mut p, 0.0, &y0, &[0.02])
             .unwrap()
     };
-    let (one, two) = (run(1), run(2));
+    let max = integrators::ErrorNorm::Max;
+    let (one, two) = (run(1, max), run(2, max));
+    assert_eq!(one.stats, two.stats);
+    assert_eq!(one.y, two.y, "max norm: bitwise the one-thread solution");
+    let rms = integrators::ErrorNorm::Rms;
+    let (one, two) = (run(1, rms), run(2, rms));
     assert_eq!(one.stats.steps, two.stats.steps);
     assert_eq!(one.stats.newton_iterations, two.stats.newton_iterations);
+    let ymax = one.y[0].iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let diff = one.y[0]
         .iter()
         .zip(&two.y[0])
         .map(|(a, b)| (a - b).abs())
         .fold(0.0, f64::max);
-    assert!(diff < 1e-12, "max difference {diff:e}");
+    assert!(
+        diff < 1e-5 * 1e-6 * ymax,
+        "max difference {diff:e} (max |y| {ymax:e})"
+    );
 }
 
 #[test]

@@ -89,6 +89,9 @@ const MAX_ERR_FAILS: usize = 10;
 const MAX_CONV_FAILS: usize = 10;
 /// Block length for the fused vector loops (fits L1 with a few inputs).
 const BLK: usize = 256;
+/// Orders whose difference norms one error sweep computes: the step's own order (the local
+/// error), `k − 1`, `k − 2` and `k + 1` (order selection).
+const MAX_NORMS: usize = 4;
 /// Smallest worthwhile step-size increase (smaller suggested increases keep `h`).
 const GROW_THRESHOLD: f64 = 1.5;
 /// Steps after which the Jacobian is refreshed even if Newton converges.
@@ -157,7 +160,6 @@ pub struct Bdf {
     /// Newton iterate (starts as the predictor).
     ycur: Vec<f64>,
     ypcur: Vec<f64>,
-    ee: Vec<f64>,
     res: Vec<f64>,
     /// Error weights, only when they differ from the Newton weights (suppressed algebraic
     /// components); otherwise empty and [`Bdf::ewt`] answers `nwt`.
@@ -268,27 +270,22 @@ fn poly_blocks(
     }
 }
 
-/// The error-norm sweep of [`Bdf::error_norms`] over components `lo..hi`: the accumulator of
-/// `ee` and one per order in `items`.
+/// The error-norm sweep of [`Bdf::error_norms`] over components `lo..hi`: one accumulator
+/// per order in `items` (the norm of `y_new − predictor_m`).
 fn norm_blocks(
     items: &[Items<'_>],
     ycur: &[f64],
     ewt: &[f64],
-    ee: &[f64],
     norm: ErrorNorm,
     lo: usize,
     hi: usize,
-) -> (NormAcc, [NormAcc; 3]) {
+) -> [NormAcc; MAX_NORMS] {
     let mut buf = [0.0; BLK];
-    let mut acc_e = NormAcc::new(norm);
-    let mut acc = [NormAcc::new(norm); 3];
+    let mut acc = [NormAcc::new(norm); MAX_NORMS];
     let mut s = lo;
     while s < hi {
         let e = (s + BLK).min(hi);
         let (yb, wb) = (&ycur[s..e], &ewt[s..e]);
-        for (d, w) in ee[s..e].iter().zip(wb) {
-            acc_e.push(d * w);
-        }
         for (it, a) in items.iter().zip(acc.iter_mut()) {
             let b = &mut buf[..e - s];
             b.fill(0.0);
@@ -303,7 +300,7 @@ fn norm_blocks(
         }
         s = e;
     }
-    (acc_e, acc)
+    acc
 }
 
 /// Index of the largest `|v_i w_i|`.
@@ -330,18 +327,14 @@ struct NewtonUpdate<'a> {
     off: usize,
     y: &'a mut [f64],
     yp: &'a mut [f64],
-    ee: &'a mut [f64],
     w: &'a [f64],
     scale: f64,
     alpha: f64,
-    /// First iteration: `ee` starts as this correction.
-    first: bool,
     acc: NormAcc,
 }
 
 impl SolutionMap for NewtonUpdate<'_> {
-    /// `δ_i = −scale·d_i`; updates `y`, `ẏ`, the accumulated correction and the norm; returns
-    /// `δ_i`.
+    /// `δ_i = −scale·d_i`; updates `y`, `ẏ` and the norm; returns `δ_i`.
     #[inline(always)]
     fn map(&mut self, i: usize, d: f64) -> f64 {
         let i = i - self.off;
@@ -352,11 +345,6 @@ impl SolutionMap for NewtonUpdate<'_> {
         };
         self.y[i] += di;
         self.yp[i] += self.alpha * di;
-        if self.first {
-            self.ee[i] = di;
-        } else {
-            self.ee[i] += di;
-        }
         self.acc.push(di * self.w[i]);
         di
     }
@@ -365,21 +353,18 @@ impl SolutionMap for NewtonUpdate<'_> {
         let at = mid - self.off;
         let (y1, y2) = self.y.split_at_mut(at);
         let (yp1, yp2) = self.yp.split_at_mut(at);
-        let (ee1, ee2) = self.ee.split_at_mut(at);
         let (w1, w2) = self.w.split_at(at);
-        let half = |off, y, yp, ee, w| NewtonUpdate {
+        let half = |off, y, yp, w| NewtonUpdate {
             off,
             y,
             yp,
-            ee,
             w,
             scale: self.scale,
             alpha: self.alpha,
-            first: self.first,
             acc: NormAcc::new(ErrorNorm::Rms),
         };
-        let mut a = half(self.off, y1, yp1, ee1, w1);
-        let mut b = half(mid, y2, yp2, ee2, w2);
+        let mut a = half(self.off, y1, yp1, w1);
+        let mut b = half(mid, y2, yp2, w2);
         (a.acc, b.acc) = (
             self.acc,
             NormAcc {
@@ -505,7 +490,6 @@ impl Bdf {
             ss: 20.0,
             ycur: Vec::new(),
             ypcur: Vec::new(),
-            ee: Vec::new(),
             res: Vec::new(),
             ewt: Vec::new(),
             nwt: Vec::new(),
@@ -651,57 +635,81 @@ impl Bdf {
         (err, dn * scale)
     }
 
-    /// In one block-wise sweep over the state: the error norm of `ee` (error weights) and,
-    /// for each order `m` in `orders`, the norm of `y_new − predictor_m(t_new)` (no predictor
-    /// is stored). One sweep instead of one per order keeps a large state's history vectors in
-    /// L1 across the orders. Each norm is bitwise what [`ErrorNorm::of`] gives on the same
-    /// vector.
-    fn error_norms(&self, orders: &[usize], t_new: f64, norm: ErrorNorm) -> (f64, [f64; 3]) {
-        assert!(orders.len() <= 3, "at most three orders");
-        let n = self.ycur.len();
-        let mut out = [0.0; 3];
-        if n == 0 {
-            return (0.0, out);
-        }
+    /// The coefficients of `predictor_m(t_new)` over the history, for each order in `orders`.
+    fn order_items<'s>(&'s self, orders: &[usize], t_new: f64) -> [Items<'s>; MAX_NORMS] {
+        assert!(orders.len() <= MAX_NORMS, "at most {MAX_NORMS} orders");
         let zero = [0.0; NC];
-        let mut coeffs = [[0.0; NC]; 3];
-        for (c, &m) in coeffs.iter_mut().zip(orders) {
+        std::array::from_fn(|i| {
+            let mut c = [0.0; NC];
+            let Some(&m) = orders.get(i) else {
+                return self.items(&c, &zero, 0);
+            };
             let z: Vec<f64> = self.times.iter().take(m + 1).copied().collect();
             let mut dp = [0.0; NC];
-            interp_coeffs(&z, t_new, c, &mut dp);
+            interp_coeffs(&z, t_new, &mut c, &mut dp);
+            self.items(&c, &zero, m + 1)
+        })
+    }
+
+    /// In one block-wise sweep over the state, for each order `m` in `orders`, the error-weight
+    /// norm of `y_new − predictor_m(t_new)` (no predictor is stored). The first order is the
+    /// step's own: its difference is the total Newton correction, i.e. the local error
+    /// estimate up to a factor. One sweep instead of one per order keeps a large state's
+    /// history vectors in L1 across the orders. Each norm is bitwise what [`ErrorNorm::of`]
+    /// gives on the same vector.
+    fn error_norms(&self, orders: &[usize], t_new: f64, norm: ErrorNorm) -> [f64; MAX_NORMS] {
+        let n = self.ycur.len();
+        let mut out = [0.0; MAX_NORMS];
+        if n == 0 {
+            return out;
         }
-        let items: Vec<Items<'_>> = coeffs
-            .iter()
-            .zip(orders)
-            .map(|(c, &m)| self.items(c, &zero, m + 1))
-            .collect();
+        let items = self.order_items(orders, t_new);
+        let items = &items[..orders.len()];
         let ewt = self.ewt();
         let mid = split_point(n, self.threads);
-        let (acc_e, acc) = if mid == 0 {
-            norm_blocks(&items, &self.ycur, ewt, &self.ee, norm, 0, n)
+        let acc = if mid == 0 {
+            norm_blocks(items, &self.ycur, ewt, norm, 0, n)
         } else {
             // two halves on two threads; the partial norms are merged (an RMS sum in two parts)
-            let (ycur, ee, items) = (&self.ycur[..], &self.ee[..], &items[..]);
-            let ((e1, a1), (e2, a2)) = std::thread::scope(|sc| {
-                let second = sc.spawn(|| norm_blocks(items, ycur, ewt, ee, norm, mid, n));
-                let first = norm_blocks(items, ycur, ewt, ee, norm, 0, mid);
+            let ycur = &self.ycur[..];
+            let (mut a1, a2) = std::thread::scope(|sc| {
+                let second = sc.spawn(|| norm_blocks(items, ycur, ewt, norm, mid, n));
+                let first = norm_blocks(items, ycur, ewt, norm, 0, mid);
                 let second = second
                     .join()
                     .unwrap_or_else(|e| std::panic::resume_unwind(e));
                 (first, second)
             });
-            let mut acc = a1;
-            for (a, b) in acc.iter_mut().zip(&a2) {
+            for (a, b) in a1.iter_mut().zip(&a2) {
                 a.merge(b);
             }
-            let mut acc_e = e1;
-            acc_e.merge(&e2);
-            (acc_e, acc)
+            a1
         };
         for (o, a) in out.iter_mut().zip(&acc) {
             *o = a.finish(n);
         }
-        (acc_e.finish(n), out)
+        out
+    }
+
+    /// The component with the largest weighted local error `|y_new − predictor_k|·w` (for the
+    /// failure report of a step that failed its error test).
+    fn worst_error(&self, k: usize, t_new: f64) -> Option<usize> {
+        let items = self.order_items(&[k], t_new);
+        let ewt = self.ewt();
+        let mut best = None;
+        let mut bv = -1.0;
+        for (i, (y, w)) in self.ycur.iter().zip(ewt).enumerate() {
+            let p: f64 = items[0].as_slice().iter().map(|&(v, c, _)| c * v[i]).sum();
+            let x = ((y - p) * w).abs();
+            if x > bv || x.is_nan() {
+                bv = x;
+                best = Some(i);
+                if x.is_nan() {
+                    break;
+                }
+            }
+        }
+        best
     }
 
     /// The per-step working vectors, from the system's spares (every entry of these is
@@ -711,7 +719,6 @@ impl Bdf {
         for v in [
             &mut self.ycur,
             &mut self.ypcur,
-            &mut self.ee,
             &mut self.res,
             &mut self.nwt,
         ] {
@@ -808,17 +815,16 @@ impl Bdf {
             // δ = −scale·J⁻¹F: solving for F and negating afterwards is bitwise the same as
             // solving for −F (every rounding is sign-symmetric). The solve hands each
             // component to one fused update that stores δ in `res`, updates the iterate and
-            // the accumulated correction (`ee` starts as the first δ) and accumulates ‖δ‖; the
-            // tridiagonal solver runs it inside its backward sweep.
+            // accumulates ‖δ‖; the tridiagonal solver runs it inside its backward sweep. (The
+            // total correction `y_new − predictor` is not accumulated here: the error test
+            // recomputes it from the history in its own sweep, one stream fewer per iteration.)
             let upd = NewtonUpdate {
                 off: 0,
                 y: &mut self.ycur[..n],
                 yp: &mut self.ypcur[..n],
-                ee: &mut self.ee[..n],
                 w: &self.nwt[..n],
                 scale,
                 alpha,
-                first: m == 0,
                 acc: NormAcc::new(sys.opts.norm),
             };
             // an iterative solver stops once its error is a small fraction of EPS_NEWT in the
@@ -914,7 +920,6 @@ impl Method for Bdf {
             for v in [
                 &mut self.ycur,
                 &mut self.ypcur,
-                &mut self.ee,
                 &mut self.res,
                 &mut self.nwt,
             ] {
@@ -1060,8 +1065,9 @@ impl Method for Bdf {
                 && self.steps_at_order + 1 > k
                 && self.times.len() >= k + 2
                 && !had_failures;
-            let mut orders = [0usize; 3];
-            let mut no = 0;
+            // the step's own order first (the local error), then the others
+            let mut orders = [k; MAX_NORMS];
+            let mut no = 1;
             for (m, wanted) in [
                 (k.wrapping_sub(1), k > 1),
                 (k.wrapping_sub(2), k > 2),
@@ -1072,13 +1078,14 @@ impl Method for Bdf {
                     no += 1;
                 }
             }
-            let (een, dn) = self.error_norms(&orders[..no], t_new, opts.norm);
+            let dn = self.error_norms(&orders[..no], t_new, opts.norm);
+            let een = dn[0];
             let dnorm_of = |m: usize| -> f64 {
-                let i = orders[..no]
+                let i = orders[1..no]
                     .iter()
                     .position(|&o| o == m)
                     .expect("order norm computed in the sweep");
-                dn[i]
+                dn[1 + i]
             };
             let (err_k, terr_k) = self.estimates(k, t_new, h_try, een);
             let mut knew = k;
@@ -1109,7 +1116,7 @@ impl Method for Bdf {
                 nef += 1;
                 sys.stats.error_test_failures += 1;
                 sys.stats.rejected_steps += 1;
-                last = LastFailure::ErrorTest(worst(&self.ee, self.ewt()));
+                last = LastFailure::ErrorTest(self.worst_error(k, t_new));
                 let (r, kk) = if nef == 1 || self.steps_since_start == 0 {
                     // on the first step after a (re)start the step size is a guess (or the
                     // hint from before an event): trust the estimate for large reductions
@@ -1305,19 +1312,17 @@ mod tests {
         let whole = run(n);
         let split = run(BLK);
         assert_eq!(whole, split);
-        let (ycur, ee) = (vec_of(0.5), vec_of(0.9));
+        let ycur = vec_of(0.5);
         let norm_items = [Items { list, len: 3 }, Items { list, len: 2 }];
         for norm in [ErrorNorm::Max, ErrorNorm::Rms] {
-            let (e, a) = norm_blocks(&norm_items, &ycur, &whole.3, &ee, norm, 0, n);
-            let (mut e1, mut a1) = norm_blocks(&norm_items, &ycur, &whole.3, &ee, norm, 0, BLK);
-            let (e2, a2) = norm_blocks(&norm_items, &ycur, &whole.3, &ee, norm, BLK, n);
-            e1.merge(&e2);
+            let a = norm_blocks(&norm_items, &ycur, &whole.3, norm, 0, n);
+            let mut a1 = norm_blocks(&norm_items, &ycur, &whole.3, norm, 0, BLK);
+            let a2 = norm_blocks(&norm_items, &ycur, &whole.3, norm, BLK, n);
             for (x, y) in a1.iter_mut().zip(&a2) {
                 x.merge(y);
             }
             let close = |x: f64, y: f64| (x - y).abs() <= 1e-14 * x.abs().max(1e-300);
-            assert!(close(e.finish(n), e1.finish(n)), "{norm:?}");
-            // (two orders in the sweep: the third accumulator stays empty)
+            // (two orders in the sweep: the other accumulators stay empty)
             for (x, y) in a.iter().zip(&a1).take(norm_items.len()) {
                 assert!(
                     x.finish(n) > 0.0 && close(x.finish(n), y.finish(n)),
