@@ -88,7 +88,7 @@ impl LineParams {
 
     /// `l₀ = Σ L₀,j`.
     pub fn total_length(&self) -> f64 {
-        self.ref_lengths.iter().sum()
+        sum_and_check(&self.ref_lengths).0
     }
 
     /// Checks every parameter; returns `l₀ = Σ L₀,j` (the same sum as
@@ -97,10 +97,7 @@ impl LineParams {
         if self.ref_lengths.is_empty() {
             return Err(LineError::invalid("cells", "0", ">= 1"));
         }
-        // one branch-free pass: the sum, and whether every length is positive and finite
-        let (total, all_ok) = self.ref_lengths.iter().fold((0.0, true), |(s, ok), &l| {
-            (s + l, ok & (l > 0.0 && l.is_finite()))
-        });
+        let (total, all_ok) = sum_and_check(&self.ref_lengths);
         if !all_ok {
             let l = self
                 .ref_lengths
@@ -126,6 +123,28 @@ impl LineParams {
         self.k.validate("K", false).map_err(LineError::Field)?;
         Ok(total)
     }
+}
+
+/// `Σ v` and whether every entry is finite and positive, in one branch-free pass. The sum runs
+/// in eight interleaved partial sums combined pairwise (a single running sum is one 4-cycle
+/// addition per cell in sequence: at N = 10⁴ that was ≈ 5 % of a 100-segment continuum solve).
+fn sum_and_check(v: &[f64]) -> (f64, bool) {
+    const LANES: usize = 8;
+    let mut part = [0.0; LANES];
+    let mut all_ok = true;
+    let mut chunks = v.chunks_exact(LANES);
+    for chunk in &mut chunks {
+        for (p, &l) in part.iter_mut().zip(chunk) {
+            *p += l;
+            all_ok &= l > 0.0 && l.is_finite();
+        }
+    }
+    for (p, &l) in part.iter_mut().zip(chunks.remainder()) {
+        *p += l;
+        all_ok &= l > 0.0 && l.is_finite();
+    }
+    let [a, b, c, d, e, f, g, h] = part;
+    (((a + b) + (c + d)) + ((e + f) + (g + h)), all_ok)
 }
 
 /// Builds a line of `lengths.len()` cells with drag scaled by `drag_scale` per boundary.
@@ -263,6 +282,25 @@ mod tests {
             for e in [discrete(law, &p).err(), continuum(law, &p, 3).err()] {
                 let msg = e.expect("rejected").to_string();
                 assert!(msg.contains("ref_lengths"), "{bad}: {msg}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_lane_sum_is_the_sum_and_finds_any_bad_length() {
+        // every remainder length; non-uniform lengths, so the summation order shows
+        for n in [1, 7, 8, 9, 1003] {
+            let v: Vec<f64> = (0..n)
+                .map(|i| 0.5 + (0.37 * i as f64).sin().abs())
+                .collect();
+            let sequential: f64 = v.iter().sum();
+            let (sum, ok) = sum_and_check(&v);
+            assert!(ok);
+            assert!((sum - sequential).abs() <= 1e-14 * sequential, "n={n}");
+            for i in [0, n / 2, n - 1] {
+                let mut w = v.clone();
+                w[i] = -w[i];
+                assert!(!sum_and_check(&w).1, "n={n} i={i}");
             }
         }
     }

@@ -393,6 +393,7 @@ struct Weights<'a> {
 }
 
 /// Up to `NC` history vectors with their coefficients (see `Bdf::items`).
+#[derive(Clone, Copy)]
 struct Items<'s> {
     list: [(&'s [f64], f64, f64); NC],
     len: usize,
@@ -566,10 +567,10 @@ impl Bdf {
         yp: &mut [f64],
         weights: Option<Weights<'_>>,
     ) {
-        let z: Vec<f64> = self.times.iter().take(m).copied().collect();
+        let (z, len) = self.nodes(m);
         let mut p = [0.0; NC];
         let mut dp = [0.0; NC];
-        interp_coeffs(&z, t, &mut p, &mut dp);
+        interp_coeffs(&z[..len], t, &mut p, &mut dp);
         let items = self.items(&p, &dp, m);
         let items = items.as_slice();
         let y0 = &self.vals[0][..];
@@ -635,20 +636,34 @@ impl Bdf {
         (err, dn * scale)
     }
 
-    /// The coefficients of `predictor_m(t_new)` over the history, for each order in `orders`.
+    /// The first `m` history times (at most the stored ones), on the stack, and their count.
+    fn nodes(&self, m: usize) -> ([f64; NC], usize) {
+        let mut z = [0.0; NC];
+        let mut len = 0;
+        for (zi, &t) in z.iter_mut().zip(self.times.iter().take(m)) {
+            *zi = t;
+            len += 1;
+        }
+        (z, len)
+    }
+
+    /// The coefficients of `predictor_m(t_new)` over the history, for each order in `orders`
+    /// (built in place: this runs every step, and at a few hundred unknowns a step is a few
+    /// microseconds).
     fn order_items<'s>(&'s self, orders: &[usize], t_new: f64) -> [Items<'s>; MAX_NORMS] {
         assert!(orders.len() <= MAX_NORMS, "at most {MAX_NORMS} orders");
         let zero = [0.0; NC];
-        std::array::from_fn(|i| {
-            let mut c = [0.0; NC];
-            let Some(&m) = orders.get(i) else {
-                return self.items(&c, &zero, 0);
-            };
-            let z: Vec<f64> = self.times.iter().take(m + 1).copied().collect();
-            let mut dp = [0.0; NC];
-            interp_coeffs(&z, t_new, &mut c, &mut dp);
-            self.items(&c, &zero, m + 1)
-        })
+        let mut out = [Items {
+            list: [(&[][..], 0.0, 0.0); NC],
+            len: 0,
+        }; MAX_NORMS];
+        for (o, &m) in out.iter_mut().zip(orders) {
+            let (z, len) = self.nodes(m + 1);
+            let (mut c, mut dp) = ([0.0; NC], [0.0; NC]);
+            interp_coeffs(&z[..len], t_new, &mut c, &mut dp);
+            *o = self.items(&c, &zero, m + 1);
+        }
+        out
     }
 
     /// In one block-wise sweep over the state, for each order `m` in `orders`, the error-weight
