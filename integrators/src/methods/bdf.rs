@@ -305,10 +305,15 @@ fn norm_blocks(
 
 /// Index of the largest `|v_i w_i|`.
 fn worst(v: &[f64], w: &[f64]) -> Option<usize> {
+    worst_of(v.iter().zip(w).map(|(a, b)| a * b))
+}
+
+/// Index of the largest `|x_i|`, or of the first NaN.
+fn worst_of(xs: impl Iterator<Item = f64>) -> Option<usize> {
     let mut best = None;
     let mut bv = -1.0;
-    for (i, (a, b)) in v.iter().zip(w).enumerate() {
-        let x = (a * b).abs();
+    for (i, x) in xs.enumerate() {
+        let x = x.abs();
         if x > bv || x.is_nan() {
             bv = x;
             best = Some(i);
@@ -710,21 +715,15 @@ impl Bdf {
     /// failure report of a step that failed its error test).
     fn worst_error(&self, k: usize, t_new: f64) -> Option<usize> {
         let items = self.order_items(&[k], t_new);
-        let ewt = self.ewt();
-        let mut best = None;
-        let mut bv = -1.0;
-        for (i, (y, w)) in self.ycur.iter().zip(ewt).enumerate() {
-            let p: f64 = items[0].as_slice().iter().map(|&(v, c, _)| c * v[i]).sum();
-            let x = ((y - p) * w).abs();
-            if x > bv || x.is_nan() {
-                bv = x;
-                best = Some(i);
-                if x.is_nan() {
-                    break;
-                }
-            }
-        }
-        best
+        let pred =
+            |i: usize| -> f64 { items[0].as_slice().iter().map(|&(v, c, _)| c * v[i]).sum() };
+        worst_of(
+            self.ycur
+                .iter()
+                .zip(self.ewt())
+                .enumerate()
+                .map(|(i, (y, w))| (y - pred(i)) * w),
+        )
     }
 
     /// The per-step working vectors, from the system's spares (every entry of these is
