@@ -37,6 +37,9 @@ fn run(smooth: bool) -> (Stats, Vec<f64>, usize, f64) {
 fn smooth_restart_avoids_rejections_after_divisions() {
     let (fast, t_fast, n_fast, l_fast) = run(true);
     let (slow, t_slow, n_slow, l_slow) = run(false);
+    // the dividing line writes its own Jacobian (the line's), never the coloured AD one
+    assert_eq!((fast.directional_calls, slow.directional_calls), (0, 0));
+    assert!(fast.jacobian_evals > 0);
     let per = |s: &Stats, n: usize| {
         (
             s.steps as f64 / n as f64,
