@@ -21,8 +21,9 @@ use crate::problem::{EventAction, JacobianSink, Problem, ResidualError};
 /// field: `forward_problem!(field: method, method, …)`. Each name is one of `dim`, `pattern`,
 /// `residual`, `atol`, `algebraic`, `num_events`, `events`, `handle_event`,
 /// `restart_derivative`, `set_threads`, with [`Problem`]'s signature; `residual<S: Bound>` writes instead a
-/// residual generic over a scalar `S` taking `&self` (the shape of celltissue's `CellArray`,
-/// whose other methods share [`Problem`]'s signatures). The field may be a tuple index (`0`).
+/// residual generic over a scalar `S` taking `&self`, and `jacobian(&self)` a Jacobian taking
+/// `&self` (the shapes of celltissue's `CellArray`, whose other methods share [`Problem`]'s
+/// signatures). The field may be a tuple index (`0`).
 ///
 /// A wrapper writes by hand only what it changes, and lists the rest:
 ///
@@ -59,6 +60,19 @@ macro_rules! forward_problem {
             r: &mut [$s],
         ) -> Result<(), $crate::ResidualError> {
             self.$f.residual(t, y, yp, r)
+        }
+        $crate::forward_problem!(@list $f; $($($rest)*)?);
+    };
+    (@list $f:tt; jacobian(&self) $(, $($rest:tt)*)?) => {
+        fn jacobian(
+            &self,
+            t: f64,
+            y: &[f64],
+            yp: &[f64],
+            c: f64,
+            jac: &mut $crate::JacobianSink,
+        ) -> Result<bool, $crate::ResidualError> {
+            self.$f.jacobian(t, y, yp, c, jac)
         }
         $crate::forward_problem!(@list $f; $($($rest)*)?);
     };

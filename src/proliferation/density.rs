@@ -116,19 +116,9 @@ impl<E: StrainEnergy> DensityContinuum<E> {
 }
 
 impl<E: StrainEnergy> CellArray for DensityContinuum<E> {
-    integrators::forward_problem!(line: dim, pattern, residual<S: Scalar>, atol, algebraic,
-        set_threads);
-    /// The line's own banded Jacobian (the residual is the line's).
-    fn jacobian(
-        &self,
-        t: f64,
-        y: &[f64],
-        yp: &[f64],
-        c: f64,
-        jac: &mut integrators::JacobianSink,
-    ) -> Result<bool, ResidualError> {
-        self.line.jacobian(t, y, yp, c, jac)
-    }
+    // (the residual is the line's, so is its Jacobian: the line writes it itself)
+    integrators::forward_problem!(line: dim, pattern, residual<S: Scalar>, jacobian(&self), atol,
+        algebraic, set_threads);
     fn num_events(&self) -> usize {
         self.line.n_cells()
     }
