@@ -74,10 +74,10 @@ impl Lcg {
 fn random_state<E: StrainEnergy>(line: &Line<E>, seed: u64) -> (Vec<f64>, Vec<f64>) {
     let mut rng = Lcg(seed);
     let mut y = line.initial_state();
-    let lay = &line.layout;
+    let lay = line.layout();
     for (j, &k) in lay.xi.iter().enumerate() {
         if k != celltissue::line::array::NONE {
-            let h = line.cells.l0[j.min(line.n_cells() - 1)];
+            let h = line.cells().l0[j.min(line.n_cells() - 1)];
             y[k] += 0.15 * h * rng.next();
         }
     }
@@ -245,7 +245,7 @@ fn a_ring_falls_back_to_the_coloured_jacobian() {
 fn own_jacobian_rejects_a_collapsed_cell_like_the_residual() {
     let line = discrete(law(), &base(6)).unwrap();
     let (mut y, yp) = random_state(&line, 5);
-    y[line.layout.xi[3]] = y[line.layout.xi[2]] - 0.1;
+    y[line.layout().xi[3]] = y[line.layout().xi[2]] - 0.1;
     let mut r = vec![0.0; y.len()];
     let res = line.residual(0.0, &y, &yp, &mut r).unwrap_err();
     let mut jac = Matrix::zeros(line.dim(), &line.pattern());

@@ -103,7 +103,7 @@ fn random_heterogeneous_mu_static_newton_and_bracket_agree() {
     let line = discrete(nh(), &params(mu, Sampling::Centres)).unwrap();
     let s = static_equilibrium(&line, 90.0).unwrap();
     for j in 0..100 {
-        let sig = line.cells.mu[j] * (s.lambda[j].powi(2) - s.lambda[j].powi(-2));
+        let sig = line.cells().mu[j] * (s.lambda[j].powi(2) - s.lambda[j].powi(-2));
         assert!((sig - s.stress).abs() < 1e-12, "cell {} σ = {sig}", j + 1);
     }
     let y = static_newton(&line, 0.0, None, 1e-13).unwrap();

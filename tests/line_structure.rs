@@ -173,7 +173,7 @@ fn forms_b_and_c_agree_for_uniform_kappa() {
     lb.residual(0.0, &y, &yp, &mut rb).unwrap();
     lc.residual(0.0, &y, &yp, &mut rc).unwrap();
     // x-rows: R_C(cell j) = R_B(j−1) + R_B(j) with K uniform, κ = 1
-    let xi = &lb.layout.xi;
+    let xi = &lb.layout().xi;
     for j in 1..=10 {
         let expect = rb[xi[j]] + if j >= 2 { rb[xi[j - 1]] } else { 0.0 };
         assert!((rc[xi[j]] - expect).abs() < 1e-12, "cell {j}");

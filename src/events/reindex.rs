@@ -52,7 +52,7 @@ impl<E: StrainEnergy> Line<E> {
     /// assert_eq!(line.n_cells(), 4);
     /// assert_eq!(s.x_new, 1.5);
     /// assert_eq!(y, vec![1.0, 1.0, 1.0, 1.5, 1.0, 2.0, 1.0, 3.0]);
-    /// assert_eq!(line.cells.l0, vec![1.0, 1.0, 1.0, 1.0]);
+    /// assert_eq!(line.cells().l0, vec![1.0, 1.0, 1.0, 1.0]);
     /// ```
     pub fn split_cell(&mut self, j: usize, t: f64, y: &mut Vec<f64>) -> Result<Split, EventError> {
         let n = self.n_cells();

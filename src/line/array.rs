@@ -9,7 +9,9 @@
 //! nothing and costs O(N). Lines of at least [`PAR_MIN_CELLS`] cells sweep the two halves on two
 //! threads when the solver passes `threads ≥ 2`, with the same result. Without growth the
 //! layout is read as "boundary `j` is unknown `j − 1`", and per-cell fields that are uniform
-//! (detected by [`Line::rebuild_layout`] / [`Line::refresh_uniform_fields`]) are not streamed.
+//! (detected by [`Line::rebuild_layout`] / [`Line::refresh_uniform_fields`]) are not streamed;
+//! the fields are changed from outside the crate only through [`Line::edit_fields`], which
+//! refreshes that detection, so it cannot go stale.
 //!
 //! A non-periodic line also provides its own iteration matrix ([`Line::jacobian_into`]): one
 //! streaming sweep that differentiates the residual's own cell and row expressions locally in
@@ -19,6 +21,7 @@ use crate::array::CellArray;
 use crate::boundary::RightEnd;
 use crate::cell::{Active, GrowthLaw};
 use crate::energy::StrainEnergy;
+use crate::line::LineError;
 use crate::scalar::Scalar;
 use crate::substrate::{drag_factor, DragForm, WidthRule};
 use integrators::{JacobianSink, Pattern, ResidualError, SparsityPattern};
@@ -66,6 +69,28 @@ impl Cells {
     }
 }
 
+/// Mutable views of a [`Line`]'s per-cell fields and face drag, handed out by
+/// [`Line::edit_fields`]: slices, so values can change but not the number of cells.
+#[derive(Debug)]
+pub struct FieldsMut<'a> {
+    /// Reference lengths `L₀,j`.
+    pub l0: &'a mut [f64],
+    /// Reference centres `X_{j−1/2}`.
+    pub x_ref: &'a mut [f64],
+    /// Energy scale factors `μ_j`.
+    pub mu: &'a mut [f64],
+    /// Viscosities `η_j`.
+    pub eta: &'a mut [f64],
+    /// Cell drag coefficients (cell-centre form).
+    pub k_cell: &'a mut [f64],
+    /// Active-stress amplitudes.
+    pub active_amp: &'a mut [f64],
+    /// Active-stress phases.
+    pub phase: &'a mut [f64],
+    /// Face drag `K_j`, `j = 0..=N`.
+    pub k_face: &'a mut [f64],
+}
+
 /// Where each cell's `g` and each boundary's `x` live in the unknown vector (`NONE` if not an
 /// unknown). Rebuilt by [`Line::rebuild_layout`] after any change in the number of cells.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -81,7 +106,8 @@ pub struct Layout {
 /// The per-cell fields (and the face drag) that hold one value, bit for bit, for every cell:
 /// the residual uses the value instead of streaming the vector (8 bytes per cell and field).
 /// Detected by [`Line::rebuild_layout`], so every change to [`Cells`] or `k_face` must be
-/// followed by it (the builders and cell division do so).
+/// followed by it: the fields are private to the crate (whose builders, cell division and
+/// density continuum do so) and the public [`Line::edit_fields`] does it itself.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct UniformFields {
     /// `1/L₀` when `L₀` is uniform.
@@ -278,13 +304,14 @@ impl LocalCell {
 pub struct Line<E: StrainEnergy> {
     /// The strain energy (scaled per cell by [`Cells::mu`]).
     pub energy: E,
-    /// Per-cell data. After changing it (or [`k_face`](Line::k_face), the right end or the
-    /// growth law) call [`Line::rebuild_layout`], which also re-detects the fields shared by
-    /// every cell that the residual then does not stream.
-    pub cells: Cells,
-    /// Drag per boundary `K_j` (`j = 0..=N`), already multiplied by `h/L̄` on a continuum grid.
-    /// Call [`Line::rebuild_layout`] after changing it.
-    pub k_face: Vec<f64>,
+    /// Per-cell data (read it with [`Line::cells`], change it with [`Line::edit_fields`]).
+    /// Private to the crate: the residual caches which of its fields are uniform, so every
+    /// change must be followed by [`Line::rebuild_layout`] (the builders, cell division and
+    /// the density continuum do so).
+    pub(crate) cells: Cells,
+    /// Drag per boundary `K_j` (`j = 0..=N`), already multiplied by `h/L̄` on a continuum grid
+    /// (read it with [`Line::k_face`]; same rule as `cells`).
+    pub(crate) k_face: Vec<f64>,
     /// Drag-area exponent `m`.
     pub m: f64,
     /// Lateral growth stretch `g₂`.
@@ -295,18 +322,20 @@ pub struct Line<E: StrainEnergy> {
     pub width: WidthRule,
     /// Drag form.
     pub form: DragForm,
-    /// Right-end condition.
-    pub right: RightEnd,
+    /// Right-end condition (read it with [`Line::right`]; the layout depends on it).
+    pub(crate) right: RightEnd,
     /// Active stress, if any.
     pub active: Option<Active>,
-    /// Growth law, if growing (then `g` is in the state).
-    pub growth: Option<Arc<dyn GrowthLaw>>,
-    /// Reference length `l₀ = Σ L₀,j` (ring period).
-    pub l0_total: f64,
+    /// Growth law, if growing (then `g` is in the state; read it with [`Line::growth`]; the
+    /// layout depends on it).
+    pub(crate) growth: Option<Arc<dyn GrowthLaw>>,
+    /// Reference length `l₀ = Σ L₀,j` (ring period; read it with [`Line::l0_total`]).
+    pub(crate) l0_total: f64,
     /// Absolute tolerance in cell units (positions: times the local reference cell length).
     pub atol_cell: f64,
-    /// Unknown layout.
-    pub layout: Layout,
+    /// Unknown layout (read it with [`Line::layout`]; derived from `cells`, `right` and
+    /// `growth` by [`Line::rebuild_layout`]).
+    pub(crate) layout: Layout,
     /// The per-cell fields that hold one value for every cell (detected by
     /// [`Line::rebuild_layout`]).
     pub(crate) uniform: UniformFields,
@@ -324,6 +353,97 @@ impl<E: StrainEnergy> Line<E> {
     /// Whether `g` is part of the state.
     pub fn is_growing(&self) -> bool {
         self.growth.is_some()
+    }
+
+    /// The per-cell data (read-only: change it with [`Line::edit_fields`]).
+    pub fn cells(&self) -> &Cells {
+        &self.cells
+    }
+
+    /// The drag per boundary `K_j`, `j = 0..=N` (read-only: change it with
+    /// [`Line::edit_fields`]).
+    pub fn k_face(&self) -> &[f64] {
+        &self.k_face
+    }
+
+    /// Where each `g_j` and `x_j` live in the unknown vector.
+    pub fn layout(&self) -> &Layout {
+        &self.layout
+    }
+
+    /// The right-end condition.
+    pub fn right(&self) -> &RightEnd {
+        &self.right
+    }
+
+    /// The growth law, if growing.
+    pub fn growth(&self) -> Option<&Arc<dyn GrowthLaw>> {
+        self.growth.as_ref()
+    }
+
+    /// Reference length `l₀ = Σ L₀,j` (the ring period).
+    pub fn l0_total(&self) -> f64 {
+        self.l0_total
+    }
+
+    /// Changes per-cell fields and the face drag in place, then checks them and re-derives
+    /// what the residual caches from them (which fields are uniform, `l₀ = Σ L₀,j`): the only
+    /// public way to change them, so the residual can never read a stale cache. The number
+    /// of cells cannot change here (division does that).
+    ///
+    /// # Errors
+    /// [`LineError::Invalid`] naming the field and cell if a value is out of range (`L₀`
+    /// finite and > 0, `μ` finite and > 0, `η` and `K` finite and ≥ 0, the others finite);
+    /// the line is then left unchanged.
+    ///
+    /// ```
+    /// use celltissue::line::build::{LineParams, discrete};
+    /// use celltissue::NeoHookean;
+    /// let mut line = discrete(NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(4)).unwrap();
+    /// line.edit_fields(|f| f.mu[2] = 3.0).unwrap();
+    /// assert_eq!(line.cells().mu, vec![1.0, 1.0, 3.0, 1.0]);
+    /// assert!(line.edit_fields(|f| f.eta[0] = -1.0).is_err());
+    /// ```
+    pub fn edit_fields(&mut self, f: impl FnOnce(FieldsMut<'_>)) -> Result<(), LineError> {
+        let mut cells = self.cells.clone();
+        let mut k_face = self.k_face.clone();
+        f(FieldsMut {
+            l0: &mut cells.l0,
+            x_ref: &mut cells.x_ref,
+            mu: &mut cells.mu,
+            eta: &mut cells.eta,
+            k_cell: &mut cells.k_cell,
+            active_amp: &mut cells.active_amp,
+            phase: &mut cells.phase,
+            k_face: &mut k_face,
+        });
+        let checks: [(&str, &[f64], f64, bool, &str); 8] = [
+            ("L0", &cells.l0, 0.0, false, "finite and > 0"),
+            ("mu", &cells.mu, 0.0, false, "finite and > 0"),
+            ("eta", &cells.eta, 0.0, true, "finite and >= 0"),
+            ("K (cell)", &cells.k_cell, 0.0, true, "finite and >= 0"),
+            ("K (face)", &k_face, 0.0, true, "finite and >= 0"),
+            ("x_ref", &cells.x_ref, f64::NEG_INFINITY, true, "finite"),
+            (
+                "active_amp",
+                &cells.active_amp,
+                f64::NEG_INFINITY,
+                true,
+                "finite",
+            ),
+            ("phase", &cells.phase, f64::NEG_INFINITY, true, "finite"),
+        ];
+        for (key, v, low, closed, range) in checks {
+            let ok = |x: f64| x.is_finite() && (x > low || (closed && x == low));
+            if let Some((i, &x)) = v.iter().enumerate().find(|(_, &x)| !ok(x)) {
+                return Err(LineError::invalid(&format!("{key}[{i}]"), x, range));
+            }
+        }
+        self.l0_total = cells.l0.iter().sum();
+        self.cells = cells;
+        self.k_face = k_face;
+        self.refresh_uniform_fields();
+        Ok(())
     }
 
     /// Re-detects which per-cell fields (`L₀`, `μ`, `η`) and the face drag `K_j` hold one

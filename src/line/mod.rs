@@ -22,7 +22,7 @@ pub mod run;
 pub mod static_solve;
 pub mod thesis_scheme;
 
-pub use array::{CellEval, Cells, Layout, Line};
+pub use array::{CellEval, Cells, FieldsMut, Layout, Line};
 pub use build::{continuum, discrete, LineParams};
 pub use config::LineConfig;
 pub use run::{run_line, OutputTimes, SolveSettings};
