@@ -1,6 +1,7 @@
 //! Table 2.1 (MODEL.md §5.3): the thesis's finite-difference scheme (§3.3b) with K = 1, η = 0,
 //! exponential ramp, l₀ = 100: end pressure p at the last node at t = 1 (the caption's t = 10
-//! is a typo) against Ref for n = 10..2000, rtol 2e-3, and second-order convergence. Also the
+//! is a typo) against Ref for n = 10..2000 to every quoted digit (measured: ≤ 3.1e-6 relative,
+//! which is the rounding of the 4-decimal Ref), and second-order convergence. Also the
 //! discrete N = 100 line at t = 1 (Ref p_N = 13.4257, min λ = 0.2729), and the end pressure at
 //! t = 10 (Ref 3.2335 for K = 1, 8.0017 for K = 10; continuum values).
 
@@ -40,25 +41,29 @@ fn thesis_scheme_reproduces_table_2_1() {
         (1000, 13.9167),
         (2000, 13.9156),
     ];
-    let mut errs = Vec::new();
+    let mut ps = Vec::new();
+    let mut worst: f64 = 0.0;
     for &(n, r) in &table {
         let (p, _) = end_pressure(ModelKind::Continuum, Some(n));
         let rel = (p - r).abs() / r;
-        println!("n = {n}: p = {p:.5} Ref {r} rel {rel:.2e}");
-        assert!(rel < 2e-3, "n = {n}: p = {p} vs Ref {r}");
-        errs.push((n, p));
+        worst = worst.max(rel);
+        println!("n = {n}: p = {p:.6} Ref {r} rel {rel:.2e}");
+        // the Ref is quoted to 4 decimals: p must round to it (half a unit in the last place,
+        // plus the rtol 1e-9 run's own error); measured: every n, ≤ 3.1e-6 relative
+        assert!(
+            (p - r).abs() <= 0.5e-4 + 1e-7,
+            "n = {n}: p = {p} vs Ref {r}"
+        );
+        assert!(rel < 3.5e-6, "n = {n}: p = {p} vs Ref {r}");
+        ps.push(p);
     }
-    // second order: successive differences to the n = 2000 value fall ~ 4× per doubling
-    let pinf = errs.last().unwrap().1;
-    let e100 = (errs[2].1 - pinf).abs();
-    let e200 = (errs[3].1 - pinf).abs();
-    let e500 = (errs[4].1 - pinf).abs();
-    let order = (e100 / e500).ln() / (5.0f64).ln();
-    println!(
-        "observed order (100→500 vs 2000): {order:.2}, e100/e200 = {:.2}",
-        e100 / e200
-    );
-    assert!(order > 1.7 && order < 2.6, "order {order}");
+    println!("largest relative deviation from Ref: {worst:.2e}");
+    // second order, from three successive refinements without a limit value:
+    // (p₅₀₀ − p₁₀₀₀)/(p₁₀₀₀ − p₂₀₀₀) = 2^q (measured q = 2.02)
+    let q = ((ps[4] - ps[5]) / (ps[5] - ps[6])).log2();
+    let q_coarse = ((ps[1] - ps[2]) / (ps[2] - ps[3])).log2();
+    println!("observed order: {q:.3} (n = 500/1000/2000), {q_coarse:.3} (n = 50/100/200)");
+    assert!((q - 2.0).abs() < 0.05, "order {q}");
 }
 
 #[test]
