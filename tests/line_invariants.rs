@@ -1,13 +1,17 @@
-//! Invariants of every line run (issue #3): Σ cell lengths = l(t), cells stay ordered (all
-//! stretches positive), no NaN — for heterogeneous viscous lines, discrete and continuum, and
-//! with a free end and growth.
+//! Invariants of line runs (issue #3) that the solver must achieve, none of them built into
+//! the output: cells stay ordered (all stretches positive), no NaN, `g ≥ 1` — for
+//! heterogeneous viscous lines, discrete and continuum, and with a free end and growth; and
+//! two laws of the model without drag (K = 0), where every boundary's force balance reads
+//! `W_{j+½}(σ_{j+1} − σ_j) = 0`: the full stress (elastic + viscous) is one value along the
+//! line at every instant, whatever the heterogeneity, and with a free end that value is 0, so
+//! every cell grows unstressed, `λ_j = g_j = 1 + t/2` exactly (MODEL.md §2.7).
 
 use celltissue::cell::{Field, TanhGrowth};
 use celltissue::line::config::RightEndKind;
 use celltissue::line::{run_line, LineConfig, OutputTimes, SolveSettings};
 use celltissue::observe::{ModelKind, RunRecord};
 
-fn check(rec: &RunRecord, prescribed: bool) {
+fn check(rec: &RunRecord) {
     assert!(rec.error.is_none(), "{:?}", rec.error);
     for v in [
         &rec.series.length,
@@ -19,28 +23,13 @@ fn check(rec: &RunRecord, prescribed: bool) {
         assert!(v.iter().all(|x| x.is_finite()));
     }
     assert!(rec.series.min_stretch.iter().all(|&a| a > 0.0));
-    for (k, &t) in rec.series.t.iter().enumerate() {
-        if prescribed {
-            let l = 50.0 * (0.9 + 0.1 * (-t).exp());
-            assert!((rec.series.length[k] - l).abs() < 1e-10 * l, "t = {t}");
-        }
-    }
     for p in &rec.profiles {
         assert!(
             p.x.windows(2).all(|w| w[1] > w[0]),
             "centres out of order at t = {}",
             p.t
         );
-        // Σ L₀ λ = l: with unit-length reference cells of the model, lengths add up
-        let lambda = &p.extra["lambda"];
-        let h = 50.0 / lambda.len() as f64;
         let g = p.extra.get("g");
-        let sum: f64 = lambda.iter().map(|l| l * h).sum();
-        let k = rec.series.t.iter().position(|&t| t == p.t).unwrap();
-        assert!(
-            (sum - rec.series.length[k]).abs() < 1e-9 * sum,
-            "Σλh = {sum}"
-        );
         if let Some(g) = g {
             assert!(g.iter().all(|&v| v >= 1.0));
         }
@@ -71,14 +60,14 @@ fn times() -> OutputTimes {
 #[test]
 fn heterogeneous_viscous_discrete_and_continuum() {
     let s = SolveSettings::default();
-    check(
-        &run_line(&cfg(), ModelKind::Discrete, None, &s, &times()),
-        true,
-    );
-    check(
-        &run_line(&cfg(), ModelKind::Continuum, Some(200), &s, &times()),
-        true,
-    );
+    check(&run_line(&cfg(), ModelKind::Discrete, None, &s, &times()));
+    check(&run_line(
+        &cfg(),
+        ModelKind::Continuum,
+        Some(200),
+        &s,
+        &times(),
+    ));
 }
 
 #[test]
@@ -89,16 +78,113 @@ fn free_end_growth() {
         m: 1.0,
         ..cfg()
     };
-    check(
-        &run_line(
-            &c,
-            ModelKind::Discrete,
-            None,
-            &SolveSettings::default(),
-            &times(),
-        ),
-        false,
-    );
+    check(&run_line(
+        &c,
+        ModelKind::Discrete,
+        None,
+        &SolveSettings::default(),
+        &times(),
+    ));
+}
+
+/// Tight tolerances for the K = 0 laws.
+fn tight() -> SolveSettings {
+    SolveSettings {
+        rtol: 1e-8,
+        atol: 1e-10,
+        ..Default::default()
+    }
+}
+
+/// Largest relative spread of σ over the cells, over the profiles (λ spread alongside).
+fn stress_spread(rec: &RunRecord) -> f64 {
+    let mut worst: f64 = 0.0;
+    for p in &rec.profiles {
+        let sigma = &p.extra["sigma"];
+        let (lo, hi) = sigma
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &s| {
+                (a.min(s), b.max(s))
+            });
+        let lam = &p.extra["lambda"];
+        let spread = lam.iter().copied().fold(0.0, f64::max)
+            - lam.iter().copied().fold(f64::INFINITY, f64::min);
+        if p.t > 0.0 {
+            assert!(spread > 5e-2, "the check needs a heterogeneous profile");
+        }
+        worst = worst.max((hi - lo) / hi.abs());
+    }
+    worst
+}
+
+/// K = 0, heterogeneous μ and η (0..2), prescribed exponential ramp: σ_j is one value along
+/// the line at every profile time (both models), although λ_j varies by 6–8 % between
+/// cells. The profiles are dense-output values between steps, where the constraint holds
+/// only to the integrator's accuracy (σ holds η·α̇, and α̇ comes from the interpolant's
+/// derivative), so the spread must fall with the tolerance. Measured relative spread at rtol
+/// 1e-6 / 1e-8 / 1e-10: discrete 1.9e-4 / 7.5e-7 / 2.0e-8, continuum (n = 200) 6.1e-4 /
+/// 3.8e-6 / 1.1e-7 — far above rtol at rtol 1e-6 (σ is not under the stretch/pressure
+/// accuracy contract).
+#[test]
+fn without_drag_the_stress_is_uniform() {
+    let c = LineConfig {
+        k: 0.0.into(),
+        ..cfg()
+    };
+    for (model, nodes) in [
+        (ModelKind::Discrete, None),
+        (ModelKind::Continuum, Some(200)),
+    ] {
+        let mut spreads = Vec::new();
+        for rtol in [1e-6, 1e-8, 1e-10] {
+            let s = SolveSettings {
+                rtol,
+                atol: 1e-2 * rtol,
+                ..Default::default()
+            };
+            let rec = run_line(&c, model, nodes, &s, &times());
+            check(&rec);
+            spreads.push(stress_spread(&rec));
+        }
+        println!("{model:?}: relative σ spread at rtol 1e-6, 1e-8, 1e-10: {spreads:?}");
+        // it falls at least 10× per 100× in rtol, towards 0 (a model that did not balance
+        // σ would leave a spread that no tolerance removes)
+        assert!(
+            spreads[1] < 0.1 * spreads[0] && spreads[2] < 0.1 * spreads[1],
+            "{spreads:?}"
+        );
+        assert!(spreads[2] < 1e-6, "{spreads:?}");
+    }
+}
+
+/// K = 0, free end, growth, heterogeneous μ and η: σ ≡ 0, so every cell grows at ½ and stays
+/// at its resting shape: λ_j = g_j = 1 + t/2 and l = 50 (1 + t/2) exactly.
+#[test]
+fn without_drag_a_free_growing_line_grows_unstressed() {
+    let c = LineConfig {
+        k: 0.0.into(),
+        right_end: RightEndKind::Free,
+        growth: Some(TanhGrowth::default()),
+        ..cfg()
+    };
+    let rec = run_line(&c, ModelKind::Discrete, None, &tight(), &times());
+    check(&rec);
+    for (k, &t) in rec.series.t.iter().enumerate() {
+        let l = 50.0 * (1.0 + t / 2.0);
+        assert!((rec.series.length[k] / l - 1.0).abs() < 1e-8, "t = {t}");
+    }
+    for p in &rec.profiles {
+        let exact = 1.0 + p.t / 2.0;
+        for key in ["lambda", "g"] {
+            let err = p.extra[key]
+                .iter()
+                .map(|v| (v / exact - 1.0).abs())
+                .fold(0.0, f64::max);
+            println!("t = {}: max |{key}/(1 + t/2) − 1| = {err:.2e}", p.t);
+            assert!(err < 1e-8, "t = {}: {key}", p.t);
+        }
+        assert!(p.extra["sigma"].iter().all(|s| s.abs() < 1e-8));
+    }
 }
 
 #[test]
