@@ -107,13 +107,20 @@ fn large_drag_rim() {
 
 /// Long-run drift at fixed `n` (module docs of `celltissue::proliferation`, "Where it fails"
 /// 1): K = 1e-5, out to t = 18, where the density has grown ~10× and a segment of n = 200 holds
-/// ~5 cells that divide at once. The continuum lags the discrete `N(t)`, `l(t)` and the lag
-/// grows with time (a drift, not an offset); refining to n = 400 reduces it (first order).
+/// ~5 cells that divide at once. At fixed n the continuum lags the discrete `l(t)` and the lag
+/// grows with time (a drift, not an offset). What is checked is what can fail without
+/// pinning the scheme's own numbers: (1) the drift grows over t = 10, 14, 18 for every n;
+/// (2) the continuum converges as n grows, at an order near the first order the docs claim,
+/// measured from the three grids alone (q = log₂((l₁₀₀ − l₂₀₀)/(l₂₀₀ − l₄₀₀)), no limit
+/// value assumed); (3) at t = 10, where q is asymptotic, the first-order Richardson limit
+/// 2l₄₀₀ − l₂₀₀ agrees with the discrete line to 0.5 %.
 ///
-/// Measured (BDF rtol 1e-8), relative error of the continuum at t = 6 / 10 / 14 / 18:
-/// n = 200: `l` −6.4e-4 / −6.7e-3 / −2.26e-2 / −5.07e-2, `N` 0 / −5.5e-3 / −2.0e-2 / −5.87e-2
-/// (N 914 vs 971, l 1313.3 vs 1383.4 at t = 18); n = 400: `l` +9.6e-4 / −1.9e-3 / −1.07e-2 /
-/// −3.15e-2, `N` +1.7e-3 / −1.8e-3 / −8.0e-3 / −1.96e-2 (N 952, l 1339.9 at t = 18).
+/// Measured (BDF rtol 1e-8): l at t = 18 for n = 100 / 200 / 400: 1269.5 / 1313.3 / 1339.9
+/// (discrete 1383.4; −8.2e-2 / −5.1e-2 / −3.2e-2); observed order q = 0.94 / 0.69 / 0.72 at
+/// t = 10 / 14 / 18 — pre-asymptotic at late times, where a segment holds several cells
+/// that divide at once. The Richardson limit at t = 10 is 746.76 against the discrete 744.69:
+/// the continuum's own limit is +0.28 % off the N₀ = 100 discrete line (a model difference,
+/// not a discretisation error; at fixed n the grid error, of opposite sign, hides it).
 #[test]
 fn long_run_drift_at_fixed_n() {
     let times = [0.0, 6.0, 10.0, 14.0, 18.0];
@@ -122,46 +129,39 @@ fn long_run_drift_at_fixed_n() {
         ArrayProblem::new(Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap());
     let traj = integrate(&mut prob, &settings(), &times);
     assert!(traj.error.is_none(), "{:?}", traj.error);
-    let d: Vec<(f64, f64)> = traj
-        .snapshots
-        .iter()
-        .map(|s| (s.length(), s.alpha.len() as f64))
-        .collect();
-    let mut at18 = Vec::new();
-    for n in [200, 400] {
+    let d: Vec<f64> = traj.snapshots.iter().map(|s| s.length()).collect();
+    let mut ls = Vec::new();
+    for n in [100, 200, 400] {
         let line = continuum(NeoHookean::new(1.0).unwrap(), &params(1e-5), n).unwrap();
         let mut prob = ArrayProblem::new(DensityContinuum::new(line, 100, 2.0).unwrap());
         let traj = integrate(&mut prob, &settings(), &times);
         assert!(traj.error.is_none(), "{:?}", traj.error);
-        let c: Vec<(f64, f64)> = traj
-            .snapshots
-            .iter()
-            .map(|s| (s.length(), prob.array.cells_at(s.t)))
-            .collect();
-        let mut rel = Vec::new();
-        for (i, t) in times.iter().enumerate() {
-            let (el, en) = (c[i].0 / d[i].0 - 1.0, c[i].1 / d[i].1 - 1.0);
-            println!(
-                "n={n} t={t}: l {:.2} vs {:.2} ({el:+.3e}), N {:.1} vs {} ({en:+.3e})",
-                c[i].0, d[i].0, c[i].1, d[i].1
-            );
-            rel.push((el, en));
-        }
-        // a drift: the lag grows over t = 10, 14, 18 in both l and N
+        let c: Vec<f64> = traj.snapshots.iter().map(|s| s.length()).collect();
+        let rel: Vec<f64> = c.iter().zip(&d).map(|(a, b)| a / b - 1.0).collect();
+        println!("n = {n}: l = {c:.2?}, relative to discrete {rel:.3?}");
+        // (1) a drift: the lag grows over t = 10, 14, 18
         for w in rel[2..].windows(2) {
+            assert!(w[1] < w[0], "n = {n}: lag does not grow: {rel:?}");
+        }
+        ls.push(c);
+    }
+    for (k, &t) in times.iter().enumerate().skip(2) {
+        let (a, b, c) = (ls[0][k], ls[1][k], ls[2][k]);
+        let q = ((a - b) / (b - c)).log2();
+        let extrap = 2.0 * c - b;
+        println!(
+            "t = {t}: observed order {q:.2}; Richardson limit {extrap:.2} (discrete {:.2}, n = 400 {c:.2})",
+            d[k]
+        );
+        // (2) convergent, near first order in h = l₀/n
+        assert!(q > 0.5 && q < 1.5, "t = {t}: order {q}");
+        // (3) the limit is the discrete line's to the model difference
+        if t == 10.0 {
             assert!(
-                w[1].0 < w[0].0 && w[1].1 <= w[0].1,
-                "n={n}: lag does not grow: {rel:?}"
+                (extrap / d[k] - 1.0).abs() < 5e-3,
+                "t = {t}: {extrap} vs {}",
+                d[k]
             );
         }
-        at18.push(rel[4]);
     }
-    println!("t = 18 (n = 200, 400): {at18:?}");
-    // the measured n = 200 lag at t = 18 (±0.5 %), and refinement reducing it
-    let (l200, n200) = at18[0];
-    let (l400, n400) = at18[1];
-    assert!((l200 + 0.0507).abs() < 5e-3, "{at18:?}");
-    assert!((n200 + 0.0587).abs() < 5e-3, "{at18:?}");
-    assert!(l400.abs() < 0.7 * l200.abs(), "{at18:?}");
-    assert!(n400.abs() < 0.5 * n200.abs(), "{at18:?}");
 }
