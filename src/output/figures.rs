@@ -9,6 +9,7 @@
 //!   2.10a–b), colour = time;
 //! * `sweep_pressure.png`, `sweep_stretch.png` — `max p`/`min λ` at each profile time, and the
 //!   peaks and troughs over all series times, against the swept value (Figs 2.5c–d, 2.10c–d);
+//!   `sweep_length.png` — `l` at each profile time against the swept value (Fig 3.1a inset);
 //! * with `plots.position`: `profiles_position[_<value>].png` — `x` against `X` with the
 //!   uniform-strain line `x = (l/l₀)X` dashed (Fig 2.6), and `profiles_deviation[_<value>].png`
 //!   — `x − (l/l₀)X`, which makes a heterogeneous line's departure from it visible;
@@ -96,6 +97,7 @@ pub fn write_figures(
         ),
         ("top_displacement", "x_e,M", "top displacement"),
         ("shear_spread", "max tanθ − min tanθ", "shear spread"),
+        ("mean_shear_angle", "mean θ", "mean shear angle"),
     ];
     for e in extras {
         if summary
@@ -221,16 +223,22 @@ pub fn write_figures(
             .iter()
             .all(|r| r.sweep.as_ref().and_then(|p| p.value).is_some());
         if numeric && groups.len() >= 2 {
-            for (key, ylabel) in [("pressure", "p"), ("stretch", "λ")] {
+            for (key, ylabel) in [("pressure", "p"), ("stretch", "λ"), ("length", "l")] {
                 let chart = Chart {
-                    title: title(&format!("{key} extremes against {name}")),
+                    title: title(&if key == "length" {
+                        format!("length at the profile times against {name}")
+                    } else {
+                        format!("{key} extremes against {name}")
+                    }),
                     x_label: name.clone(),
                     y_label: ylabel.into(),
                     x_axis: axis(scenario.plots.sweep_axis),
                     y_axis: Axis::Linear,
                     curves: {
                         let mut c = sweep_curves(scenario, summary, key);
-                        c.extend(sweep_references(scenario, &groups, key));
+                        if key != "length" {
+                            c.extend(sweep_references(scenario, &groups, key));
+                        }
                         c
                     },
                 };
@@ -349,6 +357,11 @@ fn sweep_curves(scenario: &Scenario, summary: &Summary, key: &str) -> Vec<Curve>
             let pts: Vec<(f64, f64)> = runs
                 .iter()
                 .filter_map(|(v, r)| {
+                    if key == "length" {
+                        // l at the profile time, from the series (Fig 3.1a inset: l(100) vs K)
+                        let k = r.series.t.iter().position(|s| close(*s, t))?;
+                        return Some((*v, *r.series.length.get(k)?));
+                    }
                     let p = r.profiles.iter().find(|p| close(p.t, t))?;
                     let y = if key == "pressure" {
                         p.pressure.iter().copied().fold(f64::NEG_INFINITY, f64::max)
@@ -358,7 +371,11 @@ fn sweep_curves(scenario: &Scenario, summary: &Summary, key: &str) -> Vec<Curve>
                     Some((*v, y))
                 })
                 .collect();
-            let what = if key == "pressure" { "max p" } else { "min λ" };
+            let what = match key {
+                "pressure" => "max p",
+                "length" => "l",
+                _ => "min λ",
+            };
             curves.push(Curve::new(
                 format!("{word} {what} at t={}", format_number(t)),
                 style(model),
@@ -366,6 +383,9 @@ fn sweep_curves(scenario: &Scenario, summary: &Summary, key: &str) -> Vec<Curve>
                 pts,
             ));
             color += 1;
+        }
+        if key == "length" {
+            continue;
         }
         let (hi_key, lo_key) = if key == "pressure" {
             ("max_pressure", "min_pressure")
