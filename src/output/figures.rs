@@ -242,6 +242,19 @@ pub fn write_figures(
                         c
                     },
                 };
+                // a prescribed length is the same for every swept value: no plot
+                let varies = chart.curves.iter().any(|c| {
+                    let (lo, hi) = c
+                        .points
+                        .iter()
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |a, p| {
+                            (a.0.min(p.1), a.1.max(p.1))
+                        });
+                    hi - lo > 1e-9 * hi.abs()
+                });
+                if key == "length" && !varies {
+                    continue;
+                }
                 let file = format!("sweep_{key}.png");
                 emit(file.clone(), plot_chart(&dir.join(&file), &chart));
             }
