@@ -35,6 +35,9 @@ fn residual(line: &Line<NeoHookean>) -> Vec<f64> {
     r
 }
 
+/// One edit of a line's fields.
+type Edit = fn(FieldsMut<'_>);
+
 fn build(p: &LineParams) -> Line<NeoHookean> {
     discrete(NeoHookean::new(1.0).unwrap(), p).unwrap()
 }
@@ -95,7 +98,7 @@ fn editing_mu_eta_l0_and_k_changes_the_residual() {
 fn a_bad_edit_is_rejected_naming_the_field_and_leaves_the_line_unchanged() {
     let mut line = build(&params(4));
     let before = residual(&line);
-    let cases: [(fn(FieldsMut<'_>), &str); 4] = [
+    let cases: [(Edit, &str); 4] = [
         (|f| f.mu[1] = 0.0, "mu[1]"),
         (|f| f.eta[3] = f64::NAN, "eta[3]"),
         (|f| f.l0[0] = -1.0, "L0[0]"),
