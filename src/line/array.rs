@@ -17,7 +17,7 @@
 
 use crate::array::CellArray;
 use crate::boundary::RightEnd;
-use crate::cell::{Active, GrowthLaw};
+use crate::cell::{Active, GrowthLaw, MaxwellBranch, ViscousBranch};
 use crate::energy::StrainEnergy;
 use crate::scalar::Scalar;
 use crate::substrate::{drag_factor, DragForm, WidthRule};
@@ -53,6 +53,9 @@ pub struct Cells {
     pub active_amp: Vec<f64>,
     /// Active-stress phase `t_R,j = 2π X_{j−1/2}/l₀`.
     pub phase: Vec<f64>,
+    /// External pressure `p_e` on the cell's lateral faces (docs/model.md §8.2; 0 = the
+    /// thesis's zero traction).
+    pub p_ext: Vec<f64>,
 }
 
 impl Cells {
@@ -74,6 +77,9 @@ pub struct Layout {
     pub gi: Vec<usize>,
     /// `xi[j]` for boundary `j = 0..=N`.
     pub xi: Vec<usize>,
+    /// `vi[j]` for the viscous stretch `a_v` of cell `j = 1..=N` at index `j − 1` (a Maxwell
+    /// branch, [`Line::maxwell`]).
+    pub vi: Vec<usize>,
     /// Number of unknowns.
     pub dim: usize,
 }
@@ -89,6 +95,7 @@ pub(crate) struct UniformFields {
     mu: Option<f64>,
     eta: Option<f64>,
     k_face: Option<f64>,
+    p_ext: Option<f64>,
 }
 
 impl UniformFields {
@@ -104,6 +111,7 @@ impl UniformFields {
             mu: same(&cells.mu),
             eta: same(&cells.eta),
             k_face: same(k_face),
+            p_ext: same(&cells.p_ext),
         }
     }
 }
@@ -114,6 +122,8 @@ trait Lookup: Copy {
     fn xi(&self, j: usize) -> usize;
     /// Unknown of cell `i + 1`'s growth stretch (or `NONE`).
     fn gi(&self, i: usize) -> usize;
+    /// Unknown of cell `i + 1`'s viscous stretch (or `NONE`).
+    fn vi(&self, i: usize) -> usize;
 }
 
 /// The layout's maps.
@@ -128,6 +138,10 @@ impl Lookup for Indexed<'_> {
     #[inline(always)]
     fn gi(&self, i: usize) -> usize {
         self.0.gi[i]
+    }
+    #[inline(always)]
+    fn vi(&self, i: usize) -> usize {
+        self.0.vi[i]
     }
 }
 
@@ -151,6 +165,10 @@ impl Lookup for Contiguous {
     }
     #[inline(always)]
     fn gi(&self, _i: usize) -> usize {
+        NONE
+    }
+    #[inline(always)]
+    fn vi(&self, _i: usize) -> usize {
         NONE
     }
 }
@@ -301,6 +319,10 @@ pub struct Line<E: StrainEnergy> {
     pub active: Option<Active>,
     /// Growth law, if growing (then `g` is in the state).
     pub growth: Option<Arc<dyn GrowthLaw>>,
+    /// Maxwell branch of every cell, if any (then each cell's viscous stretch `a_v` is in the
+    /// state; docs/viscoelasticity.md). The line's own Jacobian is then not provided: the
+    /// integrators' coloured AD Jacobian is used.
+    pub maxwell: Option<MaxwellBranch>,
     /// Reference length `l₀ = Σ L₀,j` (ring period).
     pub l0_total: f64,
     /// Absolute tolerance in cell units (positions: times the local reference cell length).
@@ -339,11 +361,12 @@ impl<E: StrainEnergy> Line<E> {
     /// inserting or removing cells, or after changing the per-cell fields or `k_face`: it also
     /// re-detects the fields shared by every cell, as [`Line::refresh_uniform_fields`]).
     /// Ordering: ring: `x₀` first; then per cell `g_j` (growth) followed by `x_j` when
-    /// boundary `j` is free.
+    /// boundary `j` is free; a Maxwell branch puts `a_v,j` after `g_j`.
     pub fn rebuild_layout(&mut self) {
         self.refresh_uniform_fields();
         let n = self.n_cells();
         let mut gi = vec![NONE; n];
+        let mut vi = vec![NONE; n];
         let mut xi = vec![NONE; n + 1];
         let mut k = 0;
         if let RightEnd::Periodic { gauge: false } = self.right {
@@ -356,15 +379,19 @@ impl<E: StrainEnergy> Line<E> {
                 gi[j - 1] = k;
                 k += 1;
             }
+            if self.maxwell.is_some() {
+                vi[j - 1] = k;
+                k += 1;
+            }
             if j < n || free_end {
                 xi[j] = k;
                 k += 1;
             }
         }
-        self.layout = Layout { gi, xi, dim: k };
+        self.layout = Layout { gi, xi, vi, dim: k };
     }
 
-    /// Initial state: `x_j = Σ_{i≤j} L₀,i`, `g = 1`.
+    /// Initial state: `x_j = Σ_{i≤j} L₀,i`, `g = 1`, `a_v = 1`.
     pub fn initial_state(&self) -> Vec<f64> {
         let mut y = vec![0.0; self.layout.dim];
         let mut x = 0.0;
@@ -375,6 +402,11 @@ impl<E: StrainEnergy> Line<E> {
             x += self.cells.l0[j - 1];
             if self.layout.gi[j - 1] != NONE {
                 y[self.layout.gi[j - 1]] = 1.0;
+            }
+            if let (Some(b), Some(&k)) = (&self.maxwell, self.layout.vi.get(j - 1)) {
+                if k != NONE {
+                    y[k] = b.initial();
+                }
             }
             if self.layout.xi[j] != NONE {
                 y[self.layout.xi[j]] = x;
@@ -448,6 +480,9 @@ impl<E: StrainEnergy> Line<E> {
         if let Some(j) = self.layout.gi.iter().position(|&g| g == k) {
             return format!("g_{} (growth stretch of cell {})", j + 1, j + 1);
         }
+        if let Some(j) = self.layout.vi.iter().position(|&v| v == k) {
+            return format!("a_v{} (viscous stretch of cell {})", j + 1, j + 1);
+        }
         if let Some(b) = self.layout.xi.iter().position(|&x| x == k) {
             return match b {
                 0 => "x_0 (ring seam, between cells N and 1)".to_string(),
@@ -514,11 +549,16 @@ impl<E: StrainEnergy> Line<E> {
             NONE => (S::from(1.0), S::from(0.0)),
             k => (y[k], yp[k]),
         };
-        self.eval_core(j, t, left, right, growth)
+        let av = match lk.vi(j - 1) {
+            NONE => S::from(1.0),
+            k => y[k],
+        };
+        self.eval_core(j, t, left, right, growth, av)
             .map(|e| (e, right))
     }
 
-    /// Cell `j` (1-based) from its left and right boundaries' `(x, v)` and its `(g, ġ)`: the
+    /// Cell `j` (1-based) from its left and right boundaries' `(x, v)`, its `(g, ġ)` and its
+    /// viscous stretch `a_v` (1 without a Maxwell branch): the
     /// one expression of a cell's stretch, stresses, width and drag factor, shared by the
     /// residual (any scalar) and the line's own Jacobian ([`Line::jacobian_into`], which seeds
     /// the cell's local directions in dual numbers).
@@ -530,6 +570,7 @@ impl<E: StrainEnergy> Line<E> {
         (xl, vl): (S, S),
         (xr, vr): (S, S),
         (g, gd): (S, S),
+        av: S,
     ) -> Result<CellEval<S>, ResidualError> {
         let c = &self.cells;
         let i = j - 1;
@@ -561,11 +602,32 @@ impl<E: StrainEnergy> Line<E> {
         } else {
             (vr - vl) * inv_l0
         };
-        let resp = self.energy.line(a);
-        let mu = self.uniform.mu.unwrap_or_else(|| c.mu[i]);
-        let sigma_el = alpha.lift(mu * resp.sigma, mu * resp.dsigma);
+        let sigma_el = match &self.maxwell {
+            Some(b) if !b.keeps_elastic() => S::from(0.0),
+            _ => {
+                let resp = self.energy.line(a);
+                let mu = self.uniform.mu.unwrap_or_else(|| c.mu[i]);
+                alpha.lift(mu * resp.sigma, mu * resp.dsigma)
+            }
+        };
         let inv_a = alpha.recip();
         let mut sigma = sigma_el;
+        if let Some(b) = &self.maxwell {
+            if !b.admissible(av.re()) {
+                return Err(ResidualError::Recoverable {
+                    reason: format!(
+                        "cell {j} has non-positive or non-finite viscous stretch a_v = {:.6e}",
+                        av.re()
+                    ),
+                    component: Some(self.layout.vi[i]),
+                });
+            }
+            sigma += b.stress(&self.energy, alpha, av);
+        }
+        let pe = self.uniform.p_ext.unwrap_or_else(|| c.p_ext[i]);
+        if pe != 0.0 {
+            sigma = sigma - pe;
+        }
         let eta = self.uniform.eta.unwrap_or_else(|| c.eta[i]);
         if eta != 0.0 {
             sigma += alpha_dot * eta * (inv_a * inv_a + 1.0);
@@ -636,6 +698,12 @@ impl<E: StrainEnergy> Line<E> {
     fn growth_row<S: Scalar>(&self, law: &dyn GrowthLaw, ypg: S, cur: &CellEval<S>) -> S {
         let (rate, drate) = law.rate(cur.sigma.re());
         ypg - cur.sigma.lift(rate, drate)
+    }
+
+    /// Row of cell `cur`'s viscous stretch: `ȧ_v − a_v σ_m(α/a_v)/η_m`.
+    #[inline(always)]
+    fn flow_row<S: Scalar>(&self, b: &MaxwellBranch, av: S, avd: S, cur: &CellEval<S>) -> S {
+        avd - b.rate(av, b.stress(&self.energy, cur.alpha, av))
     }
 
     /// Applied force on a free right end at `t` (0 if none).
@@ -709,7 +777,7 @@ impl<E: StrainEnergy> Line<E> {
     /// O(1), so it is never out of step with the layout itself.
     #[inline]
     fn contiguous(&self) -> Option<Contiguous> {
-        if self.growth.is_some() || self.right.is_periodic() {
+        if self.growth.is_some() || self.maxwell.is_some() || self.right.is_periodic() {
             return None;
         }
         let n = self.n_cells();
@@ -762,6 +830,12 @@ impl<E: StrainEnergy> Line<E> {
                     r[gk - off] = self.growth_row(law.as_ref(), yp[gk], &cur);
                 }
             }
+            let vk = lay.vi(c - 1);
+            if vk != NONE {
+                if let Some(b) = &self.maxwell {
+                    r[vk - off] = self.flow_row(b, y[vk], yp[vk], &cur);
+                }
+            }
             if let Some(p) = prev {
                 let b = c - 1;
                 let row = lay.xi(b);
@@ -793,6 +867,9 @@ impl<E: StrainEnergy> Line<E> {
     /// (zeroed by the caller, shaped by [`CellArray::pattern`]), in one streaming sweep over
     /// the cells; `Ok(false)` for a ring (its sparse pattern is left to the coloured AD
     /// Jacobian of [`crate::ArrayProblem`]).
+    ///
+    /// With a Maxwell branch it returns `Ok(false)` too (the coloured AD Jacobian is used: the
+    /// sweep below does not seed the viscous stretches).
     ///
     /// Each cell is evaluated once by the residual's own cell expression in `Dual64`, seeded
     /// along its right boundary `x_j` (with `ẏ`-part `c`, as the colouring seeds `v`); a cell
@@ -826,7 +903,7 @@ impl<E: StrainEnergy> Line<E> {
         c: f64,
         jac: &mut JacobianSink,
     ) -> Result<bool, ResidualError> {
-        if self.right.is_periodic() {
+        if self.right.is_periodic() || self.maxwell.is_some() {
             return Ok(false);
         }
         let n = self.n_cells();
@@ -849,6 +926,7 @@ impl<E: StrainEnergy> Line<E> {
                 xl,
                 (d(xr.0, 1.0), d(xr.1, c)),
                 (d(g, 0.0), d(gd, 0.0)),
+                d(1.0, 0.0),
             )?;
             let ge = if gk != NONE {
                 self.eval_core(
@@ -857,6 +935,7 @@ impl<E: StrainEnergy> Line<E> {
                     xl,
                     (d(xr.0, 0.0), d(xr.1, 0.0)),
                     (d(g, 1.0), d(gd, c)),
+                    d(1.0, 0.0),
                 )?
             } else {
                 s.along(Dir::Zero, c)
@@ -985,7 +1064,8 @@ impl<E: StrainEnergy> Line<E> {
         // unknowns a cell depends on
         let cell_deps = |c: usize, out: &mut Vec<usize>| {
             let right = if c == n && periodic { 0 } else { c };
-            for k in [lay.xi[c - 1], lay.xi[right], lay.gi[c - 1]] {
+            let v = lay.vi.get(c - 1).copied().unwrap_or(NONE);
+            for k in [lay.xi[c - 1], lay.xi[right], lay.gi[c - 1], v] {
                 if k != NONE {
                     out.push(k);
                 }
@@ -1002,11 +1082,14 @@ impl<E: StrainEnergy> Line<E> {
         };
         let mut deps = Vec::new();
         for c in 1..=n {
-            if lay.gi[c - 1] != NONE {
-                deps.clear();
-                cell_deps(c, &mut deps);
-                for &k in &deps {
-                    f(lay.gi[c - 1], k);
+            let v = lay.vi.get(c - 1).copied().unwrap_or(NONE);
+            for row in [lay.gi[c - 1], v] {
+                if row != NONE {
+                    deps.clear();
+                    cell_deps(c, &mut deps);
+                    for &k in &deps {
+                        f(row, k);
+                    }
                 }
             }
         }
