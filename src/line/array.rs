@@ -596,6 +596,9 @@ impl<E: StrainEnergy> Line<E> {
                 component: self.blame(j),
             });
         }
+        if let Err(e) = self.energy.admissible([a, 1.0 / a, 1.0]) {
+            return Err(self.outside_domain(j, e));
+        }
         let alpha_dot = if growing {
             let inv_g = g.recip();
             (vr - vl) * inv_l0 * inv_g - alpha * gd * inv_g
@@ -621,6 +624,10 @@ impl<E: StrainEnergy> Line<E> {
                     ),
                     component: Some(self.layout.vi[i]),
                 });
+            }
+            let ae = a / av.re();
+            if let Err(e) = self.energy.admissible([ae, 1.0 / ae, 1.0]) {
+                return Err(self.outside_domain(j, e));
             }
             sigma += b.stress(&self.energy, alpha, av);
         }
@@ -652,6 +659,16 @@ impl<E: StrainEnergy> Line<E> {
             vr,
             g,
         })
+    }
+
+    /// The recoverable error of cell `j` whose state is outside the law's domain.
+    #[cold]
+    #[inline(never)]
+    fn outside_domain(&self, j: usize, e: crate::energy::EnergyError) -> ResidualError {
+        ResidualError::Recoverable {
+            reason: format!("cell {j}: {e}"),
+            component: self.blame(j),
+        }
     }
 
     /// `k_face[b]`, without reading the vector when it is uniform.

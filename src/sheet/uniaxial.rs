@@ -441,6 +441,16 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
                 component: Some(self.iy(j, kk)),
             });
         }
+        if let Err(e) = self.law.admissible([a, b, 1.0 / (a * b)]) {
+            return Err(ResidualError::Recoverable {
+                reason: format!("sheet cell (j={j}, k={k}): {e}"),
+                component: if j < self.n {
+                    Some(self.ix(j, k))
+                } else {
+                    None
+                },
+            });
+        }
         let r = self.response((j - 1) * self.m + (k - 1), a, b);
         let area = l1 * l2;
         let kappa = self.dissipation().kappa(area);
