@@ -3,7 +3,8 @@
 //!
 //! * [`Field`] — heterogeneous material fields of the reference position `X` (μ scale, η, K,
 //!   active amplitude), sampled at cell centres or integer points ([`Sampling`]);
-//! * [`GrowthLaw`] / [`TanhGrowth`] — stress-controlled growth `ġ = G(σ)`;
+//! * [`GrowthRate`] / [`GrowthLaw`] / [`TanhGrowth`] — stress-controlled growth `ġ = G(σ)`,
+//!   written generically over the scalar, derivative by AD;
 //! * [`Active`] — the travelling active-stress wave (2.83);
 //! * [`ViscosityModel`] / [`MaxwellBranch`] — Kelvin–Voigt, Maxwell and standard-linear-solid
 //!   viscosity, the branch's viscous stretch an internal variable ([`ViscousBranch`]).
@@ -18,5 +19,5 @@ mod viscosity;
 
 pub use active::Active;
 pub use field::{Field, FieldFn, Sampling};
-pub use growth::{GrowthLaw, TanhGrowth};
+pub use growth::{GrowthLaw, GrowthRate, TanhGrowth};
 pub use viscosity::{MaxwellBranch, ViscosityError, ViscosityModel, ViscousBranch};
