@@ -24,7 +24,7 @@ pub mod substrate;
 
 pub use array::{ArrayProblem, CellArray};
 pub use energy::{
-    AnyEnergy, EnergyError, Hgo, LineResponse, MooneyRivlin, NeoHookean, Ogden, Scaled,
+    AnyEnergy, EnergyError, Gent, Hgo, LineResponse, MooneyRivlin, NeoHookean, Ogden, Scaled,
     ShearResponse, SheetResponse, StrainEnergy,
 };
 pub use scalar::Scalar;

@@ -1,5 +1,6 @@
-//! Substrate interaction of the line (MODEL.md §2.3–§2.5): drag `K·κ` with
-//! `κ = (A/A₀)^m = (g·g₂)^m` for any real `m`, the face (shared-boundary) averages, the shared
+//! Substrate interaction (docs/model.md §2.3–§2.5): drag `K·κ` with the [`Dissipation`] law
+//! `κ(A/A₀)` — the thesis's [`PowerLawDrag`] `κ = (A/A₀)^m` for any real `m`, `(g·g₂)^m` on the
+//! line and `(λ₁λ₂)^m` on the sheet — the face (shared-boundary) averages, the shared
 //! width rule, and the two drag forms:
 //!
 //! * [`DragForm::Boundary`] (B, canonical): `K κ_{j+1/2} ẋ_j = F_j` per moving boundary;
@@ -54,7 +55,53 @@ impl WidthRule {
     }
 }
 
-/// Drag factor `κ = (g·g₂)^m` of a cell (1 exactly when `m = 0`).
+/// A substrate dissipation law: the drag factor `κ(A/A₀)` multiplying the drag coefficient `K`
+/// of a cell whose area ratio (current over reference contact area) is `A/A₀` (MODEL.md §2.3;
+/// docs/model.md §2.3). The line passes `A/A₀ = g·g₂` (its cells' contact area grows with
+/// growth only), the uniaxial sheet `λ₁λ₂`. Generic over the scalar so the residual's dual
+/// evaluation differentiates it exactly.
+///
+/// ```
+/// use celltissue::substrate::{Dissipation, PowerLawDrag};
+/// /// Drag saturating at large area: κ = 2a/(1 + a).
+/// struct Saturating;
+/// impl Dissipation for Saturating {
+///     fn kappa<S: celltissue::scalar::Scalar>(&self, area: S) -> S {
+///         area * 2.0 / (area + 1.0)
+///     }
+/// }
+/// assert_eq!(Saturating.kappa(1.0f64), 1.0);
+/// assert_eq!(PowerLawDrag { m: 2.0 }.kappa(3.0f64), 9.0);
+/// ```
+pub trait Dissipation: Send + Sync {
+    /// `κ(A/A₀)`, with `κ(1) = 1` for the drag coefficient to keep its meaning.
+    fn kappa<S: Scalar>(&self, area_ratio: S) -> S;
+}
+
+/// The thesis's power law `κ = (A/A₀)^m` for any real `m` (`m = 0`: area-independent drag).
+/// `m = 0` and `m = 1` are evaluated without `powf` (exactly 1 and `A/A₀`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PowerLawDrag {
+    /// Exponent `m`.
+    pub m: f64,
+}
+
+impl Dissipation for PowerLawDrag {
+    #[inline(always)]
+    fn kappa<S: Scalar>(&self, area_ratio: S) -> S {
+        if self.m == 0.0 {
+            S::from(1.0)
+        } else if self.m == 1.0 {
+            area_ratio
+        } else {
+            area_ratio.powf(self.m)
+        }
+    }
+}
+
+/// Drag factor `κ = (g·g₂)^m` of a line cell: [`PowerLawDrag`] at the area ratio `g·g₂`
+/// (1 exactly when `m = 0`).
 ///
 /// ```
 /// use celltissue::substrate::drag_factor;
@@ -64,10 +111,8 @@ impl WidthRule {
 #[inline]
 pub fn drag_factor<S: Scalar>(g: S, g2: f64, m: f64) -> S {
     if m == 0.0 {
-        S::from(1.0)
-    } else if m == 1.0 {
-        g * g2
-    } else {
-        (g * g2).powf(m)
+        // not even the product: the line without growth has g ≡ 1
+        return S::from(1.0);
     }
+    PowerLawDrag { m }.kappa(g * g2)
 }

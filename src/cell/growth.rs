@@ -1,11 +1,46 @@
-//! Stress-controlled axial growth laws `ġ = G(σ)` (MODEL.md §2.7): the [`GrowthLaw`] trait and
-//! the thesis's tanh law [`TanhGrowth`]. The line's residual evaluates `G` in `f64` with its
-//! derivative and lifts it into the AD scalar, so any law with a derivative plugs in.
+//! Stress-controlled axial growth laws `ġ = G(σ)` (docs/model.md §2.7): a law is written once,
+//! generic over the scalar ([`GrowthRate`]), and its derivative comes from forward-mode AD
+//! through the object-safe [`GrowthLaw`] the line holds (`Arc<dyn GrowthLaw>`); the thesis's
+//! tanh law is [`TanhGrowth`]. The line's residual evaluates `(G, G')` in `f64` and lifts them
+//! into its own scalar.
 
+use num_dual::{Dual64, DualNum};
 use serde::{Deserialize, Serialize};
 
-/// A growth law: rate `ġ = G(σ)` of the axial growth stretch as a function of the cell's full
-/// axial stress `σ` (elastic + viscous + active).
+/// A growth law `ġ = G(σ)` written generically over the scalar: implement this and the line
+/// gets `(G, dG/dσ)` by forward-mode AD ([`GrowthLaw`] is implemented for every
+/// `GrowthRate`).
+///
+/// ```
+/// use celltissue::cell::{GrowthLaw, GrowthRate};
+/// use num_dual::DualNum;
+/// /// Linear growth above a threshold stress, smoothed: G = softplus(σ − σ_c).
+/// struct Softplus { sigma_c: f64 }
+/// impl GrowthRate for Softplus {
+///     fn growth_rate<D: DualNum<Primitive = f64> + Copy>(&self, sigma: D) -> D {
+///         ((sigma - self.sigma_c).exp() + 1.0).ln()
+///     }
+/// }
+/// let (g, dg) = Softplus { sigma_c: 0.0 }.rate(0.0);
+/// assert!((g - 2f64.ln()).abs() < 1e-15 && (dg - 0.5).abs() < 1e-15);
+/// ```
+pub trait GrowthRate: Send + Sync {
+    /// `G(σ)`, generic over the scalar so AD can differentiate it.
+    fn growth_rate<D: DualNum<Primitive = f64> + Copy>(&self, sigma: D) -> D;
+}
+
+impl<T: GrowthRate> GrowthLaw for T {
+    #[inline]
+    fn rate(&self, sigma: f64) -> (f64, f64) {
+        let g = self.growth_rate(Dual64::new(sigma, 1.0));
+        (g.re, g.eps)
+    }
+}
+
+/// A growth law as the line uses it (object-safe): rate `ġ = G(σ)` of the axial growth stretch
+/// as a function of the cell's full axial stress `σ` (elastic + viscous + active), with its
+/// derivative. Implemented by AD for every [`GrowthRate`]; implement it directly only for a
+/// hand-written derivative.
 ///
 /// ```
 /// use celltissue::cell::{GrowthLaw, TanhGrowth};
@@ -46,13 +81,28 @@ impl Default for TanhGrowth {
     }
 }
 
-impl GrowthLaw for TanhGrowth {
+impl GrowthRate for TanhGrowth {
     #[inline]
-    fn rate(&self, sigma: f64) -> (f64, f64) {
-        let th = (sigma / self.sigma0).tanh();
-        (
-            0.5 * self.gm * (1.0 + th),
-            0.5 * self.gm * (1.0 - th * th) / self.sigma0,
-        )
+    fn growth_rate<D: DualNum<Primitive = f64> + Copy>(&self, sigma: D) -> D {
+        ((sigma / self.sigma0).tanh() + 1.0) * (0.5 * self.gm)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_ad_slope_of_the_tanh_law_is_its_closed_form() {
+        let law = TanhGrowth {
+            sigma0: 0.3,
+            gm: 1.7,
+        };
+        for s in [-2.0, -0.1, 0.0, 0.05, 1.0] {
+            let (g, dg) = law.rate(s);
+            let th = (s / 0.3f64).tanh();
+            assert!((g - 0.85 * (1.0 + th)).abs() < 1e-15);
+            assert!((dg - 0.85 * (1.0 - th * th) / 0.3).abs() < 1e-14, "{s}");
+        }
     }
 }

@@ -3,8 +3,11 @@
 //!
 //! * [`Field`] — heterogeneous material fields of the reference position `X` (μ scale, η, K,
 //!   active amplitude), sampled at cell centres or integer points ([`Sampling`]);
-//! * [`GrowthLaw`] / [`TanhGrowth`] — stress-controlled growth `ġ = G(σ)`;
-//! * [`Active`] — the travelling active-stress wave (2.83).
+//! * [`GrowthRate`] / [`GrowthLaw`] / [`TanhGrowth`] — stress-controlled growth `ġ = G(σ)`,
+//!   written generically over the scalar, derivative by AD;
+//! * [`Active`] — the travelling active-stress wave (2.83);
+//! * [`ViscosityModel`] / [`MaxwellBranch`] — Kelvin–Voigt, Maxwell and standard-linear-solid
+//!   viscosity, the branch's viscous stretch an internal variable ([`ViscousBranch`]).
 //!
 //! The line ([`crate::line`]) holds the sampled per-cell values in plain `Vec`s, so the residual
 //! loops run on `f64` slices and inserting a cell (division) is one `Vec::insert` per field.
@@ -12,7 +15,9 @@
 mod active;
 mod field;
 mod growth;
+mod viscosity;
 
 pub use active::Active;
 pub use field::{Field, FieldFn, Sampling};
-pub use growth::{GrowthLaw, TanhGrowth};
+pub use growth::{GrowthLaw, GrowthRate, TanhGrowth};
+pub use viscosity::{MaxwellBranch, ViscosityError, ViscosityModel, ViscousBranch};

@@ -1,13 +1,14 @@
 //! [`AnyEnergy`]: the closed set of built-in laws, selected at run time (scenario files, CLI).
 
 use super::{
-    Hgo, LineResponse, MooneyRivlin, NeoHookean, Ogden, ShearResponse, SheetResponse, StrainEnergy,
+    EnergyError, Gent, Hgo, LineResponse, MooneyRivlin, NeoHookean, Ogden, ShearResponse,
+    SheetResponse, StrainEnergy,
 };
 use num_dual::DualNum;
 use serde::{Deserialize, Serialize};
 
 /// One of the built-in laws, chosen at run time. Deserializes from a table tagged by
-/// `law = "neo_hookean" | "mooney_rivlin" | "ogden" | "hgo"` with that law's parameters
+/// `law = "neo_hookean" | "mooney_rivlin" | "ogden" | "hgo" | "gent"` with that law's parameters
 /// (validated by its constructor; unknown fields are rejected). Implements [`StrainEnergy`] by
 /// delegation, so closed-form overrides are kept.
 ///
@@ -17,6 +18,7 @@ use serde::{Deserialize, Serialize};
 /// | `mooney_rivlin` | `c1`, `c2` |
 /// | `ogden` | `terms = [[mu_p, alpha_p], …]` |
 /// | `hgo` | `c`, `k1`, `k2`, `theta` (radians) |
+/// | `gent` | `mu`, `jm` |
 ///
 /// ```
 /// use celltissue::{AnyEnergy, StrainEnergy};
@@ -37,6 +39,8 @@ pub enum AnyEnergy {
     Ogden(Ogden),
     /// [`Hgo`].
     Hgo(Hgo),
+    /// [`Gent`].
+    Gent(Gent),
 }
 
 impl AnyEnergy {
@@ -52,6 +56,7 @@ impl AnyEnergy {
             Self::MooneyRivlin(_) => "mooney_rivlin",
             Self::Ogden(_) => "ogden",
             Self::Hgo(_) => "hgo",
+            Self::Gent(_) => "gent",
         }
     }
 }
@@ -63,6 +68,7 @@ macro_rules! delegate {
             AnyEnergy::MooneyRivlin($e) => $body,
             AnyEnergy::Ogden($e) => $body,
             AnyEnergy::Hgo($e) => $body,
+            AnyEnergy::Gent($e) => $body,
         }
     };
 }
@@ -75,6 +81,14 @@ impl StrainEnergy for AnyEnergy {
     #[inline]
     fn shear_modulus(&self) -> f64 {
         delegate!(self, e => e.shear_modulus())
+    }
+    #[inline]
+    fn admissible(&self, l: [f64; 3]) -> Result<(), EnergyError> {
+        match self {
+            AnyEnergy::Gent(e) => e.admissible(l),
+            // the other built-in laws are defined for every positive stretch
+            _ => Ok(()),
+        }
     }
     #[inline]
     fn line(&self, a: f64) -> LineResponse {
@@ -99,4 +113,4 @@ macro_rules! from_law {
         }
     )*};
 }
-from_law!(NeoHookean, MooneyRivlin, Ogden, Hgo);
+from_law!(NeoHookean, MooneyRivlin, Ogden, Hgo, Gent);

@@ -27,6 +27,14 @@ pub enum EnergyError {
     /// An Ogden law was given no terms.
     #[error("terms must contain at least one (mu_p, alpha_p) pair")]
     EmptyOgden,
+    /// A state outside the law's domain (e.g. a locking law past its limit).
+    #[error("{law}: {reason}")]
+    OutsideDomain {
+        /// The law's scenario name, e.g. `"gent"`.
+        law: &'static str,
+        /// The violated bound, with the stretches.
+        reason: String,
+    },
 }
 
 impl EnergyError {

@@ -22,6 +22,7 @@
 pub mod ad;
 mod any;
 mod error;
+mod gent;
 mod hgo;
 mod mooney_rivlin;
 mod neo_hookean;
@@ -32,6 +33,7 @@ mod tests;
 
 pub use any::AnyEnergy;
 pub use error::EnergyError;
+pub use gent::Gent;
 pub use hgo::Hgo;
 pub use mooney_rivlin::MooneyRivlin;
 pub use neo_hookean::NeoHookean;
@@ -126,6 +128,16 @@ pub trait StrainEnergy: Send + Sync {
     /// Small-strain shear modulus `μ` (so `dσ_el/da(1) = 4μ` in the line).
     fn shear_modulus(&self) -> f64;
 
+    /// Whether the principal stretches `l` lie in the law's domain: `Ok` by default; a law
+    /// whose energy is finite only on part of the stretches (a locking law such as
+    /// [`Gent`]) returns [`EnergyError::OutsideDomain`] naming the law and the violated bound.
+    /// The cell arrays check every cell with it before evaluating a response, so a state past
+    /// the lock is a named, recoverable error (the step is retried), never NaN.
+    #[inline(always)]
+    fn admissible(&self, _l: [f64; 3]) -> Result<(), EnergyError> {
+        Ok(())
+    }
+
     /// Plane-strain line response at axial stretch `a > 0` (AD by default, [`ad::line`]).
     #[inline]
     fn line(&self, a: f64) -> LineResponse {
@@ -153,6 +165,10 @@ impl<E: StrainEnergy + ?Sized> StrainEnergy for &E {
     #[inline]
     fn shear_modulus(&self) -> f64 {
         (**self).shear_modulus()
+    }
+    #[inline(always)]
+    fn admissible(&self, l: [f64; 3]) -> Result<(), EnergyError> {
+        (**self).admissible(l)
     }
     #[inline]
     fn line(&self, a: f64) -> LineResponse {

@@ -52,6 +52,11 @@ impl<E: StrainEnergy> StrainEnergy for Scaled<E> {
         self.factor * self.inner.shear_modulus()
     }
 
+    #[inline(always)]
+    fn admissible(&self, l: [f64; 3]) -> Result<(), super::EnergyError> {
+        self.inner.admissible(l)
+    }
+
     #[inline]
     fn line(&self, a: f64) -> LineResponse {
         let r = self.inner.line(a);

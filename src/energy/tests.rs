@@ -12,6 +12,7 @@ fn laws() -> Vec<AnyEnergy> {
         MooneyRivlin::new(0.4, 0.25).unwrap().into(),
         Ogden::new(vec![(0.8, 3.0), (-0.05, -2.0)]).unwrap().into(),
         Hgo::new(0.9, 0.7, 1.5, 0.4).unwrap().into(),
+        Gent::new(1.1, 2.0).unwrap().into(),
     ]
 }
 

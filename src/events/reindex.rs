@@ -64,6 +64,11 @@ impl<E: StrainEnergy> Line<E> {
                 "division on a periodic line (the ring period would change)".into(),
             ));
         }
+        if self.maxwell.is_some() {
+            return Err(EventError::Unsupported(
+                "division of cells with a Maxwell branch (the viscous stretch is not split)".into(),
+            ));
+        }
         let i = j - 1;
         let gk = self.layout.gi[i];
         if gk == NONE {
@@ -99,6 +104,7 @@ impl<E: StrainEnergy> Line<E> {
             &mut c.active_amp,
             &mut c.phase,
             &mut c.x_ref,
+            &mut c.p_ext,
         ] {
             let p = v[i];
             v.insert(i + 1, p);

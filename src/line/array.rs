@@ -19,7 +19,7 @@
 
 use crate::array::CellArray;
 use crate::boundary::RightEnd;
-use crate::cell::{Active, GrowthLaw};
+use crate::cell::{Active, GrowthLaw, MaxwellBranch, ViscousBranch};
 use crate::energy::StrainEnergy;
 use crate::line::LineError;
 use crate::scalar::Scalar;
@@ -56,6 +56,9 @@ pub struct Cells {
     pub active_amp: Vec<f64>,
     /// Active-stress phase `t_R,j = 2π X_{j−1/2}/l₀`.
     pub phase: Vec<f64>,
+    /// External pressure `p_e` on the cell's lateral faces (docs/model.md §8.2; 0 = the
+    /// thesis's zero traction).
+    pub p_ext: Vec<f64>,
 }
 
 impl Cells {
@@ -99,6 +102,9 @@ pub struct Layout {
     pub gi: Vec<usize>,
     /// `xi[j]` for boundary `j = 0..=N`.
     pub xi: Vec<usize>,
+    /// `vi[j]` for the viscous stretch `a_v` of cell `j = 1..=N` at index `j − 1` (a Maxwell
+    /// branch, [`Line::maxwell`]).
+    pub vi: Vec<usize>,
     /// Number of unknowns.
     pub dim: usize,
 }
@@ -115,6 +121,10 @@ pub(crate) struct UniformFields {
     mu: Option<f64>,
     eta: Option<f64>,
     k_face: Option<f64>,
+    p_ext: Option<f64>,
+    /// Whether a cell needs [`Line::extended_stress`] (a Maxwell branch or a non-zero
+    /// external pressure); set by [`Line::refresh_uniform_fields`].
+    extended: bool,
 }
 
 impl UniformFields {
@@ -130,6 +140,8 @@ impl UniformFields {
             mu: same(&cells.mu),
             eta: same(&cells.eta),
             k_face: same(k_face),
+            p_ext: same(&cells.p_ext),
+            extended: false,
         }
     }
 }
@@ -140,6 +152,8 @@ trait Lookup: Copy {
     fn xi(&self, j: usize) -> usize;
     /// Unknown of cell `i + 1`'s growth stretch (or `NONE`).
     fn gi(&self, i: usize) -> usize;
+    /// Unknown of cell `i + 1`'s viscous stretch (or `NONE`).
+    fn vi(&self, i: usize) -> usize;
 }
 
 /// The layout's maps.
@@ -154,6 +168,10 @@ impl Lookup for Indexed<'_> {
     #[inline(always)]
     fn gi(&self, i: usize) -> usize {
         self.0.gi[i]
+    }
+    #[inline(always)]
+    fn vi(&self, i: usize) -> usize {
+        self.0.vi[i]
     }
 }
 
@@ -177,6 +195,10 @@ impl Lookup for Contiguous {
     }
     #[inline(always)]
     fn gi(&self, _i: usize) -> usize {
+        NONE
+    }
+    #[inline(always)]
+    fn vi(&self, _i: usize) -> usize {
         NONE
     }
 }
@@ -329,6 +351,11 @@ pub struct Line<E: StrainEnergy> {
     /// Growth law, if growing (then `g` is in the state; read it with [`Line::growth`]; the
     /// layout depends on it).
     pub(crate) growth: Option<Arc<dyn GrowthLaw>>,
+    /// Maxwell branch of every cell, if any (then each cell's viscous stretch `a_v` is in the
+    /// state; docs/viscoelasticity.md; read it with [`Line::maxwell`]; the layout depends on
+    /// it). The line's own Jacobian is then not provided: the integrators' coloured AD
+    /// Jacobian is used.
+    pub(crate) maxwell: Option<MaxwellBranch>,
     /// Reference length `l₀ = Σ L₀,j` (ring period; read it with [`Line::l0_total`]).
     pub(crate) l0_total: f64,
     /// Absolute tolerance in cell units (positions: times the local reference cell length).
@@ -379,6 +406,11 @@ impl<E: StrainEnergy> Line<E> {
     /// The growth law, if growing.
     pub fn growth(&self) -> Option<&Arc<dyn GrowthLaw>> {
         self.growth.as_ref()
+    }
+
+    /// The Maxwell branch, if any (its viscous stretches are then in the state).
+    pub fn maxwell(&self) -> Option<&MaxwellBranch> {
+        self.maxwell.as_ref()
     }
 
     /// Reference length `l₀ = Σ L₀,j` (the ring period).
@@ -453,17 +485,19 @@ impl<E: StrainEnergy> Line<E> {
     /// detection would give a wrong residual: every in-place change must be followed by this.
     pub fn refresh_uniform_fields(&mut self) {
         self.uniform = UniformFields::of(&self.cells, &self.k_face);
+        self.uniform.extended = self.maxwell.is_some() || self.uniform.p_ext != Some(0.0);
     }
 
     /// Recomputes the unknown layout from `N`, the right end and the growth flag (call after
     /// inserting or removing cells, or after changing the per-cell fields or `k_face`: it also
     /// re-detects the fields shared by every cell, as [`Line::refresh_uniform_fields`]).
     /// Ordering: ring: `x₀` first; then per cell `g_j` (growth) followed by `x_j` when
-    /// boundary `j` is free.
+    /// boundary `j` is free; a Maxwell branch puts `a_v,j` after `g_j`.
     pub fn rebuild_layout(&mut self) {
         self.refresh_uniform_fields();
         let n = self.n_cells();
         let mut gi = vec![NONE; n];
+        let mut vi = vec![NONE; n];
         let mut xi = vec![NONE; n + 1];
         let mut k = 0;
         if let RightEnd::Periodic { gauge: false } = self.right {
@@ -476,15 +510,19 @@ impl<E: StrainEnergy> Line<E> {
                 gi[j - 1] = k;
                 k += 1;
             }
+            if self.maxwell.is_some() {
+                vi[j - 1] = k;
+                k += 1;
+            }
             if j < n || free_end {
                 xi[j] = k;
                 k += 1;
             }
         }
-        self.layout = Layout { gi, xi, dim: k };
+        self.layout = Layout { gi, xi, vi, dim: k };
     }
 
-    /// Initial state: `x_j = Σ_{i≤j} L₀,i`, `g = 1`.
+    /// Initial state: `x_j = Σ_{i≤j} L₀,i`, `g = 1`, `a_v = 1`.
     pub fn initial_state(&self) -> Vec<f64> {
         let mut y = vec![0.0; self.layout.dim];
         let mut x = 0.0;
@@ -495,6 +533,11 @@ impl<E: StrainEnergy> Line<E> {
             x += self.cells.l0[j - 1];
             if self.layout.gi[j - 1] != NONE {
                 y[self.layout.gi[j - 1]] = 1.0;
+            }
+            if let (Some(b), Some(&k)) = (&self.maxwell, self.layout.vi.get(j - 1)) {
+                if k != NONE {
+                    y[k] = b.initial();
+                }
             }
             if self.layout.xi[j] != NONE {
                 y[self.layout.xi[j]] = x;
@@ -568,6 +611,9 @@ impl<E: StrainEnergy> Line<E> {
         if let Some(j) = self.layout.gi.iter().position(|&g| g == k) {
             return format!("g_{} (growth stretch of cell {})", j + 1, j + 1);
         }
+        if let Some(j) = self.layout.vi.iter().position(|&v| v == k) {
+            return format!("a_v{} (viscous stretch of cell {})", j + 1, j + 1);
+        }
         if let Some(b) = self.layout.xi.iter().position(|&x| x == k) {
             return match b {
                 0 => "x_0 (ring seam, between cells N and 1)".to_string(),
@@ -615,12 +661,12 @@ impl<E: StrainEnergy> Line<E> {
         yp: &[S],
         left: (S, S),
     ) -> Result<(CellEval<S>, (S, S)), ResidualError> {
-        self.eval_cell_in(Indexed(&self.layout), j, t, y, yp, left)
+        self.eval_cell_in::<S, Indexed, true>(Indexed(&self.layout), j, t, y, yp, left)
     }
 
     /// [`eval_cell_from`](Line::eval_cell_from) with the layout read through `lk`.
     #[inline(always)]
-    fn eval_cell_in<S: Scalar, L: Lookup>(
+    fn eval_cell_in<S: Scalar, L: Lookup, const EXT: bool>(
         &self,
         lk: L,
         j: usize,
@@ -634,11 +680,21 @@ impl<E: StrainEnergy> Line<E> {
             NONE => (S::from(1.0), S::from(0.0)),
             k => (y[k], yp[k]),
         };
-        self.eval_core(j, t, left, right, growth)
-            .map(|e| (e, right))
+        let mut e = self.eval_core(j, t, left, right, growth)?;
+        // `EXT = false` compiles the test out of the thesis's sweep (measured: the runtime
+        // test alone cost ≈ 7 % of the f64 residual)
+        if EXT && self.uniform.extended {
+            let av = match lk.vi(j - 1) {
+                NONE => S::from(1.0),
+                k => y[k],
+            };
+            self.extend_cell(j, &mut e, av)?;
+        }
+        Ok((e, right))
     }
 
-    /// Cell `j` (1-based) from its left and right boundaries' `(x, v)` and its `(g, ġ)`: the
+    /// Cell `j` (1-based) from its left and right boundaries' `(x, v)` and its `(g, ġ)`
+    /// (a Maxwell branch and an external pressure are added by [`Line::extend_cell`]): the
     /// one expression of a cell's stretch, stresses, width and drag factor, shared by the
     /// residual (any scalar) and the line's own Jacobian ([`Line::jacobian_into`], which seeds
     /// the cell's local directions in dual numbers).
@@ -675,6 +731,9 @@ impl<E: StrainEnergy> Line<E> {
                 component: self.blame(j),
             });
         }
+        if let Err(e) = self.energy.admissible([a, 1.0 / a, 1.0]) {
+            return Err(self.outside_domain(j, e));
+        }
         let alpha_dot = if growing {
             let inv_g = g.recip();
             (vr - vl) * inv_l0 * inv_g - alpha * gd * inv_g
@@ -710,6 +769,63 @@ impl<E: StrainEnergy> Line<E> {
             vr,
             g,
         })
+    }
+
+    /// Adds cell `j`'s Maxwell branch (at viscous stretch `av`) and external pressure to its
+    /// evaluation `e` (a Maxwell cell, without elastic law, loses its elastic stress). Called
+    /// after [`Line::eval_core`] only when the line has either (`uniform.extended`), so the
+    /// thesis's cell keeps its lean expression.
+    #[inline(never)]
+    fn extend_cell<S: Scalar>(
+        &self,
+        j: usize,
+        e: &mut CellEval<S>,
+        av: S,
+    ) -> Result<(), ResidualError> {
+        if let Some(b) = &self.maxwell {
+            if !b.admissible(av.re()) {
+                return Err(self.bad_viscous_stretch(j, av.re()));
+            }
+            let ae = e.alpha.re() / av.re();
+            if let Err(err) = self.energy.admissible([ae, 1.0 / ae, 1.0]) {
+                return Err(self.outside_domain(j, err));
+            }
+            if !b.keeps_elastic() {
+                e.sigma -= e.sigma_el;
+                e.sigma_el = S::from(0.0);
+            }
+            e.sigma += b.stress(&self.energy, e.alpha, av);
+        }
+        let pe = self
+            .uniform
+            .p_ext
+            .unwrap_or_else(|| self.cells.p_ext[j - 1]);
+        if pe != 0.0 {
+            e.sigma = e.sigma - pe;
+        }
+        Ok(())
+    }
+
+    /// The recoverable error of cell `j` whose viscous stretch is not admissible.
+    #[cold]
+    #[inline(never)]
+    fn bad_viscous_stretch(&self, j: usize, av: f64) -> ResidualError {
+        ResidualError::Recoverable {
+            reason: format!(
+                "cell {j} has non-positive or non-finite viscous stretch a_v = {av:.6e}"
+            ),
+            component: Some(self.layout.vi[j - 1]),
+        }
+    }
+
+    /// The recoverable error of cell `j` whose state is outside the law's domain.
+    #[cold]
+    #[inline(never)]
+    fn outside_domain(&self, j: usize, e: crate::energy::EnergyError) -> ResidualError {
+        ResidualError::Recoverable {
+            reason: format!("cell {j}: {e}"),
+            component: self.blame(j),
+        }
     }
 
     /// `k_face[b]`, without reading the vector when it is uniform.
@@ -756,6 +872,12 @@ impl<E: StrainEnergy> Line<E> {
     fn growth_row<S: Scalar>(&self, law: &dyn GrowthLaw, ypg: S, cur: &CellEval<S>) -> S {
         let (rate, drate) = law.rate(cur.sigma.re());
         ypg - cur.sigma.lift(rate, drate)
+    }
+
+    /// Row of cell `cur`'s viscous stretch: `ȧ_v − a_v σ_m(α/a_v)/η_m`.
+    #[inline(always)]
+    fn flow_row<S: Scalar>(&self, b: &MaxwellBranch, av: S, avd: S, cur: &CellEval<S>) -> S {
+        avd - b.rate(av, b.stress(&self.energy, cur.alpha, av))
     }
 
     /// Applied force on a free right end at `t` (0 if none).
@@ -816,9 +938,20 @@ impl<E: StrainEnergy> Line<E> {
         first: usize,
         last: usize,
     ) -> Result<(), ResidualError> {
-        match self.contiguous() {
-            Some(lk) => self.residual_cells_in(lk, t, y, yp, r, off, first, last),
-            None => self.residual_cells_in(Indexed(&self.layout), t, y, yp, r, off, first, last),
+        let ind = Indexed(&self.layout);
+        match (self.contiguous(), self.uniform.extended) {
+            (Some(lk), false) => {
+                self.residual_cells_in::<S, _, false>(lk, t, y, yp, r, off, first, last)
+            }
+            (Some(lk), true) => {
+                self.residual_cells_in::<S, _, true>(lk, t, y, yp, r, off, first, last)
+            }
+            (None, false) => {
+                self.residual_cells_in::<S, _, false>(ind, t, y, yp, r, off, first, last)
+            }
+            (None, true) => {
+                self.residual_cells_in::<S, _, true>(ind, t, y, yp, r, off, first, last)
+            }
         }
     }
 
@@ -829,7 +962,7 @@ impl<E: StrainEnergy> Line<E> {
     /// O(1), so it is never out of step with the layout itself.
     #[inline]
     fn contiguous(&self) -> Option<Contiguous> {
-        if self.growth.is_some() || self.right.is_periodic() {
+        if self.growth.is_some() || self.maxwell.is_some() || self.right.is_periodic() {
             return None;
         }
         let n = self.n_cells();
@@ -841,7 +974,7 @@ impl<E: StrainEnergy> Line<E> {
     /// [`residual_cells`](Line::residual_cells) with the layout read through `lk`.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn residual_cells_in<S: Scalar, L: Lookup>(
+    fn residual_cells_in<S: Scalar, L: Lookup, const EXT: bool>(
         &self,
         lay: L,
         t: f64,
@@ -863,10 +996,10 @@ impl<E: StrainEnergy> Line<E> {
             (prev, S::from(0.0), self.boundary_in(lay, 0, t, y, yp))
         } else {
             let lb = self.boundary_in(lay, first - 2, t, y, yp);
-            let (p, right) = self.eval_cell_in(lay, first - 1, t, y, yp, lb)?;
+            let (p, right) = self.eval_cell_in::<S, L, EXT>(lay, first - 1, t, y, yp, lb)?;
             let f_prev = if first >= 3 {
                 let llb = self.boundary_in(lay, first - 3, t, y, yp);
-                let (pp, _) = self.eval_cell_in(lay, first - 2, t, y, yp, llb)?;
+                let (pp, _) = self.eval_cell_in::<S, L, EXT>(lay, first - 2, t, y, yp, llb)?;
                 self.face_force(&pp, &p)
             } else {
                 S::from(0.0)
@@ -874,12 +1007,18 @@ impl<E: StrainEnergy> Line<E> {
             (Some(p), f_prev, right)
         };
         for c in first..=last {
-            let (cur, right) = self.eval_cell_in(lay, c, t, y, yp, left)?;
+            let (cur, right) = self.eval_cell_in::<S, L, EXT>(lay, c, t, y, yp, left)?;
             left = right;
             let gk = lay.gi(c - 1);
             if gk != NONE {
                 if let Some(law) = &self.growth {
                     r[gk - off] = self.growth_row(law.as_ref(), yp[gk], &cur);
+                }
+            }
+            let vk = lay.vi(c - 1);
+            if vk != NONE {
+                if let Some(b) = &self.maxwell {
+                    r[vk - off] = self.flow_row(b, y[vk], yp[vk], &cur);
                 }
             }
             if let Some(p) = prev {
@@ -914,6 +1053,10 @@ impl<E: StrainEnergy> Line<E> {
     /// the cells; `Ok(false)` for a ring (its sparse pattern is left to the coloured AD
     /// Jacobian of [`crate::ArrayProblem`]).
     ///
+    /// With a Maxwell branch or an external pressure it returns `Ok(false)` too (the coloured
+    /// AD Jacobian is used: the sweep below does not seed the viscous stretches, and keeping
+    /// the thesis's sweep free of the extensions' test kept it at its measured cost).
+    ///
     /// Each cell is evaluated once by the residual's own cell expression in `Dual64`, seeded
     /// along its right boundary `x_j` (with `ẏ`-part `c`, as the colouring seeds `v`); a cell
     /// depends on its boundaries only through `x_j − x_{j−1}` and `v_j − v_{j−1}`, so the
@@ -946,7 +1089,7 @@ impl<E: StrainEnergy> Line<E> {
         c: f64,
         jac: &mut JacobianSink,
     ) -> Result<bool, ResidualError> {
-        if self.right.is_periodic() {
+        if self.right.is_periodic() || self.uniform.extended {
             return Ok(false);
         }
         let n = self.n_cells();
@@ -1105,7 +1248,8 @@ impl<E: StrainEnergy> Line<E> {
         // unknowns a cell depends on
         let cell_deps = |c: usize, out: &mut Vec<usize>| {
             let right = if c == n && periodic { 0 } else { c };
-            for k in [lay.xi[c - 1], lay.xi[right], lay.gi[c - 1]] {
+            let v = lay.vi.get(c - 1).copied().unwrap_or(NONE);
+            for k in [lay.xi[c - 1], lay.xi[right], lay.gi[c - 1], v] {
                 if k != NONE {
                     out.push(k);
                 }
@@ -1122,11 +1266,14 @@ impl<E: StrainEnergy> Line<E> {
         };
         let mut deps = Vec::new();
         for c in 1..=n {
-            if lay.gi[c - 1] != NONE {
-                deps.clear();
-                cell_deps(c, &mut deps);
-                for &k in &deps {
-                    f(lay.gi[c - 1], k);
+            let v = lay.vi.get(c - 1).copied().unwrap_or(NONE);
+            for row in [lay.gi[c - 1], v] {
+                if row != NONE {
+                    deps.clear();
+                    cell_deps(c, &mut deps);
+                    for &k in &deps {
+                        f(row, k);
+                    }
                 }
             }
         }
@@ -1363,9 +1510,19 @@ mod tests {
     fn reference_residual<S: Scalar>(l: &Line<NeoHookean>, y: &[S], yp: &[S]) -> Vec<S> {
         let mut slow = l.clone();
         slow.uniform = UniformFields::default();
+        slow.uniform.extended = l.uniform.extended;
         let mut r = vec![S::from(f64::NAN); y.len()];
-        slow.residual_cells_in(Indexed(&slow.layout), 0.4, y, yp, &mut r, 0, 1, l.n_cells())
-            .unwrap();
+        slow.residual_cells_in::<S, _, true>(
+            Indexed(&slow.layout),
+            0.4,
+            y,
+            yp,
+            &mut r,
+            0,
+            1,
+            l.n_cells(),
+        )
+        .unwrap();
         r
     }
 

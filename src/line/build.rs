@@ -9,7 +9,7 @@
 use super::array::{Cells, Layout, Line};
 use super::LineError;
 use crate::boundary::RightEnd;
-use crate::cell::{Active, Field, GrowthLaw, Sampling};
+use crate::cell::{Active, Field, GrowthLaw, MaxwellBranch, Sampling};
 use crate::energy::StrainEnergy;
 use crate::substrate::{DragForm, WidthRule};
 use std::f64::consts::PI;
@@ -60,6 +60,10 @@ pub struct LineParams {
     pub active: Option<Active>,
     /// Growth law.
     pub growth: Option<Arc<dyn GrowthLaw>>,
+    /// Maxwell branch (Maxwell or standard linear solid cells; docs/viscoelasticity.md).
+    pub maxwell: Option<MaxwellBranch>,
+    /// External pressure field `p_e(X)` on the cells' lateral faces (docs/model.md §8.2).
+    pub p_ext: Field,
     /// Absolute tolerance in cell units.
     pub atol_cell: f64,
 }
@@ -82,6 +86,8 @@ impl LineParams {
             right: RightEnd::Prescribed(crate::boundary::Ramp::Constant(n as f64)),
             active: None,
             growth: None,
+            maxwell: None,
+            p_ext: Field::Constant(0.0),
             atol_cell: 1e-8,
         }
     }
@@ -190,6 +196,14 @@ fn assemble<E: StrainEnergy>(
             .collect(),
     };
     let active_amp = p.active_amp.sample(samples, l0_total);
+    let p_ext = p.p_ext.sample(samples, l0_total);
+    if let Some(bad) = p_ext.iter().find(|x| !x.is_finite()) {
+        return Err(LineError::invalid(
+            "external_pressure",
+            bad,
+            "finite at every cell",
+        ));
+    }
     let phase = centres.iter().map(|&x| 2.0 * PI * x / l0_total).collect();
     for (key, v) in [("mu", &mu), ("eta", &eta), ("K", &k_cell)] {
         if let Some(bad) = v.iter().find(|x| !x.is_finite() || **x < 0.0) {
@@ -217,6 +231,7 @@ fn assemble<E: StrainEnergy>(
             k_cell,
             active_amp,
             phase,
+            p_ext,
         },
         k_face,
         m: p.m,
@@ -227,6 +242,7 @@ fn assemble<E: StrainEnergy>(
         right,
         active: p.active,
         growth: p.growth.clone(),
+        maxwell: p.maxwell,
         l0_total,
         atol_cell: p.atol_cell,
         threads: 1,

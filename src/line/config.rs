@@ -18,7 +18,7 @@
 use super::build::LineParams;
 use super::LineError;
 use crate::boundary::{Ramp, RampKind, RightEnd};
-use crate::cell::{Active, Field, Sampling, TanhGrowth};
+use crate::cell::{Active, Field, Sampling, TanhGrowth, ViscosityModel};
 use crate::energy::{AnyEnergy, NeoHookean};
 use crate::substrate::{DragForm, WidthRule};
 use serde::{Deserialize, Serialize};
@@ -104,6 +104,12 @@ pub struct LineConfig {
     pub law: AnyEnergy,
     /// Continuum discretisation used when the continuum model is run.
     pub continuum_scheme: ContinuumScheme,
+    /// Viscosity model `{ model = "kelvin_voigt", eta }`, `{ model = "maxwell", mu_m, eta_m }`
+    /// or `{ model = "standard_linear_solid", mu_m, eta_m }` (absent: Kelvin–Voigt with `eta`).
+    pub viscosity: Option<ViscosityModel>,
+    /// External pressure `p_e(X)` on the cells' lateral faces (any finite number or field;
+    /// docs/model.md §8.2).
+    pub external_pressure: Field,
 }
 
 impl Default for LineConfig {
@@ -132,6 +138,8 @@ impl Default for LineConfig {
             growth: None,
             law: AnyEnergy::NeoHookean(NeoHookean::new(1.0).expect("valid")),
             continuum_scheme: ContinuumScheme::Conservative,
+            viscosity: None,
+            external_pressure: Field::Constant(0.0),
         }
     }
 }
@@ -211,6 +219,7 @@ impl LineConfig {
             finite_pos("growth.sigma0", g.sigma0)?;
             finite_pos("growth.gm", g.gm)?;
         }
+        self.validate_viscosity_and_pressure()?;
         let periodic = self.right_end == RightEndKind::Periodic;
         if periodic && self.drag_form == DragForm::Centre {
             return Err(LineError::CentreFormPeriodic);
@@ -243,6 +252,44 @@ impl LineConfig {
             ));
         }
         Ok(())
+    }
+
+    /// Checks `viscosity` and `external_pressure` (errors name the inner key).
+    fn validate_viscosity_and_pressure(&self) -> Result<(), LineError> {
+        if let Some(v) = &self.viscosity {
+            v.branch().map_err(|e| {
+                LineError::invalid(&format!("viscosity.{}", e.key), e.value, e.range)
+            })?;
+            let eta_set = !matches!(self.eta, Field::Constant(e) if e == 0.0);
+            if eta_set && matches!(v, ViscosityModel::KelvinVoigt { .. }) {
+                return Err(LineError::Combination(
+                    "both `eta` and `viscosity` = { model = \"kelvin_voigt\" } given; set one"
+                        .into(),
+                ));
+            }
+        }
+        let extended = self.viscosity.is_some()
+            || !matches!(self.external_pressure, Field::Constant(p) if p == 0.0);
+        if extended && self.continuum_scheme == ContinuumScheme::Thesis {
+            return Err(LineError::Combination(
+                "`continuum_scheme` = \"thesis\" supports neither `viscosity` nor `external_pressure`; use \"conservative\"".into(),
+            ));
+        }
+        // the sampled values are checked when the line is built; a constant is checked here
+        if let Field::Constant(p) = self.external_pressure {
+            if !p.is_finite() {
+                return Err(LineError::invalid("external_pressure", p, "finite"));
+            }
+        }
+        Ok(())
+    }
+
+    /// The Kelvin–Voigt viscosity field: `viscosity.eta` if given, else `eta`.
+    fn kv_eta(&self) -> Field {
+        match self.viscosity {
+            Some(ViscosityModel::KelvinVoigt { eta }) => Field::Constant(eta),
+            _ => self.eta.clone(),
+        }
     }
 
     /// The prescribed length `l(t)`.
@@ -279,7 +326,7 @@ impl LineConfig {
         LineParams {
             ref_lengths: self.lengths(),
             mu: self.mu.clone(),
-            eta: self.eta.clone(),
+            eta: self.kv_eta(),
             k: self.k.clone(),
             active_amp: self.active_amplitude.clone(),
             sampling: self.sampling,
@@ -293,6 +340,8 @@ impl LineConfig {
             growth: self
                 .growth
                 .map(|g| Arc::new(g) as Arc<dyn crate::cell::GrowthLaw>),
+            maxwell: self.viscosity.and_then(|v| v.branch().ok().flatten()),
+            p_ext: self.external_pressure.clone(),
             atol_cell,
         }
     }

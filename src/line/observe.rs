@@ -136,8 +136,17 @@ impl<E: StrainEnergy> Line<E> {
             let (c, right) = self.eval_cell_from(j, t, y, yp, left)?;
             let i = j - 1;
             let resp = self.energy.line(c.alpha);
-            let p = self.cells.mu[i] * resp.pressure
-                - self.cells.eta[i] * c.alpha_dot / (c.alpha * c.alpha);
+            let mut p = self.cells.mu[i] * resp.pressure
+                - self.cells.eta[i] * c.alpha_dot / (c.alpha * c.alpha)
+                + self.cells.p_ext[i];
+            if let Some(b) = &self.maxwell {
+                // the branch's lateral stress joins the pressure (docs/viscoelasticity.md)
+                let av = y[self.layout.vi[i]];
+                p += b.pressure(&self.energy, c.alpha, av);
+                if !b.elastic {
+                    p -= self.cells.mu[i] * resp.pressure;
+                }
+            }
             s.x.push(right.0);
             s.centre.push(0.5 * (left.0 + right.0));
             left = right;

@@ -36,36 +36,72 @@ pub fn neo_hookean_stretch(s: f64) -> f64 {
 
 /// Solves `scale·σ_el(λ) = s` for `λ > 0` (σ_el strictly increasing) by Newton with a bracket.
 ///
+/// The bracket grows by doubling (halving) from `λ = 1`; a stretch outside the law's domain
+/// ([`StrainEnergy::admissible`], e.g. past a locking [`crate::Gent`] law's limit) is never
+/// evaluated: the bracket then closes in on the domain's edge by bisection, where a locking
+/// law's stress diverges, so any finite `s` is found inside the domain.
+///
 /// ```
 /// use celltissue::line::static_solve::invert_stretch;
-/// use celltissue::NeoHookean;
+/// use celltissue::{Gent, NeoHookean, StrainEnergy};
 /// let l = invert_stretch(&NeoHookean::new(1.0).unwrap(), 2.0, -0.5).unwrap();
 /// assert!((2.0 * (l * l - 1.0 / (l * l)) + 0.5).abs() < 1e-12);
+/// // Gent with J_m = 0.5 locks at λ ≈ 1.414 and 0.707: large stresses stay inside
+/// let gent = Gent::new(1.0, 0.5).unwrap();
+/// let l = invert_stretch(&gent, 1.0, 50.0).unwrap();
+/// assert!(l < 1.4143 && (gent.line(l).sigma - 50.0).abs() < 1e-9 * 50.0);
 /// ```
 pub fn invert_stretch<E: StrainEnergy>(energy: &E, scale: f64, s: f64) -> Result<f64, LineError> {
+    let inside = |l: f64| energy.admissible([l, 1.0 / l, 1.0]).is_ok();
     let f = |l: f64| {
         let r = energy.line(l);
         (scale * r.sigma - s, scale * r.dsigma)
     };
+    let fail = || {
+        LineError::Combination(format!(
+            "cannot invert the cell law for stress {s} (no stretch in its domain carries it)"
+        ))
+    };
+    // grows the bracket from λ = 1 by `step` (×2 or ×½) until `f` changes sign to `want_pos`;
+    // an inadmissible candidate is replaced by the midpoint with the last admissible one
+    let search = |step: f64, want_pos: bool| -> Result<f64, LineError> {
+        let mut last = 1.0;
+        let mut out: Option<f64> = None;
+        for _ in 0..4000 {
+            let cand = match out {
+                None => last * step,
+                Some(o) => 0.5 * (last + o),
+            };
+            if !(cand > 1e-300 && cand < 1e300) || (out.is_some() && cand == last) {
+                return Err(fail());
+            }
+            if !inside(cand) {
+                out = Some(cand);
+                continue;
+            }
+            let v = f(cand).0;
+            if v == 0.0 || (v > 0.0) == want_pos {
+                return Ok(cand);
+            }
+            last = cand;
+        }
+        Err(fail())
+    };
     // bracket [lo, hi] with f(lo) < 0 < f(hi)
     let (mut lo, mut hi) = (1.0, 1.0);
-    if f(1.0).0 > 0.0 {
-        while f(lo).0 > 0.0 {
-            lo *= 0.5;
-            if lo < 1e-300 {
-                return Err(LineError::Combination(format!(
-                    "cannot invert the cell law for stress {s}"
-                )));
-            }
+    let f1 = f(1.0).0;
+    if f1 == 0.0 {
+        return Ok(1.0);
+    }
+    if f1 > 0.0 {
+        lo = search(0.5, false)?;
+        if f(lo).0 == 0.0 {
+            return Ok(lo);
         }
     } else {
-        while f(hi).0 < 0.0 {
-            hi *= 2.0;
-            if hi > 1e300 {
-                return Err(LineError::Combination(format!(
-                    "cannot invert the cell law for stress {s}"
-                )));
-            }
+        hi = search(2.0, true)?;
+        if f(hi).0 == 0.0 {
+            return Ok(hi);
         }
     }
     let mut l = 0.5 * (lo + hi);

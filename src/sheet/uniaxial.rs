@@ -18,6 +18,7 @@ use super::ramp::Ramp;
 use crate::array::CellArray;
 use crate::energy::{SheetResponse, StrainEnergy};
 use crate::scalar::Scalar;
+use crate::substrate::{Dissipation, PowerLawDrag};
 use integrators::{Pattern, ResidualError, SparsityPattern};
 use std::cell::RefCell;
 use std::sync::Arc;
@@ -400,6 +401,14 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
         r
     }
 
+    /// The substrate dissipation law `κ = (λ₁λ₂)^m` ([`PowerLawDrag`]).
+    #[inline(always)]
+    fn dissipation(&self) -> PowerLawDrag {
+        PowerLawDrag {
+            m: self.params.drag_exponent,
+        }
+    }
+
     /// State of cell `(j, k)` inside a residual; errors on a non-positive stretch.
     #[inline]
     fn cell_s<S: Scalar>(
@@ -432,13 +441,19 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
                 component: Some(self.iy(j, kk)),
             });
         }
+        if let Err(e) = self.law.admissible([a, b, 1.0 / (a * b)]) {
+            return Err(ResidualError::Recoverable {
+                reason: format!("sheet cell (j={j}, k={k}): {e}"),
+                component: if j < self.n {
+                    Some(self.ix(j, k))
+                } else {
+                    None
+                },
+            });
+        }
         let r = self.response((j - 1) * self.m + (k - 1), a, b);
         let area = l1 * l2;
-        let kappa = if self.params.drag_exponent == 0.0 {
-            S::from(1.0)
-        } else {
-            area.powf(self.params.drag_exponent)
-        };
+        let kappa = self.dissipation().kappa(area);
         Ok(CellS {
             l1,
             l2,
@@ -481,7 +496,7 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
                     pressure: r.pressure,
                     s11: r.s11,
                     s22: r.s22,
-                    kappa: (l1 * l2).powf(self.params.drag_exponent),
+                    kappa: self.dissipation().kappa(l1 * l2),
                 });
             }
         }
