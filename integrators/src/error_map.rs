@@ -38,7 +38,9 @@
 //! // weights: rtol·|x_i − x_p| + atol_i, or rtol·ℓ + atol_i for the anchor
 //! let y = [1.0, 3.0, 4.0];
 //! let mut wt = [0.0; 3];
-//! map.weights(&y, &map.effective_atol(&[0.1; 3], 0.5), 0.5, 0, &mut wt);
+//! let mut map = map;
+//! let eatol = map.effective_atol(&[0.1; 3], 0.5);
+//! map.weights(&y, &eatol, 0.5, 0, &mut wt);
 //! assert_eq!(wt, [1.0 / 0.6, 1.0 / 1.1, 1.0 / 0.6]);
 //! ```
 
@@ -75,6 +77,12 @@ pub struct ErrorMap {
     back: Vec<i32>,
     /// Anchor rows and their sizes.
     anchors: Vec<(usize, f64)>,
+    /// Extra quantities: rows whose own error is also tested against `rtol·size + atol_i`
+    /// (the last cell before a prescribed end), with their sizes.
+    ends: Vec<(usize, f64)>,
+    /// `(row, 1/(rtol·size + atol_row))` of the `ends`, set by
+    /// [`effective_atol`](Self::effective_atol).
+    end_w: Vec<(usize, f64)>,
 }
 
 /// Why rows do not make an [`ErrorMap`].
@@ -139,7 +147,31 @@ impl ErrorMap {
                 }
             });
         }
-        Ok(Self { back, anchors })
+        Ok(Self {
+            back,
+            anchors,
+            ends: Vec::new(),
+            end_w: Vec::new(),
+        })
+    }
+
+    /// Also tests the error of row `row` on its own against `rtol·size + atol_row`, besides
+    /// its row's quantity: the far end of a cell whose other end is prescribed (no unknown), so
+    /// that the cell's stretch error (the row's own error over `size`) is controlled too. The
+    /// norm then has one more term (an RMS norm still divides by the number of rows).
+    pub fn with_end(mut self, row: usize, size: f64) -> Result<Self, ErrorMapError> {
+        if row >= self.back.len() {
+            return Err(ErrorMapError::Partner {
+                row,
+                partner: row,
+                n: self.back.len(),
+            });
+        }
+        if !(size > 0.0 && size.is_finite()) {
+            return Err(ErrorMapError::Size { row, size });
+        }
+        self.ends.push((row, size));
+        Ok(self)
     }
 
     /// Number of rows (0 for the identity map).
@@ -184,7 +216,12 @@ impl ErrorMap {
 
     /// The tolerances the weights add to `rtol·|…|`: `atol_i` for own and difference rows,
     /// `rtol·size + atol_i` for anchors (so that an anchor's weight is `1/eatol_i`).
-    pub fn effective_atol(&self, atol: &[f64], rtol: f64) -> Vec<f64> {
+    pub fn effective_atol(&mut self, atol: &[f64], rtol: f64) -> Vec<f64> {
+        self.end_w = self
+            .ends
+            .iter()
+            .map(|&(i, size)| (i, 1.0 / (rtol * size + atol[i])))
+            .collect();
         let mut e = atol.to_vec();
         for &(i, size) in &self.anchors {
             e[i] = rtol * size + atol[i];
@@ -274,7 +311,26 @@ impl ErrorMap {
         for i in lo..hi {
             s.push(norm, self.quantity(i, v) * w[i]);
         }
+        self.for_each_end(lo, hi, w, |i, we| s.push(norm, v[i] * we));
         s
+    }
+
+    /// Calls `f(row, weight)` for the end rows (see [`with_end`](Self::with_end)) in `lo..hi`,
+    /// skipping those where `w` is zero (a suppressed algebraic component); the caller adds
+    /// `error(row)·weight` to its norm.
+    #[inline]
+    pub(crate) fn for_each_end(
+        &self,
+        lo: usize,
+        hi: usize,
+        w: &[f64],
+        mut f: impl FnMut(usize, f64),
+    ) {
+        for &(i, we) in &self.end_w {
+            if (lo..hi).contains(&i) && w[i] != 0.0 {
+                f(i, we);
+            }
+        }
     }
 
     /// The component with the largest weighted quantity (the first NaN if any), for failure
@@ -379,7 +435,7 @@ mod tests {
     #[test]
     fn weights_and_norms_are_translation_invariant() {
         let n = 50;
-        let m = line_map(n);
+        let mut m = line_map(n);
         let y: Vec<f64> = (0..n)
             .map(|i| 2.0 * i as f64 * (1.0 + 0.01 * i as f64))
             .collect();
@@ -406,7 +462,7 @@ mod tests {
     #[test]
     fn quantities_are_stretch_errors() {
         // cell lengths 2, stretch 1.5: rtol·|Δx| + atol·L₀ = 1e-6·3 + 1e-8·2
-        let m = line_map(3);
+        let mut m = line_map(3);
         let y = [0.0, 3.0, 6.0];
         let ea = m.effective_atol(&[2e-8; 3], 1e-6);
         let mut w = [0.0; 3];

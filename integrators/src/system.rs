@@ -120,7 +120,7 @@ impl SystemCache {
                 vec![opts.atol; n]
             }
         };
-        let map = problem.error_map().unwrap_or_default();
+        let mut map = problem.error_map().unwrap_or_default();
         if !map.is_empty() {
             map.check_len(n).map_err(|e| e.to_string())?;
         }

@@ -1109,7 +1109,9 @@ impl<E: StrainEnergy> CellArray for Line<E> {
 
     /// Positions tested through their cell's stretch (docs/model.md §8.1): boundary `b` is
     /// differenced with boundary `b − 1` when both are unknowns; the first free boundary is an
-    /// anchor measured in lengths of its cell; growth stretches keep their own test.
+    /// anchor measured in lengths of its cell, and the last free boundary before a prescribed
+    /// end also on its own (the stretch error of that end's cell); growth stretches keep their
+    /// own test.
     fn error_map(&self) -> Option<integrators::ErrorMap> {
         use integrators::Row;
         let n = self.n_cells();
@@ -1130,7 +1132,15 @@ impl<E: StrainEnergy> CellArray for Line<E> {
                 },
             };
         }
-        integrators::ErrorMap::from_rows(rows).ok()
+        let mut map = integrators::ErrorMap::from_rows(rows).ok()?;
+        // the last free boundary before a prescribed one: its cell's stretch error is its own
+        for b in 0..n {
+            let k = lay.xi[b];
+            if k != NONE && lay.xi[b + 1] == NONE && !self.right.is_periodic() {
+                map = map.with_end(k, self.cells.l0[b]).ok()?;
+            }
+        }
+        Some(map)
     }
 
     fn algebraic(&self) -> Vec<bool> {

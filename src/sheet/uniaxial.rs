@@ -579,7 +579,8 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
     /// Each face position tested through the stretch of its cell in its own direction
     /// (docs/model.md §8.1): `x_b(j, k)` differenced with `x_b(j − 1, k)`, `y_b(j, k)` with
     /// `y_b(j, k − 1)`; the first free face of each row/column (next to the fixed wall or
-    /// base) is an anchor measured in cell sizes `h_X`, `h_Y`.
+    /// base) is an anchor measured in cell sizes `h_X`, `h_Y`, and the last x-face of each
+    /// row is also tested on its own (the stretch error of the cell at the prescribed edge).
     fn error_map(&self) -> Option<integrators::ErrorMap> {
         use integrators::Row;
         let mut rows = vec![Row::Own; self.dim()];
@@ -609,7 +610,14 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
                 };
             }
         }
-        integrators::ErrorMap::from_rows(rows).ok()
+        let mut map = integrators::ErrorMap::from_rows(rows).ok()?;
+        // the faces next to the prescribed edge x_b(n, k): that column's stretch error
+        for k in 1..=self.m {
+            if self.n >= 2 {
+                map = map.with_end(self.ix(self.n - 1, k), self.hx).ok()?;
+            }
+        }
+        Some(map)
     }
 
     fn algebraic(&self) -> Vec<bool> {

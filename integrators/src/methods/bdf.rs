@@ -315,6 +315,7 @@ fn norm_blocks(
                     let q = map.quantity_with(i, ycur[i] - b[i - s], err);
                     a.push(q * ewt[i]);
                 }
+                map.for_each_end(s, e, ewt, |i, we| a.push(err(i) * we));
             }
             s = e;
         }
@@ -1391,7 +1392,7 @@ mod tests {
         let mut rows = vec![crate::Row::Anchor { size: 2.0 }];
         rows.extend((1..n).map(|i| crate::Row::Difference { partner: i - 1 }));
         let line = ErrorMap::from_rows(rows).expect("valid rows");
-        for map in [ErrorMap::default(), line] {
+        for mut map in [ErrorMap::default(), line] {
             let eatol = if map.is_empty() {
                 atol.clone()
             } else {
