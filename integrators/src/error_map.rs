@@ -309,8 +309,8 @@ impl ErrorMap {
         ends: bool,
     ) -> NormSum {
         let mut s = NormSum::default();
-        for i in lo..hi {
-            s.push(norm, self.quantity(i, v) * w[i]);
+        for (i, wi) in w.iter().enumerate().take(hi).skip(lo) {
+            s.push(norm, self.quantity(i, v) * wi);
         }
         if ends {
             self.for_each_end(lo, hi, w, |i, we| s.push(norm, v[i] * we));
