@@ -36,6 +36,7 @@
 
 pub mod adapters;
 pub mod error;
+pub mod error_map;
 mod initial_step;
 pub mod jacobian;
 pub mod linalg;
@@ -49,6 +50,7 @@ pub mod stats;
 pub mod system;
 
 pub use error::{ErrorKind, SolveFailure, SolverError};
+pub use error_map::{ErrorMap, ErrorMapError, Row};
 pub use method::{Method, MethodKind};
 pub use options::{ErrorNorm, IterativeSettings, LinearSolverChoice, Options};
 pub use pattern::{Pattern, SparsityPattern};
