@@ -22,16 +22,19 @@
 pub mod ad;
 mod any;
 mod error;
+mod expression;
 mod hgo;
 mod mooney_rivlin;
 mod neo_hookean;
 mod ogden;
+pub mod registry;
 mod scaled;
 #[cfg(test)]
 mod tests;
 
 pub use any::AnyEnergy;
 pub use error::EnergyError;
+pub use expression::{Expression, ExpressionError};
 pub use hgo::Hgo;
 pub use mooney_rivlin::MooneyRivlin;
 pub use neo_hookean::NeoHookean;
