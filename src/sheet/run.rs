@@ -3,11 +3,14 @@
 //! series and profiles (keys in [`super::observe`]); optionally they write VTK (`.vtu` + `.pvd`)
 //! and PNG snapshots of the sheet.
 //!
-//! ```ignore
-//! use celltissue::sheet::{run_sheet, SheetConfig, SolverSettings, run::Outputs};
+//! ```
+//! use celltissue::observe::ModelKind;
+//! use celltissue::sheet::{run::Outputs, run_sheet, SheetConfig, SolverSettings};
 //! let law = celltissue::NeoHookean::new(1.0)?;
 //! let rec = run_sheet(&SheetConfig::default(), &law, ModelKind::Discrete, None,
 //!                     &SolverSettings::default(), &Outputs::at(&[1.0, 2.0, 5.0, 10.0]))?;
+//! assert_eq!(rec.series.t, [1.0, 2.0, 5.0, 10.0]);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 use super::config::{ConfigError, ShearConfig, ShearForm, SheetConfig, SolverSettings};

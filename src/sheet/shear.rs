@@ -96,9 +96,12 @@ pub fn shear_pressure<E: StrainEnergy>(law: &E, t: f64) -> f64 {
 
 /// The canonical edge form of the shear column as a [`CellArray`] (tridiagonal Jacobian).
 ///
-/// ```ignore
+/// ```
 /// use celltissue::sheet::shear::{ShearColumn, ShearParams};
+/// use celltissue::{CellArray, NeoHookean};
 /// let col = ShearColumn::discrete(NeoHookean::new(1.0)?, &ShearParams::default())?;
+/// assert_eq!(col.dim(), col.initial_state().len());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub struct ShearColumn<E: StrainEnergy> {
     law: E,

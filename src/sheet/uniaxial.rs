@@ -104,11 +104,14 @@ struct CellS<S> {
 
 /// A uniaxial sheet of `n × m` cells (or continuum segments) as a [`CellArray`].
 ///
-/// ```ignore
+/// ```
 /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
-/// let sheet = UniaxialSheet::discrete(NeoHookean::new(1.0), &SheetParams::default())?;
+/// use celltissue::{ArrayProblem, CellArray, NeoHookean};
+/// let sheet = UniaxialSheet::discrete(NeoHookean::new(1.0)?, &SheetParams::default())?;
 /// let y0 = sheet.initial_state();
-/// let problem = celltissue::ArrayProblem::new(sheet);
+/// assert_eq!(y0.len(), sheet.dim());
+/// let _problem = ArrayProblem::new(sheet); // an integrators::Problem
+/// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub struct UniaxialSheet<E: StrainEnergy> {
     law: E,
