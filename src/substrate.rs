@@ -1,4 +1,4 @@
-//! Substrate interaction of the line (MODEL.md §2.3–§2.5): drag `K·κ` with
+//! Substrate interaction of the line (docs/model.md §2.3–§2.5): drag `K·κ` with
 //! `κ = (A/A₀)^m = (g·g₂)^m` for any real `m`, the face (shared-boundary) averages, the shared
 //! width rule, and the two drag forms:
 //!

@@ -1,4 +1,4 @@
-//! Structure of the line's residual (MODEL.md §2.9): declared bandwidths for each form, the AD
+//! Structure of the line's residual (docs/model.md §2.9): declared bandwidths for each form, the AD
 //! Jacobian columns equal finite differences of the residual, the conservative continuum with
 //! n = N is the discrete model, and invalid states are rejected naming the cell.
 

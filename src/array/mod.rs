@@ -7,7 +7,7 @@
 //! it ([`CellArray::jacobian`], the line does), the array's own Jacobian in one sweep.
 //!
 //! Discrete and continuum builders both produce cell arrays: the conservative continuum scheme
-//! is the same array with `n` segments of reference size `h` (MODEL.md §3.3a, §4.3), so new
+//! is the same array with `n` segments of reference size `h` (docs/model.md §3.3a, §4.3), so new
 //! cell laws and deformation modes plug in here without touching the integrators.
 
 use crate::scalar::Scalar;

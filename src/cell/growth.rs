@@ -1,4 +1,4 @@
-//! Stress-controlled axial growth laws `ġ = G(σ)` (MODEL.md §2.7): the [`GrowthLaw`] trait and
+//! Stress-controlled axial growth laws `ġ = G(σ)` (docs/model.md §2.7): the [`GrowthLaw`] trait and
 //! the thesis's tanh law [`TanhGrowth`]. The line's residual evaluates `G` in `f64` with its
 //! derivative and lifts it into the AD scalar, so any law with a derivative plugs in.
 

@@ -186,7 +186,7 @@ fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
     }
 }
 
-/// Runs the uniaxial sheet (MODEL.md §4.1–4.3).
+/// Runs the uniaxial sheet (docs/model.md §4.1–4.3).
 ///
 /// * `model`: [`ModelKind::Discrete`] (`N × M` cells) or [`ModelKind::Continuum`] (conservative
 ///   scheme on `grid = (n, m)`; default `(2N, 2M)`). `grid` with a discrete model must be `None`
@@ -306,7 +306,7 @@ pub fn run_sheet<E: StrainEnergy>(
     })
 }
 
-/// Runs the shear column (MODEL.md §4.4–4.6).
+/// Runs the shear column (docs/model.md §4.4–4.6).
 ///
 /// * `model`: discrete (`M` cells, edge or cell-centre form per `cfg.form`) or continuum
 ///   (edge-form conservative scheme on `grid` segments, default `4M`; cell-centre form is
