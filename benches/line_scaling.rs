@@ -1,5 +1,5 @@
 //! Cost of the line of cells (issue #3 performance section), on the macroscale-fixed family of
-//! MODEL.md §5.4 where N cells and n continuum segments resolve the same tissue problem:
+//! docs/model.md §5.4 where N cells and n continuum segments resolve the same tissue problem:
 //! `l₀ = N`, `K = 1/N`, exponential ramp with ramp time `N`, `k₁ = 0.1`, `t ∈ [0, N]`, BDF with
 //! rtol 1e-6 (η = 0, and η = N as the viscous case). Plus the thesis's raw Chapter 2 problem
 //! (K = 1, η = 0, l₀ = N, unit ramp, t ∈ [0, 10]) at N = 1000.

@@ -1,4 +1,4 @@
-//! Cost of the discrete uniaxial sheet vs N·M (MODEL.md §4.1; free top, K = ½, m = 0,
+//! Cost of the discrete uniaxial sheet vs N·M (docs/model.md §4.1; free top, K = ½, m = 0,
 //! neo-Hookean, BDF rtol 1e-6, atol 1e-8 in cell units, max error norm), integrated to t = 10,
 //! with the sparse direct LU (`direct/…`) and with ILU(0) + BiCGStab (`iterative/…`, default
 //! [`IterativeSettings`]: BDF's Newton-aware stopping rule).

@@ -1,4 +1,4 @@
-//! Accuracy vs cost of the continuum model on the macroscale-fixed family (MODEL.md §5.4:
+//! Accuracy vs cost of the continuum model on the macroscale-fixed family (docs/model.md §5.4:
 //! `l₀ = N`, `K = 1/N`, ramp time `N`, `k₁ = 0.1`, compared at `t = N`): the continuum on `n`
 //! segments against the discrete model with `N` cells, error in scaled positions `x/N`, next to
 //! wall time and step counts — the thesis's "significant computational saving", quantified.

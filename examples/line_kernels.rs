@@ -1,5 +1,5 @@
 //! One-shot timings of the line's per-step kernels at N cells (default 10⁶) on the
-//! macroscale family's line (MODEL.md §5.4; `K = 1/N`, NeoHookean, prescribed end) at a
+//! macroscale family's line (docs/model.md §5.4; `K = 1/N`, NeoHookean, prescribed end) at a
 //! perturbed state: the `f64` residual, the line's own Jacobian (`Line::jacobian_into`, one
 //! sweep), the coloured AD alternative it replaces (three `Dual64` directional sweeps through
 //! `ArrayProblem::directional`, the tridiagonal colouring; the integrators' assembly not

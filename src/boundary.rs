@@ -1,4 +1,4 @@
-//! Boundary conditions of the line (MODEL.md §2.6): the left end is a wall `x₀ = 0` (or, on a
+//! Boundary conditions of the line (docs/model.md §2.6): the left end is a wall `x₀ = 0` (or, on a
 //! ring, free); the right end is one of [`RightEnd`]: prescribed length `l(t)` (a [`Ramp`]:
 //! exponential (2.80), polynomial (2.81), constant, or any closure giving `l` and `l̇`), free with
 //! an optional applied force `F_ext(t)`, or periodic (`x_N = x₀ + l₀`).

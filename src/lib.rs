@@ -2,7 +2,7 @@
 //!
 //! Soft tissue as arrays of incompressible hyperelastic cells (Kelvin–Voigt viscosity, substrate
 //! drag `K·κ`, `κ = (A/A₀)^m`), and the continuum PDEs that the same cell laws upscale to. The
-//! canonical equations are in `shared/MODEL.md`; module docs cite its sections.
+//! canonical equations are in `docs/model.md`; module docs cite its sections.
 //!
 //! Data flow: scenario file → validated scenario → (cell array, cell laws, boundary conditions)
 //! → discrete or continuum builder → [`integrators`] problem → integrator → observers → writers.

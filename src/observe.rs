@@ -77,7 +77,7 @@ pub struct RunStats {
 pub struct DivisionRecord {
     /// Time of division.
     pub t: f64,
-    /// Index (1-based, as in MODEL.md) of the parent cell before division.
+    /// Index (1-based, as in docs/model.md) of the parent cell before division.
     pub parent: usize,
     /// Position of the new boundary.
     pub x: f64,

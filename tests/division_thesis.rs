@@ -1,4 +1,4 @@
-//! Division against MODEL.md §5.5 Ref values (thesis Fig. 3.3): N₀ = 100 neo-Hookean cells,
+//! Division against docs/model.md §5.5 Ref values (thesis Fig. 3.3): N₀ = 100 neo-Hookean cells,
 //! σ₀ = 0.1, free right end, η = 0, division when `g g₂` reaches 2.
 //!
 //! Measured (BDF, rtol 1e-8, atol 1e-10 in cell units) vs Ref:

@@ -1,4 +1,4 @@
-//! Independent checks of the constitutive layer (MODEL.md §1, §5.1): central finite differences
+//! Independent checks of the constitutive layer (docs/model.md §1, §5.1): central finite differences
 //! of `W` (no AD), small-strain moduli, the HGO one-sided tangent, monotonicity, law
 //! equivalences and constructor errors.
 

@@ -1,5 +1,5 @@
-//! AD responses (`celltissue::energy::ad`) against the closed forms of MODEL.md §1.3–§1.5, to
-//! 1e-12 relative, for every sample law (MODEL.md §5.1).
+//! AD responses (`celltissue::energy::ad`) against the closed forms of docs/model.md §1.3–§1.5, to
+//! 1e-12 relative, for every sample law (docs/model.md §5.1).
 
 use celltissue::energy::ad;
 use celltissue::{
@@ -228,7 +228,7 @@ fn hgo_all_angles_both_sides_of_i4_equal_one() {
             }
         };
         for a in STRETCHES {
-            // MODEL.md §1.3 line closed form.
+            // docs/model.md §1.3 line closed form.
             let i4 = a * a * co + a.powi(-2) * si;
             count(i4);
             let (p4, dp4) = psi4(k1, k2, i4);

@@ -1,4 +1,4 @@
-//! Growth without division (thesis Ch. 3, Figs 3.1–3.2; MODEL.md §5.4–5.5): N = 100
+//! Growth without division (thesis Ch. 3, Figs 3.1–3.2; docs/model.md §5.4–5.5): N = 100
 //! neo-Hookean cells, σ₀ = 0.1, free right end, ġ = ½(1 + tanh(σ/σ₀)), residual form.
 //!
 //! Measured numbers are printed by each test (`cargo test --release --test growth_thesis --
@@ -50,7 +50,7 @@ fn quoted(value: f64, reference: f64, decimals: i32) -> bool {
     (value - reference).abs() <= 0.5 * 10f64.powi(-decimals) + 1e-12
 }
 
-/// Ref l(10), min α(10), l(100) for m = 0 (MODEL.md §5.5), and linearity of l(t) for η = 0.
+/// Ref l(10), min α(10), l(100) for m = 0 (docs/model.md §5.5), and linearity of l(t) for η = 0.
 #[test]
 fn m0_length_table_and_linear_growth() {
     let ks = [1e-5, 1e-3, 1e-2, 1e-1, 1.0];
@@ -260,11 +260,11 @@ fn viscous_growth_with_drag() {
     );
 }
 
-/// MODEL.md §5.4: free end with growth, K = 10/N², t = 2: the error in l/N is O(1/N)
+/// docs/model.md §5.4: free end with growth, K = 10/N², t = 2: the error in l/N is O(1/N)
 /// (Ref 1.8e-2, 9.2e-3, 4.6e-3, 2.2e-3 for N = 25, 50, 100, 200).
 ///
 /// The reference is the conservative continuum at n = 1600 and 3200 segments (which *is* the
-/// discrete model with n cells at the same K N², MODEL.md §3.3a). Measured: the Ref errors are
+/// discrete model with n cells at the same K N², docs/model.md §3.3a). Measured: the Ref errors are
 /// reproduced against the n = 1600 solution (l/N = 1.158629), i.e. the Ref's "very fine
 /// reference" carried its own O(1/1600) ≈ 3.1e-4 error; against the Richardson-extrapolated
 /// limit (2·l₃₂₀₀ − l₁₆₀₀ = 1.158940) the errors are 3.1e-4 larger and halve with N.

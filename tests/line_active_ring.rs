@@ -1,4 +1,4 @@
-//! Active ring (Fig. 2.10, MODEL.md §5.3): N = 100, periodic, β = −1, ω = 1/l₀, t ∈ [0, 100].
+//! Active ring (Fig. 2.10, docs/model.md §5.3): N = 100, periodic, β = −1, ω = 1/l₀, t ∈ [0, 100].
 //! Extremes of p and λ over cells and time against Ref; runs with even N (boundary form).
 
 use celltissue::cell::Active;
@@ -62,7 +62,7 @@ fn extremes_match_ref() {
     }
 }
 
-/// MODEL.md §2.6: averaging the widths means the boundary forces do not sum to zero, so the ring
+/// docs/model.md §2.6: averaging the widths means the boundary forces do not sum to zero, so the ring
 /// drifts slowly; x₀(100) ≈ −0.76 for the Fig 2.10 case with K = 1e-2 (a model property).
 #[test]
 fn ring_drift_matches_model() {

@@ -1,4 +1,4 @@
-//! Discrete → continuum convergence on the macroscale-fixed family (MODEL.md §5.4): l₀ = N,
+//! Discrete → continuum convergence on the macroscale-fixed family (docs/model.md §5.4): l₀ = N,
 //! K = 1/N, exponential ramp with ramp time N, compared at t = 0.5N in scaled positions x/N
 //! against a very fine conservative-continuum reference (n = 3200). Prescribed end: error
 //! O(N⁻²) with Ref max errors 3.7e-8, 9.3e-9, 2.3e-9, 5.8e-10, 1.4e-10 for N = 25, 50, 100, 200, 400.

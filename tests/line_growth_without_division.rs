@@ -1,4 +1,4 @@
-//! Growth without division (MODEL.md §5.5): free end, N₀ = 100, σ₀ = 0.1, η = 0. Ref l(10),
+//! Growth without division (docs/model.md §5.5): free end, N₀ = 100, σ₀ = 0.1, η = 0. Ref l(10),
 //! min α(10) and l(100) for m = 0; l(100) for m = 1 in forms B and C; forms agree to round-off
 //! for m = 0; the length is asymptotically linear for m = 0.
 

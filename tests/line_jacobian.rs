@@ -253,7 +253,7 @@ fn own_jacobian_rejects_a_collapsed_cell_like_the_residual() {
     assert_eq!(jres, res);
 }
 
-/// The macroscale family (MODEL.md §5.4) at N = 2000: with the line's own Jacobian the BDF
+/// The macroscale family (docs/model.md §5.4) at N = 2000: with the line's own Jacobian the BDF
 /// run takes the same steps and Newton iterations as with the coloured one (within ±2; the
 /// matrices differ by rounding only), and ends at the same state.
 #[test]

@@ -1,4 +1,4 @@
-//! Small-displacement exponential ramp, η = 0 (MODEL.md §5.3): the discrete line (N = 100,
+//! Small-displacement exponential ramp, η = 0 (docs/model.md §5.3): the discrete line (N = 100,
 //! k₁ = 1e-4) against the complete linear series solution (particular term + Fourier series);
 //! Ref thresholds max_j |λ_j − λ_lin|/k₁ < 1e-5 (K = 1e-4) and < 1e-3 (K = 1e-2) at t = 0.5, 1, 3.
 

@@ -1,4 +1,4 @@
-//! Static equilibrium of the line (MODEL.md §5.2): N = 100, l = 90, uniform and Gaussian
+//! Static equilibrium of the line (docs/model.md §5.2): N = 100, l = 90, uniform and Gaussian
 //! (2.82) μ, sampled at cell centres (default) or integer points; the bracketing solve and the
 //! Newton solve of the static banded problem agree; long-time limits of dynamic runs match.
 
@@ -116,7 +116,7 @@ fn random_heterogeneous_mu_static_newton_and_bracket_agree() {
 /// The conservative continuum on fine grids (Fig 2.6 uses n = 2000 segments): the static Newton
 /// solve converges (it used to stall at its residual's round-off floor, ≈ 4e-12 here, above the
 /// requested 1e-12) and agrees with the bracketing solve; the Gaussian maximum pressure tends to
-/// the exact-continuum Ref 2.266775 (MODEL.md §5.2).
+/// the exact-continuum Ref 2.266775 (docs/model.md §5.2).
 #[test]
 fn continuum_fine_grids_static_newton_converges() {
     for n in [2000usize, 20000] {

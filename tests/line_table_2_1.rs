@@ -1,4 +1,4 @@
-//! Table 2.1 (MODEL.md §5.3): the thesis's finite-difference scheme (§3.3b) with K = 1, η = 0,
+//! Table 2.1 (docs/model.md §5.3): the thesis's finite-difference scheme (§3.3b) with K = 1, η = 0,
 //! exponential ramp, l₀ = 100: end pressure p at the last node at t = 1 (the caption's t = 10
 //! is a typo) against Ref for n = 10..2000 to every quoted digit (measured: ≤ 3.1e-6 relative,
 //! which is the rounding of the 4-decimal Ref), and second-order convergence. Also the
@@ -74,7 +74,7 @@ fn discrete_n100_end_pressure_at_t1() {
     assert!((lmin - 0.2729).abs() < 1e-4, "{lmin}");
 }
 
-/// Ref end pressure at t = 10 for the same ramp (MODEL.md §5.3): 3.2335 (K = 1), 8.0017
+/// Ref end pressure at t = 10 for the same ramp (docs/model.md §5.3): 3.2335 (K = 1), 8.0017
 /// (K = 10). These are continuum values, like Table 2.1: the thesis scheme with n = 2000 nodes
 /// gives 3.23351 / 8.00175 (the conservative scheme with n = 2000: 3.2335 / 8.00155), while the
 /// discrete N = 100 line gives 3.2328 / 7.9996 (its two-cell boundary layer; 2e-4 / 2.6e-3 off).

@@ -1,4 +1,4 @@
-//! K = 0, polynomial ramp, uniform properties (MODEL.md §5.3): the exact nonlinear solution is
+//! K = 0, polynomial ramp, uniform properties (docs/model.md §5.3): the exact nonlinear solution is
 //! spatially uniform, λ(t) = 1 − k₁s(t), p = (μ + 6ηk₁t(1−t))/(1 − k₁s)² for t ≤ 1 and
 //! μ/(1 − k₁)² after, for every η. Checked for η ∈ {1e-5, 1, 10}, discrete and continuum.
 

@@ -1,4 +1,4 @@
-//! Validation of the simple-shear column (MODEL.md §4.4–4.6, §5.6): Ref top displacements and
+//! Validation of the simple-shear column (docs/model.md §4.4–4.6, §5.6): Ref top displacements and
 //! spreads, the exact discrete solution, the steady state `tan θ = F_A/(β₀μ)`, the cell-centre
 //! form, the continuum series solution against the continuum solver, and discrete → continuum
 //! convergence.
@@ -110,7 +110,7 @@ fn edge_form_reproduces_ref_top_displacements_m50() {
 
 #[test]
 fn edge_form_matches_the_exact_discrete_solution() {
-    // MODEL.md §4.6: eigen-expansion with q_j = (2j+1)π/(2M+1); integrator-limited accuracy.
+    // docs/model.md §4.6: eigen-expansion with q_j = (2j+1)π/(2M+1); integrator-limited accuracy.
     for (m, beta0, gamma0, mu, drag, force) in
         [(10, 1.0, 1.0, 1.0, 0.5, 1.0), (7, 2.0, 0.5, 1.5, 0.3, -0.4)]
     {
@@ -147,7 +147,7 @@ fn edge_form_matches_the_exact_discrete_solution() {
 
 #[test]
 fn steady_shear_angle_is_force_over_beta0_mu() {
-    // tan θ = F_A/(β₀μ) in every cell (MODEL.md §4.4)
+    // tan θ = F_A/(β₀μ) in every cell (docs/model.md §4.4)
     let cfg = ShearConfig {
         beta0: 2.0,
         force: 0.5,
@@ -185,7 +185,7 @@ fn nonlinear_law_steady_shear_solves_tau_equals_force_over_beta0() {
 
 #[test]
 fn cell_centre_form_gives_identical_trajectories_to_edge_form() {
-    // MODEL.md §4.5: the thesis form with K_th = 1 is exactly the edge form with K = ½.
+    // docs/model.md §4.5: the thesis form with K_th = 1 is exactly the edge form with K = ½.
     for m in [10, 50] {
         let times = [0.5, 1.0, 10.0, 50.0, 100.0];
         let mk = |form| ShearConfig {
@@ -214,7 +214,7 @@ fn cell_centre_form_gives_identical_trajectories_to_edge_form() {
 #[test]
 fn continuum_solver_converges_to_the_series_solution() {
     // K x_t = β₀γ₀μ x_yy on (0, w₀ = 10), β₀μ x_y(w₀) = F_A: conservative scheme on m segments
-    // against the closed-form series (MODEL.md §4.6); error falls as m grows (first order: the
+    // against the closed-form series (docs/model.md §4.6); error falls as m grows (first order: the
     // top segment's lumped drag K h/γ₀ acts like a width increase h/2).
     let cfg = ShearConfig::default();
     let (d, w0) = (2.0, 10.0);
@@ -241,7 +241,7 @@ fn continuum_solver_converges_to_the_series_solution() {
 
 #[test]
 fn discrete_column_matches_series_with_effective_width() {
-    // MODEL.md §4.6: with w_eff = (M + ½)γ₀ the series matches the discrete model to ≤ 1.2e-2 at
+    // docs/model.md §4.6: with w_eff = (M + ½)γ₀ the series matches the discrete model to ≤ 1.2e-2 at
     // t = 1 and ≤ 3e-3 for t ≥ 10 (M = 10).
     let times = [1.0, 10.0, 50.0, 100.0];
     let rec = profiles(&ShearConfig::default(), ModelKind::Discrete, None, &times);
@@ -249,7 +249,7 @@ fn discrete_column_matches_series_with_effective_width() {
         let worst = series_gap(p, 1.0, 2.0, 10.5);
         eprintln!("t = {}: max |x_e − series(w_eff)| = {worst:.2e}", p.t);
         if p.t < 5.0 {
-            // MODEL.md quotes the t = 1 value to two digits (measured 1.2047e-2)
+            // docs/model.md quotes the t = 1 value to two digits (measured 1.2047e-2)
             assert!((worst - 1.2e-2).abs() < 0.05e-2, "t = {}: {worst}", p.t);
         } else {
             assert!(worst <= 3e-3, "t = {}: {worst}", p.t);

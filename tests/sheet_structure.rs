@@ -1,4 +1,4 @@
-//! Static checks of the uniaxial sheet and shear column residuals (MODEL.md §4.1, §4.4):
+//! Static checks of the uniaxial sheet and shear column residuals (docs/model.md §4.1, §4.4):
 //! exact steady states have zero residual for any law, the declared sparse pattern contains the
 //! AD Jacobian (which matches finite differences), non-positive stretches are rejected naming
 //! the unknown, and the cell-centre form is the edge form in other variables.
@@ -224,7 +224,7 @@ fn non_positive_stretch_is_recoverable_and_names_the_unknown() {
 #[test]
 fn cell_centre_residual_is_edge_residual_in_centre_variables() {
     // With x_c = (x_{e,k−1} + x_{e,k})/2 and K_th = 2K, F_cc(x_c, ẋ_c) = r_{k−1} + r_k of the edge
-    // form (the induction of MODEL.md §4.5), for any state.
+    // form (the induction of docs/model.md §4.5), for any state.
     let p = ShearParams::default();
     let edge = ShearColumn::discrete(nh(), &p).unwrap();
     let cc = ShearCellCentre::new(nh(), &p).unwrap();

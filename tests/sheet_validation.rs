@@ -1,4 +1,4 @@
-//! Validation of the uniaxial sheet against MODEL.md §5.6 (Ref = independent SciPy prototype of
+//! Validation of the uniaxial sheet against docs/model.md §5.6 (Ref = independent SciPy prototype of
 //! the canonical model; `N = M = 10`, boundary `K = ½` i.e. `K_th = 1`, exponential ramp,
 //! neo-Hookean `μ = 1`), the exact steady states of §4.3, and the small-displacement solution.
 
@@ -72,7 +72,7 @@ fn max_over_t(rec: &RunRecord) -> f64 {
         .fold(f64::MIN, f64::max)
 }
 
-/// Relative agreement with a 4–5 significant-digit Ref value (MODEL.md §5: about 1e-4).
+/// Relative agreement with a 4–5 significant-digit Ref value (docs/model.md §5: about 1e-4).
 fn close(got: f64, reference: f64, what: &str) {
     let rel = (got - reference).abs() / reference.abs();
     assert!(
@@ -241,7 +241,7 @@ fn free_top_mismatch_at_t5_matches_ref_and_vanishes_at_steady_state() {
 
 #[test]
 fn free_top_steady_state_is_the_exact_nonlinear_solution() {
-    // λ₁ = 0.9, λ₂ = λ₃ = 0.9^{-1/2} = 1.054093, p = 1/0.9 = 1.111111 (MODEL.md §4.3)
+    // λ₁ = 0.9, λ₂ = λ₃ = 0.9^{-1/2} = 1.054093, p = 1/0.9 = 1.111111 (docs/model.md §4.3)
     let rec = run(&SheetConfig::default(), &nh(), &Outputs::at(&[400.0]));
     let l2 = 0.9f64.powf(-0.5);
     for (key, v) in [
@@ -299,7 +299,7 @@ fn smaller_shortenings_reproduce_ref_peak_pressures() {
 }
 
 /// Max over boundaries of the distance of the steady positions from the linear solution
-/// `x = (1 − k₁)X`, `y = (1 + k₁/2)Y` (MODEL.md §4.3, (4.73)).
+/// `x = (1 − k₁)X`, `y = (1 + k₁/2)Y` (docs/model.md §4.3, (4.73)).
 fn linear_solution_error(k1: f64) -> (f64, f64) {
     let cfg = SheetConfig {
         k1,
@@ -385,7 +385,7 @@ fn polynomial_ramp_reaches_the_same_steady_state() {
 
 #[test]
 fn continuum_on_the_cell_grid_is_the_discrete_model() {
-    // MODEL.md §4.3: the conservative scheme with n = N, m = M is the discrete model.
+    // docs/model.md §4.3: the conservative scheme with n = N, m = M is the discrete model.
     let cfg = SheetConfig::default();
     let out = Outputs::at(&[1.0, 5.0]);
     let d = run_sheet(&cfg, &nh(), ModelKind::Discrete, None, &solver(1e-9), &out).unwrap();
@@ -434,7 +434,7 @@ fn periodic_single_row_is_the_line_model() {
     // With a periodic side and uniform μ, λ₂ ≡ 1, so λ₃ = 1/λ₁, H = β₀/λ₁ and the x-force
     // H W (σ₁₁' − σ₁₁) = β₀γ₀ λ₁⁻¹ μ Δ(λ₁² − λ₁⁻²): exactly the plane-strain line of Ch. 2 (§2.4)
     // with the roles of width and height exchanged (β₀ = 1). Ref for the line, N = 100,
-    // K = 1, exponential ramp, at t = 1: p_N = 13.4257, min λ = 0.2729 (MODEL.md §5.3), and the
+    // K = 1, exponential ramp, at t = 1: p_N = 13.4257, min λ = 0.2729 (docs/model.md §5.3), and the
     // static p = 1/(1−k₁)² = 1.234568.
     let cfg = SheetConfig {
         cells_x: 100,

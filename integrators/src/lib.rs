@@ -27,10 +27,19 @@
 //!   output, event location and actions (stop / modify / resize), a stop time, statistics, and
 //!   typed errors that carry the partial solution.
 //!
-//! ```ignore
-//! use integrators::{Solver, MethodKind, Options};
-//! let sol = Solver::new(MethodKind::Bdf, Options::default())
-//!     .solve(&mut problem, 0.0, &y0, &[1.0, 2.0, 10.0])?;
+//! ```
+//! use integrators::{MethodKind, Options, Problem, ResidualError, Solver};
+//! /// ẏ = −y in residual form.
+//! struct Decay;
+//! impl Problem for Decay {
+//!     fn dim(&self) -> usize { 1 }
+//!     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64])
+//!         -> Result<(), ResidualError> { r[0] = yp[0] + y[0]; Ok(()) }
+//! }
+//! let opts = Options { rtol: 1e-8, atol: 1e-10, ..Options::default() };
+//! let sol = Solver::new(MethodKind::Bdf, opts).solve(&mut Decay, 0.0, &[1.0], &[1.0, 2.0])?;
+//! assert!((sol.y[1][0] - (-2.0f64).exp()).abs() < 1e-6);
+//! # Ok::<(), integrators::SolveFailure>(())
 //! ```
 #![warn(missing_docs)]
 

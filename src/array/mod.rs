@@ -7,7 +7,7 @@
 //! it ([`CellArray::jacobian`], the line does), the array's own Jacobian in one sweep.
 //!
 //! Discrete and continuum builders both produce cell arrays: the conservative continuum scheme
-//! is the same array with `n` segments of reference size `h` (MODEL.md §3.3a, §4.3), so new
+//! is the same array with `n` segments of reference size `h` (docs/model.md §3.3a, §4.3), so new
 //! cell laws and deformation modes plug in here without touching the integrators.
 
 use crate::scalar::Scalar;
@@ -20,15 +20,38 @@ use num_dual::Dual64;
 /// framework evaluates it in `f64` and in dual numbers. Events (e.g. cell division) may resize
 /// the array.
 ///
-/// ```ignore
-/// struct MyArray { /* per-cell fields */ }
-/// impl CellArray for MyArray {
-///     fn dim(&self) -> usize { /* unknowns */ }
+/// A chain of `n` linear springs (stiffness `k`) between a wall at 0 and an end held at
+/// `l`, every bead dragged by the substrate (`K ẋⱼ = k(xⱼ₊₁ − 2xⱼ + xⱼ₋₁)`): it relaxes to
+/// equal spacing. The full guide is `docs/guide-deformation-mode.md`.
+///
+/// ```
+/// use celltissue::{ArrayProblem, CellArray, Scalar};
+/// use integrators::{MethodKind, Options, Pattern, ResidualError, Solver};
+///
+/// struct Chain { n: usize, k: f64, drag: f64, l: f64 }
+/// impl CellArray for Chain {
+///     fn dim(&self) -> usize { self.n - 1 } // interior beads x₁ … x_{n−1}
 ///     fn pattern(&self) -> Pattern { Pattern::Banded { lower: 1, upper: 1 } }
-///     fn residual<S: Scalar>(&self, t: f64, y: &[S], yp: &[S], r: &mut [S])
-///         -> Result<(), ResidualError> { /* force balance per boundary */ }
+///     fn residual<S: Scalar>(&self, _t: f64, y: &[S], yp: &[S], r: &mut [S])
+///         -> Result<(), ResidualError> {
+///         let x = |j: usize| if j == 0 { S::from(0.0) }
+///                            else if j == self.n { S::from(self.l) } else { y[j - 1] };
+///         for j in 1..self.n {
+///             let force = (x(j + 1) - x(j) * 2.0 + x(j - 1)) * self.k;
+///             r[j - 1] = yp[j - 1] * self.drag - force;
+///         }
+///         Ok(())
+///     }
 /// }
-/// let problem = ArrayProblem::new(MyArray { .. });
+/// let chain = Chain { n: 10, k: 1.0, drag: 1.0, l: 9.0 };
+/// let y0: Vec<f64> = (1..10).map(|j| j as f64).collect(); // rest spacing 1, end pulled in
+/// let mut problem = ArrayProblem::new(chain);
+/// let sol = Solver::new(MethodKind::Bdf, Options::default())
+///     .solve(&mut problem, 0.0, &y0, &[200.0])?;
+/// for (j, x) in sol.y[0].iter().enumerate() {
+///     assert!((x - 0.9 * (j + 1) as f64).abs() < 1e-3); // equal spacing l/n
+/// }
+/// # Ok::<(), integrators::SolveFailure>(())
 /// ```
 pub trait CellArray {
     /// Number of unknowns.

@@ -1,4 +1,4 @@
-//! Active contractile stress (2.83)–(2.84), MODEL.md §2.3:
+//! Active contractile stress (2.83)–(2.84), docs/model.md §2.3:
 //! `C_a,j = A_j·b_j(t)·(1 + β/2·(λ_j − 1))`, `b_j = 1 + sin(2πωt − t_R,j)`,
 //! `t_R,j = 2π X_{j−1/2}/l₀` (one wavelength around the line, wave speed `ω l₀`).
 

@@ -1,7 +1,7 @@
-//! Heterogeneous material fields of the reference position `X` (MODEL.md §2.1): `μ(X)`, `η(X)`,
+//! Heterogeneous material fields of the reference position `X` (docs/model.md §2.1): `μ(X)`, `η(X)`,
 //! `K(X)`, active amplitude. A [`Field`] is sampled once, at build time, at cell centres
 //! `X_{j−1/2}` (default) or at integer points (the left boundary `X_{j−1}` of each cell;
-//! reproduces the thesis's 2.267, MODEL.md §5.2) — see [`Sampling`].
+//! reproduces the thesis's 2.267, docs/model.md §5.2) — see [`Sampling`].
 
 use serde::{Deserialize, Serialize};
 use std::fmt;

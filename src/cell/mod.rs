@@ -1,4 +1,4 @@
-//! Cell laws (MODEL.md §1–§2.3, §2.7): everything about one cell except its strain energy
+//! Cell laws (docs/model.md §1–§2.3, §2.7): everything about one cell except its strain energy
 //! (which is any [`crate::StrainEnergy`]):
 //!
 //! * [`Field`] — heterogeneous material fields of the reference position `X` (μ scale, η, K,

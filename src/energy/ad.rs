@@ -1,4 +1,4 @@
-//! Forward-mode AD of a [`StrainEnergy`] into the cell responses (MODEL.md §1.2, §1.4, §1.5).
+//! Forward-mode AD of a [`StrainEnergy`] into the cell responses (docs/model.md §1.2, §1.4, §1.5).
 //!
 //! These are the default bodies of [`StrainEnergy::line`], [`StrainEnergy::sheet`] and
 //! [`StrainEnergy::shear`]; they are public so that laws with hand-written overrides can be
@@ -22,7 +22,7 @@ use super::{LineResponse, ShearResponse, SheetResponse, StrainEnergy};
 use num_dual::{Dual2, Dual2SVec64, Dual2_64, Dual64, DualNum};
 
 /// Plane-strain line response by AD: `σ_el = aŴ'`, `dσ_el/da = Ŵ' + aŴ''`, `p_el = a₂W₂`,
-/// `dp_el/da`, with `Ŵ(a) = W(a, 1/a, 1)` (MODEL.md §1.2).
+/// `dp_el/da`, with `Ŵ(a) = W(a, 1/a, 1)` (docs/model.md §1.2).
 ///
 /// ```
 /// use celltissue::{energy::ad, Ogden};
@@ -54,7 +54,7 @@ pub fn line<E: StrainEnergy + ?Sized>(law: &E, a: f64) -> LineResponse {
     }
 }
 
-/// Quasi-3D sheet response by AD (MODEL.md §1.4): `σ₁₁ = λ₁∂₁Ŵ`, `σ₂₂ = λ₂∂₂Ŵ`, `p = λ₃W₃`,
+/// Quasi-3D sheet response by AD (docs/model.md §1.4): `σ₁₁ = λ₁∂₁Ŵ`, `σ₂₂ = λ₂∂₂Ŵ`, `p = λ₃W₃`,
 /// tangent `∂σᵢᵢ/∂λₖ = δᵢₖ∂ᵢŴ + λᵢ∂ᵢ∂ₖŴ`, with `Ŵ(λ₁, λ₂) = W(λ₁, λ₂, 1/(λ₁λ₂))`.
 ///
 /// ```
@@ -83,7 +83,7 @@ pub fn sheet<E: StrainEnergy + ?Sized>(law: &E, l1: f64, l2: f64) -> SheetRespon
     }
 }
 
-/// Simple-shear response by AD (MODEL.md §1.5): `τ = dŴ/dT`, `dτ/dT = d²Ŵ/dT²` with
+/// Simple-shear response by AD (docs/model.md §1.5): `τ = dŴ/dT`, `dτ/dT = d²Ŵ/dT²` with
 /// `Ŵ(T) = W(λ₊, λ₋, 1)`, `λ± = √(1 + T²/4) ± T/2`.
 ///
 /// ```

@@ -1,16 +1,18 @@
 //! [`AnyEnergy`]: the closed set of built-in laws, selected at run time (scenario files, CLI).
 
+use super::registry::{self, Params, Registered};
 use super::{
-    EnergyError, Gent, Hgo, LineResponse, MooneyRivlin, NeoHookean, Ogden, ShearResponse,
+    EnergyError, Expression, Gent, Hgo, LineResponse, MooneyRivlin, NeoHookean, Ogden, ShearResponse,
     SheetResponse, StrainEnergy,
 };
 use num_dual::DualNum;
-use serde::{Deserialize, Serialize};
+use serde::ser::{Error as _, SerializeMap};
+use serde::{Deserialize, Serialize, Serializer};
 
-/// One of the built-in laws, chosen at run time. Deserializes from a table tagged by
-/// `law = "neo_hookean" | "mooney_rivlin" | "ogden" | "hgo" | "gent"` with that law's parameters
-/// (validated by its constructor; unknown fields are rejected). Implements [`StrainEnergy`] by
-/// delegation, so closed-form overrides are kept.
+/// A strain energy chosen at run time. Deserializes from a table tagged by `law = "<name>"` (built in: `neo_hookean`, `mooney_rivlin`, `ogden`, `hgo`, `gent`, `expression`)
+/// with that law's parameters, looked up in the [`registry`] (validated by the law's
+/// constructor; unknown fields are rejected). Implements [`StrainEnergy`] by delegation, so
+/// closed-form overrides are kept.
 ///
 /// | `law` | parameters |
 /// |---|---|
@@ -19,6 +21,8 @@ use serde::{Deserialize, Serialize};
 /// | `ogden` | `terms = [[mu_p, alpha_p], …]` |
 /// | `hgo` | `c`, `k1`, `k2`, `theta` (radians) |
 /// | `gent` | `mu`, `jm` |
+/// | `expression` | `W = "<formula>"` and its parameters by name ([`Expression`]) |
+/// | a name given to [`registry::register`] | that law's fields |
 ///
 /// ```
 /// use celltissue::{AnyEnergy, StrainEnergy};
@@ -28,8 +32,8 @@ use serde::{Deserialize, Serialize};
 /// assert!(bad.unwrap_err().to_string().contains("mu = -1 must be finite and > 0"));
 /// # Ok::<(), serde_json::Error>(())
 /// ```
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "law", rename_all = "snake_case")]
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(try_from = "Params")]
 pub enum AnyEnergy {
     /// [`NeoHookean`].
     NeoHookean(NeoHookean),
@@ -41,6 +45,33 @@ pub enum AnyEnergy {
     Hgo(Hgo),
     /// [`Gent`].
     Gent(Gent),
+    /// A formula written in the scenario ([`Expression`]).
+    Expression(Expression),
+    /// A law a program registered by name ([`registry::register`]).
+    Registered(Registered),
+}
+
+impl TryFrom<Params> for AnyEnergy {
+    type Error = EnergyError;
+    fn try_from(mut p: Params) -> Result<Self, EnergyError> {
+        match p.remove("law") {
+            Some(serde_json::Value::String(name)) => registry::build(&name, &p),
+            Some(other) => Err(EnergyError::Params {
+                law: String::new(),
+                message: format!(
+                    "law must be a string naming a strain energy ({}), found {other}",
+                    registry::names().join(", ")
+                ),
+            }),
+            None => Err(EnergyError::Params {
+                law: String::new(),
+                message: format!(
+                    "missing field `law` (one of {})",
+                    registry::names().join(", ")
+                ),
+            }),
+        }
+    }
 }
 
 impl AnyEnergy {
@@ -50,13 +81,15 @@ impl AnyEnergy {
     /// use celltissue::{AnyEnergy, NeoHookean};
     /// assert_eq!(AnyEnergy::from(NeoHookean::new(1.0).unwrap()).name(), "neo_hookean");
     /// ```
-    pub fn name(&self) -> &'static str {
+    pub fn name(&self) -> &str {
         match self {
             Self::NeoHookean(_) => "neo_hookean",
             Self::MooneyRivlin(_) => "mooney_rivlin",
             Self::Ogden(_) => "ogden",
             Self::Hgo(_) => "hgo",
             Self::Gent(_) => "gent",
+            Self::Expression(_) => "expression",
+            Self::Registered(r) => r.name(),
         }
     }
 }
@@ -69,6 +102,8 @@ macro_rules! delegate {
             AnyEnergy::Ogden($e) => $body,
             AnyEnergy::Hgo($e) => $body,
             AnyEnergy::Gent($e) => $body,
+            AnyEnergy::Expression($e) => $body,
+            AnyEnergy::Registered($e) => $body,
         }
     };
 }
@@ -113,4 +148,25 @@ macro_rules! from_law {
         }
     )*};
 }
-from_law!(NeoHookean, MooneyRivlin, Ogden, Hgo, Gent);
+from_law!(NeoHookean, MooneyRivlin, Ogden, Hgo, Gent, Expression);
+
+/// Serializes as the scenario table: `law` first, then the law's own fields.
+impl Serialize for AnyEnergy {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let inner = delegate!(self, e => serde_json::to_value(e)).map_err(S::Error::custom)?;
+        let fields = match inner {
+            serde_json::Value::Object(m) => m,
+            other => {
+                return Err(S::Error::custom(format!(
+                    "law fields must be a table, got {other}"
+                )))
+            }
+        };
+        let mut m = s.serialize_map(Some(fields.len() + 1))?;
+        m.serialize_entry("law", self.name())?;
+        for (k, v) in &fields {
+            m.serialize_entry(k, v)?;
+        }
+        m.end()
+    }
+}

@@ -35,6 +35,32 @@ pub enum EnergyError {
         /// The violated bound, with the stretches.
         reason: String,
     },
+    /// A law's parameters do not deserialize (unknown or missing field, wrong type, or a
+    /// range check of its constructor).
+    #[error("{message}")]
+    Params {
+        /// The law's name.
+        law: String,
+        /// The deserializer's message (names the field).
+        message: String,
+    },
+    /// No law of this name is registered ([`crate::energy::registry`]).
+    #[error("unknown variant `{name}`; valid laws: {valid}")]
+    UnknownLaw {
+        /// The name asked for.
+        name: String,
+        /// The registered names, comma-separated.
+        valid: String,
+    },
+    /// A registration was refused: the name is taken.
+    #[error("a strain energy named `{0}` is already registered")]
+    DuplicateLaw(String),
+    /// A registration was refused: the name is not `[a-z0-9_]+`.
+    #[error("a law name must be non-empty and hold only a-z, 0-9 and `_`; got `{0}`")]
+    BadLawName(String),
+    /// A formula law (`law = "expression"`) was rejected.
+    #[error(transparent)]
+    Expression(#[from] super::expression::ExpressionError),
 }
 
 impl EnergyError {

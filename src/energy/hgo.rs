@@ -1,4 +1,4 @@
-//! Holzapfel–Gasser–Ogden law with one fibre family (thesis (1.11), MODEL.md §1.3, §7).
+//! Holzapfel–Gasser–Ogden law with one fibre family (thesis (1.11), docs/model.md §1.3, §7).
 
 use super::error::{finite, non_negative, positive, EnergyError};
 use super::StrainEnergy;
@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 ///
 /// * Fibres act only in tension: the fibre term is exactly zero for `I₄ ≤ 1`.
 /// * The prefactor is the standard `k₁/(2k₂)`; the thesis's (1.11) writes `k₁/k₂`, so
-///   thesis `k₁` = this `k₁/2` (MODEL.md §7). For `k2 = 0` the fibre term is its limit
+///   thesis `k₁` = this `k₁/2` (docs/model.md §7). For `k2 = 0` the fibre term is its limit
 ///   `k₁E²/2`.
 /// * Parameters: `c > 0`, `k1 ≥ 0`, `k2 ≥ 0`, `theta` finite (radians).
 /// * Small-strain shear modulus `μ = c` (fibre-inactive side). On the tensile side the line

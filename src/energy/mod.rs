@@ -1,4 +1,4 @@
-//! Strain energies (MODEL.md §1): the [`StrainEnergy`] trait — a user writes only
+//! Strain energies (docs/model.md §1): the [`StrainEnergy`] trait — a user writes only
 //! `W(λ₁, λ₂, λ₃)`, generic over the scalar — and the responses the cell arrays need, derived by
 //! forward-mode AD (hand-written closed forms may override them for speed):
 //!
@@ -23,10 +23,12 @@ pub mod ad;
 mod any;
 mod error;
 mod gent;
+mod expression;
 mod hgo;
 mod mooney_rivlin;
 mod neo_hookean;
 mod ogden;
+pub mod registry;
 mod scaled;
 #[cfg(test)]
 mod tests;
@@ -34,6 +36,7 @@ mod tests;
 pub use any::AnyEnergy;
 pub use error::EnergyError;
 pub use gent::Gent;
+pub use expression::{Expression, ExpressionError};
 pub use hgo::Hgo;
 pub use mooney_rivlin::MooneyRivlin;
 pub use neo_hookean::NeoHookean;
@@ -43,7 +46,7 @@ pub use scaled::Scaled;
 use num_dual::DualNum;
 
 /// Plane-strain response of a line cell at axial stretch `a` (deformation `diag(a, 1/a, 1)`,
-/// `σ₂₂ = 0`), MODEL.md §1.2.
+/// `σ₂₂ = 0`), docs/model.md §1.2.
 ///
 /// ```
 /// use celltissue::{NeoHookean, StrainEnergy};
@@ -62,7 +65,7 @@ pub struct LineResponse {
     pub dpressure: f64,
 }
 
-/// Quasi-3D sheet-cell response at `(λ₁, λ₂)`, `λ₃ = 1/(λ₁λ₂)`, `σ₃₃ = 0` (MODEL.md §1.4).
+/// Quasi-3D sheet-cell response at `(λ₁, λ₂)`, `λ₃ = 1/(λ₁λ₂)`, `σ₃₃ = 0` (docs/model.md §1.4).
 ///
 /// ```
 /// use celltissue::{NeoHookean, StrainEnergy};
@@ -81,7 +84,7 @@ pub struct SheetResponse {
     pub tangent: [[f64; 2]; 2],
 }
 
-/// Simple-shear response at amount of shear `T = tan θ` (MODEL.md §1.5).
+/// Simple-shear response at amount of shear `T = tan θ` (docs/model.md §1.5).
 ///
 /// ```
 /// use celltissue::{NeoHookean, StrainEnergy};

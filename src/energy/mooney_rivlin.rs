@@ -1,4 +1,4 @@
-//! Mooney–Rivlin law (MODEL.md §1.3, §1.4).
+//! Mooney–Rivlin law (docs/model.md §1.3, §1.4).
 
 use super::error::{non_negative, positive, EnergyError};
 use super::StrainEnergy;

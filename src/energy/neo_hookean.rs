@@ -1,4 +1,4 @@
-//! Neo-Hookean law (thesis (2.6), MODEL.md §1.3), with closed-form responses.
+//! Neo-Hookean law (thesis (2.6), docs/model.md §1.3), with closed-form responses.
 
 use super::error::{positive, EnergyError};
 use super::{LineResponse, ShearResponse, SheetResponse, StrainEnergy};
@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 /// Incompressible neo-Hookean law `W = μ/2 (λ₁² + λ₂² + λ₃² − 3)`.
 ///
 /// Parameter: shear modulus `mu > 0` (also the small-strain shear modulus). Responses are
-/// hand-written closed forms (MODEL.md §1.3–§1.5), tested against AD:
+/// hand-written closed forms (docs/model.md §1.3–§1.5), tested against AD:
 /// line `σ_el = μ(a² − a⁻²)`, `dσ_el/da = 2μ(a + a⁻³)`, `p_el = μa⁻²`;
 /// sheet `σ₁₁ = μ(λ₁² − λ₃²)`, `σ₂₂ = μ(λ₂² − λ₃²)`, `p = μλ₃²`; shear `τ = μT`.
 ///

@@ -1,4 +1,4 @@
-//! Ogden law (thesis (1.10), MODEL.md §1.3, §1.4).
+//! Ogden law (thesis (1.10), docs/model.md §1.3, §1.4).
 
 use super::error::{finite, EnergyError};
 use super::StrainEnergy;

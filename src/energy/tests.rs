@@ -1,4 +1,4 @@
-//! Unit tests of the AD plumbing and the sample laws (MODEL.md §5.1).
+//! Unit tests of the AD plumbing and the sample laws (docs/model.md §5.1).
 
 use super::*;
 

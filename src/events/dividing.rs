@@ -2,7 +2,7 @@
 //! function per cell, located by the integrator on its dense output; at an event the fired cells
 //! are split in *decreasing* index order (pending indices stay valid), the log is written, and
 //! [`EventAction::Resized`] tells the driver to rebuild its banded workspace for the new size
-//! and restart with a consistent `ẏ` (MODEL.md §2.8–2.9).
+//! and restart with a consistent `ẏ` (docs/model.md §2.8–2.9).
 //!
 //! Per-cell rule state (birth time, random threshold) and the material width `ΔX` of each cell
 //! (in initial reference coordinates, halved at each division, so daughters are reported at
@@ -20,7 +20,7 @@ use crate::observe::DivisionRecord;
 use crate::scalar::Scalar;
 use integrators::{EventAction, ResidualError};
 
-/// Largest change of the division invariants (MODEL.md §5.5) seen over all events, measured
+/// Largest change of the division invariants (docs/model.md §5.5) seen over all events, measured
 /// just before and just after each split (enable with [`Dividing::check_invariants`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct InvariantReport {

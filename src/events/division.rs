@@ -1,6 +1,6 @@
 //! Division rules: when does a cell divide? A [`DivisionRule`] is an event function of one
 //! cell's state that crosses zero *upwards* when the cell should divide; the integrator locates
-//! the crossing on its dense output (MODEL.md §2.8).
+//! the crossing on its dense output (docs/model.md §2.8).
 //!
 //! * [`AreaDoubling`] (default, thesis §3.1.8): `A/A₀ − r = g g₂ − r`, `r = 2`;
 //! * [`AgeRule`]: `t − t_birth − T` (fixed cycle time);

@@ -1,4 +1,4 @@
-//! Cell division as integrator events (thesis §3.1.8, §3.3.2; MODEL.md §2.8, §5.5).
+//! Cell division as integrator events (thesis §3.1.8, §3.3.2; docs/model.md §2.8, §5.5).
 //!
 //! * [`division`] — the [`DivisionRule`] trait and rules: [`AreaDoubling`] (default:
 //!   `A/A₀ = g g₂` reaches 2), [`AgeRule`] (fixed cycle time) and [`RandomThreshold`] (per-cell
@@ -20,7 +20,7 @@
 //!   proliferating continuum of [`crate::proliferation`]) to a [`crate::observe::RunRecord`]
 //!   with `"cells"` series and `"divisions"`.
 //!
-//! # Validation (MODEL.md §5.5; N₀ = 100, σ₀ = 0.1, free end, BDF rtol 1e-8)
+//! # Validation (docs/model.md §5.5; N₀ = 100, σ₀ = 0.1, free end, BDF rtol 1e-8)
 //!
 //! `tests/division_thesis.rs`: K = 1e-5, m = 0: first division 2.008588 (Ref 2.0086, the
 //! free-end cell), all originals divided by 2.594794 (Ref 2.5948, last at the wall),

@@ -1,4 +1,4 @@
-//! Splitting one cell of a [`Line`] into two daughters (MODEL.md §2.8), in O(N):
+//! Splitting one cell of a [`Line`] into two daughters (docs/model.md §2.8), in O(N):
 //!
 //! * daughters: reference length `L₀g/2` each, `g = 1`, the parent's `μ`, `η`, drag, active
 //!   amplitude and phase `t_R`;

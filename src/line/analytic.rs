@@ -1,4 +1,4 @@
-//! Analytic reference solutions of the line (MODEL.md §5.2–§5.3), drawn as dashed overlays on
+//! Analytic reference solutions of the line (docs/model.md §5.2–§5.3), drawn as dashed overlays on
 //! the Chapter 2 figures ([`crate::output::figures`]) and usable in tests:
 //!
 //! * [`uniform_k0`] — no drag (`K = 0`), uniform properties, any ramp: the exact nonlinear
@@ -90,7 +90,7 @@ pub fn reference_for(cfg: &LineConfig) -> Option<Reference> {
 }
 
 /// `(λ, p)` of the exact uniform solution without drag at time `t`: `λ = l(t)/l₀` and
-/// `p = μ p_el(λ) − η λ̇ λ⁻²` (MODEL.md §5.3; for the polynomial ramp and neo-Hookean cells
+/// `p = μ p_el(λ) − η λ̇ λ⁻²` (docs/model.md §5.3; for the polynomial ramp and neo-Hookean cells
 /// `p = (μ + 6ηk₁ t(1−t))/(1 − k₁s)²` during the ramp). Requires uniform `μ`, `η`.
 ///
 /// ```
@@ -112,7 +112,7 @@ pub fn uniform_k0(cfg: &LineConfig, t: f64) -> Option<(f64, f64)> {
 }
 
 /// `(λ, p)` at reference position `x` and time `t` of the linear small-displacement solution for
-/// the exponential ramp with `η = 0` (MODEL.md §5.3): `λ = 1 − k₁ + k₁ d̆_X`,
+/// the exponential ramp with `η = 0` (docs/model.md §5.3): `λ = 1 − k₁ + k₁ d̆_X`,
 /// `p = μ(1 + 2k₁) − 2μk₁ d̆_X`, with `t_s = K/(4γ₀μL₀)` and
 /// `d̆ = l₀ sin(aX)/sin(al₀) e^{−t} + Σ 2(−1)ⁿ t_s/(k_n(k_n² − t_s)) sin(k_nX) e^{−k_n² t/t_s}`,
 /// `a = √t_s`, `k_n = nπ/l₀` (the series is summed until its terms fall below 1e-16, at most
@@ -165,7 +165,7 @@ pub fn linear_exponential(
 }
 
 /// The static equilibrium of the discrete line of `cfg` held at its prescribed length `l(t)`
-/// (MODEL.md §5.2): every cell at the same stress, stretches adding up to `l(t)`.
+/// (docs/model.md §5.2): every cell at the same stress, stretches adding up to `l(t)`.
 ///
 /// ```
 /// use celltissue::line::analytic::quasi_static;
@@ -180,7 +180,7 @@ pub fn quasi_static(cfg: &LineConfig, t: f64) -> Result<StaticSolution, LineErro
 }
 
 /// Slowest linear relaxation time of the line, `τ = K l₀²/(π² 4γ₀ μ_min L₀) + η_max/(2μ_min)`
-/// (MODEL.md §3.4: diffusion `t_s l₀²/π²` of the longest mode plus the Kelvin–Voigt `t_k`),
+/// (docs/model.md §3.4: diffusion `t_s l₀²/π²` of the longest mode plus the Kelvin–Voigt `t_k`),
 /// with the extreme values of the sampled fields.
 pub fn relaxation_time(cfg: &LineConfig) -> f64 {
     let lengths = cfg.lengths();

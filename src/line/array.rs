@@ -1,8 +1,8 @@
-//! [`Line`]: the line of cells as a [`CellArray`] — the residual of MODEL.md §2.9, written once
+//! [`Line`]: the line of cells as a [`CellArray`] — the residual of docs/model.md §2.9, written once
 //! generically over the scalar (plain `f64` or dual numbers for exact Jacobian columns).
 //!
 //! The same type is the discrete model (N cells) and the conservative continuum scheme
-//! (n segments of length `h`, drag `K·h` per node; MODEL.md §3.3a); see [`crate::line::build`].
+//! (n segments of length `h`, drag `K·h` per node; docs/model.md §3.3a); see [`crate::line::build`].
 //!
 //! Unknowns are interleaved `(g₁, x₁, g₂, x₂, …)` (growth) or just the free boundary positions;
 //! the residual streams over the cells once, keeping only the previous cell, so it allocates
@@ -318,7 +318,7 @@ impl LocalCell {
     }
 }
 
-/// The line of cells (MODEL.md §2), generic over the strain energy `E`.
+/// The line of cells (docs/model.md §2), generic over the strain energy `E`.
 ///
 /// Build one with [`crate::line::build::discrete`] or [`crate::line::build::continuum`]; wrap
 /// it in [`crate::ArrayProblem`] to integrate it.

@@ -1,7 +1,7 @@
 //! Builders: one physical description ([`LineParams`]) → a [`Line`] on either discretisation.
 //!
 //! * [`discrete`] — N cells with their own reference lengths; drag `K(X_j)` per boundary.
-//! * [`continuum`] — the conservative scheme of MODEL.md §3.3a: `n` segments of length
+//! * [`continuum`] — the conservative scheme of docs/model.md §3.3a: `n` segments of length
 //!   `h = l₀/n`, fields sampled at segment centres, drag `K·h/L̄` per node (`L̄ = l₀/N`, the mean
 //!   reference cell length, since `K` is drag per cell boundary). With `n = N` and unit cells it
 //!   *is* the discrete model (same type, same residual), so `n` is independent of `N`.
@@ -266,7 +266,7 @@ pub fn discrete<E: StrainEnergy>(energy: E, p: &LineParams) -> Result<Line<E>, L
     assemble(energy, p, p.ref_lengths.clone(), 1.0)
 }
 
-/// The conservative continuum scheme with `n` segments of length `h = l₀/n` (MODEL.md §3.3a).
+/// The conservative continuum scheme with `n` segments of length `h = l₀/n` (docs/model.md §3.3a).
 pub fn continuum<E: StrainEnergy>(
     energy: E,
     p: &LineParams,

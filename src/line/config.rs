@@ -1,5 +1,5 @@
 //! [`LineConfig`]: the line section of a scenario file (serde, unknown keys rejected), with the
-//! thesis defaults of MODEL.md §0.3, [`LineConfig::validate`] (errors name the key and its valid
+//! thesis defaults of docs/model.md §0.3, [`LineConfig::validate`] (errors name the key and its valid
 //! range), and the translation into the builders' [`LineParams`].
 //!
 //! ```
@@ -41,7 +41,7 @@ pub enum RightEndKind {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ContinuumScheme {
-    /// Conservative scheme, `n` segments (MODEL.md §3.3a; recommended).
+    /// Conservative scheme, `n` segments (docs/model.md §3.3a; recommended).
     #[default]
     Conservative,
     /// The thesis's finite-difference scheme, `n` nodes (§3.3b; reproduction mode, no growth,

@@ -1,7 +1,7 @@
-//! The line of cells (thesis Ch. 2 and the growth part of Ch. 3; MODEL.md §2–§3), discrete and
+//! The line of cells (thesis Ch. 2 and the growth part of Ch. 3; docs/model.md §2–§3), discrete and
 //! continuum, from a [`crate::StrainEnergy`] to a [`crate::observe::RunRecord`]:
 //!
-//! * [`array`] — [`Line`], the residual (MODEL.md §2.9) as a [`crate::CellArray`];
+//! * [`array`] — [`Line`], the residual (docs/model.md §2.9) as a [`crate::CellArray`];
 //! * [`build`] — discrete and conservative-continuum builders from one [`LineParams`];
 //! * [`thesis_scheme`] — the thesis's non-conservative finite-difference scheme (reproduction
 //!   mode, Table 2.1);
@@ -9,7 +9,7 @@
 //!   used as plot overlays;
 //! * [`static_solve`] — static equilibrium by a bracketing solve for the uniform stress, and a
 //!   Newton solve of the static problem;
-//! * [`observe`] — per-cell snapshots and the observables of MODEL.md §6;
+//! * [`observe`] — per-cell snapshots and the observables of docs/model.md §6;
 //! * [`config`] — the serde scenario section [`LineConfig`] with validation;
 //! * [`run`] — [`run_line`]: config → problem → integrator → `RunRecord`.
 
@@ -44,7 +44,7 @@ pub enum LineError {
     /// A field description is invalid (message names the key).
     #[error("invalid field: {0}")]
     Field(String),
-    /// The cell-centre drag form is singular on a ring (MODEL.md §2.5).
+    /// The cell-centre drag form is singular on a ring (docs/model.md §2.5).
     #[error("invalid `drag_form` = \"centre\" with `right_end` = \"periodic\": the cell-centre form is singular on a ring (zig-zag null mode); use drag_form = \"boundary\"")]
     CentreFormPeriodic,
     /// A combination with no well-posed dynamics.

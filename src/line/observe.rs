@@ -1,4 +1,4 @@
-//! Observables of the line (MODEL.md §6): a per-cell [`Snapshot`] at `(t, y, ẏ)` and its
+//! Observables of the line (docs/model.md §6): a per-cell [`Snapshot`] at `(t, y, ẏ)` and its
 //! reductions (length, end reaction, pressure/stretch extremes), turned into
 //! [`crate::observe::Profile`]s and series rows.
 

@@ -1,4 +1,4 @@
-//! Static equilibrium of a line with fixed or prescribed ends (MODEL.md §5.2).
+//! Static equilibrium of a line with fixed or prescribed ends (docs/model.md §5.2).
 //!
 //! * [`static_equilibrium`] — at rest every cell carries the same stress `S`
 //!   (`μ_j σ_el(λ_j) = S`) and the stretches add up to the length (`Σ L₀,j λ_j = l`). Each cell is
@@ -162,7 +162,7 @@ impl StaticSolution {
 /// use celltissue::NeoHookean;
 /// let line = discrete(NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(100)).unwrap();
 /// let s = static_equilibrium(&line, 90.0).unwrap();
-/// assert!((s.stress + 0.424568).abs() < 1e-6);          // MODEL.md §5.2 uniform
+/// assert!((s.stress + 0.424568).abs() < 1e-6);          // docs/model.md §5.2 uniform
 /// assert!((s.max_pressure() - 1.234568).abs() < 1e-6);
 /// ```
 pub fn static_equilibrium<E: StrainEnergy>(

@@ -1,4 +1,4 @@
-//! The thesis's own continuum discretisation (MODEL.md §3.3b; thesis (2.74)–(2.79), App. A.1),
+//! The thesis's own continuum discretisation (docs/model.md §3.3b; thesis (2.74)–(2.79), App. A.1),
 //! kept as a *reproduction mode* for Table 2.1: `n` nodes, `dX = l₀/(n−1)`, centred differences
 //! of the expanded (non-conservative) PDE
 //!

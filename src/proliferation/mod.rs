@@ -1,5 +1,5 @@
 //! A continuum model of the **proliferating** line (beyond the thesis: its §3.4 future work;
-//! MODEL.md §3.1 notes that division "is not represented" by the growth PDE).
+//! docs/model.md §3.1 notes that division "is not represented" by the growth PDE).
 //!
 //! # Derivation
 //!
@@ -14,7 +14,7 @@
 //! * the current cells' reference length `ℓ(X,t) = L₀/ΔX`, so the cells' growth stretch is
 //!   `g = γ/ℓ`.
 //!
-//! Then, term by term from the discrete boundary form (MODEL.md §2.2–2.4, §2.7):
+//! Then, term by term from the discrete boundary form (docs/model.md §2.2–2.4, §2.7):
 //!
 //! * stretch `λ = x_X/ℓ`, elastic stretch `α = λ/g = x_X/γ`, width `W = γ₀g₂/α`;
 //! * drag: one boundary per `ΔX`, each with `Kκ ẋ = W(σ_{j+1} − σ_j) ≈ W σ_X/ρ`, so
@@ -24,13 +24,13 @@
 //! * division (area rule): where `g = γ/ℓ` reaches 2, `ℓ ← γ` and `ρ ← 2ρ`
 //!   (so `N(t) = ∫₀^{l₀} ρ dX`). `α`, `σ_el`, `p_el` are continuous; `κ` jumps by `2^{−m}`.
 //!
-//! Without division (`ρ ≡ ρ₀`, `ℓ ≡ 1`) this is the growth PDE (3.48)–(3.51) of MODEL.md §3.1.
+//! Without division (`ρ ≡ ρ₀`, `ℓ ≡ 1`) this is the growth PDE (3.48)–(3.51) of docs/model.md §3.1.
 //! The division rule is *sharp*: `ρ` and `ℓ` are piecewise constant in `X` with jumps at
 //! division fronts that sweep through the tissue.
 //!
 //! # Discretisation
 //!
-//! The conservative scheme (MODEL.md §3.3a) with `n` segments of width `h`: segment `i` carries
+//! The conservative scheme (docs/model.md §3.3a) with `n` segments of width `h`: segment `i` carries
 //! `g_i = γ_i/ℓ_i` in the state and `ℓ_i`, `r_i = ρ_i/ρ₀` as parameters; it is a continuum
 //! [`crate::line::Line`] whose segment reference length is `hℓ_i` and whose node drag is
 //! `K h ρ̄_face/L̄` (mean of the two segments' densities). A segment divides — all its

@@ -1,5 +1,5 @@
 //! Serde configurations of the Chapter 4 runs, with range-checked validation whose errors name
-//! the key and its valid range. Defaults are MODEL.md's (§0.3, §5.6): `N = M = 10`,
+//! the key and its valid range. Defaults are docs/model.md's (§0.3, §5.6): `N = M = 10`,
 //! `γ₀ = β₀ = 1`, `K_th = 1` (boundary-form `K = ½`), `m = 0`, `k₁ = 0.1`, exponential ramp,
 //! free top; shear `F_A = 1`.
 //!
@@ -37,10 +37,10 @@ pub enum TopBoundary {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ShearForm {
-    /// Canonical edge form (MODEL.md §4.4).
+    /// Canonical edge form (docs/model.md §4.4).
     #[default]
     Edge,
-    /// The thesis's cell-centre form (4.85)–(4.98), discrete only (MODEL.md §4.5).
+    /// The thesis's cell-centre form (4.85)–(4.98), discrete only (docs/model.md §4.5).
     CellCentre,
 }
 
@@ -104,7 +104,7 @@ fn check_drag(k_th: Option<f64>, drag: Option<f64>, allow_zero: bool) -> Result<
     Ok(())
 }
 
-/// Configuration of a uniaxial sheet run (MODEL.md §4.1–4.3).
+/// Configuration of a uniaxial sheet run (docs/model.md §4.1–4.3).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SheetConfig {
@@ -206,7 +206,7 @@ impl SheetConfig {
     }
 }
 
-/// Configuration of a shear-column run (MODEL.md §4.4–4.6).
+/// Configuration of a shear-column run (docs/model.md §4.4–4.6).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ShearConfig {

@@ -1,4 +1,4 @@
-//! Exact solutions for Chapter 4 (MODEL.md §4.3, §4.6).
+//! Exact solutions for Chapter 4 (docs/model.md §4.3, §4.6).
 //!
 //! * [`sheet_free_steady`] / [`sheet_periodic_steady`] — the steady states of the uniaxial sheet
 //!   (uniform law): `λ₁ = 1 − k₁` in every cell (`σ₁₁` uniform and monotone in `λ₁`); free top:
@@ -86,7 +86,7 @@ pub fn sheet_periodic_steady(law: &impl StrainEnergy, k1: f64) -> SheetSteady {
     steady(law, 1.0 - k1, 1.0)
 }
 
-/// Continuum series solution of the shear column (MODEL.md §4.6), uniform `μ`:
+/// Continuum series solution of the shear column (docs/model.md §4.6), uniform `μ`:
 /// returns `(x(y, t), tan θ = x_y(y, t))` for `K x_t = β₀γ₀μ x_yy` on `(0, w)`, `x(0) = 0`,
 /// `β₀μ x_y(w) = F_A`, `x(y, 0) = 0`, with `s = F_A/(β₀μ)` and `D = β₀γ₀μ/K`. Pass `w = w₀ = Mγ₀`
 /// for the continuum, or `w_eff = (M + ½)γ₀` to mimic the discrete column's lumped top drag.
@@ -111,7 +111,7 @@ pub fn shear_series(s: f64, d: f64, w: f64, y: f64, t: f64, terms: usize) -> (f6
     (x, tan)
 }
 
-/// Exact solution of the discrete edge form with a linear law `τ = μT` (MODEL.md §4.6):
+/// Exact solution of the discrete edge form with a linear law `τ = μT` (docs/model.md §4.6):
 /// `x_{e,k}(t) = δk + Σ_j b_j sin(q_j k) e^{−4c sin²(q_j/2) t}`, `q_j = (2j+1)π/(2M+1)`,
 /// `c = β₀μ/(γ₀K)`, `δ = γ₀ F_A/(β₀μ)`.
 ///

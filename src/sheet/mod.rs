@@ -1,13 +1,13 @@
-//! # Chapter 4: sheets of cells and the simple-shear column (MODEL.md §1.4–1.5, §4)
+//! # Chapter 4: sheets of cells and the simple-shear column (docs/model.md §1.4–1.5, §4)
 //!
-//! * [`UniaxialSheet`] — `N × M` quasi-3D cells on a substrate (MODEL.md §4.1): unknowns are the
+//! * [`UniaxialSheet`] — `N × M` quasi-3D cells on a substrate (docs/model.md §4.1): unknowns are the
 //!   shared-face positions `x_b(j,k)` and `y_b(j,k)`; each cell is a cuboid with stretches
 //!   `λ₁, λ₂, λ₃ = 1/(λ₁λ₂)`, stresses from **any** [`StrainEnergy`] via
 //!   [`StrainEnergy::sheet`], drag `K·κ`, `κ = (λ₁λ₂)^m`, a fixed edge `x = 0`, a prescribed edge
 //!   `x = l(t)`, a fixed base `y = 0` and a free (zero-traction) or periodic side. The continuum
-//!   (MODEL.md §4.3) is the same array on an `n × m` grid of reference cells `h_X × h_Y` with
+//!   (docs/model.md §4.3) is the same array on an `n × m` grid of reference cells `h_X × h_Y` with
 //!   per-face drag `K h_X h_Y / γ₀` (conservative scheme).
-//! * [`ShearColumn`] — the simple-shear column in its canonical edge form (MODEL.md §4.4), on `M`
+//! * [`ShearColumn`] — the simple-shear column in its canonical edge form (docs/model.md §4.4), on `M`
 //!   cells (discrete) or `m` segments (continuum); [`ShearCellCentre`] — the thesis's
 //!   cell-centre form (4.85)–(4.98), kept for comparison (§4.5).
 //! * [`exact`] — steady states of the sheet for any law, and the closed-form continuum series and

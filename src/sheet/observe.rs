@@ -1,4 +1,4 @@
-//! Chapter 4 observables (MODEL.md §6) and their [`RunRecord`](crate::observe::RunRecord)
+//! Chapter 4 observables (docs/model.md §6) and their [`RunRecord`](crate::observe::RunRecord)
 //! series/profile keys.
 //!
 //! Sheet: `max p`, mean `p`, mean height `H`, `mean λ₃ / mean λ₂`, and the shared-boundary

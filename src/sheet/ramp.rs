@@ -1,4 +1,4 @@
-//! Prescribed length of the sheet, `x_b(N, k) = l(t)` (MODEL.md §2.6, §4.1; (4.75) corrected to
+//! Prescribed length of the sheet, `x_b(N, k) = l(t)` (docs/model.md §2.6, §4.1; (4.75) corrected to
 //! `l₀(1 − k₁ + k₁e^{−t})`).
 
 use serde::{Deserialize, Serialize};

@@ -3,11 +3,14 @@
 //! series and profiles (keys in [`super::observe`]); optionally they write VTK (`.vtu` + `.pvd`)
 //! and PNG snapshots of the sheet.
 //!
-//! ```ignore
-//! use celltissue::sheet::{run_sheet, SheetConfig, SolverSettings, run::Outputs};
+//! ```
+//! use celltissue::observe::ModelKind;
+//! use celltissue::sheet::{run::Outputs, run_sheet, SheetConfig, SolverSettings};
 //! let law = celltissue::NeoHookean::new(1.0)?;
 //! let rec = run_sheet(&SheetConfig::default(), &law, ModelKind::Discrete, None,
 //!                     &SolverSettings::default(), &Outputs::at(&[1.0, 2.0, 5.0, 10.0]))?;
+//! assert_eq!(rec.series.t, [1.0, 2.0, 5.0, 10.0]);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 use super::config::{ConfigError, ShearConfig, ShearForm, SheetConfig, SolverSettings};
@@ -183,7 +186,7 @@ fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
     }
 }
 
-/// Runs the uniaxial sheet (MODEL.md §4.1–4.3).
+/// Runs the uniaxial sheet (docs/model.md §4.1–4.3).
 ///
 /// * `model`: [`ModelKind::Discrete`] (`N × M` cells) or [`ModelKind::Continuum`] (conservative
 ///   scheme on `grid = (n, m)`; default `(2N, 2M)`). `grid` with a discrete model must be `None`
@@ -303,7 +306,7 @@ pub fn run_sheet<E: StrainEnergy>(
     })
 }
 
-/// Runs the shear column (MODEL.md §4.4–4.6).
+/// Runs the shear column (docs/model.md §4.4–4.6).
 ///
 /// * `model`: discrete (`M` cells, edge or cell-centre form per `cfg.form`) or continuum
 ///   (edge-form conservative scheme on `grid` segments, default `4M`; cell-centre form is

@@ -1,4 +1,4 @@
-//! The simple-shear column (MODEL.md §1.5, §4.4–4.6).
+//! The simple-shear column (docs/model.md §1.5, §4.4–4.6).
 //!
 //! * [`ShearColumn`] — the canonical **edge form**: state `x_{e,k}`, the x-position of the top
 //!   edge of cell `k` (base `x_{e,0} = 0` fixed), `T_k = (x_{e,k} − x_{e,k−1})/h`,
@@ -17,7 +17,7 @@ use crate::scalar::Scalar;
 use integrators::{Pattern, ResidualError};
 use num_dual::Dual64;
 
-/// Physical parameters of the shear column (MODEL.md §4.4).
+/// Physical parameters of the shear column (docs/model.md §4.4).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ShearParams {
     /// Number of cells `M` (so `w₀ = Mγ₀`).
@@ -33,7 +33,7 @@ pub struct ShearParams {
 }
 
 impl Default for ShearParams {
-    /// `M = 10`, `γ₀ = β₀ = 1`, `K = ½` (`K_th = 1`), `F_A = 1` (MODEL.md §5.6).
+    /// `M = 10`, `γ₀ = β₀ = 1`, `K = ½` (`K_th = 1`), `F_A = 1` (docs/model.md §5.6).
     fn default() -> Self {
         Self {
             cells: 10,
@@ -64,7 +64,7 @@ pub struct ShearFields {
     pub pressure: Vec<f64>,
 }
 
-/// Pressure of a simple-shear cell from `σ₂₂ = 0` (MODEL.md §1.5): with principal stretches
+/// Pressure of a simple-shear cell from `σ₂₂ = 0` (docs/model.md §1.5): with principal stretches
 /// `λ± = √(1+T²/4) ± T/2`, `λ₃ = 1`, principal stresses `t_i = λ_i ∂W/∂λ_i` and Eulerian
 /// principal directions `n±` (eigenvectors of `B = FFᵀ`), `p = t₊ n₊,₂² + t₋ n₋,₂²`.
 /// Neo-Hookean gives `p = μ`.
@@ -96,9 +96,12 @@ pub fn shear_pressure<E: StrainEnergy>(law: &E, t: f64) -> f64 {
 
 /// The canonical edge form of the shear column as a [`CellArray`] (tridiagonal Jacobian).
 ///
-/// ```ignore
+/// ```
 /// use celltissue::sheet::shear::{ShearColumn, ShearParams};
+/// use celltissue::{CellArray, NeoHookean};
 /// let col = ShearColumn::discrete(NeoHookean::new(1.0)?, &ShearParams::default())?;
+/// assert_eq!(col.dim(), col.initial_state().len());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub struct ShearColumn<E: StrainEnergy> {
     law: E,
@@ -159,7 +162,7 @@ impl<E: StrainEnergy> ShearColumn<E> {
     }
 
     /// The conservative continuum scheme on `m` segments of height `h = Mγ₀/m`, edge drag
-    /// `K h/γ₀` (MODEL.md §4.6). With `m = M` this is the discrete model.
+    /// `K h/γ₀` (docs/model.md §4.6). With `m = M` this is the discrete model.
     pub fn continuum(law: E, params: &ShearParams, m: usize) -> Result<Self, ShearBuildError> {
         check_params(params, m)?;
         let h = params.cells as f64 * params.gamma0 / m as f64;
@@ -188,7 +191,7 @@ impl<E: StrainEnergy> ShearColumn<E> {
     pub fn law(&self) -> &E {
         &self.law
     }
-    /// Initial state `x_e ≡ 0` (MODEL.md §4.4, (4.89)).
+    /// Initial state `x_e ≡ 0` (docs/model.md §4.4, (4.89)).
     pub fn initial_state(&self) -> Vec<f64> {
         vec![0.0; self.m]
     }
@@ -277,7 +280,7 @@ impl<E: StrainEnergy> CellArray for ShearColumn<E> {
     }
 }
 
-/// The thesis's cell-centre form of the shear column (MODEL.md §4.5), for comparison only.
+/// The thesis's cell-centre form of the shear column (docs/model.md §4.5), for comparison only.
 ///
 /// State `x_{c,1..M}`; drag coefficient `K_th` (`= 2K`). Dense Jacobian: use small `M`.
 pub struct ShearCellCentre<E: StrainEnergy> {

@@ -1,4 +1,4 @@
-//! The uniaxial sheet as a [`CellArray`] (MODEL.md §4.1–4.3).
+//! The uniaxial sheet as a [`CellArray`] (docs/model.md §4.1–4.3).
 //!
 //! **Unknowns, column by column.** For every column of cells `j = 1..n`: first the `m` y-face
 //! positions of that column (`y_b(j, 1..m)` for a free top, `y_b(j, 0..m−1)` when periodic), then
@@ -23,7 +23,7 @@ use integrators::{Pattern, ResidualError, SparsityPattern};
 use std::cell::RefCell;
 use std::sync::Arc;
 
-/// Physical parameters of a sheet (MODEL.md §0.3, §4.1). The grid is chosen separately
+/// Physical parameters of a sheet (docs/model.md §0.3, §4.1). The grid is chosen separately
 /// ([`UniaxialSheet::discrete`] or [`UniaxialSheet::continuum`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SheetParams {
@@ -35,7 +35,7 @@ pub struct SheetParams {
     pub gamma0: f64,
     /// Height aspect ratio `β₀ = H₀/L₀`.
     pub beta0: f64,
-    /// Substrate drag per boundary `K` (boundary form; `K = K_th/2`, MODEL.md §4.2).
+    /// Substrate drag per boundary `K` (boundary form; `K = K_th/2`, docs/model.md §4.2).
     pub drag: f64,
     /// Drag–area exponent `m` in `κ = (λ₁λ₂)^m`.
     pub drag_exponent: f64,
@@ -105,11 +105,14 @@ struct CellS<S> {
 
 /// A uniaxial sheet of `n × m` cells (or continuum segments) as a [`CellArray`].
 ///
-/// ```ignore
+/// ```
 /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
-/// let sheet = UniaxialSheet::discrete(NeoHookean::new(1.0), &SheetParams::default())?;
+/// use celltissue::{ArrayProblem, CellArray, NeoHookean};
+/// let sheet = UniaxialSheet::discrete(NeoHookean::new(1.0)?, &SheetParams::default())?;
 /// let y0 = sheet.initial_state();
-/// let problem = celltissue::ArrayProblem::new(sheet);
+/// assert_eq!(y0.len(), sheet.dim());
+/// let _problem = ArrayProblem::new(sheet); // an integrators::Problem
+/// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub struct UniaxialSheet<E: StrainEnergy> {
     law: E,
@@ -164,7 +167,7 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
         Self::continuum(law, params, params.cells_x, params.cells_y)
     }
 
-    /// The conservative continuum scheme on an `n × m` grid (MODEL.md §4.3): reference cells
+    /// The conservative continuum scheme on an `n × m` grid (docs/model.md §4.3): reference cells
     /// `h_X = N/n`, `h_Y = Mγ₀/m`, per-face drag `K h_X h_Y/γ₀`. With `n = N`, `m = M` this is the
     /// discrete model.
     pub fn continuum(

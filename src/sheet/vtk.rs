@@ -3,7 +3,7 @@
 //! [0, H]`) and per-cell `pressure`, `lambda1`, `lambda2`, `lambda3`, `height`, `sigma11`,
 //! `sigma22`, `kappa`; and a `.pvd` collection indexing the snapshots by time.
 //!
-//! Cells do not share vertices (neighbouring cells' faces need not coincide, MODEL.md §4.1).
+//! Cells do not share vertices (neighbouring cells' faces need not coincide, docs/model.md §4.1).
 
 use super::uniaxial::SheetCell;
 use std::fmt::Write as _;

@@ -1,0 +1,356 @@
+//! The name → constructor registry of strain energies: what `law = { law = "<name>", … }` in a
+//! scenario (the line's `law`, the sheet's and shear column's `energy`) resolves to.
+//!
+//! Built in: `neo_hookean`, `mooney_rivlin`, `ogden`, `hgo` and `expression` (a formula,
+//! [`super::Expression`]). A program that links `celltissue` adds its own law with
+//! [`register`] (any [`StrainEnergy`] that deserializes from its parameters); from then on every
+//! scenario it loads can name that law, with the same validation and error messages as the
+//! built-in ones. The registry is process-wide (scenarios are deserialized by serde, which
+//! carries no context), read-mostly, and behind an `RwLock`.
+//!
+//! ```
+//! use celltissue::energy::registry;
+//! use celltissue::{AnyEnergy, StrainEnergy};
+//! use num_dual::DualNum;
+//!
+//! /// Yeoh-type law W = C₁(I₁−3) + C₂(I₁−3)², μ = 2C₁.
+//! #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+//! #[serde(deny_unknown_fields)]
+//! struct Yeoh { c1: f64, c2: f64 }
+//! impl StrainEnergy for Yeoh {
+//!     fn energy<D: DualNum<Primitive = f64> + Copy>(&self, l: [D; 3]) -> D {
+//!         let j1 = l[0] * l[0] + l[1] * l[1] + l[2] * l[2] - 3.0;
+//!         j1 * self.c1 + j1 * j1 * self.c2
+//!     }
+//!     fn shear_modulus(&self) -> f64 { 2.0 * self.c1 }
+//! }
+//!
+//! registry::register::<Yeoh>("yeoh_doc")?;
+//! let law: AnyEnergy = toml::from_str("law = \"yeoh_doc\"\nc1 = 0.5\nc2 = 0.1")?;
+//! assert_eq!(law.name(), "yeoh_doc");
+//! assert!((law.line(1.0).dsigma - 4.0).abs() < 1e-12);
+//! assert!(registry::names().contains(&"yeoh_doc".to_string()));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use super::{
+    AnyEnergy, EnergyError, Expression, Gent, Hgo, LineResponse, MooneyRivlin, NeoHookean, Ogden,
+    ShearResponse, SheetResponse, StrainEnergy,
+};
+use num_dual::{Dual2, Dual2SVec64, Dual2_64, Dual64, DualNum, HyperDual64};
+use serde::de::DeserializeOwned;
+use serde::Serialize;
+use std::any::Any;
+use std::collections::BTreeMap;
+use std::fmt;
+use std::sync::{Arc, LazyLock, RwLock};
+
+/// A law's parameters: the scenario table without its `law` key.
+pub type Params = serde_json::Map<String, serde_json::Value>;
+
+/// Builds a law from its parameters (errors name the offending parameter).
+pub type Constructor = Arc<dyn Fn(&Params) -> Result<AnyEnergy, EnergyError> + Send + Sync>;
+
+static REGISTRY: LazyLock<RwLock<BTreeMap<String, Constructor>>> = LazyLock::new(|| {
+    let mut m: BTreeMap<String, Constructor> = BTreeMap::new();
+    m.insert("neo_hookean".into(), typed::<NeoHookean>("neo_hookean"));
+    m.insert(
+        "mooney_rivlin".into(),
+        typed::<MooneyRivlin>("mooney_rivlin"),
+    );
+    m.insert("ogden".into(), typed::<Ogden>("ogden"));
+    m.insert("hgo".into(), typed::<Hgo>("hgo"));
+    m.insert("gent".into(), typed::<Gent>("gent"));
+    m.insert("expression".into(), Arc::new(expression));
+    RwLock::new(m)
+});
+
+/// A constructor for a built-in law that deserializes (and so validates) its parameters.
+fn typed<L>(name: &'static str) -> Constructor
+where
+    L: DeserializeOwned + Into<AnyEnergy>,
+{
+    Arc::new(move |p: &Params| Ok(parse_params::<L>(name, p)?.into()))
+}
+
+fn parse_params<L: DeserializeOwned>(name: &str, p: &Params) -> Result<L, EnergyError> {
+    serde_json::from_value(serde_json::Value::Object(p.clone())).map_err(|e| EnergyError::Params {
+        law: name.to_owned(),
+        message: e.to_string(),
+    })
+}
+
+/// `expression`: `W` (a formula string) and numeric parameters.
+fn expression(p: &Params) -> Result<AnyEnergy, EnergyError> {
+    let formula = match p.get("W") {
+        Some(serde_json::Value::String(s)) => s,
+        Some(other) => {
+            return Err(EnergyError::Params {
+                law: "expression".into(),
+                message: format!(
+                    "W must be a string formula such as \"mu/2*(I1 - 3)\", found {other}"
+                ),
+            })
+        }
+        None => {
+            return Err(EnergyError::Params {
+                law: "expression".into(),
+                message: "missing field `W` (the strain energy, e.g. W = \"mu/2*(I1 - 3)\")".into(),
+            })
+        }
+    };
+    let mut params = Vec::with_capacity(p.len());
+    for (k, v) in p.iter().filter(|(k, _)| *k != "W") {
+        let x = v.as_f64().ok_or_else(|| EnergyError::Params {
+            law: "expression".into(),
+            message: format!("{k} = {v} must be a number (a parameter of W)"),
+        })?;
+        params.push((k.as_str(), x));
+    }
+    Ok(AnyEnergy::Expression(Expression::new(formula, params)?))
+}
+
+/// The registered law names, sorted.
+///
+/// ```
+/// let names = celltissue::energy::registry::names();
+/// assert!(names.contains(&"expression".to_string()) && names.contains(&"hgo".to_string()));
+/// ```
+pub fn names() -> Vec<String> {
+    read().keys().cloned().collect()
+}
+
+fn read() -> std::sync::RwLockReadGuard<'static, BTreeMap<String, Constructor>> {
+    // A panic while holding the lock cannot leave the map half-written (inserts are atomic),
+    // so a poisoned lock is still safe to read.
+    REGISTRY.read().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Builds the law `name` from its parameters.
+///
+/// ```
+/// use celltissue::energy::registry;
+/// let p = serde_json::json!({"mu": 2.0}).as_object().unwrap().clone();
+/// assert_eq!(registry::build("neo_hookean", &p)?.name(), "neo_hookean");
+/// let err = registry::build("yeoh", &p).unwrap_err().to_string();
+/// assert!(err.starts_with("unknown variant `yeoh`; valid laws: expression, gent, hgo,"));
+/// # Ok::<(), celltissue::EnergyError>(())
+/// ```
+pub fn build(name: &str, params: &Params) -> Result<AnyEnergy, EnergyError> {
+    let ctor = read().get(name).cloned();
+    match ctor {
+        Some(c) => c(params),
+        None => Err(EnergyError::UnknownLaw {
+            name: name.to_owned(),
+            valid: names().join(", "),
+        }),
+    }
+}
+
+/// Registers a user law under `name`: scenarios may then write
+/// `law = { law = "<name>", <parameters> }`, the parameters deserialized into `L` (so
+/// `#[serde(deny_unknown_fields)]` and `#[serde(try_from = …)]` validation apply). Names are
+/// `[a-z0-9_]+`; a name already registered (built-in or not) is refused.
+///
+/// ```
+/// use celltissue::energy::registry;
+/// let err = registry::register::<celltissue::NeoHookean>("hgo").unwrap_err();
+/// assert_eq!(err.to_string(), "a strain energy named `hgo` is already registered");
+/// ```
+pub fn register<L>(name: &str) -> Result<(), EnergyError>
+where
+    L: StrainEnergy + Serialize + DeserializeOwned + Clone + fmt::Debug + 'static,
+{
+    let law_name: Arc<str> = Arc::from(name);
+    register_with(
+        name,
+        Arc::new(move |p: &Params| {
+            let law: L = parse_params(&law_name, p)?;
+            Ok(AnyEnergy::Registered(Registered::new(
+                law_name.clone(),
+                p.clone(),
+                law,
+            )))
+        }),
+    )
+}
+
+/// Registers a constructor under `name` (for laws built some other way than by deserializing a
+/// type, e.g. a fixed formula: `Arc::new(|p| …)`). Same naming rules as [`register`].
+pub fn register_with(name: &str, ctor: Constructor) -> Result<(), EnergyError> {
+    if name.is_empty()
+        || !name
+            .chars()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
+    {
+        return Err(EnergyError::BadLawName(name.to_owned()));
+    }
+    let mut m = REGISTRY.write().unwrap_or_else(|e| e.into_inner());
+    if m.contains_key(name) {
+        return Err(EnergyError::DuplicateLaw(name.to_owned()));
+    }
+    m.insert(name.to_owned(), ctor);
+    Ok(())
+}
+
+/// The object-safe face of a user law (the [`StrainEnergy`] trait itself is generic over the
+/// scalar, so it cannot be a trait object): the responses, and the energy at every scalar type
+/// the crate evaluates `W` in.
+trait DynLaw: Send + Sync + fmt::Debug {
+    fn dyn_shear_modulus(&self) -> f64;
+    fn dyn_line(&self, a: f64) -> LineResponse;
+    fn dyn_sheet(&self, l1: f64, l2: f64) -> SheetResponse;
+    fn dyn_shear(&self, t: f64) -> ShearResponse;
+    /// Writes `W(l)` into `out` if `l`'s scalar is one of the supported types.
+    fn energy_any(&self, l: &dyn Any, out: &mut dyn Any) -> bool;
+}
+
+/// Tries `W` at one concrete scalar type `T`.
+fn energy_at<T, L>(law: &L, l: &dyn Any, out: &mut dyn Any) -> bool
+where
+    T: DualNum<Primitive = f64> + Copy,
+    L: StrainEnergy,
+{
+    match (l.downcast_ref::<[T; 3]>(), out.downcast_mut::<T>()) {
+        (Some(l), Some(out)) => {
+            *out = law.energy(*l);
+            true
+        }
+        _ => false,
+    }
+}
+
+impl<L: StrainEnergy + fmt::Debug> DynLaw for L {
+    fn dyn_shear_modulus(&self) -> f64 {
+        StrainEnergy::shear_modulus(self)
+    }
+    fn dyn_line(&self, a: f64) -> LineResponse {
+        StrainEnergy::line(self, a)
+    }
+    fn dyn_sheet(&self, l1: f64, l2: f64) -> SheetResponse {
+        StrainEnergy::sheet(self, l1, l2)
+    }
+    fn dyn_shear(&self, t: f64) -> ShearResponse {
+        StrainEnergy::shear(self, t)
+    }
+    fn energy_any(&self, l: &dyn Any, out: &mut dyn Any) -> bool {
+        energy_at::<f64, L>(self, l, out)
+            || energy_at::<Dual64, L>(self, l, out)
+            || energy_at::<Dual2<Dual64>, L>(self, l, out)
+            || energy_at::<Dual2SVec64<3>, L>(self, l, out)
+            || energy_at::<Dual2_64, L>(self, l, out)
+            || energy_at::<HyperDual64, L>(self, l, out)
+    }
+}
+
+/// A user law registered with [`register`], as held by [`AnyEnergy::Registered`]: its name,
+/// the parameters it was built from (for serialization and equality) and the law itself.
+#[derive(Clone)]
+pub struct Registered {
+    name: Arc<str>,
+    params: Params,
+    law: Arc<dyn DynLaw>,
+}
+
+impl fmt::Debug for Registered {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Registered")
+            .field("name", &self.name)
+            .field("law", &self.law)
+            .finish()
+    }
+}
+
+impl PartialEq for Registered {
+    fn eq(&self, other: &Self) -> bool {
+        self.name == other.name && self.params == other.params
+    }
+}
+
+impl Registered {
+    fn new<L: StrainEnergy + fmt::Debug + 'static>(name: Arc<str>, params: Params, law: L) -> Self {
+        Self {
+            name,
+            params,
+            law: Arc::new(law),
+        }
+    }
+
+    /// The name the law was registered under.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The parameters it was built from.
+    pub fn params(&self) -> &Params {
+        &self.params
+    }
+}
+
+impl StrainEnergy for Registered {
+    /// `W` at `f64`, `Dual64`, `Dual2<Dual64>`, `Dual2SVec64<3>`, `Dual2_64` and `HyperDual64`
+    /// (every scalar the crate evaluates a law in); NaN for any other scalar type, since a
+    /// type-erased law cannot be evaluated generically.
+    #[inline]
+    fn energy<D: DualNum<Primitive = f64> + Copy>(&self, l: [D; 3]) -> D {
+        let mut out = D::from(f64::NAN);
+        self.law.energy_any(&l, &mut out);
+        out
+    }
+    fn shear_modulus(&self) -> f64 {
+        self.law.dyn_shear_modulus()
+    }
+    fn line(&self, a: f64) -> LineResponse {
+        self.law.dyn_line(a)
+    }
+    fn sheet(&self, l1: f64, l2: f64) -> SheetResponse {
+        self.law.dyn_sheet(l1, l2)
+    }
+    fn shear(&self, t: f64) -> ShearResponse {
+        self.law.dyn_shear(t)
+    }
+}
+
+impl Serialize for Registered {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.params.serialize(s)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn registered_law_matches_its_generic_evaluation() {
+        #[derive(Clone, Debug, Serialize, serde::Deserialize)]
+        struct Twice {
+            mu: f64,
+        }
+        impl StrainEnergy for Twice {
+            fn energy<D: DualNum<Primitive = f64> + Copy>(&self, l: [D; 3]) -> D {
+                (l[0] * l[0] + l[1] * l[1] + l[2] * l[2] - 3.0) * self.mu
+            }
+            fn shear_modulus(&self) -> f64 {
+                2.0 * self.mu
+            }
+        }
+        register::<Twice>("twice_test").unwrap();
+        let p = serde_json::json!({"mu": 0.5}).as_object().unwrap().clone();
+        let law = build("twice_test", &p).unwrap();
+        let reference = NeoHookean::new(1.0).unwrap();
+        assert!((law.line(1.3).sigma - reference.line(1.3).sigma).abs() < 1e-13);
+        // The type-erased energy answers at the crate's scalar types …
+        let l = [Dual64::new(1.2, 1.0), Dual64::from(0.9), Dual64::from(1.0)];
+        let (a, b) = (law.energy(l), reference.energy(l));
+        assert!((a.re - b.re).abs() < 1e-14 && (a.eps - b.eps).abs() < 1e-14);
+        // … and NaN, not a wrong number, at any other.
+        let l3 = [num_dual::Dual3_64::from(1.2); 3];
+        assert!(law.energy(l3).re.is_nan());
+        // Serialization round trip through the registry.
+        let s = serde_json::to_string(&law).unwrap();
+        assert_eq!(s, r#"{"law":"twice_test","mu":0.5}"#);
+        assert_eq!(serde_json::from_str::<AnyEnergy>(&s).unwrap(), law);
+        assert!(register_with("Bad-Name", Arc::new(expression)).is_err());
+    }
+}
