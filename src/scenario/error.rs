@@ -107,7 +107,14 @@ pub(crate) fn deserialize_at<T: serde::de::DeserializeOwned>(
     value: toml::Value,
 ) -> Result<T, ScenarioError> {
     serde_path_to_error::deserialize(value).map_err(|e| {
-        let mut inner = e.inner().to_string();
+        // toml appends "in `key`" lines that repeat the path named in front
+        let mut inner = e
+            .inner()
+            .to_string()
+            .lines()
+            .filter(|l| !l.trim().is_empty() && !(l.starts_with("in `") && l.ends_with('`')))
+            .collect::<Vec<_>>()
+            .join("\n");
         let mut path = join(prefix, &e.path().to_string());
         // A type that buffers its table (e.g. a tagged field `{ type = "gaussian", … }`) names
         // the key inside it as a leading "`width`: " (see `crate::cell::Field`): extend the path.

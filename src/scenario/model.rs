@@ -170,6 +170,13 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
             line.validate().map_err(line_error)?;
             if models.contains(&ModelKind::Continuum) {
                 check_continuum_grid(&line, nodes)?;
+                if !matches!(division.rule, crate::events::RuleConfig::Area(_)) {
+                    return Err(ScenarioError::key(
+                        "model.division.rule",
+                        "the proliferating continuum (model \"continuum\") supports only \
+                         rule = \"area\"; run models = [\"discrete\"] for age or random rules",
+                    ));
+                }
             }
             let cfg = crate::events::ProliferationConfig { line, division };
             cfg.validate()
@@ -200,14 +207,21 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
                 limits::MAX_SHEET_CELLS,
             )
             .map_err(|e| e.with_note("cells_x · cells_y counts"))?;
-            if let Some((n, m)) = grid {
+            if models.contains(&ModelKind::Continuum) {
+                // the continuum's default grid is (2 cells_x, 2 cells_y)
+                let (n, m) =
+                    grid.unwrap_or((2 * cfg.cells_x.min(1 << 40), 2 * cfg.cells_y.min(1 << 40)));
                 limits::check_cells(
                     "model.nodes",
                     n as f64 * m as f64,
                     limits::SHEET_BYTES_PER_CELL,
                     limits::MAX_SHEET_CELLS,
                 )
-                .map_err(|e| e.with_note("n · m counts"))?;
+                .map_err(|e| {
+                    e.with_note(
+                        "n · m grid points of the continuum; default [2 cells_x, 2 cells_y]",
+                    )
+                })?;
             }
             cfg.validate().map_err(sheet_error)?;
             let law = cfg.law.clone();
@@ -215,7 +229,17 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
         }
         "shear" => {
             let cfg: ShearConfig = deserialize_at("model", toml::Value::Table(rest))?;
-            for (key, n) in [("model.cells", Some(cfg.cells)), ("model.nodes", nodes)] {
+            let continuum = models.contains(&ModelKind::Continuum);
+            if continuum && cfg.form == crate::sheet::ShearForm::CellCentre {
+                return Err(ScenarioError::key(
+                    "model.form",
+                    "= \"cell_centre\" is discrete only; use form = \"edge\" for the \
+                     continuum, or models = [\"discrete\"]",
+                ));
+            }
+            // the continuum's default grid is 4 cells
+            let grid = continuum.then(|| nodes.unwrap_or(cfg.cells.saturating_mul(4)));
+            for (key, n) in [("model.cells", Some(cfg.cells)), ("model.nodes", grid)] {
                 if let Some(n) = n {
                     limits::check_cells(
                         key,
