@@ -78,11 +78,15 @@ impl ScenarioError {
     }
 
     /// Appends a parenthesised note to a key error's message.
+    /// Both are shortened (a note may quote user input, e.g. a `--set` argument).
     pub fn with_note(self, note: &str) -> Self {
         match self {
             ScenarioError::Key { key, message } => ScenarioError::Key {
                 key,
-                message: format!("{message} ({note})"),
+                message: shorten_to(
+                    &format!("{message} ({})", shorten_to(note, MAX_MESSAGE_CHARS / 2)),
+                    2 * MAX_MESSAGE_CHARS,
+                ),
             },
             other => other,
         }
@@ -93,7 +97,13 @@ impl ScenarioError {
         match self {
             ScenarioError::Key { key, message } => ScenarioError::Key {
                 key,
-                message: format!("{message} (in run `{run}`)"),
+                message: shorten_to(
+                    &format!(
+                        "{message} (in run `{}`)",
+                        shorten_to(run, MAX_MESSAGE_CHARS / 2)
+                    ),
+                    2 * MAX_MESSAGE_CHARS,
+                ),
             },
             other => other,
         }
@@ -203,7 +213,7 @@ fn long_numbers_scientific(s: &str) -> String {
     out
 }
 
-/// At most [`MAX_MESSAGE_CHARS`] characters per line and 40 lines, marking what was cut.
+/// At most [`MAX_MESSAGE_CHARS`] characters per line and 12 lines, marking what was cut.
 pub fn shorten(s: &str) -> String {
     shorten_to(s, MAX_MESSAGE_CHARS)
 }
@@ -211,7 +221,7 @@ pub fn shorten(s: &str) -> String {
 fn shorten_to(s: &str, max: usize) -> String {
     let mut out = Vec::new();
     for (i, line) in s.lines().enumerate() {
-        if i == 40 {
+        if i == 12 {
             out.push("… (message cut)".to_string());
             break;
         }
