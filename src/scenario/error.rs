@@ -122,7 +122,10 @@ pub(crate) fn deserialize_at<T: serde::de::DeserializeOwned>(
             .inner()
             .to_string()
             .lines()
-            .filter(|l| !l.trim().is_empty() && !(l.starts_with("in `") && l.ends_with('`')))
+            .filter(|l| {
+                let repeats_path = l.starts_with("in `") && l.ends_with('`');
+                !(l.trim().is_empty() || repeats_path)
+            })
             .collect::<Vec<_>>()
             .join("\n");
         let mut path = join(prefix, &e.path().to_string());
