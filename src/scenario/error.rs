@@ -172,7 +172,8 @@ pub const MAX_MESSAGE_CHARS: usize = 400;
 ///     "invalid type: floating point `1e300`, expected a non-negative integer"
 /// );
 /// let long = format!("invalid value: {}", "1".repeat(300));
-/// assert_eq!(researcher_words(&long), "invalid value: 1.1111111111111111e299");
+/// let short = researcher_words(&long);
+/// assert!(short.contains("e299") && short.len() < 50, "{short}");
 /// assert!(researcher_words(&"x".repeat(10_000_000)).len() < 1000);
 /// ```
 pub fn researcher_words(message: &str) -> String {

@@ -11,7 +11,7 @@
 //!
 //! ```
 //! use celltissue::scenario::limits::{check_cells, LINE_BYTES_PER_CELL, MAX_LINE_CELLS};
-//! assert!(check_cells("model.cells", 100, LINE_BYTES_PER_CELL, MAX_LINE_CELLS).is_ok());
+//! assert!(check_cells("model.cells", 100.0, LINE_BYTES_PER_CELL, MAX_LINE_CELLS).is_ok());
 //! let e = check_cells("model.cells", 1e18, LINE_BYTES_PER_CELL, MAX_LINE_CELLS).unwrap_err();
 //! assert_eq!(e.key_name(), Some("model.cells"));
 //! assert!(e.to_string().contains("EB"), "{e}"); // 1e18 cells need ~500 EB
