@@ -167,3 +167,73 @@ fn syntax_error_and_missing_file() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("cannot read"));
     assert!(!dir.join("out").exists());
 }
+
+#[test]
+fn inputs_a_run_would_reject_exit_2_before_anything_is_written() {
+    // issue #11 §3: each accepted by `validate` before, then a failed run with files written
+    rejects(
+        "gauss_nan",
+        &GOOD.replace(
+            "mu = 1.0",
+            "mu = { type = \"gaussian\", base = 1, amplitude = 1, centre = nan, width = 0.1 }",
+        ),
+        &[],
+        "model.mu.centre",
+    );
+    rejects(
+        "cell_length",
+        &GOOD.replace("k1 = 0.1", "k1 = 0.1\ncell_length = 1e308"),
+        &[],
+        "model.cell_length",
+    );
+    rejects(
+        "nodes1",
+        &GOOD.replace("k1 = 0.1", "k1 = 0.1\nnodes = 1"),
+        &[],
+        "model.nodes",
+    );
+    rejects(
+        "capacity",
+        GOOD,
+        &["model.cells=9223372036854775807"],
+        "model.cells",
+    );
+    rejects(
+        "sheet_energy",
+        "name = \"s\"\n[output]\nseries = [0, 1]\n[model]\nkind = \"sheet\"\nenergy = { law = \"neo_hookean\", mu = 5 }\n",
+        &[],
+        "model.law",
+    );
+}
+
+#[test]
+fn set_of_a_swept_key_exits_2_naming_the_conflict() {
+    let swept = format!("{GOOD}[sweep]\nparameter = \"K\"\nvalues = [0.1, 1]\n");
+    rejects(
+        "swept_set",
+        &swept,
+        &["model.K=0.1"],
+        "conflicts with the sweep",
+    );
+    rejects(
+        "swept_value",
+        &swept,
+        &["sweep.values=[0.1, -1]"],
+        "sweep.values[1]",
+    );
+}
+
+#[test]
+fn validate_exits_2_on_what_run_rejects() {
+    let dir = tmp("cli_err_validate");
+    let file = dir.join("s.toml");
+    std::fs::write(&file, GOOD.replace("k1 = 0.1", "k1 = 0.1\nnodes = 1")).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_celltissue"))
+        .arg("validate")
+        .arg(&file)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("model.nodes"), "{stderr}");
+}

@@ -217,7 +217,7 @@ cells_y = 3
                 "{key}"
             );
         }
-        assert_eq!(r["parameters"]["energy"]["law"], "neo_hookean");
+        assert_eq!(r["parameters"]["law"]["law"], "neo_hookean");
     }
     assert!(dir.join("series_mean_pressure.png").exists());
     let (_, v) = run_text(

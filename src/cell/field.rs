@@ -23,18 +23,15 @@ use std::sync::Arc;
 /// `{ type = "random", low = 0.5, high = 2, seed = 1 }`, `{ type = "constant", value = 1 }`.
 //
 // The serde derive (with `remote = "Self"`, so that the derived code is an inherent
-// `Field::serialize`/`Field::deserialize` called by the hand-written impls below) handles the
-// tagged tables; the hand-written impls add the plain-number form of `Constant` and `"closure"`.
-#[derive(Clone, Serialize, Deserialize)]
-#[serde(
-    remote = "Self",
-    tag = "type",
-    rename_all = "snake_case",
-    deny_unknown_fields
-)]
+// `Field::serialize` called by the hand-written impl below) writes the tagged tables; the
+// hand-written impls add the plain-number form of `Constant` and `"closure"`. Tables are read
+// through `FieldTable` (below), so that an error names the key inside the table
+// (`mu.width`, not `mu`).
+#[derive(Clone, Serialize)]
+#[serde(remote = "Self", tag = "type", rename_all = "snake_case")]
 pub enum Field {
     /// The same value everywhere.
-    #[serde(skip_serializing, deserialize_with = "constant_table")]
+    #[serde(skip_serializing)]
     Constant(f64),
     /// `base + amplitude·exp(−(X − b)²/(2c²))` with `b = centre·l₀`, `c = width·l₀` (2.82:
     /// base 1, amplitude 1, centre ½, width 1/10).
@@ -76,14 +73,83 @@ pub enum Field {
     Closure(FieldFn),
 }
 
-/// The table form of a constant field, `{ type = "constant", value = 1 }`.
-fn constant_table<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-    #[derive(Deserialize)]
-    #[serde(deny_unknown_fields)]
-    struct Table {
+/// The table forms of a [`Field`] as read from a scenario, externally tagged after the `type`
+/// key is taken out (serde's internally tagged enums buffer the table and lose the path of an
+/// error inside it).
+#[derive(Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+enum FieldTable {
+    Constant {
         value: f64,
+    },
+    Gaussian {
+        base: f64,
+        amplitude: f64,
+        centre: f64,
+        width: f64,
+    },
+    Piecewise {
+        breaks: Vec<f64>,
+        values: Vec<f64>,
+    },
+    PerCell {
+        values: Vec<f64>,
+    },
+    Random {
+        low: f64,
+        high: f64,
+        seed: u64,
+    },
+}
+
+impl From<FieldTable> for Field {
+    fn from(t: FieldTable) -> Self {
+        match t {
+            FieldTable::Constant { value } => Field::Constant(value),
+            FieldTable::Gaussian {
+                base,
+                amplitude,
+                centre,
+                width,
+            } => Field::Gaussian {
+                base,
+                amplitude,
+                centre,
+                width,
+            },
+            FieldTable::Piecewise { breaks, values } => Field::Piecewise { breaks, values },
+            FieldTable::PerCell { values } => Field::PerCell { values },
+            FieldTable::Random { low, high, seed } => Field::Random { low, high, seed },
+        }
     }
-    Ok(Table::deserialize(d)?.value)
+}
+
+/// A field from its table: the `type` key selects the variant; an error inside the table is
+/// reported as "`key`: message" (the scenario loader turns that into `mu.width`).
+fn field_from_table(mut table: toml::Table) -> Result<Field, String> {
+    let kind = match table.remove("type") {
+        Some(toml::Value::String(s)) => s,
+        Some(other) => {
+            return Err(format!(
+                "`type`: expected a string (constant | gaussian | piecewise | per_cell | random), found a {}",
+                other.type_str()
+            ))
+        }
+        None => return Err("missing field `type`".into()),
+    };
+    let mut tagged = toml::Table::new();
+    tagged.insert(kind, toml::Value::Table(table));
+    serde_path_to_error::deserialize::<_, FieldTable>(toml::Value::Table(tagged))
+        .map(Field::from)
+        .map_err(|e| {
+            // the path starts with the variant name; drop it
+            let path = e.path().to_string();
+            let inner = e.inner().to_string();
+            match path.split_once('.') {
+                Some((_, key)) if !key.is_empty() => format!("`{key}`: {inner}"),
+                _ => inner,
+            }
+        })
 }
 
 impl Serialize for Field {
@@ -114,7 +180,10 @@ impl<'de> Deserialize<'de> for Field {
                 Ok(Field::Constant(v as f64))
             }
             fn visit_map<A: serde::de::MapAccess<'de>>(self, m: A) -> Result<Field, A::Error> {
-                Field::deserialize(serde::de::value::MapAccessDeserializer::new(m))
+                use serde::de::Error;
+                let table =
+                    toml::Table::deserialize(serde::de::value::MapAccessDeserializer::new(m))?;
+                field_from_table(table).map_err(A::Error::custom)
             }
         }
         d.deserialize_any(V)
@@ -167,6 +236,10 @@ impl From<f64> for Field {
         Field::Constant(v)
     }
 }
+
+/// Narrowest gaussian bump, as a fraction of `l₀`: a line has at most 10⁸ cells, so a narrower
+/// bump lies between samples, and its squared width could underflow (`0/0` at the centre).
+pub const MIN_GAUSSIAN_WIDTH: f64 = 1e-10;
 
 /// Where a field is sampled for each cell.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -267,6 +340,29 @@ impl Field {
         }
     }
 
+    /// Whether every sample of the field is exactly 0 whatever the grid (a zero constant, a
+    /// gaussian with base and amplitude 0, piecewise or per-cell values all 0, a random range
+    /// `[0, 0]`). Used to reject a drag that leaves a ring's rigid translation undetermined.
+    ///
+    /// ```
+    /// use celltissue::cell::Field;
+    /// assert!(Field::Random { low: 0.0, high: 0.0, seed: 1 }.is_identically_zero());
+    /// assert!(!Field::Random { low: 0.0, high: 1.0, seed: 1 }.is_identically_zero());
+    /// ```
+    pub fn is_identically_zero(&self) -> bool {
+        match self {
+            Field::Constant(v) => *v == 0.0,
+            Field::Gaussian {
+                base, amplitude, ..
+            } => *base == 0.0 && *amplitude == 0.0,
+            Field::Piecewise { values, .. } | Field::PerCell { values } => {
+                values.iter().all(|v| *v == 0.0)
+            }
+            Field::Random { low, high, .. } => *low == 0.0 && *high == 0.0,
+            Field::Closure(_) => false,
+        }
+    }
+
     /// Checks the field's own parameters; `key` names it in the message. `positive` demands
     /// every sampled value be `> 0` (else `≥ 0`).
     pub fn validate(&self, key: &str, positive: bool) -> Result<(), String> {
@@ -277,16 +373,26 @@ impl Field {
             Field::Gaussian {
                 base,
                 amplitude,
+                centre,
                 width,
-                ..
             } => {
-                if bad(*base) || bad(base + amplitude) {
+                if bad(*base) {
+                    Err(format!("{key}.base = {base} must be finite and {range}"))
+                } else if !amplitude.is_finite() || bad(base + amplitude) {
                     Err(format!(
-                        "{key}: gaussian base = {base}, base + amplitude = {} must be finite and {range}",
+                        "{key}.amplitude = {amplitude} must be finite with base + amplitude = {} {range}",
                         base + amplitude
                     ))
-                } else if !(*width > 0.0 && width.is_finite()) {
-                    Err(format!("{key}.width = {width} must be finite and > 0"))
+                } else if !centre.is_finite() {
+                    Err(format!(
+                        "{key}.centre = {centre} must be finite (a fraction of l0, usually in [0, 1])"
+                    ))
+                } else if !(*width >= MIN_GAUSSIAN_WIDTH && width.is_finite()) {
+                    Err(format!(
+                        "{key}.width = {width} must be finite and >= {MIN_GAUSSIAN_WIDTH:e} (a \
+                         fraction of l0; narrower bumps fall between samples and their \
+                         squared width underflows)"
+                    ))
                 } else {
                     Ok(())
                 }
@@ -302,6 +408,8 @@ impl Field {
                     Err(format!(
                         "{key}: piecewise value {v} must be finite and {range}"
                     ))
+                } else if let Some(b) = breaks.iter().find(|b| !b.is_finite()) {
+                    Err(format!("{key}.breaks: {b} must be finite"))
                 } else if breaks.windows(2).any(|w| w[1] <= w[0]) {
                     Err(format!("{key}: piecewise breaks must increase"))
                 } else {

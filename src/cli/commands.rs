@@ -19,19 +19,6 @@ pub fn run(path: &Path, out: &Path, sets: &[String], quiet: bool) -> i32 {
         Ok(s) => s,
         Err(code) => return code,
     };
-    if let Some(sweep) = &scenario.sweep {
-        let swept = sets
-            .iter()
-            .filter_map(|a| scenario::overrides::parse_set(a).ok());
-        for (key, _) in swept.filter(|(k, _)| k.join(".") == sweep.key) {
-            eprintln!(
-                "warning: --set {} is replaced by each value of the sweep over `{}`; \
-                 use --set sweep.values=[...] to change the swept values",
-                key.join("."),
-                sweep.key
-            );
-        }
-    }
     let total = scenario.runs.len();
     let mut k = 0;
     let summary = execute::run_all(

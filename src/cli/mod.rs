@@ -30,7 +30,9 @@ enum Command {
         /// Output directory (created if missing).
         #[arg(long, short)]
         out: PathBuf,
-        /// Override a key before validation, e.g. --set model.K=0.1 --set solver.method=radau.
+        /// Override a key before validation, e.g. --set model.cells=50 --set solver.method=radau.
+        /// A swept key cannot be set (an error): change the swept values instead, e.g.
+        /// --set sweep.values=[0.1].
         #[arg(long = "set", value_name = "KEY=VALUE")]
         sets: Vec<String>,
         /// No progress lines on stderr.

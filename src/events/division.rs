@@ -138,16 +138,26 @@ pub struct DivisionConfig {
     /// The rule.
     #[serde(flatten)]
     pub rule: RuleConfig,
-    /// Stop dividing once the line has this many cells (default: no cap).
-    #[serde(default)]
+    /// Stop dividing once the line has this many cells (default [`DEFAULT_MAX_CELLS`]; every
+    /// run ends: a rule that fires too often, e.g. `period = 1e-300` or `ratio = 1.0001`, stops
+    /// at the cap instead of dividing forever).
+    #[serde(default = "default_max_cells")]
     pub max_cells: Option<usize>,
+}
+
+/// Default cap on the number of cells of a dividing line: 10 000 (Fig 3.3 reaches 971 at
+/// t = 18). Raise it with `division.max_cells` (up to the 10⁸-cell size limit).
+pub const DEFAULT_MAX_CELLS: usize = 10_000;
+
+fn default_max_cells() -> Option<usize> {
+    Some(DEFAULT_MAX_CELLS)
 }
 
 impl Default for DivisionConfig {
     fn default() -> Self {
         Self {
             rule: RuleConfig::Area(AreaDoubling::default()),
-            max_cells: None,
+            max_cells: default_max_cells(),
         }
     }
 }

@@ -39,7 +39,7 @@ pub mod run;
 pub use dividing::{Dividing, InvariantReport};
 pub use division::{
     AgeRule, AreaDoubling, CellView, DivisionConfig, DivisionRule, RandomThreshold, RuleConfig,
-    SplitMix64,
+    SplitMix64, DEFAULT_MAX_CELLS,
 };
 pub use log::DivisionLog;
 pub use reindex::Split;

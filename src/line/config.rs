@@ -144,6 +144,12 @@ impl Default for LineConfig {
     }
 }
 
+/// Shortest cell length accepted (reference lengths in `[1e-100, 1e100]`: a line of up to 10⁸
+/// such cells has a finite length whose square is finite).
+pub const MIN_CELL_LENGTH: f64 = 1e-100;
+/// Longest cell length accepted (see [`MIN_CELL_LENGTH`]).
+pub const MAX_CELL_LENGTH: f64 = 1e100;
+
 fn finite_pos(key: &str, v: f64) -> Result<(), LineError> {
     if v > 0.0 && v.is_finite() {
         Ok(())
@@ -179,13 +185,20 @@ impl LineConfig {
         if self.n_cells() == 0 {
             return Err(LineError::invalid("cells", 0, "an integer >= 1"));
         }
-        finite_pos("cell_length", self.cell_length)?;
+        let length_ok = |l: f64| (MIN_CELL_LENGTH..=MAX_CELL_LENGTH).contains(&l);
+        if !length_ok(self.cell_length) {
+            return Err(LineError::invalid(
+                "cell_length",
+                self.cell_length,
+                "in [1e-100, 1e100] (so that the line's length and its square stay finite)",
+            ));
+        }
         if let Some(v) = &self.ref_lengths {
-            if let Some(l) = v.iter().find(|l| !(**l > 0.0 && l.is_finite())) {
+            if let Some(l) = v.iter().find(|l| !length_ok(**l)) {
                 return Err(LineError::invalid(
                     "ref_lengths",
                     l,
-                    "finite and > 0 for every cell",
+                    "in [1e-100, 1e100] for every cell",
                 ));
             }
         }
@@ -224,11 +237,11 @@ impl LineConfig {
         if periodic && self.drag_form == DragForm::Centre {
             return Err(LineError::CentreFormPeriodic);
         }
-        let k_zero = matches!(self.k, Field::Constant(v) if v == 0.0);
-        let eta_zero = matches!(self.eta, Field::Constant(v) if v == 0.0);
+        let k_zero = self.k.is_identically_zero();
+        let eta_zero = self.eta.is_identically_zero();
         if periodic && k_zero && !self.gauge {
             return Err(LineError::Combination(
-                "`right_end` = \"periodic\" with `K` = 0: rigid translation is a null mode; set K > 0 or `gauge` = true".into(),
+                "`K` = 0 everywhere with `right_end` = \"periodic\": rigid translation is a null mode (singular at t = 0); set K > 0 somewhere or `gauge` = true".into(),
             ));
         }
         if self.right_end == RightEndKind::Free && k_zero && eta_zero && self.growth.is_none() {

@@ -45,10 +45,27 @@ pub enum ScenarioError {
 
 impl ScenarioError {
     /// A [`ScenarioError::Key`] from displayable parts.
+    /// The message is put in a researcher's words and shortened ([`researcher_words`]).
     pub fn key(key: impl Into<String>, message: impl Into<String>) -> Self {
         ScenarioError::Key {
-            key: key.into(),
-            message: message.into(),
+            key: shorten(&key.into()),
+            message: researcher_words(&message.into()),
+        }
+    }
+
+    /// A [`ScenarioError::Set`] (argument and message shortened).
+    pub fn set(arg: &str, message: impl Into<String>) -> Self {
+        ScenarioError::Set {
+            arg: shorten(arg),
+            message: researcher_words(&message.into()),
+        }
+    }
+
+    /// A [`ScenarioError::Syntax`] (the parser's message shortened: it quotes the line).
+    pub fn syntax(path: &std::path::Path, message: &str) -> Self {
+        ScenarioError::Syntax {
+            path: path.to_path_buf(),
+            message: researcher_words(message.trim()),
         }
     }
 
@@ -60,12 +77,33 @@ impl ScenarioError {
         }
     }
 
+    /// Appends a parenthesised note to a key error's message.
+    /// Both are shortened (a note may quote user input, e.g. a `--set` argument).
+    pub fn with_note(self, note: &str) -> Self {
+        match self {
+            ScenarioError::Key { key, message } => ScenarioError::Key {
+                key,
+                message: shorten_to(
+                    &format!("{message} ({})", shorten_to(note, MAX_MESSAGE_CHARS / 2)),
+                    2 * MAX_MESSAGE_CHARS,
+                ),
+            },
+            other => other,
+        }
+    }
+
     /// Prefixes the message with the run it came from (used for sweep values).
     pub fn in_run(self, run: &str) -> Self {
         match self {
             ScenarioError::Key { key, message } => ScenarioError::Key {
                 key,
-                message: format!("{message} (in run `{run}`)"),
+                message: shorten_to(
+                    &format!(
+                        "{message} (in run `{}`)",
+                        shorten_to(run, MAX_MESSAGE_CHARS / 2)
+                    ),
+                    2 * MAX_MESSAGE_CHARS,
+                ),
             },
             other => other,
         }
@@ -79,8 +117,24 @@ pub(crate) fn deserialize_at<T: serde::de::DeserializeOwned>(
     value: toml::Value,
 ) -> Result<T, ScenarioError> {
     serde_path_to_error::deserialize(value).map_err(|e| {
-        let inner = e.inner().to_string();
+        // toml appends "in `key`" lines that repeat the path named in front
+        let mut inner = e
+            .inner()
+            .to_string()
+            .lines()
+            .filter(|l| {
+                let repeats_path = l.starts_with("in `") && l.ends_with('`');
+                !(l.trim().is_empty() || repeats_path)
+            })
+            .collect::<Vec<_>>()
+            .join("\n");
         let mut path = join(prefix, &e.path().to_string());
+        // A type that buffers its table (e.g. a tagged field `{ type = "gaussian", … }`) names
+        // the key inside it as a leading "`width`: " (see `crate::cell::Field`): extend the path.
+        while let Some((inner_key, rest)) = nested_key(&inner) {
+            path = join(&path, &inner_key);
+            inner = rest;
+        }
         // Name the unknown field itself, whether or not the path already ends in it.
         if let Some(field) = unknown_field(&inner) {
             if !(path == field || path.ends_with(&format!(".{field}"))) {
@@ -89,6 +143,101 @@ pub(crate) fn deserialize_at<T: serde::de::DeserializeOwned>(
         }
         ScenarioError::key(path, inner)
     })
+}
+
+/// The key and the rest of a message of the form "`key`: rest" (`key` a dotted bare key).
+fn nested_key(message: &str) -> Option<(String, String)> {
+    let rest = message.strip_prefix('`')?;
+    let (key, rest) = rest.split_once("`: ")?;
+    let bare = !key.is_empty()
+        && key
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "_-.".contains(c));
+    bare.then(|| (key.to_string(), rest.to_string()))
+}
+
+/// Longest message echoed back, in characters: a 50 MB garbage line must not become a 100 MB
+/// error message.
+pub const MAX_MESSAGE_CHARS: usize = 400;
+
+/// Serde's and TOML's wording in a researcher's words, shortened for a terminal: Rust type names
+/// become what they mean (`usize` → "a non-negative integer"), numbers with more than 17 digits
+/// (serde prints `1e300` as 301 digits) are written in scientific notation, and the message is
+/// cut at [`MAX_MESSAGE_CHARS`] characters (each line at most that long).
+///
+/// ```
+/// use celltissue::scenario::error::researcher_words;
+/// assert_eq!(
+///     researcher_words("invalid type: floating point `1e300`, expected usize"),
+///     "invalid type: floating point `1e300`, expected a non-negative integer"
+/// );
+/// let long = format!("invalid value: {}", "1".repeat(300));
+/// let short = researcher_words(&long);
+/// assert!(short.contains("e299") && short.len() < 50, "{short}");
+/// assert!(researcher_words(&"x".repeat(10_000_000)).len() < 1000);
+/// ```
+pub fn researcher_words(message: &str) -> String {
+    // cut first (cheaply) so that nothing below works on megabytes
+    let mut s = shorten_to(message, 4 * MAX_MESSAGE_CHARS);
+    for (rust, words) in [
+        ("expected usize", "expected a non-negative integer"),
+        ("expected u64", "expected a non-negative integer"),
+        ("expected u32", "expected a non-negative integer"),
+        ("expected i64", "expected an integer"),
+        ("expected f64", "expected a number"),
+        ("expected a boolean", "expected true or false"),
+    ] {
+        s = s.replace(rust, words);
+    }
+    shorten(&long_numbers_scientific(&s))
+}
+
+/// Digit runs longer than 17 characters (optionally with a fractional part) as `d.ddde±x`.
+fn long_numbers_scientific(s: &str) -> String {
+    let mut out = String::with_capacity(s.len().min(4 * MAX_MESSAGE_CHARS));
+    let mut rest = s;
+    while let Some(start) = rest.find(|c: char| c.is_ascii_digit()) {
+        out.push_str(&rest[..start]);
+        let tail = &rest[start..];
+        let end = tail
+            .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+            .unwrap_or(tail.len());
+        let run = &tail[..end];
+        let digits = run.chars().filter(char::is_ascii_digit).count();
+        match run.parse::<f64>() {
+            Ok(v) if digits > 17 && v.is_finite() => out.push_str(&format!("{v:e}")),
+            _ => out.push_str(run),
+        }
+        rest = &tail[end..];
+        if out.len() > 8 * MAX_MESSAGE_CHARS {
+            break;
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
+/// At most [`MAX_MESSAGE_CHARS`] characters per line and 12 lines, marking what was cut.
+pub fn shorten(s: &str) -> String {
+    shorten_to(s, MAX_MESSAGE_CHARS)
+}
+
+fn shorten_to(s: &str, max: usize) -> String {
+    let mut out = Vec::new();
+    for (i, line) in s.lines().enumerate() {
+        if i == 12 {
+            out.push("… (message cut)".to_string());
+            break;
+        }
+        let n = line.chars().count();
+        if n > max {
+            let head: String = line.chars().take(max).collect();
+            out.push(format!("{head}… (cut)"));
+        } else {
+            out.push(line.to_string());
+        }
+    }
+    out.join("\n")
 }
 
 /// `a.b` from a prefix and a serde path (`.` means the root).

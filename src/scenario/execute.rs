@@ -126,10 +126,24 @@ pub fn finish(spec: &RunSpec, rec: &mut RunRecord) {
         );
         if let Some(p) = &spec.sweep {
             let value = serde_json::to_value(&p.raw).unwrap_or_default();
-            m.insert(
-                "sweep".into(),
-                serde_json::json!({ "parameter": p.name, "label": p.label, "value": value }),
-            );
+            let mut sweep =
+                serde_json::json!({ "parameter": p.name, "label": p.label, "value": value });
+            if p.parts.len() > 1 {
+                // several swept parameters: one entry each
+                let parts: Vec<serde_json::Value> = p
+                    .parts
+                    .iter()
+                    .map(|q| {
+                        serde_json::json!({
+                            "parameter": q.name,
+                            "label": q.label,
+                            "value": serde_json::to_value(&q.raw).unwrap_or_default(),
+                        })
+                    })
+                    .collect();
+                sweep["parts"] = parts.into();
+            }
+            m.insert("sweep".into(), sweep);
         }
     }
 }

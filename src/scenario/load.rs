@@ -4,8 +4,10 @@
 
 use super::error::{deserialize_at, ScenarioError};
 use super::model::{parse_model, ModelConfig};
-use super::overrides::{apply, parse_path, parse_set};
+use super::overrides::{apply, parse_set};
 use super::schema::{PlotSettings, RawScenario, SolverChoice};
+pub use super::sweep::SweepPoint;
+use super::sweep::{expand, swept_keys, SweepSection};
 use super::times::parse_times;
 use crate::observe::ModelKind;
 use integrators::LinearSolverChoice;
@@ -18,19 +20,6 @@ pub struct Times {
     pub series: Vec<f64>,
     /// Times of the profiles.
     pub profiles: Vec<f64>,
-}
-
-/// One point of a sweep.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SweepPoint {
-    /// Short parameter name for labels (last part of the key, e.g. `"K"`).
-    pub name: String,
-    /// The value as shown in labels (`"0.01"`, `"1e-5"`, or the given label).
-    pub label: String,
-    /// The numeric value, if the swept value is a number (used on sweep-plot axes).
-    pub value: Option<f64>,
-    /// The value as TOML.
-    pub raw: toml::Value,
 }
 
 /// One run: one discretisation of one parameter set.
@@ -57,10 +46,12 @@ pub struct RunSpec {
 /// The sweep as declared.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SweepInfo {
-    /// Full dotted key (`"model.K"`).
+    /// Full dotted key (`"model.K"`; several joined by commas).
     pub key: String,
-    /// Short name (`"K"`).
+    /// Short name (`"K"`; several joined by commas, as [`SweepPoint::name`]).
     pub name: String,
+    /// Every swept key, in declaration order (`["model.k1", "model.drag_exponent"]`).
+    pub parameters: Vec<String>,
 }
 
 /// A validated scenario, ready to run.
@@ -100,21 +91,47 @@ pub fn load(path: impl AsRef<Path>, sets: &[String]) -> Result<Scenario, Scenari
 
 /// As [`load`], from text (`origin` is used in messages).
 pub fn load_str(text: &str, origin: &Path, sets: &[String]) -> Result<Scenario, ScenarioError> {
-    let mut table: toml::Table = toml::from_str(text).map_err(|e| ScenarioError::Syntax {
-        path: origin.to_path_buf(),
-        message: e.to_string().trim().to_string(),
-    })?;
+    let mut table: toml::Table =
+        toml::from_str(text).map_err(|e| ScenarioError::syntax(origin, &e.to_string()))?;
+    let mut set_keys = Vec::new();
     for arg in sets {
         let (key, value) = parse_set(arg)?;
-        apply(&mut table, &key, value).map_err(|e| match e {
-            ScenarioError::Key { key, message } => ScenarioError::Key {
-                key,
-                message: format!("{message} (from --set {arg})"),
-            },
-            other => other,
-        })?;
+        apply(&mut table, &key, value).map_err(|e| e.with_note(&format!("from --set {arg}")))?;
+        set_keys.push((arg, key));
     }
+    check_set_against_sweep(&table, &set_keys)?;
     resolve(table)
+}
+
+/// A `--set` of a swept key (or of a key inside one) would be replaced by every swept value:
+/// an error naming the conflict, never a silent ignore.
+fn check_set_against_sweep(
+    table: &toml::Table,
+    sets: &[(&String, Vec<String>)],
+) -> Result<(), ScenarioError> {
+    let Some(sweep) = table.get("sweep") else {
+        return Ok(());
+    };
+    let sw: SweepSection = deserialize_at("sweep", sweep.clone())?;
+    let swept = swept_keys(&sw)?;
+    for (arg, key) in sets {
+        // `--set K=…` means `model.K` exactly as a sweep's `parameter = "K"` does
+        let full = super::sweep::sweep_key("", &key.join("."))?.join(".");
+        if let Some(s) = swept
+            .iter()
+            .find(|s| full == **s || full.starts_with(&format!("{s}.")))
+        {
+            return Err(ScenarioError::set(
+                arg,
+                format!(
+                    "conflicts with the sweep: `{s}` is swept, so this value would be replaced \
+                     by every swept value. Change the swept values instead (e.g. --set \
+                     sweep.values=[0.1] for a one-parameter sweep), or edit [sweep]"
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Validates a scenario table (already overridden) and expands its sweep.
@@ -125,40 +142,40 @@ pub fn resolve(table: toml::Table) -> Result<Scenario, ScenarioError> {
     }
     let points = match &raw.sweep {
         None => vec![None],
-        Some(sw) => sweep_points(sw)?.into_iter().map(Some).collect(),
+        Some(sw) => expand(sw)?.into_iter().map(Some).collect(),
     };
     let sweep = match &raw.sweep {
         None => None,
         Some(sw) => {
-            let key = sweep_key(&sw.parameter)?;
-            let name = key.last().cloned().unwrap_or_default();
+            let parameters = swept_keys(sw)?;
             Some(SweepInfo {
-                key: key.join("."),
-                name,
+                key: parameters.join(","),
+                name: points
+                    .first()
+                    .and_then(|p| p.as_ref())
+                    .map(|p| p.name.clone())
+                    .unwrap_or_default(),
+                parameters,
             })
         }
     };
     let mut runs = Vec::new();
+    let mut slugs = std::collections::HashMap::new();
     for point in points {
-        let one = match (&point, &sweep) {
-            (Some(p), Some(info)) => {
-                let mut t = table.clone();
-                let key: Vec<String> = info.key.split('.').map(str::to_string).collect();
-                apply(&mut t, &key, p.raw.clone())?;
-                deserialize_at::<RawScenario>("", toml::Value::Table(t))?
-            }
-            _ => raw.clone(),
+        let ctx = |e: ScenarioError| match &point {
+            None => e,
+            Some(p) => sweep_context(e, p),
         };
-        let context = point
-            .as_ref()
-            .map(|p| format!("{}={}", p.name, p.label))
-            .unwrap_or_default();
-        let ctx = |e: ScenarioError| {
-            if context.is_empty() {
-                e
-            } else {
-                e.in_run(&context)
+        let one = match &point {
+            Some(p) => {
+                let mut t = table.clone();
+                for part in &p.parts {
+                    let key: Vec<String> = part.key.split('.').map(str::to_string).collect();
+                    apply(&mut t, &key, part.raw.clone()).map_err(ctx)?;
+                }
+                deserialize_at::<RawScenario>("", toml::Value::Table(t)).map_err(ctx)?
             }
+            None => raw.clone(),
         };
         let solver = one.solver.validate().map_err(ctx)?;
         let times = Times {
@@ -182,7 +199,18 @@ pub fn resolve(table: toml::Table) -> Result<Scenario, ScenarioError> {
         for &model in &section.models {
             let mut label = model_name(model).to_string();
             if let Some(p) = &point {
-                label = format!("{label} {}={}", p.name, p.label);
+                label = format!("{label} {}", p.assignment());
+            }
+            // labels become file names: they must stay distinct as file names
+            let slug = crate::output::files::slug(&label);
+            if let Some(other) = slugs.insert(slug.clone(), label.clone()) {
+                return Err(ScenarioError::key(
+                    "sweep.labels",
+                    format!(
+                        "runs `{other}` and `{label}` would write the same files ({slug}); \
+                         give labels that differ in letters or digits"
+                    ),
+                ));
             }
             runs.push(RunSpec {
                 label,
@@ -215,77 +243,40 @@ pub fn model_name(m: ModelKind) -> &'static str {
     }
 }
 
-/// The full key of a sweep parameter: relative to `[model]` unless it starts with a section.
-fn sweep_key(parameter: &str) -> Result<Vec<String>, ScenarioError> {
-    let parts = parse_path(parameter).ok_or_else(|| {
-        ScenarioError::key(
-            "sweep.parameter",
-            format!("`{parameter}` is not a dotted key such as \"K\" or \"model.eta\""),
-        )
-    })?;
-    Ok(match parts[0].as_str() {
-        "model" | "solver" | "output" => parts,
-        _ => std::iter::once("model".to_string()).chain(parts).collect(),
-    })
+/// A sweep point's validation error: the key stays the model's (`model.k1`); the message
+/// says which swept value it came from (`sweep.values[1] = 1.5`) and the run.
+fn sweep_context(e: ScenarioError, p: &SweepPoint) -> ScenarioError {
+    let Some(key) = e.key_name().map(str::to_string) else {
+        return e;
+    };
+    let inside = |part: &super::sweep::SweepPart| {
+        key == part.key
+            || key.starts_with(&format!("{}.", part.key))
+            || part.key.starts_with(&format!("{key}."))
+    };
+    let mine: Vec<_> = p.parts.iter().filter(|part| inside(part)).collect();
+    let from: Vec<_> = if mine.is_empty() {
+        p.parts.iter().collect()
+    } else {
+        mine
+    };
+    let values = from
+        .iter()
+        .map(|part| format!("{} = {}", part.origin, value_text(&part.raw)))
+        .collect::<Vec<_>>()
+        .join(", ");
+    e.with_note(&format!(
+        "swept value {values}; in run `{}`",
+        p.assignment()
+    ))
 }
 
-fn sweep_points(sw: &super::schema::SweepSection) -> Result<Vec<SweepPoint>, ScenarioError> {
-    let key = sweep_key(&sw.parameter)?;
-    let name = key.last().cloned().unwrap_or_default();
-    if sw.values.is_empty() {
-        return Err(ScenarioError::key(
-            "sweep.values",
-            "needs at least one value",
-        ));
+/// A TOML value as short text (numbers as written, tables inline).
+fn value_text(v: &toml::Value) -> String {
+    match v {
+        toml::Value::Float(f) => format_number(*f),
+        other => other.to_string(),
     }
-    if let Some(labels) = &sw.labels {
-        if labels.len() != sw.values.len() {
-            return Err(ScenarioError::key(
-                "sweep.labels",
-                format!(
-                    "has {} entries but sweep.values has {}; give one label per value",
-                    labels.len(),
-                    sw.values.len()
-                ),
-            ));
-        }
-    }
-    let mut points = Vec::new();
-    for (i, raw) in sw.values.iter().enumerate() {
-        let value = match raw {
-            toml::Value::Float(f) => Some(*f),
-            toml::Value::Integer(n) => Some(*n as f64),
-            _ => None,
-        };
-        let label = match (&sw.labels, raw) {
-            (Some(l), _) => l[i].clone(),
-            (None, toml::Value::String(s)) => s.clone(),
-            (None, toml::Value::Boolean(b)) => b.to_string(),
-            (None, _) if value.is_some() => format_number(value.unwrap_or_default()),
-            (None, _) => {
-                return Err(ScenarioError::key(
-                    "sweep.labels",
-                    format!(
-                        "required when a swept value is a {} (value {i})",
-                        raw.type_str()
-                    ),
-                ))
-            }
-        };
-        if points.iter().any(|p: &SweepPoint| p.label == label) {
-            return Err(ScenarioError::key(
-                "sweep.values",
-                format!("`{label}` appears twice; every run needs its own label"),
-            ));
-        }
-        points.push(SweepPoint {
-            name: name.clone(),
-            label,
-            value,
-            raw: raw.clone(),
-        });
-    }
-    Ok(points)
 }
 
 /// A number as a short label: `1e-5`, `0.01`, `1`, `10`, `2.5e6`.

@@ -28,10 +28,12 @@
 
 pub mod error;
 pub mod execute;
+pub mod limits;
 pub mod load;
 pub mod model;
 pub mod overrides;
 pub mod schema;
+pub mod sweep;
 pub mod times;
 
 pub use error::ScenarioError;

@@ -12,17 +12,19 @@
 //! K = 1.0
 //! ```
 //!
-//! Sheets and shear columns also take `energy = { law = "neo_hookean", mu = 1.0 }` (any
-//! [`AnyEnergy`]; default neo-Hookean, μ = 1); a sheet's `nodes` is `[n, m]`.
+//! Every kind takes its strain energy from its config's `law` key, e.g.
+//! `law = { law = "neo_hookean", mu = 1.0 }` (any [`AnyEnergy`]; default neo-Hookean, μ = 1);
+//! `energy` is rejected, naming `law`. A sheet's `nodes` is `[n, m]`.
 
 use super::error::{deserialize_at, ScenarioError};
+use super::limits;
 use crate::energy::AnyEnergy;
 use crate::line::LineConfig;
 use crate::observe::ModelKind;
 use crate::sheet::{ShearConfig, SheetConfig};
 
 /// Keys of `[model]` owned by the scenario layer (removed before the model's config is parsed).
-pub const SCENARIO_KEYS: [&str; 4] = ["kind", "models", "nodes", "energy"];
+pub const SCENARIO_KEYS: [&str; 3] = ["kind", "models", "nodes"];
 
 /// The model kinds a scenario can name.
 pub const KINDS: [&str; 3] = ["line", "sheet", "shear"];
@@ -36,9 +38,9 @@ pub enum ModelConfig {
     /// A growing line with cell division: `kind = "line"` plus a `division = { rule = … }`
     /// table (thesis §3.3.2; [`crate::events::run_proliferation`]).
     Proliferating(Box<crate::events::ProliferationConfig>),
-    /// The uniaxial sheet (thesis Chapter 4.2) and its strain energy.
+    /// The uniaxial sheet (thesis Chapter 4.2) and its strain energy (the config's `law`).
     Sheet(Box<SheetConfig>, AnyEnergy),
-    /// The simple-shear column (thesis Chapter 4.3) and its strain energy.
+    /// The simple-shear column (thesis Chapter 4.3) and its strain energy (the config's `law`).
     Shear(Box<ShearConfig>, AnyEnergy),
 }
 
@@ -54,17 +56,15 @@ impl ModelConfig {
 
     /// The configuration as JSON (for `summary.json` `"parameters"`).
     pub fn to_json(&self) -> serde_json::Value {
-        let (v, energy) = match self {
-            ModelConfig::Line(c) => (serde_json::to_value(c), None),
-            ModelConfig::Proliferating(c) => (serde_json::to_value(c), None),
-            ModelConfig::Sheet(c, e) => (serde_json::to_value(c), Some(e)),
-            ModelConfig::Shear(c, e) => (serde_json::to_value(c), Some(e)),
+        // the law is the config's own `law` key (the `AnyEnergy` beside a sheet/shear config is
+        // a copy of it), so it appears once
+        let v = match self {
+            ModelConfig::Line(c) => serde_json::to_value(c),
+            ModelConfig::Proliferating(c) => serde_json::to_value(c),
+            ModelConfig::Sheet(c, _) => serde_json::to_value(c),
+            ModelConfig::Shear(c, _) => serde_json::to_value(c),
         };
-        let mut v = v.unwrap_or(serde_json::Value::Null);
-        if let (serde_json::Value::Object(m), Some(e)) = (&mut v, energy) {
-            m.insert("energy".into(), serde_json::to_value(e).unwrap_or_default());
-        }
-        v
+        v.unwrap_or(serde_json::Value::Null)
     }
 }
 
@@ -135,38 +135,123 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
             })?);
         }
     }
-    let energy = match rest.remove("energy") {
-        None if kind != "line" => Some(default_energy()),
-        None => None,
-        Some(_) if kind == "line" => {
-            return Err(ScenarioError::key(
-                "model.energy",
-                "the line takes its strain energy from `law` (LineConfig); `energy` is for sheet and shear",
-            ))
-        }
-        Some(v) => Some(deserialize_at::<AnyEnergy>("model.energy", v)?),
-    };
+    if rest.contains_key("energy") {
+        // one key for the strain energy of every model kind: `law` (the models' own field)
+        return Err(ScenarioError::key(
+            "model.energy",
+            "is not a key: the strain energy of every model kind is `model.law`, e.g. \
+             law = { law = \"neo_hookean\", mu = 1 }",
+        ));
+    }
     let config = match kind.as_str() {
         "line" if rest.contains_key("division") => {
-            let cfg = crate::events::ProliferationConfig::from_table(&rest)
-                .and_then(|c| c.validate().map(|_| c))
+            let mut division_rest = rest.clone();
+            let division = division_rest
+                .remove("division")
+                .unwrap_or_else(|| toml::Value::Table(toml::Table::new()));
+            let division: crate::events::DivisionConfig =
+                deserialize_at("model.division", division)?;
+            let line: LineConfig = deserialize_at("model", toml::Value::Table(division_rest))?;
+            check_line_size(
+                &line,
+                models
+                    .contains(&ModelKind::Continuum)
+                    .then_some(nodes)
+                    .flatten(),
+            )?;
+            if let Some(m) = division.max_cells {
+                limits::check_cells(
+                    "model.division.max_cells",
+                    m as f64,
+                    limits::LINE_BYTES_PER_CELL,
+                    limits::MAX_LINE_CELLS,
+                )?;
+            }
+            line.validate().map_err(line_error)?;
+            if models.contains(&ModelKind::Continuum) {
+                check_continuum_grid(&line, nodes)?;
+                if !matches!(division.rule, crate::events::RuleConfig::Area(_)) {
+                    return Err(ScenarioError::key(
+                        "model.division.rule",
+                        "the proliferating continuum (model \"continuum\") supports only \
+                         rule = \"area\"; run models = [\"discrete\"] for age or random rules",
+                    ));
+                }
+            }
+            let cfg = crate::events::ProliferationConfig { line, division };
+            cfg.validate()
                 .map_err(|e| ScenarioError::key(field_key(&e), e))?;
             ModelConfig::Proliferating(Box::new(cfg))
         }
         "line" => {
             let cfg: LineConfig = deserialize_at("model", toml::Value::Table(rest))?;
+            check_line_size(
+                &cfg,
+                models
+                    .contains(&ModelKind::Continuum)
+                    .then_some(nodes)
+                    .flatten(),
+            )?;
             cfg.validate().map_err(line_error)?;
+            if models.contains(&ModelKind::Continuum) {
+                check_continuum_grid(&cfg, nodes)?;
+            }
             ModelConfig::Line(Box::new(cfg))
         }
         "sheet" => {
             let cfg: SheetConfig = deserialize_at("model", toml::Value::Table(rest))?;
+            limits::check_cells(
+                "model.cells_x",
+                cfg.cells_x as f64 * cfg.cells_y as f64,
+                limits::SHEET_BYTES_PER_CELL,
+                limits::MAX_SHEET_CELLS,
+            )
+            .map_err(|e| e.with_note("cells_x · cells_y counts"))?;
+            if models.contains(&ModelKind::Continuum) {
+                // the continuum's default grid is (2 cells_x, 2 cells_y)
+                let (n, m) =
+                    grid.unwrap_or((2 * cfg.cells_x.min(1 << 40), 2 * cfg.cells_y.min(1 << 40)));
+                limits::check_cells(
+                    "model.nodes",
+                    n as f64 * m as f64,
+                    limits::SHEET_BYTES_PER_CELL,
+                    limits::MAX_SHEET_CELLS,
+                )
+                .map_err(|e| {
+                    e.with_note(
+                        "n · m grid points of the continuum; default [2 cells_x, 2 cells_y]",
+                    )
+                })?;
+            }
             cfg.validate().map_err(sheet_error)?;
-            ModelConfig::Sheet(Box::new(cfg), energy.unwrap_or_else(default_energy))
+            let law = cfg.law.clone();
+            ModelConfig::Sheet(Box::new(cfg), law)
         }
         "shear" => {
             let cfg: ShearConfig = deserialize_at("model", toml::Value::Table(rest))?;
+            let continuum = models.contains(&ModelKind::Continuum);
+            if continuum && cfg.form == crate::sheet::ShearForm::CellCentre {
+                return Err(ScenarioError::key(
+                    "model.form",
+                    "= \"cell_centre\" is discrete only; use form = \"edge\" for the \
+                     continuum, or models = [\"discrete\"]",
+                ));
+            }
+            // the continuum's default grid is 4 cells
+            let grid = continuum.then(|| nodes.unwrap_or(cfg.cells.saturating_mul(4)));
+            for (key, n) in [("model.cells", Some(cfg.cells)), ("model.nodes", grid)] {
+                if let Some(n) = n {
+                    limits::check_cells(
+                        key,
+                        n as f64,
+                        limits::LINE_BYTES_PER_CELL,
+                        limits::MAX_LINE_CELLS,
+                    )?;
+                }
+            }
             cfg.validate().map_err(sheet_error)?;
-            ModelConfig::Shear(Box::new(cfg), energy.unwrap_or_else(default_energy))
+            let law = cfg.law.clone();
+            ModelConfig::Shear(Box::new(cfg), law)
         }
         other => {
             return Err(ScenarioError::key(
@@ -215,9 +300,57 @@ fn parse_models(v: &toml::Value) -> Result<Vec<ModelKind>, ScenarioError> {
     Ok(out)
 }
 
-/// Neo-Hookean with μ = 1, the thesis's cell law.
-fn default_energy() -> AnyEnergy {
-    AnyEnergy::NeoHookean(crate::energy::NeoHookean::new(1.0).expect("mu = 1 is valid"))
+/// Size limits of a line (cells; continuum segments when the continuum runs) and the grid-size
+/// rules the continuum builders enforce, checked before anything is allocated.
+fn check_line_size(cfg: &LineConfig, nodes: Option<usize>) -> Result<(), ScenarioError> {
+    let cells = cfg.n_cells();
+    limits::check_cells(
+        "model.cells",
+        cells as f64,
+        limits::LINE_BYTES_PER_CELL,
+        limits::MAX_LINE_CELLS,
+    )?;
+    if let Some(n) = nodes {
+        limits::check_cells(
+            "model.nodes",
+            n as f64,
+            limits::LINE_BYTES_PER_CELL,
+            limits::MAX_LINE_CELLS,
+        )?;
+    }
+    Ok(())
+}
+
+/// Grid-size rules of the continuum schemes (`nodes`, default `cells`): the conservative
+/// scheme with a prescribed end needs 2 segments (as the discrete line needs 2 cells), the
+/// thesis scheme 3 nodes.
+fn check_continuum_grid(cfg: &LineConfig, nodes: Option<usize>) -> Result<(), ScenarioError> {
+    use crate::line::config::{ContinuumScheme, RightEndKind};
+    let (n, key) = match nodes {
+        Some(n) => (n, "model.nodes"),
+        None => (cfg.n_cells(), "model.nodes"),
+    };
+    let given = if nodes.is_some() {
+        String::new()
+    } else {
+        format!(" (default: `cells` = {n}; set `nodes`)")
+    };
+    let need = match cfg.continuum_scheme {
+        ContinuumScheme::Thesis => Some((3, "with continuum_scheme = \"thesis\"")),
+        ContinuumScheme::Conservative
+            if cfg.right_end == RightEndKind::Prescribed && cfg.growth.is_none() =>
+        {
+            Some((2, "for the continuum with a prescribed right end"))
+        }
+        ContinuumScheme::Conservative => None,
+    };
+    match need {
+        Some((min, why)) if n < min => Err(ScenarioError::key(
+            key,
+            format!("= {n}{given} is invalid: must be >= {min} {why}"),
+        )),
+        _ => Ok(()),
+    }
 }
 
 /// A sheet/shear validation error as a key error under `model.`.
@@ -286,10 +419,35 @@ mod tests {
         let m = parse("kind = \"sheet\"\ncells_x = 4\ncells_y = 3\nnodes = [8, 6]").unwrap();
         assert_eq!(m.grid, Some((8, 6)));
         assert!(matches!(m.config, ModelConfig::Sheet(..)));
-        let m = parse("kind = \"shear\"\ncells = 5\nnodes = 20\nenergy = { law = \"mooney_rivlin\", c1 = 0.3, c2 = 0.2 }").unwrap();
+        let m = parse("kind = \"shear\"\ncells = 5\nnodes = 20\nlaw = { law = \"mooney_rivlin\", c1 = 0.3, c2 = 0.2 }").unwrap();
         assert_eq!(m.nodes, Some(20));
         assert_eq!(m.config.kind(), "shear");
-        assert_eq!(m.config.to_json()["energy"]["law"], "mooney_rivlin");
+        let json = m.config.to_json();
+        assert_eq!(json["law"]["law"], "mooney_rivlin");
+        assert!(json.get("energy").is_none(), "the law appears once: {json}");
+    }
+
+    #[test]
+    fn the_configured_law_is_the_law_that_runs() {
+        // the law handed to the run functions is the config's `law` (issue #11: `law` was
+        // echoed while a separate `energy` key, default mu = 1, ran)
+        for kind in ["sheet", "shear"] {
+            let m = parse(&format!(
+                "kind = \"{kind}\"\nlaw = {{ law = \"neo_hookean\", mu = 5 }}"
+            ))
+            .unwrap();
+            let (cfg_law, run_law) = match &m.config {
+                ModelConfig::Sheet(c, l) => (c.law.clone(), l.clone()),
+                ModelConfig::Shear(c, l) => (c.law.clone(), l.clone()),
+                _ => panic!("{kind}"),
+            };
+            assert_eq!(cfg_law, run_law);
+            let five = AnyEnergy::NeoHookean(crate::energy::NeoHookean::new(5.0).unwrap());
+            assert_eq!(run_law, five, "{kind}");
+        }
+        let e = parse("kind = \"sheet\"\nenergy = { law = \"neo_hookean\", mu = 5 }").unwrap_err();
+        assert_eq!(e.key_name(), Some("model.energy"));
+        assert!(e.to_string().contains("model.law"), "{e}");
     }
 
     #[test]
@@ -338,8 +496,8 @@ mod tests {
             Some("model.cells_x")
         );
         assert_eq!(
-            key("kind = \"shear\"\nenergy = { law = \"neo_hookean\", mu = -1.0 }").as_deref(),
-            Some("model.energy")
+            key("kind = \"shear\"\nlaw = { law = \"neo_hookean\", mu = -1.0 }").as_deref(),
+            Some("model.law")
         );
         assert_eq!(
             key("kind = \"line\"\nenergy = { law = \"neo_hookean\" }").as_deref(),

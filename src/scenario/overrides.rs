@@ -17,23 +17,36 @@
 use super::error::ScenarioError;
 use toml::{Table, Value};
 
+/// Most parts of a dotted key (`--set`, `sweep.parameter`): deeper keys cannot name anything
+/// in a scenario, and a 10 000-part key would otherwise build a 10 000-deep table.
+pub const MAX_KEY_PARTS: usize = 16;
+
+/// Longest dotted key, in bytes.
+pub const MAX_KEY_CHARS: usize = 256;
+
 /// Splits `dotted.key=value` into the key path and a TOML value. The value is parsed as TOML
 /// (`0.1`, `10`, `true`, `[1, 2]`, `{ type = "gaussian", … }`, `"text"`); anything that does not
 /// parse is taken as a plain string (so `solver.method=radau` works without quotes).
 pub fn parse_set(arg: &str) -> Result<(Vec<String>, Value), ScenarioError> {
-    let bad = |message: &str| ScenarioError::Set {
-        arg: arg.to_string(),
-        message: message.to_string(),
-    };
+    let bad = |message: &str| ScenarioError::set(arg, message);
     let (key, raw) = arg
         .split_once('=')
         .ok_or_else(|| bad("expected `dotted.key=value`"))?;
+    if key.split('.').count() > MAX_KEY_PARTS || key.len() > MAX_KEY_CHARS {
+        return Err(bad(&format!(
+            "the key is too long: at most {MAX_KEY_PARTS} dotted parts and {MAX_KEY_CHARS} \
+             characters (scenario keys are at most 4 deep, e.g. model.mu.width)"
+        )));
+    }
     let path = parse_path(key).ok_or_else(|| bad("the key must be dotted names, e.g. model.K"))?;
     Ok((path, parse_value(raw.trim())))
 }
 
 /// Splits a dotted key into its parts (`None` if any part is empty or not a bare TOML key).
 pub fn parse_path(key: &str) -> Option<Vec<String>> {
+    if key.split('.').count() > MAX_KEY_PARTS || key.len() > MAX_KEY_CHARS {
+        return None;
+    }
     let parts: Vec<String> = key
         .trim()
         .split('.')

@@ -27,7 +27,7 @@ pub struct RawScenario {
     pub model: toml::Table,
     /// `[sweep]` (optional).
     #[serde(default)]
-    pub sweep: Option<SweepSection>,
+    pub sweep: Option<super::sweep::SweepSection>,
     /// `[plots]` (optional).
     #[serde(default)]
     pub plots: PlotSettings,
@@ -205,20 +205,6 @@ pub struct OutputSection {
     /// Times of the profiles (default: none).
     #[serde(default)]
     pub profiles: Option<toml::Value>,
-}
-
-/// `[sweep]`: one parameter, several values; every model runs once per value.
-#[derive(Clone, Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SweepSection {
-    /// Dotted key, relative to `[model]` (`"K"`, `"active.beta"`) or from the root
-    /// (`"solver.rtol"`, `"model.eta"`).
-    pub parameter: String,
-    /// The values (numbers, or any TOML value such as a field table).
-    pub values: Vec<toml::Value>,
-    /// Names for the values in labels and legends (default: the values themselves).
-    #[serde(default)]
-    pub labels: Option<Vec<String>>,
 }
 
 /// An axis scale.

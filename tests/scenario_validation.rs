@@ -1,0 +1,379 @@
+//! Every bad input of issue #11 §2–3 is rejected by the loader (what `celltissue validate` runs)
+//! before anything runs, with a message naming the innermost key in a researcher's words; the
+//! one-key strain energy; `--set` against a sweep; multi-parameter sweeps.
+
+use celltissue::scenario::{load_str, ModelConfig, Scenario, ScenarioError};
+use std::path::Path;
+
+const LINE: &str = r#"
+name = "t"
+[output]
+series = [0, 1]
+profiles = [1]
+[model]
+kind = "line"
+cells = 10
+"#;
+
+fn load(text: &str, sets: &[&str]) -> Result<Scenario, ScenarioError> {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    load_str(text, Path::new("t.toml"), &sets)
+}
+
+/// Loads `text` (+ `sets`), expects a key error naming `key`; returns the message.
+fn rejects(text: &str, sets: &[&str], key: &str) -> String {
+    let e = load(text, sets).expect_err(key);
+    assert_eq!(e.key_name(), Some(key), "{e}");
+    e.to_string()
+}
+
+fn line(extra: &str) -> String {
+    format!("{LINE}{extra}\n")
+}
+
+#[test]
+fn sizes_that_cannot_be_allocated_are_capped_with_the_memory_needed() {
+    for cells in ["9223372036854775807", "1000000000000000000"] {
+        let m = rejects(LINE, &[&format!("model.cells={cells}")], "model.cells");
+        assert!(
+            m.contains("limit is 100000000 cells") && m.contains("EB of memory"),
+            "{m}"
+        );
+    }
+    let sheet = "name = \"s\"\n[output]\nseries = [0, 1]\n[model]\nkind = \"sheet\"\n\
+                 cells_x = 4294967296\ncells_y = 4294967296\n";
+    let m = rejects(sheet, &[], "model.cells_x");
+    assert!(m.contains("limit is 10000000 cells"), "{m}");
+    // the continuum's grid counts too (n · m points)
+    let sheet = sheet.replace("4294967296", "10") + "nodes = [100000, 1000]\n";
+    let m = rejects(&sheet, &[], "model.nodes");
+    assert!(
+        m.contains("limit is 10000000 cells") && m.contains("800 GB of memory"),
+        "{m}"
+    );
+    rejects(&line("nodes = 100000000000"), &[], "model.nodes");
+    rejects(
+        &line("right_end = \"free\"\ngrowth = { sigma0 = 0.1 }\ndivision = { rule = \"area\", max_cells = 1000000000000 }"),
+        &[],
+        "model.division.max_cells",
+    );
+}
+
+#[test]
+fn a_ten_thousand_part_set_key_is_an_error_not_a_stack_overflow() {
+    let key = vec!["a"; 10_000].join(".");
+    let e = load(LINE, &[&format!("{key}=1")]).unwrap_err();
+    let m = e.to_string();
+    assert!(matches!(e, ScenarioError::Set { .. }), "{m}");
+    assert!(m.contains("at most 16 dotted parts"), "{m}");
+    assert!(
+        m.len() < 1000,
+        "the key is not echoed whole: {} bytes",
+        m.len()
+    );
+    // the same limit in a sweep parameter
+    let m = rejects(
+        &line(&format!("[sweep]\nparameter = \"{key}\"\nvalues = [1]")),
+        &[],
+        "sweep.parameter",
+    );
+    assert!(m.len() < 1000);
+}
+
+#[test]
+fn gaussian_fields_need_a_finite_centre_and_a_resolvable_width() {
+    let g = |centre: &str, width: &str| {
+        line(&format!(
+            "mu = {{ type = \"gaussian\", base = 1, amplitude = 1, centre = {centre}, width = {width} }}\nsampling = \"integer_points\""
+        ))
+    };
+    for c in ["nan", "-inf", "inf"] {
+        let m = rejects(&g(c, "0.1"), &[], "model.mu.centre");
+        assert!(m.contains("must be finite"), "{m}");
+    }
+    // 1e-200 sampled at the bump's centre (an integer point) was 0/0 = NaN
+    let m = rejects(&g("0.5", "1e-200"), &[], "model.mu.width");
+    assert!(m.contains(">= 1e-10"), "{m}");
+    assert!(load(&g("0.5", "1e-10"), &[]).is_ok());
+    rejects(
+        &line("mu = { type = \"gaussian\", base = 1, amplitude = nan, centre = 0.5, width = 0.1 }"),
+        &[],
+        "model.mu.amplitude",
+    );
+    rejects(
+        &line("mu = { type = \"piecewise\", breaks = [nan], values = [1, 2] }"),
+        &[],
+        "model.mu.breaks",
+    );
+}
+
+#[test]
+fn type_errors_inside_a_field_name_the_innermost_key() {
+    for (k, v) in [
+        ("base", "\"one\""),
+        ("amplitude", "[1]"),
+        ("centre", "true"),
+        ("width", "{ x = 1 }"),
+    ] {
+        let text = line(&format!(
+            "mu = {{ type = \"gaussian\", base = 1, amplitude = 1, centre = 0.5, width = 0.1, {k} = {v} }}"
+        ))
+        .replace(&format!(" {k} = 1,"), " ")
+        .replace(&format!(" {k} = 0.5,"), " ")
+        .replace(&format!(" {k} = 0.1,"), " ");
+        let m = rejects(&text, &[], &format!("model.mu.{k}"));
+        assert!(m.contains("expected a number"), "{m}");
+        assert!(!m.contains("f64"), "{m}");
+    }
+    rejects(
+        &line("K = { type = \"random\", low = 0, high = 1, seed = -3 }"),
+        &[],
+        "model.K.seed",
+    );
+    rejects(
+        &line("K = { type = \"random\", low = 0, high = 1, seed = 1, sead = 2 }"),
+        &[],
+        "model.K.sead",
+    );
+}
+
+#[test]
+fn messages_use_researchers_words_and_short_numbers() {
+    let m = rejects(LINE, &["model.cells=1e300"], "model.cells");
+    assert!(m.contains("expected a non-negative integer"), "{m}");
+    assert!(!m.contains("usize"), "{m}");
+    assert!(!m.contains("0000000000"), "no 300-digit integer: {m}");
+    let m = rejects(LINE, &["model.cells=-3"], "model.cells");
+    assert!(m.contains("non-negative integer"), "{m}");
+}
+
+#[test]
+fn a_huge_garbage_line_is_not_echoed_whole() {
+    let garbage = format!("{LINE}\n{}\n", "é=@".repeat(2_000_000));
+    let e = load(&garbage, &[]).unwrap_err();
+    assert!(matches!(e, ScenarioError::Syntax { .. }));
+    assert!(e.to_string().len() < 4000, "{} bytes", e.to_string().len());
+    let long_value = line(&format!("sampling = \"{}\"", "x".repeat(10_000_000)));
+    let m = rejects(&long_value, &[], "model.sampling");
+    assert!(m.len() < 4000, "{} bytes", m.len());
+}
+
+#[test]
+fn lengths_whose_sum_overflows_are_rejected_naming_the_length() {
+    let m = rejects(&line("cell_length = 1e308"), &[], "model.cell_length");
+    assert!(m.contains("[1e-100, 1e100]"), "{m}");
+    assert!(!m.contains("NaN"), "{m}");
+    rejects(&line("ref_lengths = [1, 1e300]"), &[], "model.ref_lengths");
+    rejects(&line("cell_length = 1e-300"), &[], "model.cell_length");
+}
+
+#[test]
+fn continuum_grids_too_small_for_their_scheme_name_nodes() {
+    let m = rejects(&line("nodes = 1"), &[], "model.nodes");
+    assert!(m.contains(">= 2") && m.contains("prescribed"), "{m}");
+    let m = rejects(
+        &line("nodes = 2\ncontinuum_scheme = \"thesis\""),
+        &[],
+        "model.nodes",
+    );
+    assert!(m.contains(">= 3"), "{m}");
+    // the default grid is `cells`: named as such
+    let m = rejects(
+        &line("continuum_scheme = \"thesis\"").replace("cells = 10", "cells = 2"),
+        &[],
+        "model.nodes",
+    );
+    assert!(m.contains("default: `cells` = 2"), "{m}");
+    // the discrete model alone needs no grid
+    assert!(load(&line("nodes = 1\nmodels = [\"discrete\"]"), &[]).is_ok());
+    assert!(load(&line("nodes = 3\ncontinuum_scheme = \"thesis\""), &[]).is_ok());
+}
+
+#[test]
+fn a_ring_whose_drag_is_zero_everywhere_needs_a_gauge() {
+    for k in [
+        "0",
+        "{ type = \"random\", low = 0, high = 0, seed = 1 }",
+        "{ type = \"gaussian\", base = 0, amplitude = 0, centre = 0.5, width = 0.1 }",
+        "{ type = \"piecewise\", breaks = [0.5], values = [0, 0] }",
+        "{ type = \"per_cell\", values = [0, 0, 0] }",
+    ] {
+        let text = line(&format!("right_end = \"periodic\"\nK = {k}"));
+        let m = rejects(&text, &[], "model.K");
+        assert!(m.contains("gauge"), "{m}");
+        assert!(load(&format!("{text}gauge = true\n"), &[]).is_ok(), "{k}");
+    }
+    // zero somewhere is fine
+    assert!(load(
+        &line("right_end = \"periodic\"\nK = { type = \"random\", low = 0, high = 1, seed = 1 }"),
+        &[]
+    )
+    .is_ok());
+}
+
+#[test]
+fn division_has_a_default_cap_and_a_continuum_only_for_the_area_rule() {
+    let div = |d: &str| {
+        line(&format!(
+            "right_end = \"free\"\ngrowth = {{ sigma0 = 0.1 }}\ndivision = {d}\nmodels = [\"discrete\"]"
+        ))
+    };
+    for d in [
+        "{ rule = \"age\", period = 1e-300 }",
+        "{ rule = \"area\", ratio = 1.0001 }",
+    ] {
+        let s = load(&div(d), &[]).unwrap();
+        let ModelConfig::Proliferating(cfg) = &s.runs[0].config else {
+            panic!("a proliferating line")
+        };
+        assert_eq!(
+            cfg.division.max_cells,
+            Some(celltissue::events::DEFAULT_MAX_CELLS),
+            "{d}"
+        );
+    }
+    let s = load(&div("{ rule = \"area\", max_cells = 50 }"), &[]).unwrap();
+    let ModelConfig::Proliferating(cfg) = &s.runs[0].config else {
+        panic!("a proliferating line")
+    };
+    assert_eq!(cfg.division.max_cells, Some(50));
+    rejects(
+        &div("{ rule = \"area\", ratoi = 2 }"),
+        &[],
+        "model.division.ratoi",
+    );
+    rejects(
+        &div("{ rule = \"age\", period = 0 }"),
+        &[],
+        "model.division.period",
+    );
+    let m = rejects(
+        &div("{ rule = \"age\", period = 2 }").replace("models = [\"discrete\"]", ""),
+        &[],
+        "model.division.rule",
+    );
+    assert!(m.contains("area"), "{m}");
+}
+
+#[test]
+fn shear_cell_centre_form_with_the_continuum_is_rejected_before_the_run() {
+    let shear = "name = \"s\"\n[output]\nseries = [0, 1]\n[model]\nkind = \"shear\"\nform = \"cell_centre\"\n";
+    rejects(shear, &[], "model.form");
+    assert!(load(shear, &["model.models=[\"discrete\"]"]).is_ok());
+}
+
+#[test]
+fn sheet_and_shear_take_their_law_from_model_law_and_reject_energy() {
+    for kind in [
+        "kind = \"sheet\"\ncells_x = 3\ncells_y = 2",
+        "kind = \"shear\"\ncells = 3",
+    ] {
+        let text = format!(
+            "name = \"s\"\n[output]\nseries = [0, 1]\n[model]\n{kind}\nlaw = {{ law = \"neo_hookean\", mu = 5 }}\n"
+        );
+        let s = load(&text, &[]).unwrap();
+        let run_law = match &s.runs[0].config {
+            ModelConfig::Sheet(_, l) | ModelConfig::Shear(_, l) => l.clone(),
+            _ => panic!("{kind}"),
+        };
+        assert_eq!(serde_json::to_value(&run_law).unwrap()["mu"], 5.0);
+        let json = s.runs[0].config.to_json();
+        assert_eq!(json["law"]["mu"], 5.0);
+        assert!(json.get("energy").is_none());
+        let m = rejects(&text.replace("law = {", "energy = {"), &[], "model.energy");
+        assert!(m.contains("model.law"), "{m}");
+    }
+}
+
+#[test]
+fn set_of_a_swept_key_is_an_error_naming_the_conflict() {
+    let swept = line("[sweep]\nparameter = \"K\"\nvalues = [0.1, 1]");
+    for set in ["model.K=0.1", "K=0.1", "model.K.type=\"gaussian\""] {
+        let e = load(&swept, &[set]).unwrap_err();
+        let m = e.to_string();
+        assert!(matches!(e, ScenarioError::Set { .. }), "{set}: {m}");
+        assert!(
+            m.contains("conflicts with the sweep") && m.contains("model.K"),
+            "{m}"
+        );
+    }
+    // changing the swept values is the documented way
+    let s = load(&swept, &["sweep.values=[0.5]"]).unwrap();
+    assert_eq!(s.runs.len(), 2);
+    assert_eq!(s.runs[0].label, "discrete K=0.5");
+    // other keys are fine
+    assert!(load(&swept, &["model.k1=0.2"]).is_ok());
+    // grid sweeps too
+    let grid = line("[sweep]\ngrid = [{ parameter = \"k1\", values = [0.1, 0.2] }, { parameter = \"m\", values = [0, 1] }]");
+    let m = load(&grid, &["model.m=2"]).unwrap_err().to_string();
+    assert!(m.contains("`model.m` is swept"), "{m}");
+}
+
+#[test]
+fn a_swept_value_is_validated_and_named_by_its_place_in_the_sweep() {
+    let m = rejects(
+        &line("[sweep]\nparameter = \"k1\"\nvalues = [0.1, 1.5]"),
+        &[],
+        "model.k1",
+    );
+    assert!(m.contains("sweep.values[1] = 1.5"), "{m}");
+    let m = rejects(
+        &line("[sweep]\nparameter = \"cells\"\nvalues = [10, 1e300]"),
+        &[],
+        "model.cells",
+    );
+    assert!(
+        m.contains("sweep.values[1]") && m.contains("non-negative integer"),
+        "{m}"
+    );
+    let m = rejects(
+        &line("[sweep]\ngrid = [{ parameter = \"k1\", values = [0.1] }, { parameter = \"mu.width\", values = [0.1, 1e-300] }]\n")
+            .replace("cells = 10", "cells = 10\nmu = { type = \"gaussian\", base = 1, amplitude = 1, centre = 0.5, width = 0.1 }"),
+        &[],
+        "model.mu.width",
+    );
+    assert!(m.contains("sweep.grid[1].values[1] = 1e-300"), "{m}");
+    assert!(!m.contains("sweep.grid[0]"), "only the value at fault: {m}");
+}
+
+#[test]
+fn grid_and_zip_sweeps_write_the_thesis_families() {
+    // Figs 4.3b–d: k1 family × drag exponent m, as a grid
+    let sheet = "name = \"s\"\n[output]\nseries = [0, 1]\n[model]\nkind = \"sheet\"\n\
+                 [sweep]\ngrid = [{ parameter = \"k1\", values = [0.1, 0.3, 0.5] }, \
+                 { parameter = \"drag_exponent\", values = [0, 1], labels = [\"m0\", \"m1\"] }]\n";
+    let s = load(sheet, &[]).unwrap();
+    assert_eq!(s.runs.len(), 12);
+    assert_eq!(s.runs[0].label, "discrete k1=0.1 drag_exponent=m0");
+    assert_eq!(s.runs[11].label, "continuum k1=0.5 drag_exponent=m1");
+    let ModelConfig::Sheet(cfg, _) = &s.runs[7].config else {
+        panic!("a sheet")
+    };
+    // run 7 = point 3 (k1 = 0.3, m = 1), continuum
+    assert_eq!((cfg.k1, cfg.drag_exponent), (0.3, 1.0));
+    let info = s.sweep.as_ref().unwrap();
+    assert_eq!(info.parameters, ["model.k1", "model.drag_exponent"]);
+    // Fig 3.3a–b: with / without a proliferation-like change, zipped with m
+    let zipped = line(
+        "right_end = \"free\"\ngrowth = { sigma0 = 0.1 }\n\
+         [sweep]\nzip = [{ parameter = \"m\", values = [0, 1] }, \
+         { parameter = \"growth.sigma0\", values = [0.1, 0.2] }]",
+    );
+    let s = load(&zipped, &[]).unwrap();
+    let labels: Vec<&str> = s.runs.iter().map(|r| r.label.as_str()).collect();
+    assert_eq!(
+        labels,
+        [
+            "discrete m=0 sigma0=0.1",
+            "continuum m=0 sigma0=0.1",
+            "discrete m=1 sigma0=0.2",
+            "continuum m=1 sigma0=0.2"
+        ]
+    );
+    // labels are unique as file names
+    let clash = line("[sweep]\nparameter = \"K\"\nvalues = [1, 2]\nlabels = [\"a+b\", \"a+b\"]");
+    rejects(&clash, &[], "sweep.values[1]");
+    let clash = line("[sweep]\nparameter = \"K\"\nvalues = [1, 2]\nlabels = [\"a,b\", \"a;b\"]");
+    let m = rejects(&clash, &[], "sweep.labels");
+    assert!(m.contains("same files"), "{m}");
+}
