@@ -2,9 +2,11 @@
 //! profiles per run, the resolved `scenario.toml`, and PNG plots laid out like the thesis
 //! figures ([`figures`], built on the reusable [`plot`] module). Nothing here runs a model.
 
+pub mod atomic;
 pub mod figures;
 pub mod files;
 pub mod finite;
+pub mod fonts;
 pub mod plot;
 
 use crate::observe::Summary;
