@@ -108,6 +108,9 @@ pub fn write_figures(
     }
     for (key, ylabel, what) in series {
         let mut curves = Vec::new();
+        // one legend entry per meaning: the first reference curve of each kind is labelled,
+        // the others share its entry (their colour gives the swept value, as the runs')
+        let mut references: Vec<String> = Vec::new();
         for (gi, g) in groups.iter().enumerate() {
             for (rec, _) in &g.runs {
                 let y = series_values(rec, key);
@@ -121,8 +124,14 @@ pub fn write_figures(
                 curves.push(Curve::new(rec.label.clone(), style(rec.model), gi, pts));
             }
             if key == "max_pressure" || key == "min_stretch" {
-                if let Some(c) = series_reference(g, key) {
-                    curves.push(Curve::new(c.0, Style::Reference, gi, c.1));
+                if let Some((label, pts)) = series_reference(g, key) {
+                    let label = if references.contains(&label) {
+                        String::new()
+                    } else {
+                        references.push(label.clone());
+                        label
+                    };
+                    curves.push(Curve::new(label, Style::Reference, gi, pts));
                 }
             }
         }
@@ -469,18 +478,17 @@ fn series_reference(g: &Group<'_>, key: &str) -> Option<(String, Vec<(f64, f64)>
     let cfg = group_config(g)?;
     let kind = analytic::reference_for(cfg)?;
     let times = &g.runs.first()?.0.series.t;
+    // where the reference does not apply the curve has a gap (NaN), not a bridging segment
     let pts: Vec<(f64, f64)> = times
         .iter()
-        .filter_map(|&t| {
-            let (p, l) = analytic::extremes(cfg, t)?;
-            Some((t, if key == "max_pressure" { p } else { l }))
+        .map(|&t| match analytic::extremes(cfg, t) {
+            Some((p, l)) => (t, if key == "max_pressure" { p } else { l }),
+            None => (t, f64::NAN),
         })
         .collect();
-    let label = match &g.label {
-        Some(v) => format!("{} ({v})", kind.label()),
-        None => kind.label().to_string(),
-    };
-    (!pts.is_empty()).then_some((label, pts))
+    pts.iter()
+        .any(|q| q.1.is_finite())
+        .then_some((kind.label().to_string(), pts))
 }
 
 /// Dashed analytic profiles at each profile time (colour = time, as the runs): `p` or `λ`
@@ -552,12 +560,13 @@ fn sweep_references(scenario: &Scenario, groups: &[Group<'_>], key: &str) -> Vec
             })
             .collect();
         if let (Some(what), false) = (label, pts.is_empty()) {
-            out.push(Curve::new(
-                format!("{what} at t={}", format_number(t)),
-                Style::Reference,
-                ci,
-                pts,
-            ));
+            // one legend entry for every time (colour = time, as the runs')
+            let label = if out.is_empty() {
+                what.to_string()
+            } else {
+                String::new()
+            };
+            out.push(Curve::new(label, Style::Reference, ci, pts));
         }
     }
     out

@@ -59,8 +59,9 @@ pub enum Style {
     Line,
     /// Dashed line in the curve's colour (guide lines such as `x = (l/l₀)X`).
     Dashed,
-    /// Dashed near-black line drawn over the runs (analytic reference solutions, which would
-    /// vanish under a continuum line of the same colour).
+    /// Thin dashed line in a darkened shade of the curve's colour, drawn over the runs
+    /// (analytic reference solutions: visible on a continuum line of the same colour, and
+    /// matched to its run by hue); its legend entry is a near-black dashed line.
     Reference,
     /// Symbols only (discrete runs); the shape cycles with the colour index.
     Markers,
@@ -131,7 +132,12 @@ pub fn color(i: usize) -> RGBColor {
     RGBColor(r, g, b)
 }
 
-/// Colour of [`Style::Reference`] curves.
+/// A colour halfway to black.
+fn darken(c: RGBColor) -> RGBColor {
+    RGBColor(c.0 / 2, c.1 / 2, c.2 / 2)
+}
+
+/// Legend colour of [`Style::Reference`] curves.
 pub const REFERENCE_COLOR: RGBColor = RGBColor(25, 25, 25);
 
 /// Size of chart images in pixels.
@@ -229,25 +235,50 @@ pub fn plot_chart(path: &Path, chart: &Chart) -> Result<(), PlotError> {
         .curves
         .iter()
         .map(|c| {
-            let pts: Vec<(f64, f64)> = c
-                .points
-                .iter()
-                .filter_map(|&(x, y)| {
-                    Some((transform(chart.x_axis, x)?, transform(chart.y_axis, y)?))
-                })
-                .collect();
-            let pts = match c.style {
-                Style::Markers => thin_markers(pts),
-                _ => thin_line(pts),
+            // a point that cannot be drawn breaks a line (a gap is not bridged by a straight
+            // segment that would look like data)
+            let mut segments: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
+            for &(x, y) in &c.points {
+                match (transform(chart.x_axis, x), transform(chart.y_axis, y)) {
+                    (Some(x), Some(y)) => segments.last_mut().unwrap().push((x, y)),
+                    _ if c.style != Style::Markers => segments.push(Vec::new()),
+                    _ => {}
+                }
+            }
+            segments.retain(|s| !s.is_empty());
+            let pts: Vec<(f64, f64)> = match c.style {
+                Style::Markers => thin_markers(segments.concat()),
+                _ => {
+                    // thinned piecewise; a NaN pair separates the pieces
+                    let mut v = Vec::new();
+                    for s in segments {
+                        if !v.is_empty() {
+                            v.push((f64::NAN, f64::NAN));
+                        }
+                        v.extend(thin_line(s));
+                    }
+                    v
+                }
             };
             (c.clone(), pts)
         })
         .filter(|(_, p)| !p.is_empty())
         .collect();
-    let xr =
-        range(curves.iter().flat_map(|(_, p)| p.iter().map(|q| q.0))).ok_or(PlotError::NoData)?;
-    let yr =
-        range(curves.iter().flat_map(|(_, p)| p.iter().map(|q| q.1))).ok_or(PlotError::NoData)?;
+    let finite = |v: &f64| v.is_finite();
+    let xr = range(
+        curves
+            .iter()
+            .flat_map(|(_, p)| p.iter().map(|q| q.0))
+            .filter(finite),
+    )
+    .ok_or(PlotError::NoData)?;
+    let yr = range(
+        curves
+            .iter()
+            .flat_map(|(_, p)| p.iter().map(|q| q.1))
+            .filter(finite),
+    )
+    .ok_or(PlotError::NoData)?;
     super::atomic::with_temp_file(path, |tmp| {
         let root = BitMapBackend::new(tmp, CHART_SIZE).into_drawing_area();
         root.fill(&WHITE).map_err(draw_err)?;
@@ -336,20 +367,34 @@ fn draw(
     for (curve, points) in curves {
         let c = color(curve.color);
         let style = ShapeStyle::from(&c).stroke_width(2);
-        let anno = match curve.style {
-            Style::Line => ctx
-                .draw_series(LineSeries::new(points.iter().copied(), style))
-                .map_err(draw_err)?,
-            Style::Dashed => ctx
-                .draw_series(DashedLineSeries::new(points.iter().copied(), 8, 5, style))
-                .map_err(draw_err)?,
-            Style::Reference => ctx
-                .draw_series(DashedLineSeries::new(
-                    points.iter().copied(),
+        let all: &[(f64, f64)] = points;
+        let pieces: Vec<&[(f64, f64)]> = all.split(|q| q.0.is_nan()).collect();
+        let (last, first) = pieces.split_last().unwrap_or((&all, &[]));
+        let reference = ShapeStyle::from(&darken(c)).stroke_width(1);
+        for piece in first {
+            match curve.style {
+                Style::Line => ctx.draw_series(LineSeries::new(piece.iter().copied(), style)),
+                Style::Dashed => {
+                    ctx.draw_series(DashedLineSeries::new(piece.iter().copied(), 8, 5, style))
+                }
+                _ => ctx.draw_series(DashedLineSeries::new(
+                    piece.iter().copied(),
                     6,
                     4,
-                    ShapeStyle::from(&REFERENCE_COLOR).stroke_width(1),
-                ))
+                    reference,
+                )),
+            }
+            .map_err(draw_err)?;
+        }
+        let anno = match curve.style {
+            Style::Line => ctx
+                .draw_series(LineSeries::new(last.iter().copied(), style))
+                .map_err(draw_err)?,
+            Style::Dashed => ctx
+                .draw_series(DashedLineSeries::new(last.iter().copied(), 8, 5, style))
+                .map_err(draw_err)?,
+            Style::Reference => ctx
+                .draw_series(DashedLineSeries::new(last.iter().copied(), 6, 4, reference))
                 .map_err(draw_err)?,
             Style::Markers => {
                 let mstyle = ShapeStyle::from(&c).stroke_width(1);
