@@ -1,11 +1,58 @@
-//! Data files: `summary.json` (the issue #3 schema, via [`crate::observe::Summary`]),
-//! `series_<label>.csv`, `profiles_<label>.csv` (long format), `divisions_<label>.csv`, and the
-//! resolved `scenario.toml`. File names come from run labels via [`slug`].
+//! Data files: `summary.json` (metadata, provenance and series — the profiles go to the run's
+//! `.npz`, see [`super::npz`]), `series_<label>.csv`, `profiles_<label>.csv` (long format, up to
+//! [`PROFILE_CSV_MAX_ROWS`] rows), `divisions_<label>.csv`, `run_<label>.npz` and the resolved
+//! `scenario.toml`. File names come from run labels via [`slug`]; every file is written
+//! atomically ([`super::atomic`]).
 
+use super::provenance::Provenance;
 use super::OutputError;
-use crate::observe::{RunRecord, Summary};
+use crate::observe::{DivisionRecord, ModelKind, RunRecord, RunStats, Series, Summary};
+use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+
+/// Most rows of a `profiles_<label>.csv`: above this (e.g. 10⁶ cells × 4 times) formatting
+/// text would cost more than the solve, and the profiles are only in the run's `.npz`.
+pub const PROFILE_CSV_MAX_ROWS: usize = 200_000;
+
+/// One run as written to `summary.json`: the record without its profiles, which are named by
+/// time and stored in `arrays`.
+#[derive(Serialize)]
+struct RunEntry<'a> {
+    label: &'a str,
+    model: ModelKind,
+    parameters: &'a serde_json::Value,
+    series: &'a Series,
+    /// Times of the profiles in the `.npz`.
+    profile_times: Vec<f64>,
+    /// The run's array file (series, profiles, divisions), relative to the directory.
+    arrays: String,
+    stats: &'a RunStats,
+    #[serde(skip_serializing_if = "<[DivisionRecord]>::is_empty")]
+    divisions: &'a [DivisionRecord],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    error: &'a Option<String>,
+}
+
+/// `summary.json`.
+#[derive(Serialize)]
+struct SummaryFile<'a> {
+    scenario: &'a str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    provenance: Option<&'a Provenance>,
+    /// Runs not finished when the program was interrupted (SIGINT/SIGTERM): absent from `runs`.
+    #[serde(skip_serializing_if = "<[String]>::is_empty")]
+    interrupted: &'a [String],
+    runs: Vec<RunEntry<'a>>,
+}
+
+/// The `.npz` file name of each run, in order.
+pub fn npz_names(summary: &Summary) -> Vec<String> {
+    unique_slugs(summary.runs.iter().map(|r| r.label.as_str()))
+        .into_iter()
+        .map(|s| format!("run_{s}.npz"))
+        .collect()
+}
 
 /// A label as a file-name part: spaces become `_`, characters outside `[A-Za-z0-9._=+-]` `_`.
 ///
@@ -48,19 +95,65 @@ pub fn unique_slugs<'a>(labels: impl Iterator<Item = &'a str>) -> Vec<String> {
 }
 
 fn write(path: &Path, text: &str) -> Result<PathBuf, OutputError> {
-    std::fs::write(path, text).map_err(|source| OutputError::Write {
+    super::atomic::write(path, text.as_bytes()).map_err(|source| OutputError::Write {
         path: path.to_path_buf(),
         source,
     })?;
     Ok(path.to_path_buf())
 }
 
-/// Writes `summary.json` (pretty-printed) after checking that every number is finite.
+/// Writes `summary.json` (pretty-printed; profiles only by time, see [`npz_names`]) after
+/// checking that every number is finite.
 pub fn write_summary(dir: &Path, summary: &Summary) -> Result<PathBuf, OutputError> {
+    write_summary_with(dir, summary, None, &[])
+}
+
+/// [`write_summary`] with the provenance and the labels of interrupted runs.
+pub fn write_summary_with(
+    dir: &Path,
+    summary: &Summary,
+    provenance: Option<&Provenance>,
+    interrupted: &[String],
+) -> Result<PathBuf, OutputError> {
     super::finite::check_summary(summary).map_err(OutputError::NonFinite)?;
+    let file = SummaryFile {
+        scenario: &summary.scenario,
+        provenance,
+        interrupted,
+        runs: summary
+            .runs
+            .iter()
+            .zip(npz_names(summary))
+            .map(|(r, arrays)| RunEntry {
+                label: &r.label,
+                model: r.model,
+                parameters: &r.parameters,
+                series: &r.series,
+                profile_times: r.profiles.iter().map(|p| p.t).collect(),
+                arrays,
+                stats: &r.stats,
+                divisions: &r.divisions,
+                error: &r.error,
+            })
+            .collect(),
+    };
     let text =
-        serde_json::to_string_pretty(summary).map_err(|e| OutputError::Serialize(e.to_string()))?;
+        serde_json::to_string_pretty(&file).map_err(|e| OutputError::Serialize(e.to_string()))?;
     write(&dir.join("summary.json"), &text)
+}
+
+/// Writes each run's `.npz` (see [`super::npz`]); returns their paths.
+pub fn write_arrays(dir: &Path, summary: &Summary) -> Result<Vec<PathBuf>, OutputError> {
+    let mut out = Vec::new();
+    for (rec, name) in summary.runs.iter().zip(npz_names(summary)) {
+        let path = dir.join(name);
+        super::npz::write_npz_file(&path, rec).map_err(|source| OutputError::Write {
+            path: path.clone(),
+            source,
+        })?;
+        out.push(path);
+    }
+    Ok(out)
 }
 
 /// The series of one run as CSV text: `t,length,max_pressure,min_pressure,max_stretch,
@@ -168,7 +261,8 @@ pub fn write_csvs(dir: &Path, summary: &Summary) -> Result<Vec<PathBuf>, OutputE
             &dir.join(format!("series_{s}.csv")),
             &series_csv(rec),
         )?);
-        if !rec.profiles.is_empty() {
+        let rows: usize = rec.profiles.iter().map(|p| p.x_ref.len()).sum();
+        if !rec.profiles.is_empty() && rows <= PROFILE_CSV_MAX_ROWS {
             files.push(write(
                 &dir.join(format!("profiles_{s}.csv")),
                 &profiles_csv(rec),
