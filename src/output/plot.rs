@@ -172,12 +172,16 @@ fn range(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
     } else {
         0.05 * lo.abs().max(1e-9)
     };
-    let lo = (lo - pad).max(-f64::MAX);
-    let hi = (hi + pad).min(f64::MAX);
-    // a span below the resolution of f64 around the values: widen to a few ulps
-    if hi - lo <= 8.0 * f64::EPSILON * lo.abs().max(hi.abs()) {
-        let w = 8.0 * f64::EPSILON * lo.abs().max(hi.abs()).max(f64::MIN_POSITIVE);
-        return Some((lo - w, hi + w));
+    // at most ±f64::MAX/4 so that plotters' `hi − lo` and tick steps stay finite
+    const BIG: f64 = f64::MAX / 4.0;
+    let lo = (lo - pad).max(-BIG);
+    let hi = (hi + pad).min(BIG);
+    // a span of at least 1e-12 of the magnitude: far below it plotters' tick steps fall under
+    // the spacing of f64 and its tick search never advances (a hang)
+    let min_span = 1e-12 * lo.abs().max(hi.abs()).max(1e-300);
+    if hi - lo < min_span {
+        let mid = 0.5 * lo + 0.5 * hi;
+        return Some((mid - min_span, mid + min_span));
     }
     Some((lo, hi))
 }
@@ -609,7 +613,7 @@ mod tests {
         let (a, b) = range([-f64::MAX, f64::MAX].into_iter()).unwrap();
         assert!(a.is_finite() && b.is_finite() && a < b);
         let (a, b) = range([1.0, 1.0 + f64::EPSILON].into_iter()).unwrap();
-        assert!(a < 1.0 && b > 1.0 + f64::EPSILON);
+        assert!(a < 1.0 && b > 1.0 + f64::EPSILON && b - a >= 1e-12);
         assert!(range(std::iter::empty()).is_none());
     }
 
