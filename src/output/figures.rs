@@ -74,12 +74,25 @@ pub fn write_figures(
     };
     let mut emit = |name: String, r: Result<(), PlotError>| out.push((dir.join(name), r));
 
+    // a shear column stores tan θ in the stretch fields and the top displacement in `length`
+    // (docs/model.md §6): its axes are named for those quantities
+    let shear = scenario
+        .runs
+        .iter()
+        .any(|r| matches!(r.config, ModelConfig::Shear(..)));
     // time courses
-    let mut series: Vec<(&str, &str, &str)> = vec![
-        ("max_pressure", "max_x p", "maximum pressure"),
-        ("min_stretch", "min_x λ", "minimum stretch"),
-        ("length", "l", "length"),
-    ];
+    let mut series: Vec<(&str, &str, &str)> = if shear {
+        vec![
+            ("max_pressure", "max p", "maximum pressure"),
+            ("min_stretch", "min tan θ", "minimum shear tan θ"),
+        ]
+    } else {
+        vec![
+            ("max_pressure", "max_x p", "maximum pressure"),
+            ("min_stretch", "min_x λ", "minimum stretch"),
+            ("length", "l", "length"),
+        ]
+    };
     let extras = [
         ("cells", "N", "number of cells"),
         ("mean_pressure", "mean p", "mean pressure"),
@@ -94,7 +107,11 @@ pub fn write_figures(
             "mean W_err",
             "shared-boundary mismatch",
         ),
-        ("top_displacement", "x_e,M", "top displacement"),
+        (
+            "top_displacement",
+            "x_e,M (top edge position)",
+            "top displacement",
+        ),
         ("shear_spread", "max tanθ − min tanθ", "shear spread"),
     ];
     for e in extras {
@@ -154,9 +171,11 @@ pub fn write_figures(
     }
 
     // profiles per swept value
-    let (xname, xdesc) = match scenario.plots.profile_axis {
-        ProfileAxis::Reference => ("X", "reference position X"),
-        ProfileAxis::Current => ("x", "current position x"),
+    let (xname, xdesc) = match (shear, scenario.plots.profile_axis) {
+        (true, ProfileAxis::Reference) => ("Y", "reference height Y"),
+        (true, ProfileAxis::Current) => ("x", "cell centre position x"),
+        (false, ProfileAxis::Reference) => ("X", "reference position X"),
+        (false, ProfileAxis::Current) => ("x", "current position x"),
     };
     for g in &groups {
         let suffix = match (&g.label, &sweep_name) {
@@ -167,8 +186,14 @@ pub fn write_figures(
             (Some(l), Some(n)) => format!(" ({n} = {l})"),
             _ => String::new(),
         };
-        let mut quantities: Vec<(&str, &str, &str)> =
-            vec![("pressure", "p", "pressure"), ("stretch", "λ", "stretch")];
+        let mut quantities: Vec<(&str, &str, &str)> = if shear {
+            vec![
+                ("pressure", "p", "pressure"),
+                ("stretch", "tan θ", "shear tan θ"),
+            ]
+        } else {
+            vec![("pressure", "p", "pressure"), ("stretch", "λ", "stretch")]
+        };
         if scenario.plots.position {
             quantities.push(("position", "x", "current position"));
             quantities.push(("deviation", "x − (l/l0)·X", "deviation from uniform strain"));
@@ -230,9 +255,15 @@ pub fn write_figures(
             .iter()
             .all(|r| r.sweep.as_ref().and_then(|p| p.value).is_some());
         if numeric && groups.len() >= 2 {
-            for (key, ylabel) in [("pressure", "p"), ("stretch", "λ")] {
+            let stretch_label = if shear { "tan θ" } else { "λ" };
+            for (key, ylabel) in [("pressure", "p"), ("stretch", stretch_label)] {
+                let what = if shear && key == "stretch" {
+                    "shear tan θ"
+                } else {
+                    key
+                };
                 let chart = Chart {
-                    title: title(&format!("{key} extremes against {name}")),
+                    title: title(&format!("{what} extremes against {name}")),
                     x_label: name.clone(),
                     y_label: ylabel.into(),
                     x_axis: axis(scenario.plots.sweep_axis),
@@ -249,13 +280,16 @@ pub fn write_figures(
         }
     }
 
-    // cell rectangles
+    // cell rectangles: lines and rings only (sheets draw their own cells, see
+    // `crate::sheet::plot`; rows of a line's rectangle plot would overlap on a sheet)
     if scenario.plots.rectangles {
-        for rec in summary
-            .runs
-            .iter()
-            .filter(|r| r.model == ModelKind::Discrete)
-        {
+        for (rec, _) in summary.runs.iter().zip(&scenario.runs).filter(|(r, s)| {
+            r.model == ModelKind::Discrete
+                && matches!(
+                    s.config,
+                    ModelConfig::Line(_) | ModelConfig::Proliferating(_)
+                )
+        }) {
             let rects = rectangles(&rec.profiles);
             let times: Vec<String> = rec.profiles.iter().map(|p| format_number(p.t)).collect();
             let t = format!(
@@ -334,6 +368,10 @@ fn strain_ratio(rec: &RunRecord, t: f64) -> Option<f64> {
 /// series times (peaks and troughs).
 fn sweep_curves(scenario: &Scenario, summary: &Summary, key: &str) -> Vec<Curve> {
     let mut curves = Vec::new();
+    let shear = scenario
+        .runs
+        .iter()
+        .any(|r| matches!(r.config, ModelConfig::Shear(..)));
     let mut times: Vec<f64> = scenario
         .runs
         .iter()
@@ -367,7 +405,11 @@ fn sweep_curves(scenario: &Scenario, summary: &Summary, key: &str) -> Vec<Curve>
                     Some((*v, y))
                 })
                 .collect();
-            let what = if key == "pressure" { "max p" } else { "min λ" };
+            let what = match (key, shear) {
+                ("pressure", _) => "max p",
+                (_, true) => "min tan θ",
+                _ => "min λ",
+            };
             curves.push(Curve::new(
                 format!("{word} {what} at t={}", format_number(t)),
                 style(model),

@@ -6,7 +6,7 @@
 
 use super::provenance::Provenance;
 use super::OutputError;
-use crate::observe::{DivisionRecord, ModelKind, RunRecord, RunStats, Series, Summary};
+use crate::observe::{DivisionRecord, ModelKind, RunRecord, RunStats, Summary};
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -21,8 +21,8 @@ pub const PROFILE_CSV_MAX_ROWS: usize = 200_000;
 struct RunEntry<'a> {
     label: &'a str,
     model: ModelKind,
-    parameters: &'a serde_json::Value,
-    series: &'a Series,
+    parameters: serde_json::Value,
+    series: serde_json::Map<String, serde_json::Value>,
     /// Times of the profiles in the `.npz`.
     profile_times: Vec<f64>,
     /// The run's array file (series, profiles, divisions), relative to the directory.
@@ -44,6 +44,94 @@ struct SummaryFile<'a> {
     #[serde(skip_serializing_if = "<[String]>::is_empty")]
     interrupted: &'a [String],
     runs: Vec<RunEntry<'a>>,
+}
+
+/// Whether a record is a shear column (whose series and profiles reuse the line's fields for
+/// other quantities, docs/model.md §6).
+fn is_shear(rec: &RunRecord) -> bool {
+    rec.parameters.get("kind").and_then(|k| k.as_str()) == Some("shear")
+}
+
+/// The series of a run by their output names, in output order. A shear column's fields are
+/// named for what they hold: `max_tan_theta`/`min_tan_theta` (the line's `max/min_stretch`),
+/// and its `length` (a copy of `top_displacement`) is left out.
+///
+/// ```
+/// use celltissue::observe::*;
+/// let mut rec = RunRecord { label: "r".into(), model: ModelKind::Discrete,
+///     parameters: serde_json::json!({"kind": "shear"}), series: Series::default(),
+///     profiles: vec![], stats: RunStats::default(), divisions: vec![], error: None };
+/// let names: Vec<String> = celltissue::output::files::series_columns(&rec)
+///     .into_iter().map(|c| c.0).collect();
+/// assert_eq!(names, ["t", "max_pressure", "min_pressure", "max_tan_theta", "min_tan_theta"]);
+/// ```
+pub fn series_columns(rec: &RunRecord) -> Vec<(String, &Vec<f64>)> {
+    let s = &rec.series;
+    let shear = is_shear(rec);
+    let mut cols: Vec<(String, &Vec<f64>)> = vec![("t".into(), &s.t)];
+    if !shear {
+        cols.push(("length".into(), &s.length));
+    }
+    cols.push(("max_pressure".into(), &s.max_pressure));
+    cols.push(("min_pressure".into(), &s.min_pressure));
+    let (mx, mn) = if shear {
+        ("max_tan_theta", "min_tan_theta")
+    } else {
+        ("max_stretch", "min_stretch")
+    };
+    cols.push((mx.into(), &s.max_stretch));
+    cols.push((mn.into(), &s.min_stretch));
+    cols.extend(s.extra.iter().map(|(k, v)| (k.clone(), v)));
+    cols
+}
+
+/// The output name of a profile field of `rec`: a shear column's `X` is the reference height
+/// `Y` and its `stretch` is `tan_theta`.
+pub fn profile_field_name<'a>(rec: &RunRecord, field: &'a str) -> &'a str {
+    match (is_shear(rec), field) {
+        (true, "X") => "Y",
+        (true, "stretch") => "tan_theta",
+        _ => field,
+    }
+}
+
+/// A run's parameters as written: `null` (absent) options removed at every depth, a nested
+/// `config` object dropped when every entry of it is repeated at the top level, and `energy`
+/// dropped when it repeats `law` — each law appears once.
+///
+/// ```
+/// let p = serde_json::json!({"law": {"mu": 1}, "energy": {"mu": 1}, "drag": null,
+///     "config": {"law": {"mu": 1}, "drag": null}});
+/// let c = celltissue::output::files::clean_parameters(&p);
+/// assert_eq!(c, serde_json::json!({"law": {"mu": 1}}));
+/// ```
+pub fn clean_parameters(p: &serde_json::Value) -> serde_json::Value {
+    fn strip(v: &serde_json::Value) -> serde_json::Value {
+        match v {
+            serde_json::Value::Object(m) => m
+                .iter()
+                .filter(|(_, x)| !x.is_null())
+                .map(|(k, x)| (k.clone(), strip(x)))
+                .collect::<serde_json::Map<_, _>>()
+                .into(),
+            serde_json::Value::Array(a) => a.iter().map(strip).collect::<Vec<_>>().into(),
+            other => other.clone(),
+        }
+    }
+    let mut v = strip(p);
+    if let serde_json::Value::Object(m) = &mut v {
+        let redundant = m
+            .get("config")
+            .and_then(|c| c.as_object())
+            .is_some_and(|c| c.iter().all(|(k, x)| m.get(k) == Some(x)));
+        if redundant {
+            m.remove("config");
+        }
+        if m.get("energy").is_some() && m.get("energy") == m.get("law") {
+            m.remove("energy");
+        }
+    }
+    v
 }
 
 /// The `.npz` file name of each run, in order.
@@ -127,8 +215,11 @@ pub fn write_summary_with(
             .map(|(r, arrays)| RunEntry {
                 label: &r.label,
                 model: r.model,
-                parameters: &r.parameters,
-                series: &r.series,
+                parameters: clean_parameters(&r.parameters),
+                series: series_columns(r)
+                    .into_iter()
+                    .map(|(k, v)| (k, serde_json::json!(v)))
+                    .collect(),
                 profile_times: r.profiles.iter().map(|p| p.t).collect(),
                 arrays,
                 stats: &r.stats,
@@ -157,19 +248,11 @@ pub fn write_arrays(dir: &Path, summary: &Summary) -> Result<Vec<PathBuf>, Outpu
 }
 
 /// The series of one run as CSV text: `t,length,max_pressure,min_pressure,max_stretch,
-/// min_stretch,<extra series in name order>`.
+/// min_stretch,<extra series in name order>` (shear columns: see [`series_columns`]).
 pub fn series_csv(rec: &RunRecord) -> String {
-    let s = &rec.series;
-    let mut cols: Vec<(&str, &Vec<f64>)> = vec![
-        ("t", &s.t),
-        ("length", &s.length),
-        ("max_pressure", &s.max_pressure),
-        ("min_pressure", &s.min_pressure),
-        ("max_stretch", &s.max_stretch),
-        ("min_stretch", &s.min_stretch),
-    ];
-    cols.extend(s.extra.iter().map(|(k, v)| (k.as_str(), v)));
-    table(&cols, s.t.len(), None)
+    let named = series_columns(rec);
+    let cols: Vec<(&str, &Vec<f64>)> = named.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+    table(&cols, rec.series.t.len(), None)
 }
 
 /// The profiles of one run as long-format CSV: one row per cell (node) per time,
@@ -182,7 +265,11 @@ pub fn profiles_csv(rec: &RunRecord) -> String {
         .collect();
     extra.sort_unstable();
     extra.dedup();
-    let mut out = String::from("t,X,x,stretch,pressure");
+    let mut out = format!(
+        "t,{},x,{},pressure",
+        profile_field_name(rec, "X"),
+        profile_field_name(rec, "stretch")
+    );
     for k in &extra {
         out.push(',');
         out.push_str(k);

@@ -29,17 +29,7 @@ enum Member {
 /// The members of a run's archive, by name (without `.npy`).
 fn members(rec: &RunRecord) -> BTreeMap<String, Member> {
     let mut m = BTreeMap::new();
-    let s = &rec.series;
-    let mut series: Vec<(&str, &Vec<f64>)> = vec![
-        ("t", &s.t),
-        ("length", &s.length),
-        ("max_pressure", &s.max_pressure),
-        ("min_pressure", &s.min_pressure),
-        ("max_stretch", &s.max_stretch),
-        ("min_stretch", &s.min_stretch),
-    ];
-    series.extend(s.extra.iter().map(|(k, v)| (k.as_str(), v)));
-    for (k, v) in series {
+    for (k, v) in super::files::series_columns(rec) {
         m.insert(
             format!("series/{k}"),
             Member::F64(vec![v.len() as u64], v.clone()),
@@ -83,7 +73,8 @@ fn members(rec: &RunRecord) -> BTreeMap<String, Member> {
             } else {
                 vec![data.len() as u64]
             };
-            m.insert(format!("profiles/{f}"), Member::F64(shape, data));
+            let name = super::files::profile_field_name(rec, f);
+            m.insert(format!("profiles/{name}"), Member::F64(shape, data));
         }
         m.insert(
             "profiles/cells".into(),
