@@ -107,7 +107,8 @@ time_axis = "log"
 fn extreme_ranges_plot_directly() {
     let dir = tmp("plots_extreme");
     std::fs::create_dir_all(&dir).unwrap();
-    let cases: Vec<(Axis, Axis, Vec<(f64, f64)>)> = vec![
+    type Case = (Axis, Axis, Vec<(f64, f64)>);
+    let cases: Vec<Case> = vec![
         (
             Axis::Linear,
             Axis::Linear,

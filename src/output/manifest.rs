@@ -75,7 +75,8 @@ pub fn prepare(dir: &Path, scenario: &str, replace: bool) -> Result<Prepared, Ou
         .unwrap_or_default();
     let same = old.as_ref().is_some_and(|m| m.scenario == scenario);
     let foreign: BTreeSet<String> = present.difference(&ours).cloned().collect();
-    if !present.is_empty() && !replace && !(same && foreign.is_empty()) {
+    let acceptable = present.is_empty() || replace || (same && foreign.is_empty());
+    if !acceptable {
         return Err(OutputError::DirectoryInUse {
             dir: dir.to_path_buf(),
             holds: match &old {
