@@ -96,14 +96,14 @@ pub fn profile_field_name<'a>(rec: &RunRecord, field: &'a str) -> &'a str {
 }
 
 /// A run's parameters as written: `null` (absent) options removed at every depth, a nested
-/// `config` object dropped when every entry of it is repeated at the top level, and `energy`
-/// dropped when it repeats `law` — each law appears once.
+/// `config` object dropped when every entry of it is repeated at the top level, and `law`
+/// dropped when it repeats `energy` — each law appears once.
 ///
 /// ```
 /// let p = serde_json::json!({"law": {"mu": 1}, "energy": {"mu": 1}, "drag": null,
 ///     "config": {"law": {"mu": 1}, "drag": null}});
 /// let c = celltissue::output::files::clean_parameters(&p);
-/// assert_eq!(c, serde_json::json!({"law": {"mu": 1}}));
+/// assert_eq!(c, serde_json::json!({"energy": {"mu": 1}}));
 /// ```
 pub fn clean_parameters(p: &serde_json::Value) -> serde_json::Value {
     fn strip(v: &serde_json::Value) -> serde_json::Value {
@@ -128,7 +128,8 @@ pub fn clean_parameters(p: &serde_json::Value) -> serde_json::Value {
             m.remove("config");
         }
         if m.get("energy").is_some() && m.get("energy") == m.get("law") {
-            m.remove("energy");
+            // sheets and shear columns run with `energy` (the scenario key)
+            m.remove("law");
         }
     }
     v
