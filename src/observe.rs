@@ -67,9 +67,10 @@ pub struct RunStats {
     pub jacobians: usize,
     /// Wall-clock seconds.
     pub wall_seconds: f64,
-    /// Further counters by name (rejections, factorisations, Newton iterations, events…).
+    /// Further counters by name (rejections, factorisations, Newton iterations, events…);
+    /// integers, written as JSON integers.
     #[serde(flatten)]
-    pub extra: BTreeMap<String, f64>,
+    pub extra: BTreeMap<String, u64>,
 }
 
 /// One division event (issue #4 schema).

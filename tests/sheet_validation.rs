@@ -200,8 +200,8 @@ fn iterative_and_direct_linear_solvers_agree_on_a_small_sheet() {
             .extra
             .get("krylov_iterations")
             .copied()
-            .unwrap_or(0.0)
-            > 0.0,
+            .unwrap_or(0)
+            > 0,
         "{:?}",
         iter.stats
     );

@@ -38,6 +38,13 @@ enum Command {
         /// No progress lines on stderr.
         #[arg(long, short)]
         quiet: bool,
+        /// Replace the outputs in a directory used by another scenario (only files celltissue
+        /// wrote there, listed in its manifest, are removed).
+        #[arg(long)]
+        replace: bool,
+        /// Write data files only, no PNG plots.
+        #[arg(long)]
+        no_plots: bool,
     },
     /// Parse and validate a scenario (and overrides) without running it.
     Validate {
@@ -53,6 +60,9 @@ enum Command {
 
 /// Parses the command line and runs the command; returns the exit code.
 pub fn main() -> i32 {
+    // RUST_LOG=info (or debug) for run and write diagnostics; warnings by default
+    let _ = env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn"))
+        .try_init();
     let cli = match Cli::try_parse() {
         Ok(c) => c,
         Err(e) => {
@@ -67,7 +77,18 @@ pub fn main() -> i32 {
             out,
             sets,
             quiet,
-        } => commands::run(&catalogue::resolve(&scenario), &out, &sets, quiet),
+            replace,
+            no_plots,
+        } => commands::run(
+            &catalogue::resolve(&scenario),
+            &out,
+            &sets,
+            commands::RunFlags {
+                quiet,
+                replace,
+                no_plots,
+            },
+        ),
         Command::Validate { scenario, sets } => {
             commands::validate(&catalogue::resolve(&scenario), &sets)
         }

@@ -218,7 +218,7 @@ fn finish(rec: &mut RunRecord, traj: &Trajectory, times: &OutputTimes, wall: f64
             ("resizes", s.resizes),
         ]
         .into_iter()
-        .map(|(k, v)| (k.to_string(), v as f64))
+        .map(|(k, v)| (k.to_string(), v as u64))
         .collect(),
     };
     rec.error = traj.error.clone();

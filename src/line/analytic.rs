@@ -53,7 +53,8 @@ fn constant(f: &Field) -> Option<f64> {
 /// The analytic solution that applies to `cfg`, if any: a prescribed right end, no growth and
 /// no active stress, unit-free uniform cell lengths; then [`Reference::UniformK0`] if `K = 0`
 /// with uniform `μ`, `η`; else [`Reference::Linear`] for `η = 0`, uniform neo-Hookean `μ`,
-/// uniform `K` and the exponential ramp; else [`Reference::QuasiStatic`].
+/// uniform `K`, the exponential ramp and a small shortening `|k₁| ≤` [`LINEAR_MAX_STRAIN`]; else
+/// [`Reference::QuasiStatic`].
 ///
 /// ```
 /// use celltissue::line::analytic::{reference_for, Reference};
@@ -83,6 +84,7 @@ pub fn reference_for(cfg: &LineConfig) -> Option<Reference> {
         && neo
         && cfg.ramp == RampKind::Exponential
         && cfg.g2 == 1.0
+        && cfg.k1.abs() <= LINEAR_MAX_STRAIN
     {
         return Some(Reference::Linear);
     }
@@ -111,13 +113,28 @@ pub fn uniform_k0(cfg: &LineConfig, t: f64) -> Option<(f64, f64)> {
     (lam.is_finite() && p.is_finite()).then_some((lam, p))
 }
 
+/// Most terms of the Fourier series in [`linear_exponential`].
+pub const MAX_TERMS: usize = 20_000;
+
+/// Largest strain `|λ − 1|` (and shortening `|k₁|`) at which the linear theory is used: it drops
+/// terms of second order in the strain, a few per cent of the stretch change at 0.25. Where the
+/// linear solution itself predicts a larger strain (large drag, fast ramp: cells next to the
+/// moving end compress far more than `k₁`) it is outside its assumptions and not drawn.
+pub const LINEAR_MAX_STRAIN: f64 = 0.25;
+
+/// Most reference positions at which [`profile`] evaluates an analytic solution: the overlays
+/// cost the same at every N (the series at every cell centre cost 39 s at N = 1000).
+pub const PROFILE_SAMPLES: usize = 201;
+
 /// `(λ, p)` at reference position `x` and time `t` of the linear small-displacement solution for
 /// the exponential ramp with `η = 0` (docs/model.md §5.3): `λ = 1 − k₁ + k₁ d̆_X`,
 /// `p = μ(1 + 2k₁) − 2μk₁ d̆_X`, with `t_s = K/(4γ₀μL₀)` and
 /// `d̆ = l₀ sin(aX)/sin(al₀) e^{−t} + Σ 2(−1)ⁿ t_s/(k_n(k_n² − t_s)) sin(k_nX) e^{−k_n² t/t_s}`,
-/// `a = √t_s`, `k_n = nπ/l₀` (the series is summed until its terms fall below 1e-16, at most
-/// 20 000 terms; at `t = 0` the exact `d̆_X = 1`). Valid for `k₁ ≪ 1`; not at the resonances
-/// `t_s = k_n²`, where `None` is returned.
+/// `a = √t_s`, `k_n = nπ/l₀` (the series is summed until its terms fall below 1e-16; at `t = 0`
+/// the exact `d̆_X = 1`). Valid for `k₁ ≪ 1`. `None` where the result cannot be trusted: at the
+/// resonances `t_s = k_n²`, where the series has not converged within [`MAX_TERMS`] terms
+/// (very small `t/t_s`), or where the strain `|λ − 1|` exceeds [`LINEAR_MAX_STRAIN`] (outside
+/// the small-displacement assumption; this also excludes any `λ ≤ 0`).
 ///
 /// ```
 /// use celltissue::line::analytic::linear_exponential;
@@ -146,22 +163,40 @@ pub fn linear_exponential(
         return None;
     }
     let mut dx = l0 * a * (a * x).cos() / s * (-t).exp();
-    for n in 1..=20_000 {
+    // cos(k_n X) by rotation and e^{−k_n² t/t_s} = q^{n²} by the ratio q^{2n+1}: a few flops
+    // per term instead of a cos and an exp
+    let theta = PI * x / l0;
+    let (rot_c, rot_s) = (theta.cos(), theta.sin());
+    let (mut c, mut sn) = (rot_c, rot_s);
+    let tau = PI * PI * t / (l0 * l0 * ts);
+    let mut decay = (-tau).exp();
+    let mut ratio = (-3.0 * tau).exp();
+    let ratio_step = (-2.0 * tau).exp();
+    let mut converged = false;
+    for n in 1..=MAX_TERMS {
         let kn = n as f64 * PI / l0;
-        let decay = (-kn * kn * t / ts).exp();
         let coef = 2.0 * ts / (kn * kn - ts);
         if !coef.is_finite() {
             return None;
         }
-        if decay * coef.abs() < 1e-16 {
+        if decay * coef.abs() < 1e-16 && kn * kn > ts {
+            converged = true;
             break;
         }
         let sign = if n % 2 == 0 { 1.0 } else { -1.0 };
-        dx += sign * coef * (kn * x).cos() * decay;
+        dx += sign * coef * c * decay;
+        (c, sn) = (c * rot_c - sn * rot_s, sn * rot_c + c * rot_s);
+        decay *= ratio;
+        ratio *= ratio_step;
+    }
+    if !converged {
+        // truncating a series that has not converged drew λ down to −5 (issue #11)
+        return None;
     }
     let lam = 1.0 - k1 + k1 * dx;
     let p = mu * (1.0 + 2.0 * k1) - 2.0 * mu * k1 * dx;
-    (lam.is_finite() && p.is_finite()).then_some((lam, p))
+    let small = (lam - 1.0).abs() <= LINEAR_MAX_STRAIN;
+    (lam.is_finite() && p.is_finite() && small).then_some((lam, p))
 }
 
 /// The static equilibrium of the discrete line of `cfg` held at its prescribed length `l(t)`
@@ -215,18 +250,20 @@ pub fn quasi_static_applies(cfg: &LineConfig, t: f64) -> bool {
     tau <= 0.05 * cfg.t_ramp || t >= 5.0 * cfg.t_ramp + 10.0 * tau
 }
 
-/// Per-cell `(X, λ, p)` of the applicable reference solution at time `t` (cell centres of the
-/// discrete line), or `None` if none applies at `t` (the static equilibrium only where
-/// [`quasi_static_applies`]) or it cannot be evaluated.
+/// `(X, λ, p)` of the applicable reference solution at time `t` at cell centres of the
+/// discrete line — all of them for the static equilibrium, at most [`PROFILE_SAMPLES`] evenly
+/// spread ones (first and last included) for the closed forms — or `None` if none applies at
+/// `t` (the static equilibrium only where [`quasi_static_applies`]) or it cannot be evaluated.
 pub fn profile(cfg: &LineConfig, t: f64) -> Option<Vec<(f64, f64, f64)>> {
     let lengths = cfg.lengths();
-    let centres: Vec<f64> = lengths
+    let all: Vec<f64> = lengths
         .iter()
         .scan(0.0, |acc, l| {
             *acc += l;
             Some(*acc - 0.5 * l)
         })
         .collect();
+    let centres = sample(&all, PROFILE_SAMPLES);
     match reference_for(cfg)? {
         Reference::UniformK0 => {
             let (lam, p) = uniform_k0(cfg, t)?;
@@ -250,14 +287,24 @@ pub fn profile(cfg: &LineConfig, t: f64) -> Option<Vec<(f64, f64, f64)>> {
             }
             let s = quasi_static(cfg, t).ok()?;
             Some(
-                centres
-                    .iter()
+                all.iter()
                     .zip(s.lambda.iter().zip(&s.pressure))
                     .map(|(&x, (&l, &p))| (x, l, p))
                     .collect(),
             )
         }
     }
+}
+
+/// At most `m` of `v`, evenly spread, first and last included.
+fn sample(v: &[f64], m: usize) -> Vec<f64> {
+    if v.len() <= m || m < 2 {
+        return v.to_vec();
+    }
+    let last = v.len() - 1;
+    (0..m)
+        .map(|i| v[(i * last + (m - 1) / 2) / (m - 1)])
+        .collect()
 }
 
 /// `(max p, min λ)` of the applicable reference solution at time `t` (see [`profile`]).
@@ -283,4 +330,67 @@ pub fn static_positions(cfg: &LineConfig, t: f64) -> Option<Vec<(f64, f64)>> {
         }))
         .collect();
     Some(xref.into_iter().zip(s.x).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The series term by term with `cos` and `exp` (the form of docs/model.md §5.3).
+    fn direct(x: f64, t: f64, k: f64, k1: f64, l0: f64) -> f64 {
+        let ts = k / 4.0;
+        let a = ts.sqrt();
+        let mut dx = l0 * a * (a * x).cos() / (a * l0).sin() * (-t).exp();
+        for n in 1..=200_000 {
+            let kn = n as f64 * PI / l0;
+            let sign = if n % 2 == 0 { 1.0 } else { -1.0 };
+            dx += sign * 2.0 * ts / (kn * kn - ts) * (kn * x).cos() * (-kn * kn * t / ts).exp();
+        }
+        1.0 - k1 + k1 * dx
+    }
+
+    #[test]
+    fn recurrences_match_the_direct_series() {
+        for &(x, t, k) in &[
+            (0.5, 1.0, 1.0),
+            (37.3, 0.01, 10.0),
+            (99.5, 10.0, 1e-2),
+            (0.5, 1e-3, 1.0),
+        ] {
+            let (lam, _) = linear_exponential(x, t, k, 0.1, 100.0, 1.0, 1.0, 1.0).unwrap();
+            let d = direct(x, t, k, 0.1, 100.0);
+            assert!((lam - d).abs() < 1e-11, "x {x} t {t} K {k}: {lam} vs {d}");
+        }
+    }
+
+    #[test]
+    fn an_unconverged_series_is_not_drawn() {
+        // l₀ = 1000, K = 10, t = 1e-3 needs ~10⁵ terms: refused rather than truncated
+        assert!(linear_exponential(0.5, 1e-3, 10.0, 0.1, 1000.0, 1.0, 1.0, 1.0).is_none());
+    }
+
+    #[test]
+    fn overlays_cost_the_same_at_every_n_and_never_draw_negative_stretch() {
+        let cfg = |n: usize| LineConfig {
+            cells: n,
+            k: 10.0.into(),
+            eta: 0.0.into(),
+            ..Default::default()
+        };
+        assert_eq!(reference_for(&cfg(20_000)), Some(Reference::Linear));
+        for t in [1e-3, 0.1, 1.0, 10.0, 1000.0] {
+            if let Some(p) = profile(&cfg(20_000), t) {
+                assert!(p.len() <= PROFILE_SAMPLES);
+                assert!(p.iter().all(|q| q.1 > 0.0));
+                assert_eq!(p.first().unwrap().0, 0.5);
+                assert_eq!(p.last().unwrap().0, 19_999.5);
+            }
+        }
+        // a large shortening is outside the linear theory
+        let big = LineConfig {
+            k1: 0.6,
+            ..cfg(100)
+        };
+        assert_eq!(reference_for(&big), Some(Reference::QuasiStatic));
+    }
 }

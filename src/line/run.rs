@@ -389,6 +389,8 @@ fn add_stats(a: &mut Stats, b: &Stats) {
     a.symbolic_factorizations += b.symbolic_factorizations;
     a.linear_solves += b.linear_solves;
     a.newton_iterations += b.newton_iterations;
+    a.krylov_iterations += b.krylov_iterations;
+    a.krylov_failures += b.krylov_failures;
     a.events += b.events;
     a.resizes += b.resizes;
 }
@@ -514,7 +516,7 @@ pub fn run_model<A: LineModel>(
             ("newton_iterations", traj.stats.newton_iterations),
         ]
         .into_iter()
-        .map(|(k, v)| (k.to_string(), v as f64))
+        .map(|(k, v)| (k.to_string(), v as u64))
         .collect(),
     };
     rec.error = traj.error.clone();

@@ -75,12 +75,25 @@ pub fn write_figures(
     };
     let mut emit = |name: String, r: Result<(), PlotError>| out.push((dir.join(name), r));
 
+    // a shear column stores tan θ in the stretch fields and the top displacement in `length`
+    // (docs/model.md §6): its axes are named for those quantities
+    let shear = scenario
+        .runs
+        .iter()
+        .any(|r| matches!(r.config, ModelConfig::Shear(..)));
     // time courses
-    let mut series: Vec<(&str, &str, &str)> = vec![
-        ("max_pressure", "max_x p", "maximum pressure"),
-        ("min_stretch", "min_x λ", "minimum stretch"),
-        ("length", "l", "length"),
-    ];
+    let mut series: Vec<(&str, &str, &str)> = if shear {
+        vec![
+            ("max_pressure", "max p", "maximum pressure"),
+            ("min_stretch", "min tan θ", "minimum shear tan θ"),
+        ]
+    } else {
+        vec![
+            ("max_pressure", "max_x p", "maximum pressure"),
+            ("min_stretch", "min_x λ", "minimum stretch"),
+            ("length", "l", "length"),
+        ]
+    };
     let extras = [
         ("cells", "N", "number of cells"),
         ("mean_pressure", "mean p", "mean pressure"),
@@ -95,7 +108,11 @@ pub fn write_figures(
             "mean W_err",
             "shared-boundary mismatch",
         ),
-        ("top_displacement", "x_e,M", "top displacement"),
+        (
+            "top_displacement",
+            "x_e,M (top edge position)",
+            "top displacement",
+        ),
         ("shear_spread", "max tanθ − min tanθ", "shear spread"),
         ("mean_shear_angle", "mean θ", "mean shear angle"),
     ];
@@ -110,6 +127,9 @@ pub fn write_figures(
     }
     for (key, ylabel, what) in series {
         let mut curves = Vec::new();
+        // one legend entry per meaning: the first reference curve of each kind is labelled,
+        // the others share its entry (their colour gives the swept value, as the runs')
+        let mut references: Vec<String> = Vec::new();
         for (gi, g) in groups.iter().enumerate() {
             for (rec, _) in &g.runs {
                 let y = series_values(rec, key);
@@ -123,8 +143,14 @@ pub fn write_figures(
                 curves.push(Curve::new(rec.label.clone(), style(rec.model), gi, pts));
             }
             if key == "max_pressure" || key == "min_stretch" {
-                if let Some(c) = series_reference(g, key) {
-                    curves.push(Curve::new(c.0, Style::Reference, gi, c.1));
+                if let Some((label, pts)) = series_reference(g, key) {
+                    let label = if references.contains(&label) {
+                        String::new()
+                    } else {
+                        references.push(label.clone());
+                        label
+                    };
+                    curves.push(Curve::new(label, Style::Reference, gi, pts));
                 }
             }
         }
@@ -147,9 +173,11 @@ pub fn write_figures(
     }
 
     // profiles per swept value
-    let (xname, xdesc) = match scenario.plots.profile_axis {
-        ProfileAxis::Reference => ("X", "reference position X"),
-        ProfileAxis::Current => ("x", "current position x"),
+    let (xname, xdesc) = match (shear, scenario.plots.profile_axis) {
+        (true, ProfileAxis::Reference) => ("Y", "reference height Y"),
+        (true, ProfileAxis::Current) => ("x", "cell centre position x"),
+        (false, ProfileAxis::Reference) => ("X", "reference position X"),
+        (false, ProfileAxis::Current) => ("x", "current position x"),
     };
     for g in &groups {
         let suffix = match (&g.label, &sweep_name) {
@@ -160,8 +188,14 @@ pub fn write_figures(
             (Some(l), Some(n)) => format!(" ({n} = {l})"),
             _ => String::new(),
         };
-        let mut quantities: Vec<(&str, &str, &str)> =
-            vec![("pressure", "p", "pressure"), ("stretch", "λ", "stretch")];
+        let mut quantities: Vec<(&str, &str, &str)> = if shear {
+            vec![
+                ("pressure", "p", "pressure"),
+                ("stretch", "tan θ", "shear tan θ"),
+            ]
+        } else {
+            vec![("pressure", "p", "pressure"), ("stretch", "λ", "stretch")]
+        };
         if scenario.plots.position {
             quantities.push(("position", "x", "current position"));
             quantities.push(("deviation", "x − (l/l0)·X", "deviation from uniform strain"));
@@ -223,12 +257,18 @@ pub fn write_figures(
             .iter()
             .all(|r| r.sweep.as_ref().and_then(|p| p.value).is_some());
         if numeric && groups.len() >= 2 {
-            for (key, ylabel) in [("pressure", "p"), ("stretch", "λ"), ("length", "l")] {
+            let stretch_label = if shear { "tan θ" } else { "λ" };
+            for (key, ylabel) in [("pressure", "p"), ("stretch", stretch_label), ("length", "l")] {
+                let what = if shear && key == "stretch" {
+                    "shear tan θ"
+                } else {
+                    key
+                };
                 let chart = Chart {
                     title: title(&if key == "length" {
                         format!("length at the profile times against {name}")
                     } else {
-                        format!("{key} extremes against {name}")
+                        format!("{what} extremes against {name}")
                     }),
                     x_label: name.clone(),
                     y_label: ylabel.into(),
@@ -261,13 +301,16 @@ pub fn write_figures(
         }
     }
 
-    // cell rectangles
+    // cell rectangles: lines and rings only (sheets draw their own cells, see
+    // `crate::sheet::plot`; rows of a line's rectangle plot would overlap on a sheet)
     if scenario.plots.rectangles {
-        for rec in summary
-            .runs
-            .iter()
-            .filter(|r| r.model == ModelKind::Discrete)
-        {
+        for (rec, _) in summary.runs.iter().zip(&scenario.runs).filter(|(r, s)| {
+            r.model == ModelKind::Discrete
+                && matches!(
+                    s.config,
+                    ModelConfig::Line(_) | ModelConfig::Proliferating(_)
+                )
+        }) {
             let rects = rectangles(&rec.profiles);
             let times: Vec<String> = rec.profiles.iter().map(|p| format_number(p.t)).collect();
             let t = format!(
@@ -346,6 +389,10 @@ fn strain_ratio(rec: &RunRecord, t: f64) -> Option<f64> {
 /// series times (peaks and troughs).
 fn sweep_curves(scenario: &Scenario, summary: &Summary, key: &str) -> Vec<Curve> {
     let mut curves = Vec::new();
+    let shear = scenario
+        .runs
+        .iter()
+        .any(|r| matches!(r.config, ModelConfig::Shear(..)));
     let mut times: Vec<f64> = scenario
         .runs
         .iter()
@@ -384,9 +431,10 @@ fn sweep_curves(scenario: &Scenario, summary: &Summary, key: &str) -> Vec<Curve>
                     Some((*v, y))
                 })
                 .collect();
-            let what = match key {
-                "pressure" => "max p",
-                "length" => "l",
+            let what = match (key, shear) {
+                ("pressure", _) => "max p",
+                ("length", _) => "l",
+                (_, true) => "min tan θ",
                 _ => "min λ",
             };
             curves.push(Curve::new(
@@ -502,18 +550,17 @@ fn series_reference(g: &Group<'_>, key: &str) -> Option<(String, Vec<(f64, f64)>
     let cfg = group_config(g)?;
     let kind = analytic::reference_for(cfg)?;
     let times = &g.runs.first()?.0.series.t;
+    // where the reference does not apply the curve has a gap (NaN), not a bridging segment
     let pts: Vec<(f64, f64)> = times
         .iter()
-        .filter_map(|&t| {
-            let (p, l) = analytic::extremes(cfg, t)?;
-            Some((t, if key == "max_pressure" { p } else { l }))
+        .map(|&t| match analytic::extremes(cfg, t) {
+            Some((p, l)) => (t, if key == "max_pressure" { p } else { l }),
+            None => (t, f64::NAN),
         })
         .collect();
-    let label = match &g.label {
-        Some(v) => format!("{} ({v})", kind.label()),
-        None => kind.label().to_string(),
-    };
-    (!pts.is_empty()).then_some((label, pts))
+    pts.iter()
+        .any(|q| q.1.is_finite())
+        .then_some((kind.label().to_string(), pts))
 }
 
 /// Dashed analytic profiles at each profile time (colour = time, as the runs): `p` or `λ`
@@ -585,12 +632,13 @@ fn sweep_references(scenario: &Scenario, groups: &[Group<'_>], key: &str) -> Vec
             })
             .collect();
         if let (Some(what), false) = (label, pts.is_empty()) {
-            out.push(Curve::new(
-                format!("{what} at t={}", format_number(t)),
-                Style::Reference,
-                ci,
-                pts,
-            ));
+            // one legend entry for every time (colour = time, as the runs')
+            let label = if out.is_empty() {
+                what.to_string()
+            } else {
+                String::new()
+            };
+            out.push(Curve::new(label, Style::Reference, ci, pts));
         }
     }
     out

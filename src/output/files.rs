@@ -1,11 +1,147 @@
-//! Data files: `summary.json` (the issue #3 schema, via [`crate::observe::Summary`]),
-//! `series_<label>.csv`, `profiles_<label>.csv` (long format), `divisions_<label>.csv`, and the
-//! resolved `scenario.toml`. File names come from run labels via [`slug`].
+//! Data files: `summary.json` (metadata, provenance and series — the profiles go to the run's
+//! `.npz`, see [`super::npz`]), `series_<label>.csv`, `profiles_<label>.csv` (long format, up to
+//! [`PROFILE_CSV_MAX_ROWS`] rows), `divisions_<label>.csv`, `run_<label>.npz` and the resolved
+//! `scenario.toml`. File names come from run labels via [`slug`]; every file is written
+//! atomically ([`super::atomic`]).
 
+use super::provenance::Provenance;
 use super::OutputError;
-use crate::observe::{RunRecord, Summary};
+use crate::observe::{DivisionRecord, ModelKind, RunRecord, RunStats, Summary};
+use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+
+/// Most rows of a `profiles_<label>.csv`: above this (e.g. 10⁶ cells × 4 times) formatting
+/// text would cost more than the solve, and the profiles are only in the run's `.npz`.
+pub const PROFILE_CSV_MAX_ROWS: usize = 200_000;
+
+/// One run as written to `summary.json`: the record without its profiles, which are named by
+/// time and stored in `arrays`.
+#[derive(Serialize)]
+struct RunEntry<'a> {
+    label: &'a str,
+    model: ModelKind,
+    parameters: serde_json::Value,
+    series: serde_json::Map<String, serde_json::Value>,
+    /// Times of the profiles in the `.npz`.
+    profile_times: Vec<f64>,
+    /// The run's array file (series, profiles, divisions), relative to the directory.
+    arrays: String,
+    stats: &'a RunStats,
+    #[serde(skip_serializing_if = "<[DivisionRecord]>::is_empty")]
+    divisions: &'a [DivisionRecord],
+    #[serde(skip_serializing_if = "Option::is_none")]
+    error: &'a Option<String>,
+}
+
+/// `summary.json`.
+#[derive(Serialize)]
+struct SummaryFile<'a> {
+    scenario: &'a str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    provenance: Option<&'a Provenance>,
+    /// Runs not finished when the program was interrupted (SIGINT/SIGTERM): absent from `runs`.
+    #[serde(skip_serializing_if = "<[String]>::is_empty")]
+    interrupted: &'a [String],
+    runs: Vec<RunEntry<'a>>,
+}
+
+/// Whether a record is a shear column (whose series and profiles reuse the line's fields for
+/// other quantities, docs/model.md §6).
+fn is_shear(rec: &RunRecord) -> bool {
+    rec.parameters.get("kind").and_then(|k| k.as_str()) == Some("shear")
+}
+
+/// The series of a run by their output names, in output order. A shear column's fields are
+/// named for what they hold: `max_tan_theta`/`min_tan_theta` (the line's `max/min_stretch`),
+/// and its `length` (a copy of `top_displacement`) is left out.
+///
+/// ```
+/// use celltissue::observe::*;
+/// let mut rec = RunRecord { label: "r".into(), model: ModelKind::Discrete,
+///     parameters: serde_json::json!({"kind": "shear"}), series: Series::default(),
+///     profiles: vec![], stats: RunStats::default(), divisions: vec![], error: None };
+/// let names: Vec<String> = celltissue::output::files::series_columns(&rec)
+///     .into_iter().map(|c| c.0).collect();
+/// assert_eq!(names, ["t", "max_pressure", "min_pressure", "max_tan_theta", "min_tan_theta"]);
+/// ```
+pub fn series_columns(rec: &RunRecord) -> Vec<(String, &Vec<f64>)> {
+    let s = &rec.series;
+    let shear = is_shear(rec);
+    let mut cols: Vec<(String, &Vec<f64>)> = vec![("t".into(), &s.t)];
+    if !shear {
+        cols.push(("length".into(), &s.length));
+    }
+    cols.push(("max_pressure".into(), &s.max_pressure));
+    cols.push(("min_pressure".into(), &s.min_pressure));
+    let (mx, mn) = if shear {
+        ("max_tan_theta", "min_tan_theta")
+    } else {
+        ("max_stretch", "min_stretch")
+    };
+    cols.push((mx.into(), &s.max_stretch));
+    cols.push((mn.into(), &s.min_stretch));
+    cols.extend(s.extra.iter().map(|(k, v)| (k.clone(), v)));
+    cols
+}
+
+/// The output name of a profile field of `rec`: a shear column's `X` is the reference height
+/// `Y` and its `stretch` is `tan_theta`.
+pub fn profile_field_name<'a>(rec: &RunRecord, field: &'a str) -> &'a str {
+    match (is_shear(rec), field) {
+        (true, "X") => "Y",
+        (true, "stretch") => "tan_theta",
+        _ => field,
+    }
+}
+
+/// A run's parameters as written: `null` (absent) options removed at every depth, a nested
+/// `config` object dropped when every entry of it is repeated at the top level, and `law`
+/// dropped when it repeats `energy` — each law appears once.
+///
+/// ```
+/// let p = serde_json::json!({"law": {"mu": 1}, "energy": {"mu": 1}, "drag": null,
+///     "config": {"law": {"mu": 1}, "drag": null}});
+/// let c = celltissue::output::files::clean_parameters(&p);
+/// assert_eq!(c, serde_json::json!({"energy": {"mu": 1}}));
+/// ```
+pub fn clean_parameters(p: &serde_json::Value) -> serde_json::Value {
+    fn strip(v: &serde_json::Value) -> serde_json::Value {
+        match v {
+            serde_json::Value::Object(m) => m
+                .iter()
+                .filter(|(_, x)| !x.is_null())
+                .map(|(k, x)| (k.clone(), strip(x)))
+                .collect::<serde_json::Map<_, _>>()
+                .into(),
+            serde_json::Value::Array(a) => a.iter().map(strip).collect::<Vec<_>>().into(),
+            other => other.clone(),
+        }
+    }
+    let mut v = strip(p);
+    if let serde_json::Value::Object(m) = &mut v {
+        let redundant = m
+            .get("config")
+            .and_then(|c| c.as_object())
+            .is_some_and(|c| c.iter().all(|(k, x)| m.get(k) == Some(x)));
+        if redundant {
+            m.remove("config");
+        }
+        if m.get("energy").is_some() && m.get("energy") == m.get("law") {
+            // sheets and shear columns run with `energy` (the scenario key)
+            m.remove("law");
+        }
+    }
+    v
+}
+
+/// The `.npz` file name of each run, in order.
+pub fn npz_names(summary: &Summary) -> Vec<String> {
+    unique_slugs(summary.runs.iter().map(|r| r.label.as_str()))
+        .into_iter()
+        .map(|s| format!("run_{s}.npz"))
+        .collect()
+}
 
 /// A label as a file-name part: spaces become `_`, characters outside `[A-Za-z0-9._=+-]` `_`.
 ///
@@ -48,35 +184,76 @@ pub fn unique_slugs<'a>(labels: impl Iterator<Item = &'a str>) -> Vec<String> {
 }
 
 fn write(path: &Path, text: &str) -> Result<PathBuf, OutputError> {
-    std::fs::write(path, text).map_err(|source| OutputError::Write {
+    super::atomic::write(path, text.as_bytes()).map_err(|source| OutputError::Write {
         path: path.to_path_buf(),
         source,
     })?;
     Ok(path.to_path_buf())
 }
 
-/// Writes `summary.json` (pretty-printed) after checking that every number is finite.
+/// Writes `summary.json` (pretty-printed; profiles only by time, see [`npz_names`]) after
+/// checking that every number is finite.
 pub fn write_summary(dir: &Path, summary: &Summary) -> Result<PathBuf, OutputError> {
+    write_summary_with(dir, summary, None, &[])
+}
+
+/// [`write_summary`] with the provenance and the labels of interrupted runs.
+pub fn write_summary_with(
+    dir: &Path,
+    summary: &Summary,
+    provenance: Option<&Provenance>,
+    interrupted: &[String],
+) -> Result<PathBuf, OutputError> {
     super::finite::check_summary(summary).map_err(OutputError::NonFinite)?;
+    let file = SummaryFile {
+        scenario: &summary.scenario,
+        provenance,
+        interrupted,
+        runs: summary
+            .runs
+            .iter()
+            .zip(npz_names(summary))
+            .map(|(r, arrays)| RunEntry {
+                label: &r.label,
+                model: r.model,
+                parameters: clean_parameters(&r.parameters),
+                series: series_columns(r)
+                    .into_iter()
+                    .map(|(k, v)| (k, serde_json::json!(v)))
+                    .collect(),
+                profile_times: r.profiles.iter().map(|p| p.t).collect(),
+                arrays,
+                stats: &r.stats,
+                divisions: &r.divisions,
+                error: &r.error,
+            })
+            .collect(),
+    };
     let text =
-        serde_json::to_string_pretty(summary).map_err(|e| OutputError::Serialize(e.to_string()))?;
+        serde_json::to_string_pretty(&file).map_err(|e| OutputError::Serialize(e.to_string()))?;
     write(&dir.join("summary.json"), &text)
 }
 
+/// Writes each run's `.npz` (see [`super::npz`]); returns their paths.
+pub fn write_arrays(dir: &Path, summary: &Summary) -> Result<Vec<PathBuf>, OutputError> {
+    let mut out = Vec::new();
+    for (rec, name) in summary.runs.iter().zip(npz_names(summary)) {
+        let path = dir.join(name);
+        super::npz::write_npz_file(&path, rec).map_err(|source| OutputError::Write {
+            path: path.clone(),
+            source,
+        })?;
+        out.push(path);
+    }
+    Ok(out)
+}
+
 /// The series of one run as CSV text: `t,length,max_pressure,min_pressure,max_stretch,
-/// min_stretch,<extra series in name order>`.
+/// min_stretch,<extra series in name order>` (shear columns: see [`series_columns`]).
 pub fn series_csv(rec: &RunRecord) -> String {
-    let s = &rec.series;
-    let mut cols: Vec<(&str, &Vec<f64>)> = vec![
-        ("t", &s.t),
-        ("length", &s.length),
-        ("max_pressure", &s.max_pressure),
-        ("min_pressure", &s.min_pressure),
-        ("max_stretch", &s.max_stretch),
-        ("min_stretch", &s.min_stretch),
-    ];
-    cols.extend(s.extra.iter().map(|(k, v)| (k.as_str(), v)));
-    table(&cols, s.t.len(), None)
+    let named = series_columns(rec);
+    let cols: Vec<(&str, &Vec<f64>)> = named.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+    table(&cols, rec.series.t.len(), None)
 }
 
 /// The profiles of one run as long-format CSV: one row per cell (node) per time,
@@ -89,7 +266,11 @@ pub fn profiles_csv(rec: &RunRecord) -> String {
         .collect();
     extra.sort_unstable();
     extra.dedup();
-    let mut out = String::from("t,X,x,stretch,pressure");
+    let mut out = format!(
+        "t,{},x,{},pressure",
+        profile_field_name(rec, "X"),
+        profile_field_name(rec, "stretch")
+    );
     for k in &extra {
         out.push(',');
         out.push_str(k);
@@ -168,7 +349,8 @@ pub fn write_csvs(dir: &Path, summary: &Summary) -> Result<Vec<PathBuf>, OutputE
             &dir.join(format!("series_{s}.csv")),
             &series_csv(rec),
         )?);
-        if !rec.profiles.is_empty() {
+        let rows: usize = rec.profiles.iter().map(|p| p.x_ref.len()).sum();
+        if !rec.profiles.is_empty() && rows <= PROFILE_CSV_MAX_ROWS {
             files.push(write(
                 &dir.join(format!("profiles_{s}.csv")),
                 &profiles_csv(rec),

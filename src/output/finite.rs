@@ -39,7 +39,7 @@ pub fn first_non_finite(rec: &RunRecord) -> Option<String> {
         }
     }
     let st = &rec.stats;
-    if !st.wall_seconds.is_finite() || st.extra.values().any(|v| !v.is_finite()) {
+    if !st.wall_seconds.is_finite() {
         return Some("stats".into());
     }
     for (i, d) in rec.divisions.iter().enumerate() {
@@ -51,8 +51,8 @@ pub fn first_non_finite(rec: &RunRecord) -> Option<String> {
 }
 
 /// Removes non-finite data: series are cut before the first output time with a non-finite
-/// value, profiles and division records with one are dropped, non-finite counters are
-/// dropped. Returns `true` (and appends to `error`) if anything was removed.
+/// value, profiles and division records with one are dropped, a non-finite wall time
+/// becomes 0. Returns `true` (and appends to `error`) if anything was removed.
 ///
 /// ```
 /// use celltissue::observe::*;
@@ -118,7 +118,6 @@ pub fn sanitize(rec: &mut RunRecord) -> bool {
     if !rec.stats.wall_seconds.is_finite() {
         rec.stats.wall_seconds = 0.0;
     }
-    rec.stats.extra.retain(|_, v| v.is_finite());
     let note = format!("non-finite value at {first}; output cut back to the last finite data");
     rec.error = Some(match rec.error.take() {
         Some(e) => format!("{e}; {note}"),

@@ -1,11 +1,21 @@
-//! Writers: from a [`Summary`] to files in an output directory — `summary.json`, CSV series and
-//! profiles per run, the resolved `scenario.toml`, and PNG plots laid out like the thesis
-//! figures ([`figures`], built on the reusable [`plot`] module). Nothing here runs a model.
+//! Writers: from a [`Summary`] to files in an output directory — `summary.json` (metadata,
+//! provenance, series), a numpy `.npz` per run ([`npz`]), CSV series and profiles, VTU/PVD
+//! snapshots for ParaView ([`vtu`]), the resolved `scenario.toml`, and PNG plots laid out like
+//! the thesis figures ([`figures`], built on the reusable [`plot`] module). Every file is
+//! written atomically ([`atomic`]) and recorded in the directory's manifest ([`manifest`]).
+//! Nothing here runs a model.
 
+pub mod atomic;
 pub mod figures;
 pub mod files;
 pub mod finite;
+pub mod fonts;
+pub mod interrupt;
+pub mod manifest;
+pub mod npz;
 pub mod plot;
+pub mod provenance;
+pub mod vtu;
 
 use crate::observe::Summary;
 use crate::scenario::Scenario;
@@ -29,12 +39,23 @@ pub enum OutputError {
     /// Serialisation failed.
     #[error("serialisation failed: {0}")]
     Serialize(String),
+    /// The output directory holds files of another scenario or of unknown origin.
+    #[error(
+        "output directory `{dir}` holds {holds}; choose another --out, or pass --replace to \
+         replace it (only files celltissue wrote there are removed)"
+    )]
+    DirectoryInUse {
+        /// The directory.
+        dir: PathBuf,
+        /// What it holds.
+        holds: String,
+    },
 }
 
 /// What [`write_all`] wrote.
 #[derive(Debug, Default)]
 pub struct Written {
-    /// Data files (JSON, CSV, TOML).
+    /// Data files (JSON, NPZ, CSV, VTU, TOML).
     pub data: Vec<PathBuf>,
     /// PNG plots.
     pub plots: Vec<PathBuf>,
@@ -42,28 +63,77 @@ pub struct Written {
     pub plot_errors: Vec<String>,
 }
 
-/// Creates `dir` and writes every output of a scenario run: data first (JSON, CSV, TOML),
-/// then plots. The summary is checked for non-finite numbers before anything is written.
+/// Options of [`write_all_with`].
+#[derive(Debug, Default)]
+pub struct WriteOptions {
+    /// Skip the PNG plots (`--no-plots`).
+    pub no_plots: bool,
+    /// Provenance for `summary.json`.
+    pub provenance: Option<provenance::Provenance>,
+    /// Labels of runs cut short by an interrupt (recorded in `summary.json`).
+    pub interrupted: Vec<String>,
+    /// Progress of the write phase (one tick per stage); hidden when not on a terminal.
+    pub progress: Option<indicatif::ProgressBar>,
+}
+
+/// Creates `dir` and writes every output of a scenario run with default options (see
+/// [`write_all_with`]).
 pub fn write_all(
     dir: &Path,
     scenario: &Scenario,
     summary: &Summary,
+) -> Result<Written, OutputError> {
+    write_all_with(dir, scenario, summary, &WriteOptions::default())
+}
+
+/// Creates `dir` and writes every output of a scenario run: data first (JSON, NPZ, CSV, VTU,
+/// TOML), then plots. The summary is checked for non-finite numbers before anything is written.
+pub fn write_all_with(
+    dir: &Path,
+    scenario: &Scenario,
+    summary: &Summary,
+    opts: &WriteOptions,
 ) -> Result<Written, OutputError> {
     finite::check_summary(summary).map_err(OutputError::NonFinite)?;
     std::fs::create_dir_all(dir).map_err(|source| OutputError::Write {
         path: dir.to_path_buf(),
         source,
     })?;
+    let stage = |what: &str| {
+        if let Some(p) = &opts.progress {
+            p.set_message(what.to_string());
+            p.inc(1);
+        }
+        log::debug!("writing {what}");
+    };
     let mut w = Written::default();
-    w.data.push(files::write_summary(dir, summary)?);
+    stage("summary.json");
+    w.data.push(files::write_summary_with(
+        dir,
+        summary,
+        opts.provenance.as_ref(),
+        &opts.interrupted,
+    )?);
+    stage("arrays (.npz)");
+    w.data.extend(files::write_arrays(dir, summary)?);
+    stage("CSV");
     w.data.extend(files::write_csvs(dir, summary)?);
+    stage("VTU/PVD");
+    w.data
+        .extend(vtu::write_line_snapshots(dir, scenario, summary)?);
     w.data.push(files::write_scenario(dir, &scenario.table)?);
-    for (path, result) in figures::write_figures(dir, scenario, summary) {
-        match result {
-            Ok(()) => w.plots.push(path),
-            Err(plot::PlotError::NoData) => {}
-            Err(e) => w.plot_errors.push(format!("{}: {e}", path.display())),
+    if !opts.no_plots {
+        stage("plots");
+        for (path, result) in figures::write_figures(dir, scenario, summary) {
+            match result {
+                Ok(()) => w.plots.push(path),
+                Err(plot::PlotError::NoData) => {}
+                Err(e) => w.plot_errors.push(format!("{}: {e}", path.display())),
+            }
         }
     }
     Ok(w)
 }
+
+/// Stages of [`write_all_with`] reported to its progress bar.
+pub const WRITE_STAGES: u64 = 5;

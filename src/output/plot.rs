@@ -15,6 +15,7 @@
 //! # Ok::<(), celltissue::output::plot::PlotError>(())
 //! ```
 
+use super::fonts::FONT;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
@@ -29,6 +30,12 @@ pub enum PlotError {
     /// The drawing backend failed (file, font…).
     #[error("drawing failed: {0}")]
     Draw(String),
+}
+
+impl From<std::io::Error> for PlotError {
+    fn from(e: std::io::Error) -> Self {
+        PlotError::Draw(e.to_string())
+    }
 }
 
 fn draw_err<E: std::fmt::Display>(e: E) -> PlotError {
@@ -52,8 +59,9 @@ pub enum Style {
     Line,
     /// Dashed line in the curve's colour (guide lines such as `x = (l/l₀)X`).
     Dashed,
-    /// Dashed near-black line drawn over the runs (analytic reference solutions, which would
-    /// vanish under a continuum line of the same colour).
+    /// Thin dashed line in a darkened shade of the curve's colour, drawn over the runs
+    /// (analytic reference solutions: visible on a continuum line of the same colour, and
+    /// matched to its run by hue); its legend entry is a near-black dashed line.
     Reference,
     /// Symbols only (discrete runs); the shape cycles with the colour index.
     Markers,
@@ -124,150 +132,273 @@ pub fn color(i: usize) -> RGBColor {
     RGBColor(r, g, b)
 }
 
-/// Colour of [`Style::Reference`] curves.
+/// A colour halfway to black.
+fn darken(c: RGBColor) -> RGBColor {
+    RGBColor(c.0 / 2, c.1 / 2, c.2 / 2)
+}
+
+/// Legend colour of [`Style::Reference`] curves.
 pub const REFERENCE_COLOR: RGBColor = RGBColor(25, 25, 25);
 
 /// Size of chart images in pixels.
 pub const CHART_SIZE: (u32, u32) = (900, 620);
 
-fn keep(axis: Axis, v: f64) -> bool {
-    v.is_finite() && (axis == Axis::Linear || v > 0.0)
+/// A data coordinate as drawn: itself on a linear axis, `log10` of it on a log axis (`None` if
+/// it cannot be drawn: non-finite, or not positive on a log axis).
+///
+/// Log axes are drawn as linear axes in `log10` space with `10^v` tick labels rather than with
+/// plotters' logarithmic coordinate, whose tick search loops without end (or allocates until
+/// the process aborts) on ranges reaching down to 1e-300 or a subnormal number.
+fn transform(axis: Axis, v: f64) -> Option<f64> {
+    match axis {
+        Axis::Linear => v.is_finite().then_some(v),
+        Axis::Log => (v.is_finite() && v > 0.0).then(|| v.log10()),
+    }
 }
 
-/// The data range along one axis, padded so that it is never empty.
-fn range(values: impl Iterator<Item = f64>, axis: Axis) -> Option<(f64, f64)> {
+/// The range of drawn (transformed) coordinates, padded by 4 % so that it is never empty and
+/// always finite (a span that would overflow is clamped to ±`f64::MAX`).
+fn range(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
     let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
         (lo.min(v), hi.max(v))
     });
     if !(lo.is_finite() && hi.is_finite()) {
         return None;
     }
-    Some(match axis {
-        Axis::Linear => {
-            let pad = if hi > lo {
-                0.04 * (hi - lo)
-            } else {
-                0.05 * lo.abs().max(1e-9)
-            };
-            (lo - pad, hi + pad)
-        }
-        Axis::Log => {
-            if hi > lo {
-                let f = (hi / lo).powf(0.03);
-                (lo / f, hi * f)
-            } else {
-                (lo / 1.2, hi * 1.2)
-            }
-        }
-    })
+    // halves first: `hi − lo` overflows for data spanning ±1e308
+    let half_span = 0.5 * hi - 0.5 * lo;
+    let pad = if half_span > 0.0 {
+        0.08 * half_span
+    } else {
+        0.05 * lo.abs().max(1e-9)
+    };
+    // at most ±f64::MAX/4 so that plotters' `hi − lo` and tick steps stay finite
+    const BIG: f64 = f64::MAX / 4.0;
+    let lo = (lo - pad).max(-BIG);
+    let hi = (hi + pad).min(BIG);
+    // a span of at least 1e-12 of the magnitude: far below it plotters' tick steps fall under
+    // the spacing of f64 and its tick search never advances (a hang)
+    let min_span = 1e-12 * lo.abs().max(hi.abs()).max(1e-300);
+    if hi - lo < min_span {
+        let mid = 0.5 * lo + 0.5 * hi;
+        return Some((mid - min_span, mid + min_span));
+    }
+    Some((lo, hi))
 }
 
-/// Writes `chart` as a PNG at `path`.
+/// A tick label for the drawn coordinate `v` on an axis whose ticks are about `step` apart.
+/// Linear axes get as many digits as the tick spacing needs (ticks of a range 1 ± 1e-9 read
+/// `1.000000001`, not all `1.0`); log axes label `10^v`.
+pub fn tick_label(axis: Axis, v: f64, step: f64) -> String {
+    match axis {
+        Axis::Linear => number_label(v, step),
+        Axis::Log => {
+            let x = 10f64.powf(v);
+            if (v - v.round()).abs() < 1e-9 {
+                let k = v.round() as i32;
+                if (-3..=4).contains(&k) {
+                    number_label(x, x)
+                } else {
+                    format!("1e{k}")
+                }
+            } else {
+                // inside a decade (narrow log ranges): enough digits to tell ticks apart
+                let rel = (10f64.powf(step) - 1.0).max(1e-15);
+                number_label(x, rel * x)
+            }
+        }
+    }
+}
+
+/// `v` with the digits that a resolution `step` needs; scientific notation for very large or
+/// small magnitudes.
+fn number_label(v: f64, step: f64) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    let step = step.abs().max(v.abs() * 1e-15);
+    let mag = v.abs().log10().floor();
+    let res = step.log10().floor();
+    if !(-4.0..6.0).contains(&mag) {
+        let digits = ((mag - res).max(0.0) as usize).min(15);
+        return format!("{v:.digits$e}");
+    }
+    let decimals = ((-res).max(0.0) as usize).min(17);
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// Writes `chart` as a PNG at `path` (atomically: drawn to a temporary file, then renamed).
 pub fn plot_chart(path: &Path, chart: &Chart) -> Result<(), PlotError> {
-    let pts = |c: &Curve| -> Vec<(f64, f64)> {
-        c.points
-            .iter()
-            .copied()
-            .filter(|&(x, y)| keep(chart.x_axis, x) && keep(chart.y_axis, y))
-            .collect()
-    };
+    super::fonts::register();
     let curves: Vec<(Curve, Vec<(f64, f64)>)> = chart
         .curves
         .iter()
-        .map(|c| (c.clone(), pts(c)))
+        .map(|c| {
+            // a point that cannot be drawn breaks a line (a gap is not bridged by a straight
+            // segment that would look like data)
+            let mut segments: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
+            for &(x, y) in &c.points {
+                match (transform(chart.x_axis, x), transform(chart.y_axis, y)) {
+                    (Some(x), Some(y)) => segments.last_mut().unwrap().push((x, y)),
+                    _ if c.style != Style::Markers => segments.push(Vec::new()),
+                    _ => {}
+                }
+            }
+            segments.retain(|s| !s.is_empty());
+            let pts: Vec<(f64, f64)> = match c.style {
+                Style::Markers => thin_markers(segments.concat()),
+                _ => {
+                    // thinned piecewise; a NaN pair separates the pieces
+                    let mut v = Vec::new();
+                    for s in segments {
+                        if !v.is_empty() {
+                            v.push((f64::NAN, f64::NAN));
+                        }
+                        v.extend(thin_line(s));
+                    }
+                    v
+                }
+            };
+            (c.clone(), pts)
+        })
         .filter(|(_, p)| !p.is_empty())
         .collect();
+    let finite = |v: &f64| v.is_finite();
     let xr = range(
-        curves.iter().flat_map(|(_, p)| p.iter().map(|q| q.0)),
-        chart.x_axis,
+        curves
+            .iter()
+            .flat_map(|(_, p)| p.iter().map(|q| q.0))
+            .filter(finite),
     )
     .ok_or(PlotError::NoData)?;
     let yr = range(
-        curves.iter().flat_map(|(_, p)| p.iter().map(|q| q.1)),
-        chart.y_axis,
+        curves
+            .iter()
+            .flat_map(|(_, p)| p.iter().map(|q| q.1))
+            .filter(finite),
     )
     .ok_or(PlotError::NoData)?;
-    let root = BitMapBackend::new(path, CHART_SIZE).into_drawing_area();
-    root.fill(&WHITE).map_err(draw_err)?;
-    let norm = (Norm::new(xr, chart.x_axis), Norm::new(yr, chart.y_axis));
-    match (chart.x_axis, chart.y_axis) {
-        (Axis::Linear, Axis::Linear) => draw(&root, chart, &curves, xr.0..xr.1, yr.0..yr.1, norm),
-        (Axis::Log, Axis::Linear) => draw(
-            &root,
-            chart,
-            &curves,
-            (xr.0..xr.1).log_scale(),
-            yr.0..yr.1,
-            norm,
-        ),
-        (Axis::Linear, Axis::Log) => draw(
-            &root,
-            chart,
-            &curves,
-            xr.0..xr.1,
-            (yr.0..yr.1).log_scale(),
-            norm,
-        ),
-        (Axis::Log, Axis::Log) => draw(
-            &root,
-            chart,
-            &curves,
-            (xr.0..xr.1).log_scale(),
-            (yr.0..yr.1).log_scale(),
-            norm,
-        ),
-    }?;
-    root.present().map_err(draw_err)
+    super::atomic::with_temp_file(path, |tmp| {
+        let root = BitMapBackend::new(tmp, CHART_SIZE).into_drawing_area();
+        root.fill(&WHITE).map_err(draw_err)?;
+        draw(&root, chart, &curves, xr, yr)?;
+        root.present().map_err(draw_err)
+    })
 }
 
-fn draw<'b, X, Y>(
-    root: &DrawingArea<BitMapBackend<'b>, Shift>,
+/// Most points drawn per curve: beyond this, curves are thinned (a 900-pixel-wide chart cannot
+/// show more, and drawing 10⁶ markers per profile made the write phase cost more than the solve).
+pub const MAX_POINTS: usize = 2400;
+
+/// Every k-th marker, so that at most [`MAX_POINTS`] remain (first and last kept).
+fn thin_markers(p: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+    if p.len() <= MAX_POINTS {
+        return p;
+    }
+    let k = p.len().div_ceil(MAX_POINTS);
+    let last = *p.last().unwrap_or(&(0.0, 0.0));
+    let mut out: Vec<_> = p.into_iter().step_by(k).collect();
+    if out.last() != Some(&last) {
+        out.push(last);
+    }
+    out
+}
+
+/// A line thinned to about [`MAX_POINTS`] points keeping, in each run of consecutive points,
+/// the lowest and highest value in their order (peaks survive thinning).
+fn thin_line(p: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+    if p.len() <= MAX_POINTS {
+        return p;
+    }
+    let k = (2 * p.len()).div_ceil(MAX_POINTS);
+    let mut out = Vec::with_capacity(MAX_POINTS + 2);
+    for chunk in p.chunks(k) {
+        let lo = chunk
+            .iter()
+            .enumerate()
+            .min_by(|a, b| a.1 .1.total_cmp(&b.1 .1));
+        let hi = chunk
+            .iter()
+            .enumerate()
+            .max_by(|a, b| a.1 .1.total_cmp(&b.1 .1));
+        if let (Some((i, a)), Some((j, b))) = (lo, hi) {
+            if i == j {
+                out.push(*a);
+            } else if i < j {
+                out.extend([*a, *b]);
+            } else {
+                out.extend([*b, *a]);
+            }
+        }
+    }
+    out
+}
+
+fn draw(
+    root: &DrawingArea<BitMapBackend<'_>, Shift>,
     chart: &Chart,
     curves: &[(Curve, Vec<(f64, f64)>)],
-    xr: X,
-    yr: Y,
-    norm: (Norm, Norm),
-) -> Result<(), PlotError>
-where
-    X: plotters::coord::ranged1d::AsRangedCoord<Value = f64>,
-    Y: plotters::coord::ranged1d::AsRangedCoord<Value = f64>,
-    X::CoordDescType: plotters::coord::ranged1d::ValueFormatter<f64>,
-    Y::CoordDescType: plotters::coord::ranged1d::ValueFormatter<f64>,
-{
+    xr: (f64, f64),
+    yr: (f64, f64),
+) -> Result<(), PlotError> {
     let mut ctx = ChartBuilder::on(root)
-        .caption(&chart.title, ("sans-serif", 22))
+        .caption(&chart.title, (FONT, 22))
         .margin(12)
         .x_label_area_size(48)
-        .y_label_area_size(72)
-        .build_cartesian_2d(xr, yr)
+        .y_label_area_size(84)
+        .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
         .map_err(draw_err)?;
+    let (xstep, ystep) = ((xr.1 - xr.0) / 10.0, (yr.1 - yr.0) / 10.0);
+    let (xa, ya) = (chart.x_axis, chart.y_axis);
+    let xfmt = move |v: &f64| tick_label(xa, *v, xstep);
+    let yfmt = move |v: &f64| tick_label(ya, *v, ystep);
     ctx.configure_mesh()
         .x_desc(chart.x_label.as_str())
         .y_desc(chart.y_label.as_str())
-        .label_style(("sans-serif", 15))
-        .axis_desc_style(("sans-serif", 18))
+        .x_label_formatter(&xfmt)
+        .y_label_formatter(&yfmt)
+        .label_style((FONT, 15))
+        .axis_desc_style((FONT, 18))
         .light_line_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(draw_err)?;
-    let (xr_norm, yr_norm) = norm;
     let mut labelled = false;
     for (curve, points) in curves {
         let c = color(curve.color);
         let style = ShapeStyle::from(&c).stroke_width(2);
-        let anno = match curve.style {
-            Style::Line => ctx
-                .draw_series(LineSeries::new(points.iter().copied(), style))
-                .map_err(draw_err)?,
-            Style::Dashed => ctx
-                .draw_series(DashedLineSeries::new(points.iter().copied(), 8, 5, style))
-                .map_err(draw_err)?,
-            Style::Reference => ctx
-                .draw_series(DashedLineSeries::new(
-                    points.iter().copied(),
+        let all: &[(f64, f64)] = points;
+        let pieces: Vec<&[(f64, f64)]> = all.split(|q| q.0.is_nan()).collect();
+        let (last, first) = pieces.split_last().unwrap_or((&all, &[]));
+        let reference = ShapeStyle::from(&darken(c)).stroke_width(1);
+        for piece in first {
+            match curve.style {
+                Style::Line => ctx.draw_series(LineSeries::new(piece.iter().copied(), style)),
+                Style::Dashed => {
+                    ctx.draw_series(DashedLineSeries::new(piece.iter().copied(), 8, 5, style))
+                }
+                _ => ctx.draw_series(DashedLineSeries::new(
+                    piece.iter().copied(),
                     6,
                     4,
-                    ShapeStyle::from(&REFERENCE_COLOR).stroke_width(1),
-                ))
+                    reference,
+                )),
+            }
+            .map_err(draw_err)?;
+        }
+        let anno = match curve.style {
+            Style::Line => ctx
+                .draw_series(LineSeries::new(last.iter().copied(), style))
+                .map_err(draw_err)?,
+            Style::Dashed => ctx
+                .draw_series(DashedLineSeries::new(last.iter().copied(), 8, 5, style))
+                .map_err(draw_err)?,
+            Style::Reference => ctx
+                .draw_series(DashedLineSeries::new(last.iter().copied(), 6, 4, reference))
                 .map_err(draw_err)?,
             Style::Markers => {
                 let mstyle = ShapeStyle::from(&c).stroke_width(1);
@@ -289,7 +420,7 @@ where
             let kind = curve.style;
             let shape = curve.color % 3;
             anno.label(curve.label.as_str()).legend(
-                move |(x, y)| -> DynElement<'static, BitMapBackend<'b>, (i32, i32)> {
+                move |(x, y)| -> DynElement<'static, BitMapBackend<'_>, (i32, i32)> {
                     match kind {
                         Style::Markers => match shape {
                             0 => Circle::new((x + 10, y), 3, ShapeStyle::from(&c)).into_dyn(),
@@ -317,52 +448,33 @@ where
         ctx.configure_series_labels()
             .background_style(WHITE.mix(0.85))
             .border_style(RGBColor(180, 180, 180))
-            .label_font(("sans-serif", 13))
-            .position(legend_corner(curves, &xr_norm, &yr_norm))
+            .label_font((FONT, 13))
+            .position(legend_corner(curves, xr, yr))
             .draw()
             .map_err(draw_err)?;
     }
     Ok(())
 }
 
-/// Maps a data coordinate to `[0, 1]` across the plotted range.
-#[derive(Clone, Copy, Debug)]
-struct Norm {
-    lo: f64,
-    hi: f64,
-    log: bool,
-}
-
-impl Norm {
-    fn new(r: (f64, f64), axis: Axis) -> Self {
-        let log = axis == Axis::Log;
-        let f = |v: f64| if log { v.ln() } else { v };
-        Self {
-            lo: f(r.0),
-            hi: f(r.1),
-            log,
-        }
-    }
-    fn map(&self, v: f64) -> f64 {
-        let v = if self.log { v.ln() } else { v };
-        (v - self.lo) / (self.hi - self.lo)
-    }
-}
-
 /// The corner whose legend box (about 40 % × 40 % of the plot) covers the fewest points.
-fn legend_corner(curves: &[(Curve, Vec<(f64, f64)>)], x: &Norm, y: &Norm) -> SeriesLabelPosition {
+fn legend_corner(
+    curves: &[(Curve, Vec<(f64, f64)>)],
+    xr: (f64, f64),
+    yr: (f64, f64),
+) -> SeriesLabelPosition {
     let corners = [
         (SeriesLabelPosition::UpperRight, true, true),
         (SeriesLabelPosition::UpperLeft, false, true),
         (SeriesLabelPosition::LowerRight, true, false),
         (SeriesLabelPosition::LowerLeft, false, false),
     ];
+    let map = |v: f64, r: (f64, f64)| (v - r.0) / (r.1 - r.0);
     let count = |right: bool, upper: bool| {
         curves
             .iter()
             .flat_map(|(_, p)| p.iter())
             .filter(|&&(px, py)| {
-                let (u, v) = (x.map(px), y.map(py));
+                let (u, v) = (map(px, xr), map(py, yr));
                 (if right { u > 0.55 } else { u < 0.45 })
                     && (if upper { v > 0.55 } else { v < 0.45 })
             })
@@ -412,13 +524,14 @@ pub fn plot_rectangles(
     rects: &[(f64, f64, f64, f64, f64)],
     colorbar_label: &str,
 ) -> Result<(), PlotError> {
+    super::fonts::register();
     let rects: Vec<_> = rects
         .iter()
         .copied()
         .filter(|r| [r.0, r.1, r.2, r.3, r.4].iter().all(|v| v.is_finite()))
         .collect();
-    let xr = range(rects.iter().flat_map(|r| [r.0, r.2]), Axis::Linear).ok_or(PlotError::NoData)?;
-    let yr = range(rects.iter().flat_map(|r| [r.1, r.3]), Axis::Linear).ok_or(PlotError::NoData)?;
+    let xr = range(rects.iter().flat_map(|r| [r.0, r.2])).ok_or(PlotError::NoData)?;
+    let yr = range(rects.iter().flat_map(|r| [r.1, r.3])).ok_or(PlotError::NoData)?;
     let (mut vlo, mut vhi) = rects
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
@@ -429,60 +542,62 @@ pub fn plot_rectangles(
         vlo -= pad;
         vhi += pad;
     }
-    let root = BitMapBackend::new(path, RECT_SIZE).into_drawing_area();
-    root.fill(&WHITE).map_err(draw_err)?;
-    let (main, bar) = root.split_horizontally(RECT_SIZE.0 - 130);
-    let mut ctx = ChartBuilder::on(&main)
-        .caption(title, ("sans-serif", 22))
-        .margin(12)
-        .x_label_area_size(44)
-        .y_label_area_size(60)
-        .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
+    super::atomic::with_temp_file(path, |tmp| {
+        let root = BitMapBackend::new(tmp, RECT_SIZE).into_drawing_area();
+        root.fill(&WHITE).map_err(draw_err)?;
+        let (main, bar) = root.split_horizontally(RECT_SIZE.0 - 130);
+        let mut ctx = ChartBuilder::on(&main)
+            .caption(title, (FONT, 22))
+            .margin(12)
+            .x_label_area_size(44)
+            .y_label_area_size(60)
+            .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
+            .map_err(draw_err)?;
+        ctx.configure_mesh()
+            .disable_mesh()
+            .x_desc("x")
+            .y_desc("y")
+            .label_style((FONT, 15))
+            .draw()
+            .map_err(draw_err)?;
+        ctx.draw_series(rects.iter().map(|r| {
+            let c = colormap((r.4 - vlo) / (vhi - vlo));
+            Rectangle::new([(r.0, r.1), (r.2, r.3)], c.filled())
+        }))
         .map_err(draw_err)?;
-    ctx.configure_mesh()
-        .disable_mesh()
-        .x_desc("x")
-        .y_desc("y")
-        .label_style(("sans-serif", 15))
-        .draw()
+        ctx.draw_series(rects.iter().map(|r| {
+            Rectangle::new(
+                [(r.0, r.1), (r.2, r.3)],
+                RGBColor(40, 40, 40).mix(0.35).stroke_width(1),
+            )
+        }))
         .map_err(draw_err)?;
-    ctx.draw_series(rects.iter().map(|r| {
-        let c = colormap((r.4 - vlo) / (vhi - vlo));
-        Rectangle::new([(r.0, r.1), (r.2, r.3)], c.filled())
-    }))
-    .map_err(draw_err)?;
-    ctx.draw_series(rects.iter().map(|r| {
-        Rectangle::new(
-            [(r.0, r.1), (r.2, r.3)],
-            RGBColor(40, 40, 40).mix(0.35).stroke_width(1),
-        )
-    }))
-    .map_err(draw_err)?;
-    let mut cb = ChartBuilder::on(&bar)
-        .margin_top(50)
-        .margin_bottom(56)
-        .margin_right(8)
-        .y_label_area_size(70)
-        .build_cartesian_2d(0.0..1.0, vlo..vhi)
+        let mut cb = ChartBuilder::on(&bar)
+            .margin_top(50)
+            .margin_bottom(56)
+            .margin_right(8)
+            .y_label_area_size(70)
+            .build_cartesian_2d(0.0..1.0, vlo..vhi)
+            .map_err(draw_err)?;
+        cb.configure_mesh()
+            .disable_mesh()
+            .disable_x_axis()
+            .y_desc(colorbar_label)
+            .label_style((FONT, 14))
+            .draw()
+            .map_err(draw_err)?;
+        let steps = 200;
+        cb.draw_series((0..steps).map(|k| {
+            let a = vlo + (vhi - vlo) * k as f64 / steps as f64;
+            let b = vlo + (vhi - vlo) * (k + 1) as f64 / steps as f64;
+            Rectangle::new(
+                [(0.0, a), (1.0, b)],
+                colormap(k as f64 / (steps - 1) as f64).filled(),
+            )
+        }))
         .map_err(draw_err)?;
-    cb.configure_mesh()
-        .disable_mesh()
-        .disable_x_axis()
-        .y_desc(colorbar_label)
-        .label_style(("sans-serif", 14))
-        .draw()
-        .map_err(draw_err)?;
-    let steps = 200;
-    cb.draw_series((0..steps).map(|k| {
-        let a = vlo + (vhi - vlo) * k as f64 / steps as f64;
-        let b = vlo + (vhi - vlo) * (k + 1) as f64 / steps as f64;
-        Rectangle::new(
-            [(0.0, a), (1.0, b)],
-            colormap(k as f64 / (steps - 1) as f64).filled(),
-        )
-    }))
-    .map_err(draw_err)?;
-    root.present().map_err(draw_err)
+        root.present().map_err(draw_err)
+    })
 }
 
 #[cfg(test)]
@@ -491,11 +606,42 @@ mod tests {
 
     #[test]
     fn ranges_are_padded_and_never_empty() {
-        let (a, b) = range([1.0, 1.0].into_iter(), Axis::Linear).unwrap();
+        let (a, b) = range([1.0, 1.0].into_iter()).unwrap();
         assert!(a < 1.0 && b > 1.0);
-        let (a, b) = range([1e-3, 1e3].into_iter(), Axis::Log).unwrap();
-        assert!(a < 1e-3 && b > 1e3 && a > 0.0);
-        assert!(range(std::iter::empty(), Axis::Linear).is_none());
+        let (a, b) = range([-3.0, 3.0].into_iter()).unwrap();
+        assert!(a < -3.0 && b > 3.0);
+        let (a, b) = range([-f64::MAX, f64::MAX].into_iter()).unwrap();
+        assert!(a.is_finite() && b.is_finite() && a < b);
+        let (a, b) = range([1.0, 1.0 + f64::EPSILON].into_iter()).unwrap();
+        assert!(a < 1.0 && b > 1.0 + f64::EPSILON && b - a >= 1e-12);
+        assert!(range(std::iter::empty()).is_none());
+    }
+
+    #[test]
+    fn tick_labels_resolve_their_spacing() {
+        // ticks 1e-10 apart around 1 are distinguishable
+        assert_eq!(tick_label(Axis::Linear, 1.0 + 2e-9, 1e-10), "1.000000002");
+        assert_eq!(tick_label(Axis::Linear, 0.5, 0.1), "0.5");
+        assert_eq!(tick_label(Axis::Linear, 2.0e7, 1e6), "2.0e7");
+        assert_eq!(tick_label(Axis::Log, -300.0, 30.0), "1e-300");
+        assert_eq!(tick_label(Axis::Log, 2.0, 0.3), "100");
+        assert_eq!(tick_label(Axis::Log, 0.0, 0.3), "1");
+    }
+
+    #[test]
+    fn thinning_keeps_extremes_and_bounds_the_count() {
+        let p: Vec<(f64, f64)> = (0..1_000_000)
+            .map(|i| (i as f64, if i == 777_777 { 50.0 } else { (i % 7) as f64 }))
+            .collect();
+        let last = *p.last().unwrap();
+        let t = thin_line(p.clone());
+        assert!(t.len() <= MAX_POINTS + 2);
+        // a one-point spike survives
+        assert!(t.contains(&(777_777.0, 50.0)));
+        assert!(t.iter().any(|q| q.1 == 0.0));
+        let m = thin_markers(p);
+        assert!(m.len() <= MAX_POINTS + 1);
+        assert_eq!(m.last(), Some(&last));
     }
 
     #[test]

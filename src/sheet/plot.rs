@@ -42,6 +42,12 @@ pub fn sheet_rects(cells: &[SheetCell], value: impl Fn(&SheetCell) -> f64) -> Ve
 #[error("plot: {0}")]
 pub struct PlotError(pub String);
 
+impl From<std::io::Error> for PlotError {
+    fn from(x: std::io::Error) -> Self {
+        PlotError(x.to_string())
+    }
+}
+
 fn e<T: std::fmt::Debug>(x: T) -> PlotError {
     PlotError(format!("{x:?}"))
 }
@@ -106,61 +112,63 @@ pub fn write_rects_png(
     let (v0, v1) = range.unwrap_or((v0, v1));
     let span = if v1 > v0 { v1 - v0 } else { 1.0 };
     let pad = 0.03 * (x1 - x0).max(y1 - y0);
-    let root = BitMapBackend::new(path, (900, 760)).into_drawing_area();
-    root.fill(&WHITE).map_err(e)?;
-    let (main, bar) = root.split_horizontally(780);
-    let mut chart = ChartBuilder::on(&main)
-        .caption(title, ("sans-serif", 24))
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(50)
-        .build_cartesian_2d((x0 - pad)..(x1 + pad), (y0 - pad)..(y1 + pad))
-        .map_err(e)?;
-    chart
-        .configure_mesh()
-        .disable_mesh()
-        .x_desc("x")
-        .y_desc("y")
-        .draw()
-        .map_err(e)?;
-    // cell borders only when they are resolvable
-    let border = rects.len() <= 10_000;
-    chart
-        .draw_series(rects.iter().map(|r| {
-            Rectangle::new(
-                [(r.x[0], r.y[0]), (r.x[1], r.y[1])],
-                colour((r.value - v0) / span).filled(),
-            )
-        }))
-        .map_err(e)?;
-    if border {
+    crate::output::fonts::register();
+    crate::output::atomic::with_temp_file(path, |tmp| {
+        let root = BitMapBackend::new(tmp, (900, 760)).into_drawing_area();
+        root.fill(&WHITE).map_err(e)?;
+        let (main, bar) = root.split_horizontally(780);
+        let mut chart = ChartBuilder::on(&main)
+            .caption(title, (crate::output::fonts::FONT, 24))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(50)
+            .build_cartesian_2d((x0 - pad)..(x1 + pad), (y0 - pad)..(y1 + pad))
+            .map_err(e)?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_desc("x")
+            .y_desc("y")
+            .draw()
+            .map_err(e)?;
+        // cell borders only when they are resolvable
+        let border = rects.len() <= 10_000;
         chart
             .draw_series(rects.iter().map(|r| {
-                Rectangle::new([(r.x[0], r.y[0]), (r.x[1], r.y[1])], BLACK.stroke_width(1))
+                Rectangle::new(
+                    [(r.x[0], r.y[0]), (r.x[1], r.y[1])],
+                    colour((r.value - v0) / span).filled(),
+                )
             }))
             .map_err(e)?;
-    }
-    let mut cb = ChartBuilder::on(&bar)
-        .margin_top(60)
-        .margin_bottom(52)
-        .margin_right(8)
-        .y_label_area_size(70)
-        .caption(label, ("sans-serif", 16))
-        .build_cartesian_2d(0.0..1.0, v0..(v0 + span))
+        if border {
+            chart
+                .draw_series(rects.iter().map(|r| {
+                    Rectangle::new([(r.x[0], r.y[0]), (r.x[1], r.y[1])], BLACK.stroke_width(1))
+                }))
+                .map_err(e)?;
+        }
+        let mut cb = ChartBuilder::on(&bar)
+            .margin_top(60)
+            .margin_bottom(52)
+            .margin_right(8)
+            .y_label_area_size(70)
+            .caption(label, (crate::output::fonts::FONT, 16))
+            .build_cartesian_2d(0.0..1.0, v0..(v0 + span))
+            .map_err(e)?;
+        cb.configure_mesh()
+            .disable_mesh()
+            .disable_x_axis()
+            .y_labels(6)
+            .draw()
+            .map_err(e)?;
+        let nb = 100;
+        cb.draw_series((0..nb).map(|i| {
+            let a = v0 + span * i as f64 / nb as f64;
+            let b = v0 + span * (i + 1) as f64 / nb as f64;
+            Rectangle::new([(0.0, a), (1.0, b)], colour((a - v0) / span).filled())
+        }))
         .map_err(e)?;
-    cb.configure_mesh()
-        .disable_mesh()
-        .disable_x_axis()
-        .y_labels(6)
-        .draw()
-        .map_err(e)?;
-    let nb = 100;
-    cb.draw_series((0..nb).map(|i| {
-        let a = v0 + span * i as f64 / nb as f64;
-        let b = v0 + span * (i + 1) as f64 / nb as f64;
-        Rectangle::new([(0.0, a), (1.0, b)], colour((a - v0) / span).filled())
-    }))
-    .map_err(e)?;
-    root.present().map_err(e)?;
-    Ok(())
+        root.present().map_err(e)
+    })
 }

@@ -167,14 +167,14 @@ fn run_stats(s: &Stats, wall: f64) -> RunStats {
         ("linear_solves", s.linear_solves),
         ("newton_iterations", s.newton_iterations),
     ] {
-        r.extra.insert(k.into(), v as f64);
+        r.extra.insert(k.into(), v as u64);
     }
     // iterative linear solver only (keeps the direct runs' records unchanged)
     if s.krylov_iterations > 0 || s.krylov_failures > 0 {
         r.extra
-            .insert("krylov_iterations".into(), s.krylov_iterations as f64);
+            .insert("krylov_iterations".into(), s.krylov_iterations as u64);
         r.extra
-            .insert("krylov_failures".into(), s.krylov_failures as f64);
+            .insert("krylov_failures".into(), s.krylov_failures as u64);
     }
     r
 }

@@ -1,0 +1,167 @@
+//! Per-run arrays as a numpy `.npz` archive (`run_<label>.npz`, read with `numpy.load`), the
+//! layout `numpy.savez` writes: a zip of `.npy` members, stored uncompressed.
+//!
+//! Members (all float64 unless noted):
+//! * `series/<name>` — every series column by name (`series/t`, `series/length`, …), length T;
+//! * `profiles/t` — the profile times, length P; `profiles/cells` (int64) — cells (nodes) per
+//!   profile; `profiles/<field>` (`X`, `x`, `stretch`, `pressure`, extra fields) — stacked
+//!   P × cells when every profile has the same size, else concatenated in time order (split
+//!   with `numpy.split(a, numpy.cumsum(cells)[:-1])`, e.g. a proliferating line); a field a
+//!   profile lacks makes that member absent rather than padded;
+//! * `divisions/t`, `divisions/x`, `divisions/x_over_length`, `divisions/parent` and
+//!   `divisions/cells_after` (int64) — the division events, when there are any.
+//!
+//! `.npy` serialisation is npyz's; the zip container is the `zip` crate's (no compression, so
+//! no compression backend is built).
+
+use crate::observe::RunRecord;
+use npyz::WriterBuilder as _;
+use std::collections::BTreeMap;
+use std::io::{self, Seek, Write};
+use std::path::Path;
+
+/// One member: its shape and data.
+enum Member {
+    F64(Vec<u64>, Vec<f64>),
+    I64(Vec<u64>, Vec<i64>),
+}
+
+/// The members of a run's archive, by name (without `.npy`).
+fn members(rec: &RunRecord) -> BTreeMap<String, Member> {
+    let mut m = BTreeMap::new();
+    for (k, v) in super::files::series_columns(rec) {
+        m.insert(
+            format!("series/{k}"),
+            Member::F64(vec![v.len() as u64], v.clone()),
+        );
+    }
+    let p = &rec.profiles;
+    if !p.is_empty() {
+        let times: Vec<f64> = p.iter().map(|q| q.t).collect();
+        let cells: Vec<i64> = p.iter().map(|q| q.x_ref.len() as i64).collect();
+        let rect = cells.windows(2).all(|w| w[0] == w[1]);
+        m.insert(
+            "profiles/t".into(),
+            Member::F64(vec![times.len() as u64], times),
+        );
+        let mut fields: Vec<&str> = vec!["X", "x", "stretch", "pressure"];
+        let mut extra: Vec<&str> = p
+            .iter()
+            .flat_map(|q| q.extra.keys().map(String::as_str))
+            .collect();
+        extra.sort_unstable();
+        extra.dedup();
+        fields.extend(extra);
+        for f in fields {
+            let cols: Option<Vec<&Vec<f64>>> = p
+                .iter()
+                .map(|q| match f {
+                    "X" => Some(&q.x_ref),
+                    "x" => Some(&q.x),
+                    "stretch" => Some(&q.stretch),
+                    "pressure" => Some(&q.pressure),
+                    k => q.extra.get(k),
+                })
+                .collect();
+            let Some(cols) = cols else { continue };
+            // a field of another length than the profile's cells (e.g. per-boundary) is kept
+            // concatenated
+            let same = cols.iter().zip(&cells).all(|(c, n)| c.len() as i64 == *n);
+            let data: Vec<f64> = cols.iter().flat_map(|c| c.iter().copied()).collect();
+            let shape = if rect && same {
+                vec![p.len() as u64, cells[0] as u64]
+            } else {
+                vec![data.len() as u64]
+            };
+            let name = super::files::profile_field_name(rec, f);
+            m.insert(format!("profiles/{name}"), Member::F64(shape, data));
+        }
+        m.insert(
+            "profiles/cells".into(),
+            Member::I64(vec![cells.len() as u64], cells),
+        );
+    }
+    let d = &rec.divisions;
+    if !d.is_empty() {
+        let n = vec![d.len() as u64];
+        let f = |g: fn(&crate::observe::DivisionRecord) -> f64| d.iter().map(g).collect();
+        m.insert("divisions/t".into(), Member::F64(n.clone(), f(|r| r.t)));
+        m.insert("divisions/x".into(), Member::F64(n.clone(), f(|r| r.x)));
+        m.insert(
+            "divisions/x_over_length".into(),
+            Member::F64(n.clone(), f(|r| r.x_over_length)),
+        );
+        m.insert(
+            "divisions/parent".into(),
+            Member::I64(n.clone(), d.iter().map(|r| r.parent as i64).collect()),
+        );
+        m.insert(
+            "divisions/cells_after".into(),
+            Member::I64(n, d.iter().map(|r| r.cells_after as i64).collect()),
+        );
+    }
+    m
+}
+
+/// Writes the archive of `rec` to `w`.
+pub fn write_npz<W: Write + Seek>(rec: &RunRecord, w: W) -> io::Result<()> {
+    let mut zip = zip::ZipWriter::new(w);
+    for (name, member) in members(rec) {
+        let bytes = match &member {
+            Member::F64(_, v) => 8 * v.len(),
+            Member::I64(_, v) => 8 * v.len(),
+        };
+        let opts = zip::write::SimpleFileOptions::default()
+            .compression_method(zip::CompressionMethod::Stored)
+            .large_file(bytes as u64 > u32::MAX as u64 / 2);
+        zip.start_file(format!("{name}.npy"), opts)
+            .map_err(io::Error::other)?;
+        match member {
+            Member::F64(shape, v) => {
+                let mut a = npyz::WriteOptions::<f64>::new()
+                    .default_dtype()
+                    .shape(&shape)
+                    .writer(&mut zip)
+                    .begin_nd()?;
+                a.extend(v)?;
+                a.finish()?;
+            }
+            Member::I64(shape, v) => {
+                let mut a = npyz::WriteOptions::<i64>::new()
+                    .default_dtype()
+                    .shape(&shape)
+                    .writer(&mut zip)
+                    .begin_nd()?;
+                a.extend(v)?;
+                a.finish()?;
+            }
+        }
+    }
+    zip.finish().map_err(io::Error::other)?;
+    Ok(())
+}
+
+/// Writes `rec`'s archive to `path` atomically.
+pub fn write_npz_file(path: &Path, rec: &RunRecord) -> io::Result<()> {
+    super::atomic::with_temp_file(path, |tmp| {
+        let f = std::fs::File::create(tmp)?;
+        let mut w = io::BufWriter::new(f);
+        write_npz(rec, &mut w)?;
+        w.flush()
+    })
+}
+
+/// Member names of an archive written by [`write_npz`] for `rec` (without `.npy`).
+///
+/// ```
+/// use celltissue::observe::*;
+/// let mut rec = RunRecord { label: "r".into(), model: ModelKind::Discrete,
+///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
+///     stats: RunStats::default(), divisions: vec![], error: None };
+/// rec.series.t = vec![0.0, 1.0];
+/// let names = celltissue::output::npz::member_names(&rec);
+/// assert!(names.contains(&"series/t".to_string()));
+/// ```
+pub fn member_names(rec: &RunRecord) -> Vec<String> {
+    members(rec).into_keys().collect()
+}
