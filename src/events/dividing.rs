@@ -283,6 +283,41 @@ impl<E: StrainEnergy> Dividing<E> {
         true
     }
 
+    /// Event values of a rule that reads the cells' geometry and mechanics: one O(N) sweep
+    /// evaluating each cell once (its elastic state; the viscous stress with `ẏ = 0`, since
+    /// the event functions see only `y`).
+    fn mechanical_events(&self, t: f64, y: &[f64], g: &mut [f64]) {
+        let line = &self.line;
+        let n = line.n_cells();
+        let zero = vec![0.0; y.len()];
+        let g2 = line.g2;
+        let mut xs = Vec::with_capacity(n + 1);
+        xs.extend((0..=n).map(|b| line.boundary(b, t, y, &zero).0));
+        let len = |j: usize| -> f64 {
+            if (1..=n).contains(&j) {
+                xs[j] - xs[j - 1]
+            } else {
+                f64::NAN
+            }
+        };
+        for (i, out) in g.iter_mut().enumerate() {
+            let j = i + 1;
+            let k = line.layout.gi[i];
+            let gj = if k == NONE { 1.0 } else { y[k] };
+            let mut c = CellView::growth_only(gj * g2, t - self.birth[i], self.threshold[i]);
+            c.length = len(j);
+            c.position = 0.5 * (xs[j - 1] + xs[j]);
+            c.neighbour_lengths = [len(j - 1), len(j + 1)];
+            if let Ok(e) = line.eval_cell(j, t, y, &zero) {
+                c.width = e.w;
+                c.area = c.length * e.w;
+                c.stress = e.sigma;
+                c.pressure = line.cells.mu[i] * line.energy.line(e.alpha).pressure;
+            }
+            *out = self.rule.event(&c);
+        }
+    }
+
     fn record_invariants(
         &mut self,
         t: f64,
@@ -346,14 +381,18 @@ impl<E: StrainEnergy> CellArray for Dividing<E> {
             return;
         }
         let g2 = self.line.g2;
+        if self.rule.needs_mechanics() {
+            self.mechanical_events(t, y, g);
+            return;
+        }
         for (j, out) in g.iter_mut().enumerate() {
             let k = self.line.layout.gi[j];
             let gj = if k == NONE { 1.0 } else { y[k] };
-            *out = self.rule.event(&CellView {
-                area_ratio: gj * g2,
-                age: t - self.birth[j],
-                threshold: self.threshold[j],
-            });
+            *out = self.rule.event(&CellView::growth_only(
+                gj * g2,
+                t - self.birth[j],
+                self.threshold[j],
+            ));
         }
     }
     fn handle_event(

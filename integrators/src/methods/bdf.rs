@@ -94,6 +94,9 @@ const BLK: usize = 256;
 const MAX_NORMS: usize = 4;
 /// Smallest worthwhile step-size increase (smaller suggested increases keep `h`).
 const GROW_THRESHOLD: f64 = 1.5;
+/// Failed attempts of a step-doubled first step after an event before the ordinary error
+/// test takes over (see [`Bdf::step_doubled`]).
+const DOUBLING_TRIES: usize = 3;
 /// Steps after which the Jacobian is refreshed even if Newton converges.
 const MAX_JAC_AGE: usize = 50;
 
@@ -902,8 +905,10 @@ impl Bdf {
     /// difference estimates the halves' error). Unlike the predictor difference it needs no
     /// smoothness before the step, so a kink at the event costs nothing once its transient
     /// is shorter than `h/2`. On rejection `h` shrinks by the usual factor (the Newton
-    /// matrices are kept: `α` changes by a refactorisation); the history is then the
-    /// post-event nodes `t + h, t + h/2, t`, from which the ordinary steps go on.
+    /// matrices are kept: `α` changes by a refactorisation); after [`DOUBLING_TRIES`] failed
+    /// attempts the ordinary step (error test against the restart's `ẏ`) takes over. On
+    /// success the history is the post-event nodes `t + h, t + h/2, t`, from which the
+    /// ordinary steps go on.
     fn step_doubled(&mut self, sys: &mut System<'_>, t_stop: f64) -> Result<(), SolverError> {
         let opts = sys.opts;
         self.ensure_work(sys);
@@ -911,7 +916,6 @@ impl Bdf {
         let mut h = self.h;
         let mut nef = 0usize;
         let mut ncf = 0usize;
-        let mut last = LastFailure::ErrorTest(None);
         let mut full = sys.take_vec();
         loop {
             let h_floor = opts.h_min.max(1e-14 * t0.abs());
@@ -940,16 +944,12 @@ impl Bdf {
                     e.t = t0;
                     return Err(e);
                 }
-                Err(NewtonFail::NoConvergence(c)) => {
+                Err(NewtonFail::NoConvergence(_)) => {
                     self.jac_valid = false;
                     sys.stats.newton_failures += 1;
-                    last = LastFailure::Newton(c);
                     Some(0.25)
                 }
-                Err(NewtonFail::Recoverable(reason, c)) => {
-                    last = LastFailure::Recoverable(reason, c);
-                    Some(0.25)
-                }
+                Err(NewtonFail::Recoverable(..)) => Some(0.25),
             };
             let err = if fail.is_none() {
                 let w = self.ewt();
@@ -981,7 +981,6 @@ impl Bdf {
                 None if !(err <= 1.0) => {
                     nef += 1;
                     sys.stats.error_test_failures += 1;
-                    last = LastFailure::ErrorTest(None);
                     let r = 0.9 * (2.0 * err).powf(-0.5);
                     Some(if r.is_finite() {
                         r.clamp(0.1, 0.9)
@@ -997,9 +996,13 @@ impl Bdf {
                     self.pop_accepted(sys, t0);
                 }
                 h = h_try * f;
-                if nef >= MAX_ERR_FAILS || ncf >= MAX_CONV_FAILS || h < h_floor {
+                if nef + ncf >= DOUBLING_TRIES || h < h_floor {
+                    // the transient is not shorter than the step: resolve it with the
+                    // ordinary error test from the same restart node
                     sys.give_vec(full);
-                    return Err(self.give_up(&last, h_try));
+                    self.doubling = false;
+                    self.h = h.max(h_floor);
+                    return self.step(sys, t_stop);
                 }
                 continue;
             }
