@@ -1,8 +1,11 @@
 //! [`Dividing`]: a growing [`Line`] whose cells divide by a [`DivisionRule`] — one event
-//! function per cell, located by the integrator on its dense output; at an event the fired cells
-//! are split in *decreasing* index order (pending indices stay valid), the log is written, and
-//! [`EventAction::Resized`] tells the driver to rebuild its banded workspace for the new size
-//! and restart with a consistent `ẏ` (MODEL.md §2.8–2.9).
+//! function per cell, located by the integrator on its dense output; at an event all fired
+//! cells are split in one O(N + k) pass ([`Line::split_cells`]), the log is written (in
+//! decreasing index order), and [`EventAction::Resized`] tells the driver to rebuild its banded
+//! workspace for the new size. With [`Dividing::carry_history`] (default) the resize is mapped
+//! (`map_history`: the interpolated `ẏ` carried onto the new layout) and BDF goes on from it
+//! with a step-doubled first step; otherwise the driver restarts with a consistent `ẏ`
+//! (docs/model.md §2.8–2.9).
 //!
 //! Per-cell rule state (birth time, random threshold) and the material width `ΔX` of each cell
 //! (in initial reference coordinates, halved at each division, so daughters are reported at
