@@ -978,7 +978,7 @@ impl Bdf {
                     Some(f)
                 }
                 // (NaN fails)
-                None if !(err <= 1.0) => {
+                None if err.is_nan() || err > 1.0 => {
                     nef += 1;
                     sys.stats.error_test_failures += 1;
                     let r = 0.9 * (2.0 * err).powf(-0.5);
@@ -1202,7 +1202,7 @@ impl Method for Bdf {
         yp: &[f64],
     ) -> Result<bool, SolverError> {
         let h = self.h;
-        if !self.started || !(h > 0.0 && h.is_finite()) {
+        if !(self.started && h > 0.0 && h.is_finite()) {
             return Ok(false);
         }
         self.start(sys, t, y, yp, Some(h))?;
