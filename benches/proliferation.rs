@@ -7,7 +7,9 @@
 //! skips the report; `PROLIF_K`, `PROLIF_T`, `PROLIF_CAP` set the drag, end time and cell cap of
 //! the proliferating run (default 1e-8, 17, 10⁴; cap 0 = none), `PROLIF_SMOOTH=0` restarts
 //! from the consistent `ẏ` after divisions (`Dividing::smooth_restart = false`, for
-//! comparison), `PROLIF_GROWTH_N` the size of the η comparison (default 1e5; 0 skips it),
+//! comparison), `PROLIF_CARRY=0` makes each division a restart instead of the default mapped
+//! resize with BDF's step-doubled first step (`Dividing::carry_history = false`),
+//! `PROLIF_GROWTH_N` the size of the η comparison (default 1e5; 0 skips it),
 //! `PROLIF_LARGE=0` skips the criterion group to 10⁴ cells.
 //!
 //! Measured numbers and their commands: `BENCHMARKS.md`, section Proliferation.
@@ -37,6 +39,7 @@ fn proliferate(k: f64, t_end: f64, cap: Option<usize>, smooth: bool) -> (usize, 
     let mut div = Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap();
     div.max_cells = cap;
     div.smooth_restart = smooth;
+    div.carry_history = std::env::var("PROLIF_CARRY").as_deref() != Ok("0");
     let mut prob = ArrayProblem::new(div);
     let traj = integrate(&mut prob, &SolveSettings::default(), &[0.0, t_end]);
     if let Some(e) = &traj.error {
@@ -73,15 +76,17 @@ fn report() {
     let wall = start.elapsed().as_secs_f64();
     let s = traj.stats;
     println!(
-        "REPORT proliferation K={k:e} t=[0,{t_end}] cap={cap:?} smooth_restart={smooth}: N 100 -> {cells}, {divs} divisions in {} events, {wall:.2} s, {:.0} divisions/s, {} steps ({:.2} steps/division), {} rejected ({} error-test, {} Newton), {} Jacobians, {} factorizations",
+        "REPORT proliferation K={k:e} t=[0,{t_end}] cap={cap:?} smooth_restart={smooth}: N 100 -> {cells}, {divs} divisions in {} events, {wall:.2} s, {:.0} divisions/s, {} steps ({:.2} steps/division), {} rejected ({:.3}/division; {} error-test, {} Newton), {} Jacobian pairs ({:.3}/division), {} factorizations",
         s.events,
         divs as f64 / wall,
         s.steps,
         s.steps as f64 / divs as f64,
         s.rejected_steps,
+        s.rejected_steps as f64 / divs as f64,
         s.error_test_failures,
         s.newton_failures,
-        s.jacobian_evals,
+        s.jacobian_evals / 2,
+        s.jacobian_evals as f64 / 2.0 / divs as f64,
         s.factorizations
     );
     let n = env("PROLIF_GROWTH_N", 1e5) as usize;

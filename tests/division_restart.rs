@@ -5,8 +5,11 @@
 //! Restarting from the consistent `ẏ` (a new boundary at rest, the others' velocities carrying
 //! tolerance-level position noise amplified by `μ/(K L₀)`) makes BDF reject steps after every
 //! division; restarting from the pre-event velocities and the new boundary's neighbour mean
-//! (`Dividing::smooth_restart`, the default) does not, and gives the same division sequence:
-//! measured 1.15 steps and 0.03 rejected steps per division against 3.72 and 1.60.
+//! (`Dividing::smooth_restart`) does not, and gives the same division sequence: measured 1.15
+//! steps and 0.03 rejected steps per division against 3.72 and 1.60. Both are restarts
+//! (`Dividing::carry_history = false`); the default path (`carry_history`, the mapped `ẏ` and
+//! BDF's step-doubled first step, `tests/proliferation_division_cost.rs`) is checked here to
+//! give the same divisions.
 
 use celltissue::boundary::RightEnd;
 use celltissue::cell::TanhGrowth;
@@ -18,6 +21,10 @@ use integrators::Stats;
 use std::sync::Arc;
 
 fn run(smooth: bool) -> (Stats, Vec<f64>, usize, f64) {
+    run_with(smooth, false)
+}
+
+fn run_with(smooth: bool, carry: bool) -> (Stats, Vec<f64>, usize, f64) {
     let mut p = LineParams::unit_cells(100);
     p.right = RightEnd::Free(None);
     p.k = 1e-8.into();
@@ -25,6 +32,7 @@ fn run(smooth: bool) -> (Stats, Vec<f64>, usize, f64) {
     let line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
     let mut div = Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap();
     div.smooth_restart = smooth;
+    div.carry_history = carry;
     let mut prob = ArrayProblem::new(div);
     let traj = integrate(&mut prob, &SolveSettings::default(), &[0.0, 7.0]);
     assert!(traj.error.is_none(), "{:?}", traj.error);
@@ -76,6 +84,18 @@ fn smooth_restart_avoids_rejections_after_divisions() {
         rs > 1.0,
         "consistent restart no longer rejects ({rs} per division)"
     );
+    // the default path: same divisions and length
+    let (carry, t_carry, n_carry, l_carry) = run_with(true, true);
+    println!("carried: {:?} {carry:?}", per(&carry, t_carry.len()));
+    assert_eq!(n_carry, 800);
+    let dt = t_fast
+        .iter()
+        .zip(&t_carry)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    println!("max |Δt_division| = {dt:e}, l = {l_carry}");
+    assert!(dt < 1e-5, "division times differ by {dt}");
+    assert!((l_fast / l_carry - 1.0).abs() < 1e-5);
 }
 
 /// A dividing line whose right end follows the polynomial ramp (stretched by half, so the

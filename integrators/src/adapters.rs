@@ -20,7 +20,7 @@ use crate::problem::{EventAction, JacobianSink, Problem, ResidualError};
 /// Writes, inside an `impl` block, methods of [`Problem`] that just call the same method on a
 /// field: `forward_problem!(field: method, method, …)`. Each name is one of `dim`, `pattern`,
 /// `residual`, `atol`, `algebraic`, `num_events`, `events`, `handle_event`,
-/// `restart_derivative`, `set_threads`, with [`Problem`]'s signature; `residual<S: Bound>` writes instead a
+/// `restart_derivative`, `map_history`, `set_threads`, with [`Problem`]'s signature; `residual<S: Bound>` writes instead a
 /// residual generic over a scalar `S` taking `&self`, and `jacobian(&self)` a Jacobian taking
 /// `&self` (the shapes of celltissue's `CellArray`, whose other methods share [`Problem`]'s
 /// signatures). The field may be a tuple index (`0`). `atol` forwards the error map
@@ -140,6 +140,11 @@ macro_rules! forward_problem {
     (@one $f:tt restart_derivative) => {
         fn restart_derivative(&mut self, t: f64, y: &[f64], yp: &mut [f64]) {
             self.$f.restart_derivative(t, y, yp)
+        }
+    };
+    (@one $f:tt map_history) => {
+        fn map_history(&self, t: f64, old: &[f64], derivative: bool, new: &mut [f64]) -> bool {
+            self.$f.map_history(t, old, derivative, new)
         }
     };
     (@one $f:tt set_threads) => {

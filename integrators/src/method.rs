@@ -23,6 +23,22 @@ pub trait Method {
         h: Option<f64>,
     ) -> Result<(), SolverError>;
 
+    /// Continues across a resizing event at `t` (inside the last accepted step) instead of
+    /// restarting: the method keeps its history nodes before `t`, maps each onto the new
+    /// layout with [`crate::Problem::map_history`] (through `sys.problem`), puts `(t, y, ẏ)` in
+    /// front and goes on with its order and step size. `y`, `yp`: the state after the event and
+    /// its mapped derivative. Returns `Ok(false)` when it cannot (no history, or the problem
+    /// has no map); the driver then calls [`start`](Method::start). Default: `Ok(false)`.
+    fn resume(
+        &mut self,
+        _sys: &mut System<'_>,
+        _t: f64,
+        _y: &[f64],
+        _yp: &[f64],
+    ) -> Result<bool, SolverError> {
+        Ok(false)
+    }
+
     /// Takes one accepted step, never beyond `t_stop` (landing on it exactly when it is reached).
     /// On error the method's state is the last accepted one.
     fn step(&mut self, sys: &mut System<'_>, t_stop: f64) -> Result<(), SolverError>;

@@ -163,6 +163,19 @@ pub trait Problem {
     /// residual exactly, so only the predictor changes. Default: keep the consistent `ẏ`.
     fn restart_derivative(&mut self, _t: f64, _y: &[f64], _yp: &mut [f64]) {}
 
+    /// After an event answered [`EventAction::Resized`]: writes into `new` (the new
+    /// dimension) the image of `old`, a vector of the layout *before* that event — a state at
+    /// time `t` (`derivative = false`) or a time derivative (`derivative = true`, where affine
+    /// offsets drop out). With such a map a history method (BDF) carries its past solution
+    /// values across the resize ([`crate::Method::resume`]) instead of restarting at order 1
+    /// from a consistent `ẏ` (the SUNDIALS `CVodeResizeHistory` idea). The map should follow
+    /// the material each unknown describes (a split cell's new boundary at the parent's
+    /// midpoint), so the mapped history is as smooth as the solution. Returns `false` when
+    /// there is no such map (default): the driver then restarts the method.
+    fn map_history(&self, _t: f64, _old: &[f64], _derivative: bool, _new: &mut [f64]) -> bool {
+        false
+    }
+
     /// Called by the solver before it integrates, with [`crate::Options::threads`]: the most
     /// threads the problem's own evaluations (residual, directional derivatives) may use.
     /// Default: ignore it (evaluate on the calling thread).

@@ -715,9 +715,22 @@ where
                                 return Err(run.fail(ErrorKind::InvalidInput(e), ts, None));
                             }
                         }
-                        let mut ypnew = ype.clone();
-                        ypnew.resize(ynew.len(), 0.0);
-                        {
+                        // a resize the problem can map (`Problem::map_history`): the method
+                        // carries its history across it (`Method::resume`) and goes on from
+                        // the mapped interpolated ẏ, with no consistent initialisation
+                        let mut ypnew = vec![0.0; ynew.len()];
+                        let mut resumed = false;
+                        if resized && p.map_history(ts, &ype, true, &mut ypnew) {
+                            let mut sys = System::new(p, opts, &mut run.stats, &mut run.cache);
+                            match method.resume(&mut sys, ts, &ynew, &ypnew) {
+                                Ok(r) => resumed = r,
+                                Err(e) => return Err(run.fail_err(e)),
+                            }
+                        }
+                        if !resumed {
+                            ypnew.clear();
+                            ypnew.extend_from_slice(&ype);
+                            ypnew.resize(ynew.len(), 0.0);
                             let mut sys = System::new(p, opts, &mut run.stats, &mut run.cache);
                             if let Err(e) = sys.consistent_init(ts, &mut ynew, &mut ypnew) {
                                 run.sol.t_last = ts;
@@ -735,6 +748,10 @@ where
                         if run.next_out == t_out.len() {
                             run.sol.stats = run.stats;
                             return Ok(run.sol);
+                        }
+                        if resumed {
+                            restarted = true;
+                            break;
                         }
                         let hint = method.h_next();
                         let hint = if hint > 0.0 && hint.is_finite() {

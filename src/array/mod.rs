@@ -134,6 +134,12 @@ pub trait CellArray {
     /// [`integrators::Problem::restart_derivative`]); default: the consistent one.
     fn restart_derivative(&mut self, _t: f64, _y: &[f64], _yp: &mut [f64]) {}
 
+    /// Maps a vector of the layout before the last resizing event onto the current one (see
+    /// [`integrators::Problem::map_history`]); default: no map (the integrator restarts).
+    fn map_history(&self, _t: f64, _old: &[f64], _derivative: bool, _new: &mut [f64]) -> bool {
+        false
+    }
+
     /// Threads the residual sweep may use, passed in by the solver from
     /// [`integrators::Options::threads`] (see [`integrators::Problem::set_threads`]); default:
     /// ignore it.
@@ -165,7 +171,7 @@ impl<A: CellArray> ArrayProblem<A> {
 
 impl<A: CellArray> Problem for ArrayProblem<A> {
     integrators::forward_problem!(array: dim, residual, pattern, atol, algebraic, num_events,
-        events, handle_event, restart_derivative, set_threads);
+        events, handle_event, restart_derivative, map_history, set_threads);
 
     fn jacobian(
         &mut self,

@@ -1,8 +1,11 @@
 //! [`Dividing`]: a growing [`Line`] whose cells divide by a [`DivisionRule`] — one event
-//! function per cell, located by the integrator on its dense output; at an event the fired cells
-//! are split in *decreasing* index order (pending indices stay valid), the log is written, and
-//! [`EventAction::Resized`] tells the driver to rebuild its banded workspace for the new size
-//! and restart with a consistent `ẏ` (docs/model.md §2.8–2.9).
+//! function per cell, located by the integrator on its dense output; at an event all fired
+//! cells are split in one O(N + k) pass ([`Line::split_cells`]), the log is written (in
+//! decreasing index order), and [`EventAction::Resized`] tells the driver to rebuild its banded
+//! workspace for the new size. With [`Dividing::carry_history`] (default) the resize is mapped
+//! (`map_history`: the interpolated `ẏ` carried onto the new layout) and BDF goes on from it
+//! with a step-doubled first step; otherwise the driver restarts with a consistent `ẏ`
+//! (docs/model.md §2.8–2.9).
 //!
 //! Per-cell rule state (birth time, random threshold) and the material width `ΔX` of each cell
 //! (in initial reference coordinates, halved at each division, so daughters are reported at
@@ -38,6 +41,18 @@ pub struct InvariantReport {
     pub sigma_el_jump: f64,
     /// Same for the elastic pressure `p_el`.
     pub p_el_jump: f64,
+}
+
+/// What the last event did to the layout: enough to map a vector of the old layout onto the
+/// new one in one O(N + k) pass ([`Dividing`]'s `map_history`).
+#[derive(Clone, Debug, Default)]
+struct SplitMap {
+    /// Cells before the event.
+    n_old: usize,
+    /// Divided cells (old 1-based indices, increasing).
+    cells: Vec<usize>,
+    /// Each divided cell's `g` at division.
+    g_parent: Vec<f64>,
 }
 
 /// A growing line with cell division (see the module docs).
@@ -84,6 +99,12 @@ pub struct Dividing<E: StrainEnergy> {
     /// instead of the consistent `ẏ` (default `true`; see [`CellArray::restart_derivative`]
     /// on this type). `false` restores the plain consistent restart, for comparison.
     pub smooth_restart: bool,
+    /// Carry the integrator's history across each division ([`CellArray::map_history`] on
+    /// this type; default `true`). `false` makes every division a restart of the method from
+    /// a consistent state, for comparison.
+    pub carry_history: bool,
+    /// The last event's splits, for [`CellArray::map_history`].
+    last: Option<SplitMap>,
     /// Boundaries inserted by the last event (indices in the resized line).
     new_boundaries: Vec<usize>,
     /// The integrator's interpolated `ẏ` at the last event, mapped to the resized layout.
@@ -116,6 +137,8 @@ impl<E: StrainEnergy> Dividing<E> {
             n0: n,
             check_invariants: None,
             smooth_restart: true,
+            carry_history: true,
+            last: None,
             new_boundaries: Vec::new(),
             yp_event: Vec::new(),
             rng,
@@ -157,31 +180,146 @@ impl<E: StrainEnergy> Dividing<E> {
         (xs, sum, cells)
     }
 
-    /// Splits cell `j` (1-based) and logs it.
-    fn divide(&mut self, j: usize, t: f64, y: &mut Vec<f64>) -> Result<(), EventError> {
-        let s = self.line.split_cell(j, t, y)?;
-        let i = j - 1;
-        let ta = self.rule.draw_threshold(&mut self.rng);
-        let tb = self.rule.draw_threshold(&mut self.rng);
-        self.birth[i] = t;
-        self.birth.insert(i + 1, t);
-        self.threshold[i] = ta;
-        self.threshold.insert(i + 1, tb);
-        let d = 0.5 * self.dx_ref[i];
-        let x = self.line.cells.x_ref[i];
-        self.dx_ref[i] = d;
-        self.dx_ref.insert(i + 1, d);
-        self.line.cells.x_ref[i] = x - 0.5 * d;
-        self.line.cells.x_ref[i + 1] = x + 0.5 * d;
+    /// Splits the cells `asc` (1-based, increasing) in one O(N + k) pass and logs them
+    /// (records in decreasing index order, as the cells were split one by one before).
+    fn divide(&mut self, asc: &[usize], t: f64, y: &mut Vec<f64>) -> Result<(), EventError> {
+        let n_old = self.line.n_cells();
+        let splits = self.line.split_cells(asc, t, y)?;
+        // thresholds drawn in decreasing index order, lower daughter first (reproducible)
+        let mut draws = vec![(0.0, 0.0); asc.len()];
+        for d in draws.iter_mut().rev() {
+            let a = self.rule.draw_threshold(&mut self.rng);
+            *d = (a, self.rule.draw_threshold(&mut self.rng));
+        }
+        let k = asc.len();
+        let mut birth = Vec::with_capacity(n_old + k);
+        let mut threshold = Vec::with_capacity(n_old + k);
+        let mut dx_ref = Vec::with_capacity(n_old + k);
+        let mut f = asc.iter().zip(&draws).peekable();
+        for i in 0..n_old {
+            match f.next_if(|(&j, _)| j == i + 1) {
+                Some((_, &(ta, tb))) => {
+                    let d = 0.5 * self.dx_ref[i];
+                    birth.extend_from_slice(&[t, t]);
+                    threshold.extend_from_slice(&[ta, tb]);
+                    dx_ref.extend_from_slice(&[d, d]);
+                    // the daughters' material centres X ∓ ΔX/4
+                    let c = birth.len() - 2;
+                    let x = self.line.cells.x_ref[c];
+                    self.line.cells.x_ref[c] = x - 0.5 * d;
+                    self.line.cells.x_ref[c + 1] = x + 0.5 * d;
+                }
+                None => {
+                    birth.push(self.birth[i]);
+                    threshold.push(self.threshold[i]);
+                    dx_ref.push(self.dx_ref[i]);
+                }
+            }
+        }
+        self.birth = birth;
+        self.threshold = threshold;
+        self.dx_ref = dx_ref;
         let l = self.length(t, y);
-        self.log.push(DivisionRecord {
-            t,
-            parent: j,
-            x: s.x_new,
-            x_over_length: s.x_new / l,
-            cells_after: self.line.n_cells(),
+        for (m, (&j, s)) in asc.iter().zip(&splits).enumerate().rev() {
+            self.log.push(DivisionRecord {
+                t,
+                parent: j,
+                x: s.x_new,
+                x_over_length: s.x_new / l,
+                cells_after: n_old + k - m,
+            });
+        }
+        self.last = Some(SplitMap {
+            n_old,
+            cells: asc.to_vec(),
+            g_parent: splits.iter().map(|s| s.g_parent).collect(),
         });
         Ok(())
+    }
+
+    /// Maps a vector of the layout before the last event onto the current one (see
+    /// [`CellArray::map_history`] on this type).
+    fn map_split(&self, t: f64, old: &[f64], derivative: bool, new: &mut [f64]) -> bool {
+        let Some(m) = &self.last else {
+            return false;
+        };
+        let free = self.line.right.is_free();
+        let n_old = m.n_old;
+        // the growing, non-periodic layout: (g₁, x₁, …, g_N, [x_N])
+        let dim_old = 2 * n_old - usize::from(!free);
+        if old.len() != dim_old || new.len() != self.line.layout.dim {
+            return false;
+        }
+        let n_new = self.line.n_cells();
+        let right = |t: f64| {
+            let (x, v) = self.line.boundary::<f64>(n_new, t, &[], &[]);
+            if derivative {
+                v
+            } else {
+                x
+            }
+        };
+        let mut w = 0;
+        let mut f = m.cells.iter().zip(&m.g_parent).peekable();
+        for j in 1..=n_old {
+            let gk = 2 * (j - 1);
+            let has_x = j < n_old || free;
+            let g = old[gk];
+            if let Some((_, &gs)) = f.next_if(|(&c, _)| c == j) {
+                // the wall x₀ = 0 does not move
+                let xl = if j == 1 { 0.0 } else { old[gk - 1] };
+                let xr = if has_x { old[gk + 1] } else { right(t) };
+                // a daughter grows at its parent's rate ġ = G(σ) from g = 1
+                let gd = if derivative { g } else { g - gs + 1.0 };
+                new[w..w + 3].copy_from_slice(&[gd, 0.5 * (xl + xr), gd]);
+                w += 3;
+            } else {
+                new[w] = g;
+                w += 1;
+            }
+            if has_x {
+                new[w] = old[gk + 1];
+                w += 1;
+            }
+        }
+        debug_assert_eq!(w, new.len());
+        true
+    }
+
+    /// Event values of a rule that reads the cells' geometry and mechanics: one O(N) sweep
+    /// evaluating each cell once (its elastic state; the viscous stress with `ẏ = 0`, since
+    /// the event functions see only `y`).
+    fn mechanical_events(&self, t: f64, y: &[f64], g: &mut [f64]) {
+        let line = &self.line;
+        let n = line.n_cells();
+        let zero = vec![0.0; y.len()];
+        let g2 = line.g2;
+        let mut xs = Vec::with_capacity(n + 1);
+        xs.extend((0..=n).map(|b| line.boundary(b, t, y, &zero).0));
+        let len = |j: usize| -> f64 {
+            if (1..=n).contains(&j) {
+                xs[j] - xs[j - 1]
+            } else {
+                f64::NAN
+            }
+        };
+        for (i, out) in g.iter_mut().enumerate() {
+            let j = i + 1;
+            let k = line.layout.gi[i];
+            let gj = if k == NONE { 1.0 } else { y[k] };
+            let mut c = CellView::growth_only(gj * g2, t - self.birth[i], self.threshold[i]);
+            c.length = len(j);
+            c.position = 0.5 * (xs[j - 1] + xs[j]);
+            c.neighbour_lengths = [len(j - 1), len(j + 1)];
+            if let Ok(e) = line.eval_cell(j, t, y, &zero) {
+                c.width = e.w;
+                c.area = c.length * e.w;
+                c.stress = e.sigma;
+                c.pressure =
+                    line.cells.mu[i] * line.energy.line(e.alpha).pressure + line.cells.p_ext[i];
+            }
+            *out = self.rule.event(&c);
+        }
     }
 
     fn record_invariants(
@@ -247,14 +385,18 @@ impl<E: StrainEnergy> CellArray for Dividing<E> {
             return;
         }
         let g2 = self.line.g2;
+        if self.rule.needs_mechanics() {
+            self.mechanical_events(t, y, g);
+            return;
+        }
         for (j, out) in g.iter_mut().enumerate() {
             let k = self.line.layout.gi[j];
             let gj = if k == NONE { 1.0 } else { y[k] };
-            *out = self.rule.event(&CellView {
-                area_ratio: gj * g2,
-                age: t - self.birth[j],
-                threshold: self.threshold[j],
-            });
+            *out = self.rule.event(&CellView::growth_only(
+                gj * g2,
+                t - self.birth[j],
+                self.threshold[j],
+            ));
         }
     }
     fn handle_event(
@@ -267,41 +409,49 @@ impl<E: StrainEnergy> CellArray for Dividing<E> {
         let mut order: Vec<usize> = fired.iter().map(|&i| i + 1).collect();
         order.sort_unstable();
         order.dedup();
-        let before = self.check_invariants.map(|_| self.elastic(t, y));
-        let mut done = Vec::with_capacity(order.len());
-        self.yp_event.clear();
-        if yp.len() == y.len() {
-            self.yp_event.extend_from_slice(yp);
+        // with a cap, the highest-index cells divide first (as when split one by one)
+        if let Some(cap) = self.max_cells {
+            let room = cap.saturating_sub(self.line.n_cells());
+            let drop = order.len().saturating_sub(room);
+            order.drain(..drop);
         }
-        for &j in order.iter().rev() {
-            if self.capped() {
-                break;
-            }
-            let gk = self.line.layout.gi.get(j - 1).copied().unwrap_or(NONE);
-            self.divide(j, t, y)
-                .map_err(|e| ResidualError::Fatal(e.to_string()))?;
-            if !self.yp_event.is_empty() && gk != NONE {
-                // same splice as the state: (.., ġ_j, ẋ_j, ..) -> (.., ġ, ẋ_new, ġ, ẋ_j, ..)
-                let gd = self.yp_event[gk];
-                self.yp_event.splice(gk..gk + 1, [gd, 0.0, gd]);
-            }
-            done.push(j);
-        }
-        if self.yp_event.len() != y.len() {
-            self.yp_event.clear();
-        }
-        if done.is_empty() {
+        self.last = None;
+        if order.is_empty() {
             return Ok(EventAction::Continue);
         }
-        // `done` is descending; the k-th split in ascending order inserted boundary j + k
+        let before = self.check_invariants.map(|_| self.elastic(t, y));
+        let dim_old = y.len();
+        self.divide(&order, t, y)
+            .map_err(|e| ResidualError::Fatal(e.to_string()))?;
+        self.yp_event.clear();
+        if yp.len() == dim_old {
+            self.yp_event.resize(y.len(), 0.0);
+            let mut v = std::mem::take(&mut self.yp_event);
+            if !self.map_split(t, yp, true, &mut v) {
+                v.clear();
+            }
+            self.yp_event = v;
+        }
+        // the k-th split in ascending order inserted boundary j + k
         self.new_boundaries.clear();
         self.new_boundaries
-            .extend(done.iter().rev().enumerate().map(|(k, &j)| j + k));
+            .extend(order.iter().enumerate().map(|(k, &j)| j + k));
         if let Some(b) = before {
-            done.reverse();
-            self.record_invariants(t, &done, b, y);
+            self.record_invariants(t, &order, b, y);
         }
         Ok(EventAction::Resized)
+    }
+
+    /// The map of the last division event (see [`integrators::Problem::map_history`]): old
+    /// boundaries keep their values; a divided cell's new boundary is the parent's material
+    /// midpoint `½(x_{j−1} + x_j)` at every history time (exact: a cell deforms uniformly);
+    /// each daughter's `g` is the parent's shifted to 1 at division, `g − g* + 1`, so it keeps
+    /// the parent's rate `ġ = G(σ)` (the daughters' stress equals the parent's). The velocity
+    /// field is continuous at a division with `η = 0` (forces are), so a BDF history mapped
+    /// this way stays smooth to first order; only `ẍ` kinks (each daughter grows at the
+    /// parent's absolute rate). Off with [`Dividing::carry_history`] `= false`.
+    fn map_history(&self, t: f64, old: &[f64], derivative: bool, new: &mut [f64]) -> bool {
+        self.carry_history && self.map_split(t, old, derivative, new)
     }
 
     /// Restart derivative after a division, for lines without viscosity (`η = 0` in every

@@ -10,7 +10,9 @@
 
 use serde::{Deserialize, Serialize};
 
-/// What a rule sees of one cell.
+/// What a rule sees of one cell: its growth and age, and (for rules whose
+/// [`DivisionRule::needs_mechanics`] is `true`) its geometry and mechanics at the current
+/// state. Mechanical fields are `NaN` for rules that do not ask for them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CellView {
     /// Area ratio `A/A₀ = g·g₂`.
@@ -19,6 +21,50 @@ pub struct CellView {
     pub age: f64,
     /// The cell's threshold drawn at birth ([`DivisionRule::draw_threshold`]; `NaN` if unused).
     pub threshold: f64,
+    /// Current length `x_j − x_{j−1}`.
+    pub length: f64,
+    /// Current width `W = γ₀ g₂/α` (incompressible cell).
+    pub width: f64,
+    /// Current area `length·width` (`= A₀ g g₂`).
+    pub area: f64,
+    /// Axial stress `σ` (elastic, viscous and active parts).
+    pub stress: f64,
+    /// Elastic pressure `μ p(α)`.
+    pub pressure: f64,
+    /// Centre position `½(x_{j−1} + x_j)`.
+    pub position: f64,
+    /// Lengths of the left and right neighbours (`NaN` at an end of the line).
+    pub neighbour_lengths: [f64; 2],
+}
+
+impl CellView {
+    /// A view with growth and age only (mechanical fields `NaN`).
+    ///
+    /// ```
+    /// use celltissue::events::CellView;
+    /// let c = CellView::growth_only(1.5, 2.0, f64::NAN);
+    /// assert_eq!(c.area_ratio, 1.5);
+    /// assert!(c.length.is_nan());
+    /// ```
+    pub fn growth_only(area_ratio: f64, age: f64, threshold: f64) -> Self {
+        Self {
+            area_ratio,
+            age,
+            threshold,
+            length: f64::NAN,
+            width: f64::NAN,
+            area: f64::NAN,
+            stress: f64::NAN,
+            pressure: f64::NAN,
+            position: f64::NAN,
+            neighbour_lengths: [f64::NAN; 2],
+        }
+    }
+
+    /// Perimeter over area of the cell's 2D shape, `2(1/length + 1/width)`.
+    pub fn surface_to_volume(&self) -> f64 {
+        2.0 * (1.0 / self.length + 1.0 / self.width)
+    }
 }
 
 /// A division rule: an event function that crosses zero upwards when a cell should divide.
@@ -26,7 +72,7 @@ pub struct CellView {
 /// ```
 /// use celltissue::events::{AreaDoubling, CellView, DivisionRule};
 /// let rule = AreaDoubling::default();
-/// let cell = CellView { area_ratio: 1.5, age: 1.0, threshold: f64::NAN };
+/// let cell = CellView::growth_only(1.5, 1.0, f64::NAN);
 /// assert_eq!(rule.event(&cell), -0.5); // divides when g g₂ reaches 2
 /// ```
 pub trait DivisionRule: Send + Sync {
@@ -40,6 +86,45 @@ pub trait DivisionRule: Send + Sync {
 
     /// Short name for logs.
     fn name(&self) -> String;
+
+    /// Whether [`event`](DivisionRule::event) reads the geometry and mechanics of
+    /// [`CellView`] (default `false`: they are then not computed, and are `NaN`).
+    fn needs_mechanics(&self) -> bool {
+        false
+    }
+}
+
+/// Division when the cell's perimeter-to-area ratio `2(1/ℓ + 1/W)` falls to `critical`
+/// (thesis Ch. 5: a cell divides when its surface can no longer supply its volume). Unlike the
+/// area rule it sees the shape: a cell compressed along the line (small `ℓ`, large `W`) keeps
+/// a larger ratio and divides later than a stretched one of the same area.
+///
+/// ```
+/// use celltissue::events::{CellView, DivisionRule, SurfaceToVolume};
+/// let rule = SurfaceToVolume { critical: 3.0 };
+/// let mut c = CellView::growth_only(2.0, 0.0, f64::NAN);
+/// (c.length, c.width) = (2.0, 1.0); // P/A = 2(1/2 + 1) = 3
+/// assert_eq!(rule.event(&c), 0.0);
+/// (c.length, c.width) = (1.0, 2.0); // same area, same ratio (a square of side √2 has 2.83)
+/// assert_eq!(rule.event(&c), 0.0);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SurfaceToVolume {
+    /// Perimeter-to-area ratio at division, > 0 (in 1/length; unit cells start at 4).
+    pub critical: f64,
+}
+
+impl DivisionRule for SurfaceToVolume {
+    fn event(&self, c: &CellView) -> f64 {
+        self.critical - c.surface_to_volume()
+    }
+    fn name(&self) -> String {
+        format!("surface to volume {}", self.critical)
+    }
+    fn needs_mechanics(&self) -> bool {
+        true
+    }
 }
 
 /// Division when the footprint area reaches `ratio` times its reference value (default 2).
@@ -123,7 +208,8 @@ impl DivisionRule for RandomThreshold {
 }
 
 /// The rule as written in a scenario: `division = { rule = "area", ratio = 2 }`,
-/// `{ rule = "age", period = 2 }` or `{ rule = "random_area", mean = 2, spread = 0.2, seed = 1 }`,
+/// `{ rule = "age", period = 2 }`, `{ rule = "random_area", mean = 2, spread = 0.2, seed = 1 }`
+/// or `{ rule = "surface_to_volume", critical = 3 }`,
 /// plus an optional cap `max_cells` (no division once `N` reaches it).
 ///
 /// ```
@@ -172,6 +258,8 @@ pub enum RuleConfig {
     Age(AgeRule),
     /// [`RandomThreshold`].
     RandomArea(RandomThreshold),
+    /// [`SurfaceToVolume`].
+    SurfaceToVolume(SurfaceToVolume),
 }
 
 impl DivisionConfig {
@@ -192,6 +280,9 @@ impl DivisionConfig {
             RuleConfig::RandomArea(r) if !(r.mean - r.spread > 1.0 && r.mean.is_finite()) => {
                 bad("mean", r.mean, "finite with mean - spread > 1")
             }
+            RuleConfig::SurfaceToVolume(r) if !(r.critical > 0.0 && r.critical.is_finite()) => {
+                bad("critical", r.critical, "finite and > 0")
+            }
             _ => match self.max_cells {
                 Some(0) => Err("invalid `division.max_cells` = 0: must be >= 1".into()),
                 _ => Ok(()),
@@ -205,6 +296,7 @@ impl DivisionConfig {
             RuleConfig::Area(a) => Box::new(*a),
             RuleConfig::Age(a) => Box::new(*a),
             RuleConfig::RandomArea(r) => Box::new(*r),
+            RuleConfig::SurfaceToVolume(r) => Box::new(*r),
         }
     }
 
@@ -258,11 +350,7 @@ mod tests {
 
     #[test]
     fn rules_cross_zero_upwards_at_division() {
-        let c = |a: f64, age: f64, th: f64| CellView {
-            area_ratio: a,
-            age,
-            threshold: th,
-        };
+        let c = CellView::growth_only;
         assert!(AreaDoubling::default().event(&c(1.99, 0.0, 0.0)) < 0.0);
         assert!(AreaDoubling::default().event(&c(2.01, 0.0, 0.0)) > 0.0);
         let age = AgeRule { period: 3.0 };

@@ -1,18 +1,24 @@
 //! Cell division as integrator events (thesis §3.1.8, §3.3.2; docs/model.md §2.8, §5.5).
 //!
-//! * [`division`] — the [`DivisionRule`] trait and rules: [`AreaDoubling`] (default:
+//! * [`division`] — the [`DivisionRule`] trait (a rule sees a [`CellView`]: growth, age, and
+//!   on request length, width, area, stress, pressure, position, neighbours) and rules:
+//!   [`SurfaceToVolume`] (thesis Ch. 5), [`AreaDoubling`] (default:
 //!   `A/A₀ = g g₂` reaches 2), [`AgeRule`] (fixed cycle time) and [`RandomThreshold`] (per-cell
 //!   threshold drawn at birth from a seeded [`SplitMix64`]); [`DivisionConfig`] is the
 //!   scenario's `division = { rule = … }` table;
-//! * [`reindex`] — `Line::split_cell`: two daughters of reference length `L₀g/2` with `g = 1`
-//!   and the parent's material parameters, a boundary at the midpoint, indices shifted — O(N);
-//! * [`dividing`] — [`Dividing`], the growing line with one event function per cell; fired
-//!   cells are split in decreasing index order and the driver restarts with a consistent `ẏ` and
-//!   the banded pattern rebuilt for the new size ([`integrators::EventAction::Resized`]); an
-//!   inviscid line restarts the integrator from the pre-event velocities and the mean velocity
-//!   of each new boundary's neighbours ([`crate::array::CellArray::restart_derivative`]), not
-//!   from the consistent `ẏ`, whose resting new boundary and noise-amplified velocities
-//!   (`∝ μ/(K L₀)`) made every restart reject steps and, at K ≤ 1e-7, fail;
+//! * [`reindex`] — `Line::split_cell` / `Line::split_cells`: two daughters of reference
+//!   length `L₀g/2` with `g = 1` and the parent's material parameters, a boundary at the
+//!   midpoint; all `k` cells that fire at one time in one O(N + k) pass;
+//! * [`dividing`] — [`Dividing`], the growing line with one event function per cell; the fired
+//!   cells are split together and the driver resizes. By default
+//!   ([`Dividing::carry_history`]) the event is a mapped resize
+//!   ([`integrators::Problem::map_history`]: the interpolated `ẏ` carried onto the new layout —
+//!   a new boundary at its parent's midpoint velocity, a daughter's `ġ` its parent's — with no
+//!   consistent initialisation) and BDF goes on at order 1 with a step-doubled first step
+//!   ([`integrators::Method::resume`]): one Jacobian per division. Otherwise the method
+//!   restarts from a consistent `ẏ` ([`crate::array::CellArray::restart_derivative`] replaces
+//!   it for an inviscid line by the pre-event velocities, whose resting new boundary and
+//!   noise-amplified velocities (`∝ μ/(K L₀)`) made every restart reject steps);
 //! * [`log`] — [`DivisionLog`]: time, parent, `x_d`, `x_d/l`, `N` after; CSV; `N(t)`, median
 //!   `x_d/l`;
 //! * [`plots`] — the division scatter and log–log `l(t)`, `N(t)` figures (Fig. 3.3);
@@ -39,7 +45,7 @@ pub mod run;
 pub use dividing::{Dividing, InvariantReport};
 pub use division::{
     AgeRule, AreaDoubling, CellView, DivisionConfig, DivisionRule, RandomThreshold, RuleConfig,
-    SplitMix64, DEFAULT_MAX_CELLS,
+    SplitMix64, SurfaceToVolume, DEFAULT_MAX_CELLS,
 };
 pub use log::DivisionLog;
 pub use reindex::Split;

@@ -1,11 +1,14 @@
-//! Splitting one cell of a [`Line`] into two daughters (docs/model.md §2.8), in O(N):
+//! Splitting cells of a [`Line`] into two daughters each (docs/model.md §2.8): one cell in
+//! O(N) ([`Line::split_cell`]), or all `k` cells that fire at one time in one O(N + k) pass
+//! ([`Line::split_cells`]):
 //!
 //! * daughters: reference length `L₀g/2` each, `g = 1`, the parent's `μ`, `η`, drag, active
 //!   amplitude and phase `t_R`;
 //! * a new boundary at the midpoint `x_new = ½(x_{j−1} + x_j)` with the mean of the parent's two
 //!   boundary drags (`K` for uniform drag);
 //! * indices `> j` shift by one (one `Vec::insert` per per-cell field and one `splice` of the
-//!   state), and the unknown layout is rebuilt.
+//!   state; [`Line::split_cells`] rebuilds each field once with all daughters in place), and
+//!   the unknown layout is rebuilt.
 //!
 //! Continuous by construction: every existing boundary position (hence `l`), `Σ L₀g`, and each
 //! daughter's elastic stretch `α = λ/g` (equal to the parent's), hence elastic `σ` and `p`.
@@ -123,4 +126,155 @@ impl<E: StrainEnergy> Line<E> {
             l0_daughter: l0_d,
         })
     }
+
+    /// Divides every cell in `cells` (1-based, strictly increasing) of the state `y` in one
+    /// O(N + k) pass: each per-cell field, the boundary drags and `y` are rebuilt once with the
+    /// daughters in place (the result is the same as [`split_cell`](Line::split_cell) applied
+    /// in decreasing index order). Returns the splits in the order of `cells`; a split's
+    /// `x_new` is the new boundary's position. Nothing changes on error.
+    ///
+    /// ```
+    /// use celltissue::line::build::{discrete, LineParams};
+    /// use celltissue::boundary::RightEnd;
+    /// use celltissue::cell::TanhGrowth;
+    /// use celltissue::NeoHookean;
+    /// use std::sync::Arc;
+    /// let mut p = LineParams::unit_cells(3);
+    /// p.right = RightEnd::Free(None);
+    /// p.k = 1e-5.into();
+    /// p.growth = Some(Arc::new(TanhGrowth::default()));
+    /// let mut line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+    /// let mut y = line.initial_state(); // (g1, x1, g2, x2, g3, x3)
+    /// y[0] = 2.0;
+    /// y[4] = 2.0;
+    /// let s = line.split_cells(&[1, 3], 0.0, &mut y).unwrap();
+    /// assert_eq!((s[0].x_new, s[1].x_new), (0.5, 2.5));
+    /// assert_eq!(y, vec![1.0, 0.5, 1.0, 1.0, 1.0, 2.0, 1.0, 2.5, 1.0, 3.0]);
+    /// assert_eq!(line.cells().l0, vec![1.0, 1.0, 1.0, 1.0, 1.0]);
+    /// ```
+    pub fn split_cells(
+        &mut self,
+        cells: &[usize],
+        t: f64,
+        y: &mut Vec<f64>,
+    ) -> Result<Vec<Split>, EventError> {
+        let n = self.n_cells();
+        if self.right.is_periodic() {
+            return Err(EventError::Unsupported(
+                "division on a periodic line (the ring period would change)".into(),
+            ));
+        }
+        if self.maxwell.is_some() {
+            return Err(EventError::Unsupported(
+                "division of cells with a Maxwell branch (the viscous stretch is not split)".into(),
+            ));
+        }
+        if y.len() != self.layout.dim {
+            return Err(EventError::StateLength {
+                got: y.len(),
+                expected: self.layout.dim,
+            });
+        }
+        let mut splits = Vec::with_capacity(cells.len());
+        let mut prev = 0;
+        for &j in cells {
+            if j == 0 || j > n {
+                return Err(EventError::NoSuchCell { cell: j, cells: n });
+            }
+            if j <= prev {
+                return Err(EventError::Unsupported(format!(
+                    "cells to split must be strictly increasing ({prev} then {j})"
+                )));
+            }
+            prev = j;
+            let gk = self.layout.gi[j - 1];
+            if gk == NONE {
+                return Err(EventError::Unsupported(
+                    "division without growth (`g` is not in the state)".into(),
+                ));
+            }
+            let (xl, _) = self.boundary(j - 1, t, y, y);
+            let (xr, _) = self.boundary(j, t, y, y);
+            let g = y[gk];
+            if !(g > 0.0 && g.is_finite() && xr > xl) {
+                return Err(EventError::Degenerate {
+                    cell: j,
+                    reason: format!("g = {g}, length = {}", xr - xl),
+                });
+            }
+            splits.push(Split {
+                x_new: 0.5 * (xl + xr),
+                g_parent: g,
+                l0_daughter: 0.5 * self.cells.l0[j - 1] * g,
+            });
+        }
+        if cells.is_empty() {
+            return Ok(splits);
+        }
+        let k = cells.len();
+        // per-cell fields: the daughter copies its parent (l0 is replaced below)
+        let c = &mut self.cells;
+        for v in [
+            &mut c.l0,
+            &mut c.mu,
+            &mut c.eta,
+            &mut c.k_cell,
+            &mut c.active_amp,
+            &mut c.phase,
+            &mut c.x_ref,
+            &mut c.p_ext,
+        ] {
+            *v = duplicate(v, cells, k);
+        }
+        let mut shift = 0;
+        for (&j, s) in cells.iter().zip(&splits) {
+            let i = j - 1 + shift;
+            self.l0_total += s.l0_daughter * 2.0 - c.l0[i];
+            c.l0[i] = s.l0_daughter;
+            c.l0[i + 1] = s.l0_daughter;
+            shift += 1;
+        }
+        // boundary drags: the new boundary j (between the daughters) has the mean of its
+        // parent's two
+        let mut kf = Vec::with_capacity(self.k_face.len() + k);
+        let mut f = cells.iter().peekable();
+        for (b, &kb) in self.k_face.iter().enumerate() {
+            if f.next_if(|&&j| j == b).is_some() {
+                kf.push(0.5 * (self.k_face[b - 1] + kb));
+            }
+            kf.push(kb);
+        }
+        self.k_face = kf;
+        // state: (.., g_j, x_j, ..) -> (.., 1, x_new, 1, x_j, ..)
+        let mut out = Vec::with_capacity(y.len() + 2 * k);
+        let mut f = cells.iter().zip(&splits).peekable();
+        for j in 1..=n {
+            let gk = self.layout.gi[j - 1];
+            match f.next_if(|(&c, _)| c == j) {
+                Some((_, s)) => out.extend_from_slice(&[1.0, s.x_new, 1.0]),
+                None => out.push(y[gk]),
+            }
+            let xk = self.layout.xi[j];
+            if xk != NONE {
+                out.push(y[xk]);
+            }
+        }
+        *y = out;
+        self.rebuild_layout();
+        debug_assert_eq!(y.len(), self.layout.dim);
+        Ok(splits)
+    }
+}
+
+/// `v` with the entry of each cell in `cells` (1-based, increasing) repeated once after it.
+fn duplicate<T: Copy>(v: &[T], cells: &[usize], k: usize) -> Vec<T> {
+    let mut out = Vec::with_capacity(v.len() + k);
+    let mut f = cells.iter().peekable();
+    for (i, &x) in v.iter().enumerate() {
+        out.push(x);
+        if f.next_if(|&&j| j == i + 1).is_some() {
+            out.push(x);
+        }
+    }
+    out
 }
