@@ -1,9 +1,22 @@
 //! `run`, `validate` and `list`.
 
-use super::{catalogue, BAD_INPUT, OK, RUN_FAILED};
+use super::{catalogue, merge, BAD_INPUT, OK, RUN_FAILED};
+use celltissue::observe::Summary;
 use celltissue::output::{self, finite};
+use celltissue::scenario::parallel::{run_parallel, Shard};
 use celltissue::scenario::{self, execute};
 use std::path::Path;
+
+/// How `run` schedules the scenario's runs.
+#[derive(Debug, Clone, Default)]
+pub struct RunOptions {
+    /// No progress lines.
+    pub quiet: bool,
+    /// Runs at once (≥ 1).
+    pub jobs: usize,
+    /// `--shard` as given (`i/n` or `auto`).
+    pub shard: Option<String>,
+}
 
 /// Loads and validates, or prints the error (exit code 2).
 fn load(path: &Path, sets: &[String]) -> Result<scenario::Scenario, i32> {
@@ -14,10 +27,22 @@ fn load(path: &Path, sets: &[String]) -> Result<scenario::Scenario, i32> {
 }
 
 /// `celltissue run`.
-pub fn run(path: &Path, out: &Path, sets: &[String], quiet: bool) -> i32 {
+pub fn run(path: &Path, out: &Path, sets: &[String], opts: RunOptions) -> i32 {
+    let quiet = opts.quiet;
     let scenario = match load(path, sets) {
         Ok(s) => s,
         Err(code) => return code,
+    };
+    let shard = match opts.shard.as_deref().map(|s| match s {
+        "auto" => Shard::from_slurm(|k| std::env::var(k).ok()),
+        s => s.parse(),
+    }) {
+        None => None,
+        Some(Ok(s)) => Some(s),
+        Some(Err(e)) => {
+            eprintln!("error: {e}");
+            return BAD_INPUT;
+        }
     };
     if let Some(sweep) = &scenario.sweep {
         let swept = sets
@@ -32,10 +57,16 @@ pub fn run(path: &Path, out: &Path, sets: &[String], quiet: bool) -> i32 {
             );
         }
     }
-    let total = scenario.runs.len();
+    let indices: Vec<usize> = match shard {
+        Some(s) => s.indices(scenario.runs.len()),
+        None => (0..scenario.runs.len()).collect(),
+    };
+    let total = indices.len();
     let mut k = 0;
-    let summary = execute::run_all(
+    let runs = run_parallel(
         &scenario,
+        &indices,
+        opts.jobs,
         |spec| {
             let mut rec = execute::run_spec_in(spec, Some(out));
             finite::sanitize(&mut rec);
@@ -57,7 +88,50 @@ pub fn run(path: &Path, out: &Path, sets: &[String], quiet: bool) -> i32 {
             }
         },
     );
-    let written = match output::write_all(out, &scenario, &summary) {
+    let runs = match runs {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return BAD_INPUT;
+        }
+    };
+    if let Some(shard) = shard {
+        return match merge::write_shard(out, &scenario, shard, &indices, &runs) {
+            Ok(path) => {
+                if !quiet {
+                    eprintln!(
+                        "wrote shard {}/{} ({} of {} runs) to {}",
+                        shard.index,
+                        shard.count,
+                        runs.len(),
+                        scenario.runs.len(),
+                        path.display()
+                    );
+                }
+                report_failures(&runs)
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                RUN_FAILED
+            }
+        };
+    }
+    let summary = Summary {
+        scenario: scenario.name.clone(),
+        runs,
+    };
+    write_outputs(out, &scenario, &summary, quiet)
+}
+
+/// Writes every output of a finished scenario and reports what was written and what failed;
+/// returns the exit code. Shared by `run` and `merge`.
+pub fn write_outputs(
+    out: &Path,
+    scenario: &scenario::Scenario,
+    summary: &Summary,
+    quiet: bool,
+) -> i32 {
+    let written = match output::write_all(out, scenario, summary) {
         Ok(w) => w,
         Err(e) => {
             eprintln!("error: {e}");
@@ -75,24 +149,32 @@ pub fn run(path: &Path, out: &Path, sets: &[String], quiet: bool) -> i32 {
             out.display()
         );
     }
-    let failed: Vec<&str> = summary
-        .runs
-        .iter()
-        .filter(|r| r.error.is_some())
-        .map(|r| r.label.as_str())
-        .collect();
-    if !failed.is_empty() {
-        eprintln!(
-            "error: {} run(s) failed: {}",
-            failed.len(),
-            failed.join(", ")
-        );
-        return RUN_FAILED;
+    let code = report_failures(&summary.runs);
+    if code != OK {
+        return code;
     }
     if !written.plot_errors.is_empty() {
         return RUN_FAILED;
     }
     OK
+}
+
+/// Prints the failed runs, if any; returns the exit code.
+fn report_failures(runs: &[celltissue::observe::RunRecord]) -> i32 {
+    let failed: Vec<&str> = runs
+        .iter()
+        .filter(|r| r.error.is_some())
+        .map(|r| r.label.as_str())
+        .collect();
+    if failed.is_empty() {
+        return OK;
+    }
+    eprintln!(
+        "error: {} run(s) failed: {}",
+        failed.len(),
+        failed.join(", ")
+    );
+    RUN_FAILED
 }
 
 /// `celltissue validate`.

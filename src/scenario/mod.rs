@@ -31,6 +31,7 @@ pub mod execute;
 pub mod load;
 pub mod model;
 pub mod overrides;
+pub mod parallel;
 pub mod schema;
 pub mod times;
 
