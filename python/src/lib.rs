@@ -34,6 +34,11 @@ fn run(
     set: Option<&Bound<'_, PyAny>>,
     jobs: usize,
 ) -> PyResult<Vec<record::Run>> {
+    if jobs == 0 {
+        return Err(pyo3::exceptions::PyValueError::new_err(
+            "jobs must be an integer >= 1 (got 0)",
+        ));
+    }
     let scenario = input::scenario(py, scenario, set)?;
     let indices: Vec<usize> = (0..scenario.runs.len()).collect();
     let records = py
