@@ -1,7 +1,7 @@
 //! `celltissue._celltissue`: the compiled half of the Python package `celltissue` (PyO3,
 //! abi3). It loads and validates scenarios with the library's own loader, runs them with the
 //! library's run functions (in parallel on request, without the GIL) and hands the in-memory
-//! run records to Python as [`record::Run`] objects with numpy arrays — no output files are
+//! run records to Python as `Run` objects with numpy arrays — no output files are
 //! read or written. The pure-Python half (`pysrc/celltissue/`) adds the line and sheet
 //! builders and the Dask ensemble helpers on top.
 
