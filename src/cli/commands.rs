@@ -1,24 +1,32 @@
-//! `run`, `validate` and `list`.
+//! `run`, `validate` and `list`: `run` loads and validates a scenario, claims its output
+//! directory (manifest), runs the chosen share of its runs (`--jobs`, `--shard`) on a worker
+//! thread so that SIGINT/SIGTERM keep the finished runs, then hands the records to the writers.
 
-use super::{catalogue, BAD_INPUT, OK, RUN_FAILED};
+use super::{catalogue, merge, BAD_INPUT, OK, RUN_FAILED};
 use celltissue::observe::{RunRecord, Summary};
 use celltissue::output::{self, finite, interrupt};
+use celltissue::scenario::parallel::{run_parallel, Shard};
 use celltissue::scenario::{self, execute};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal as _;
 use std::path::Path;
 use std::sync::atomic::Ordering;
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 /// Switches of `celltissue run`.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct RunFlags {
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
     /// No progress output.
     pub quiet: bool,
     /// Replace another scenario's outputs in `--out`.
     pub replace: bool,
     /// No PNG plots.
     pub no_plots: bool,
+    /// Runs at once (≥ 1).
+    pub jobs: usize,
+    /// `--shard` as given (`i/n` or `auto`).
+    pub shard: Option<String>,
 }
 
 /// A progress bar on stderr, or a hidden one when quiet or not on a terminal.
@@ -41,14 +49,29 @@ fn load(path: &Path, sets: &[String]) -> Result<scenario::Scenario, i32> {
 }
 
 /// `celltissue run`.
-pub fn run(path: &Path, out: &Path, sets: &[String], flags: RunFlags) -> i32 {
-    let quiet = flags.quiet;
+pub fn run(path: &Path, out: &Path, sets: &[String], opts: RunOptions) -> i32 {
+    let quiet = opts.quiet;
     let scenario = match load(path, sets) {
         Ok(s) => s,
         Err(code) => return code,
     };
+    let shard = match opts.shard.as_deref().map(|s| match s {
+        "auto" => Shard::from_slurm(|k| std::env::var(k).ok()),
+        s => s.parse(),
+    }) {
+        None => None,
+        Some(Ok(s)) => Some(s),
+        Some(Err(e)) => {
+            eprintln!("error: {e}");
+            return BAD_INPUT;
+        }
+    };
+    if opts.jobs == 0 {
+        eprintln!("error: `--jobs`: must be an integer ≥ 1 (got 0)");
+        return BAD_INPUT;
+    }
     // the directory is checked (and claimed in its manifest) before anything runs
-    let prepared = match output::manifest::prepare(out, &scenario.name, flags.replace) {
+    let prepared = match output::manifest::prepare(out, &scenario.name, opts.replace) {
         Ok(p) => p,
         Err(e) => {
             eprintln!("error: {e}");
@@ -56,80 +79,185 @@ pub fn run(path: &Path, out: &Path, sets: &[String], flags: RunFlags) -> i32 {
         }
     };
     let stop = interrupt::install();
-    let total = scenario.runs.len();
+    let indices: Vec<usize> = match shard {
+        Some(s) => s.indices(scenario.runs.len()),
+        None => (0..scenario.runs.len()).collect(),
+    };
+    let total = indices.len();
     let terminal = std::io::stderr().is_terminal();
     let pb = bar(
         total as u64,
         quiet,
         "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} runs  {msg}",
     );
-    let mut runs: Vec<RunRecord> = Vec::new();
-    let mut interrupted: Vec<String> = Vec::new();
-    for (k, spec) in scenario.runs.iter().enumerate() {
-        if stop.load(Ordering::SeqCst) {
-            interrupted.extend(scenario.runs[k..].iter().map(|s| s.label.clone()));
-            break;
-        }
-        pb.set_message(spec.label.clone());
-        log::info!("run {}/{total}: {}", k + 1, spec.label);
-        // the run goes on a worker thread so that an interrupt need not wait for it
-        let (spec_owned, dir) = (spec.clone(), out.to_path_buf());
-        let worker = std::thread::Builder::new()
-            .name(format!("run {}", k + 1))
+    // finished records by position in `indices`, kept as they finish so an interrupt keeps them
+    let done: Arc<Mutex<Vec<Option<RunRecord>>>> = Arc::new(Mutex::new(vec![None; total]));
+    let worker = {
+        let (scenario, indices, done, stop, pb) = (
+            scenario.clone(),
+            indices.clone(),
+            Arc::clone(&done),
+            Arc::clone(&stop),
+            pb.clone(),
+        );
+        let (dir, jobs) = (out.to_path_buf(), opts.jobs);
+        std::thread::Builder::new()
+            .name("runs".into())
             .stack_size(64 << 20)
             .spawn(move || {
-                let mut rec = execute::run_spec_in(&spec_owned, Some(&dir));
-                finite::sanitize(&mut rec);
-                rec
-            });
-        let handle = match worker {
-            Ok(h) => h,
-            Err(e) => {
-                eprintln!("error: cannot start a run: {e}");
-                return RUN_FAILED;
-            }
-        };
-        while !handle.is_finished() && !stop.load(Ordering::SeqCst) {
-            pb.tick();
-            std::thread::sleep(Duration::from_millis(20));
+                let position = |label: &str| {
+                    indices
+                        .iter()
+                        .position(|&k| scenario.runs[k].label == label)
+                };
+                let mut k = 0;
+                run_parallel(
+                    &scenario,
+                    &indices,
+                    jobs,
+                    |spec| {
+                        if stop.load(Ordering::SeqCst) {
+                            // not started: reported as interrupted, never written as a run
+                            return RunRecord {
+                                label: spec.label.clone(),
+                                ..RunRecord::default()
+                            };
+                        }
+                        log::info!("run: {}", spec.label);
+                        let mut rec = execute::run_spec_in(spec, Some(&dir));
+                        finite::sanitize(&mut rec);
+                        if let (Some(p), Ok(mut d)) = (position(&rec.label), done.lock()) {
+                            d[p] = Some(rec.clone());
+                        }
+                        rec
+                    },
+                    |rec| {
+                        if stop.load(Ordering::SeqCst) {
+                            return;
+                        }
+                        k += 1;
+                        let line = format!(
+                            "[{k}/{total}] {}: {} steps, {:.3} s{}",
+                            rec.label,
+                            rec.stats.steps,
+                            rec.stats.wall_seconds,
+                            rec.error
+                                .as_ref()
+                                .map(|e| format!(" — FAILED: {e}"))
+                                .unwrap_or_default()
+                        );
+                        if !quiet {
+                            if terminal {
+                                pb.println(line);
+                            } else {
+                                eprintln!("{line}");
+                            }
+                        }
+                        pb.inc(1);
+                    },
+                )
+            })
+    };
+    let handle = match worker {
+        Ok(h) => h,
+        Err(e) => {
+            eprintln!("error: cannot start the runs: {e}");
+            return RUN_FAILED;
         }
-        if !handle.is_finished() {
-            interrupted.extend(scenario.runs[k..].iter().map(|s| s.label.clone()));
-            break;
-        }
-        let rec = match handle.join() {
-            Ok(r) => r,
-            Err(_) => {
-                eprintln!("error: run `{}` panicked", spec.label);
-                return RUN_FAILED;
-            }
-        };
-        let line = format!(
-            "[{}/{total}] {}: {} steps, {:.3} s{}",
-            k + 1,
-            rec.label,
-            rec.stats.steps,
-            rec.stats.wall_seconds,
-            rec.error
-                .as_ref()
-                .map(|e| format!(" — FAILED: {e}"))
-                .unwrap_or_default()
-        );
-        if !quiet {
-            if terminal {
-                pb.println(line);
-            } else {
-                eprintln!("{line}");
-            }
-        }
-        pb.inc(1);
-        runs.push(rec);
+    };
+    while !handle.is_finished() && !stop.load(Ordering::SeqCst) {
+        pb.tick();
+        std::thread::sleep(Duration::from_millis(20));
     }
+    let interrupted_now = stop.load(Ordering::SeqCst);
+    let (runs, interrupted): (Vec<RunRecord>, Vec<String>) = if handle.is_finished()
+        && !interrupted_now
+    {
+        match handle.join() {
+            Ok(Ok(r)) => (r, Vec::new()),
+            Ok(Err(e)) => {
+                eprintln!("error: {e}");
+                return BAD_INPUT;
+            }
+            Err(_) => {
+                eprintln!("error: a run panicked");
+                return RUN_FAILED;
+            }
+        }
+    } else {
+        // interrupted: keep what finished, name the rest (the worker is left to the exit)
+        let d = done.lock().map(|d| d.clone()).unwrap_or_default();
+        let mut runs = Vec::new();
+        let mut rest = Vec::new();
+        for (slot, &k) in d.into_iter().zip(&indices) {
+            match slot {
+                Some(r) => runs.push(r),
+                None => rest.push(scenario.runs[k].label.clone()),
+            }
+        }
+        (runs, rest)
+    };
     pb.finish_and_clear();
+    if let Some(shard) = shard {
+        if interrupted.is_empty() {
+            return match merge::write_shard(out, &scenario, shard, &indices, &runs) {
+                Ok(path) => {
+                    if !quiet {
+                        eprintln!(
+                            "wrote shard {}/{} ({} of {} runs) to {}",
+                            shard.index,
+                            shard.count,
+                            runs.len(),
+                            scenario.runs.len(),
+                            path.display()
+                        );
+                    }
+                    if let Err(e) = output::manifest::finish(out, &scenario.name, &prepared) {
+                        eprintln!("warning: {e}");
+                    }
+                    report_failures(&runs)
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    RUN_FAILED
+                }
+            };
+        }
+        eprintln!(
+            "interrupted: shard not written ({} run(s) not finished)",
+            interrupted.len()
+        );
+        return interrupt::INTERRUPTED;
+    }
     let summary = Summary {
         scenario: scenario.name.clone(),
         runs,
     };
+    let code = write_outputs(out, &scenario, &summary, &opts, &interrupted);
+    if let Err(e) = output::manifest::finish(out, &scenario.name, &prepared) {
+        eprintln!("warning: {e}");
+    }
+    if !interrupted.is_empty() {
+        eprintln!(
+            "interrupted: {} run(s) not finished (listed in summary.json): {}",
+            interrupted.len(),
+            interrupted.join(", ")
+        );
+        return interrupt::INTERRUPTED;
+    }
+    code
+}
+
+/// Writes every output of a finished scenario and reports what was written and what failed;
+/// returns the exit code. Shared by `run` and `merge`.
+pub fn write_outputs(
+    out: &Path,
+    scenario: &scenario::Scenario,
+    summary: &Summary,
+    opts: &RunOptions,
+    interrupted: &[String],
+) -> i32 {
+    let quiet = opts.quiet;
     let threads = scenario
         .runs
         .iter()
@@ -141,20 +269,17 @@ pub fn run(path: &Path, out: &Path, sets: &[String], flags: RunFlags) -> i32 {
         quiet,
         "{spinner} writing [{elapsed_precise}] {bar:30} {pos}/{len}  {msg}",
     );
-    let opts = output::WriteOptions {
-        no_plots: flags.no_plots,
+    let wopts = output::WriteOptions {
+        no_plots: opts.no_plots,
         provenance: Some(output::provenance::Provenance::collect(
             &scenario.table,
             threads,
         )),
-        interrupted: interrupted.clone(),
+        interrupted: interrupted.to_vec(),
         progress: Some(wpb.clone()),
     };
-    let written = output::write_all_with(out, &scenario, &summary, &opts);
+    let written = output::write_all_with(out, scenario, summary, &wopts);
     wpb.finish_and_clear();
-    if let Err(e) = output::manifest::finish(out, &scenario.name, &prepared) {
-        eprintln!("warning: {e}");
-    }
     let written = match written {
         Ok(w) => w,
         Err(e) => {
@@ -173,32 +298,32 @@ pub fn run(path: &Path, out: &Path, sets: &[String], flags: RunFlags) -> i32 {
             out.display()
         );
     }
-    if !interrupted.is_empty() {
-        eprintln!(
-            "interrupted: {} run(s) not finished (listed in summary.json): {}",
-            interrupted.len(),
-            interrupted.join(", ")
-        );
-        return interrupt::INTERRUPTED;
-    }
-    let failed: Vec<&str> = summary
-        .runs
-        .iter()
-        .filter(|r| r.error.is_some())
-        .map(|r| r.label.as_str())
-        .collect();
-    if !failed.is_empty() {
-        eprintln!(
-            "error: {} run(s) failed: {}",
-            failed.len(),
-            failed.join(", ")
-        );
-        return RUN_FAILED;
+    let code = report_failures(&summary.runs);
+    if code != OK {
+        return code;
     }
     if !written.plot_errors.is_empty() {
         return RUN_FAILED;
     }
     OK
+}
+
+/// Prints the failed runs, if any; returns the exit code.
+fn report_failures(runs: &[celltissue::observe::RunRecord]) -> i32 {
+    let failed: Vec<&str> = runs
+        .iter()
+        .filter(|r| r.error.is_some())
+        .map(|r| r.label.as_str())
+        .collect();
+    if failed.is_empty() {
+        return OK;
+    }
+    eprintln!(
+        "error: {} run(s) failed: {}",
+        failed.len(),
+        failed.join(", ")
+    );
+    RUN_FAILED
 }
 
 /// `celltissue validate`.

@@ -1,7 +1,8 @@
-//! Argument parsing (clap) and the three commands.
+//! Argument parsing (clap) and the commands.
 
 mod catalogue;
 mod commands;
+mod merge;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -45,6 +46,27 @@ enum Command {
         /// Write data files only, no PNG plots.
         #[arg(long)]
         no_plots: bool,
+        /// Runs of the sweep to run at once (threads); outputs are the same as with 1.
+        #[arg(long, short, default_value_t = 1, value_name = "N",
+              value_parser = clap::value_parser!(u64).range(1..))]
+        jobs: u64,
+        /// Run only shard I of N of the sweep (0-based; run k goes to shard k mod N), or
+        /// `auto` for a SLURM job array (SLURM_ARRAY_TASK_ID / SLURM_ARRAY_TASK_COUNT).
+        /// Writes OUT/shard.json; combine the shards with `celltissue merge`.
+        #[arg(long, value_name = "I/N|auto")]
+        shard: Option<String>,
+    },
+    /// Combine the output directories of `run --shard` into what one `run` writes.
+    Merge {
+        /// The shards' output directories (any order).
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Output directory (created if missing).
+        #[arg(long, short)]
+        out: PathBuf,
+        /// No summary line on stderr.
+        #[arg(long, short)]
+        quiet: bool,
     },
     /// Parse and validate a scenario (and overrides) without running it.
     Validate {
@@ -79,16 +101,21 @@ pub fn main() -> i32 {
             quiet,
             replace,
             no_plots,
+            jobs,
+            shard,
         } => commands::run(
             &catalogue::resolve(&scenario),
             &out,
             &sets,
-            commands::RunFlags {
+            commands::RunOptions {
                 quiet,
                 replace,
                 no_plots,
+                jobs: usize::try_from(jobs).unwrap_or(usize::MAX),
+                shard,
             },
         ),
+        Command::Merge { dirs, out, quiet } => merge::merge(&dirs, &out, quiet),
         Command::Validate { scenario, sets } => {
             commands::validate(&catalogue::resolve(&scenario), &sets)
         }

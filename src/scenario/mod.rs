@@ -32,6 +32,7 @@ pub mod limits;
 pub mod load;
 pub mod model;
 pub mod overrides;
+pub mod parallel;
 pub mod schema;
 pub mod sweep;
 pub mod times;

@@ -1,0 +1,48 @@
+"""celltissue: discrete-to-continuum mechanics of cells in tissues, from Python.
+
+The solver is the Rust crate ``celltissue``; this package runs its scenarios and hands back the
+in-memory run records with numpy arrays.
+
+>>> import celltissue
+>>> runs = celltissue.run("fig2_5", set={"model.cells": 10, "model.nodes": 11})
+>>> [r.label for r in runs][:2]
+['discrete K=1e-5', 'continuum K=1e-5']
+>>> runs[0].series["t"][0]
+0.0
+
+* :func:`run` — a bundled scenario (:func:`scenarios`), a TOML file or a dict → list of
+  :class:`Run` (``.label``, ``.model``, ``.parameters``, ``.series``, ``.profiles``,
+  ``.profile(name)``, ``.divisions``, ``.stats``, ``.error``).
+* :func:`line`, :func:`sheet` — build a model from keyword parameters and ``.solve(times)``.
+* :mod:`celltissue.ensemble` — run parameter grids and seeds on a ``dask.distributed`` client.
+
+Bad input raises :class:`ScenarioError` (a ``ValueError``) with ``.key`` and ``.message``
+before anything runs.
+"""
+
+from ._celltissue import (
+    Run,
+    ScenarioError,
+    __version__,
+    run,
+    run_from_json,
+    scenario_text,
+    scenarios,
+    validate,
+)
+from .builders import Line, Sheet, line, sheet
+
+__all__ = [
+    "Run",
+    "ScenarioError",
+    "Line",
+    "Sheet",
+    "__version__",
+    "line",
+    "run",
+    "run_from_json",
+    "scenario_text",
+    "scenarios",
+    "sheet",
+    "validate",
+]

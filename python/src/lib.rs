@@ -1,0 +1,104 @@
+//! `celltissue._celltissue`: the compiled half of the Python package `celltissue` (PyO3,
+//! abi3). It loads and validates scenarios with the library's own loader, runs them with the
+//! library's run functions (in parallel on request, without the GIL) and hands the in-memory
+//! run records to Python as `Run` objects with numpy arrays — no output files are
+//! read or written. The pure-Python half (`pysrc/celltissue/`) adds the line and sheet
+//! builders and the Dask ensemble helpers on top.
+
+mod errors;
+mod input;
+mod record;
+
+use celltissue::output::finite;
+use celltissue::scenario::{execute, parallel};
+use pyo3::prelude::*;
+
+/// The bundled scenarios, embedded at build time by `build.rs`.
+mod bundled {
+    include!(concat!(env!("OUT_DIR"), "/bundled.rs"));
+}
+
+/// Runs a scenario and returns its runs (in scenario order).
+///
+/// `scenario` is a bundled scenario's name (see `scenarios()`), a path to a TOML file, or a
+/// dict with the file's structure. `set` overrides keys before validation: a `"key=value"`
+/// string, a list of them, or a dict `{"model.K": 0.1}`. `jobs` runs that many of the sweep's
+/// runs at once (results do not depend on it). Invalid input raises `ScenarioError` (a
+/// `ValueError` with `.key` and `.message`) before anything runs; a run whose solver fails is
+/// returned with its partial data and `.error` set.
+#[pyfunction]
+#[pyo3(signature = (scenario, set = None, jobs = 1))]
+fn run(
+    py: Python<'_>,
+    scenario: &Bound<'_, PyAny>,
+    set: Option<&Bound<'_, PyAny>>,
+    jobs: usize,
+) -> PyResult<Vec<record::Run>> {
+    if jobs == 0 {
+        return Err(pyo3::exceptions::PyValueError::new_err(
+            "jobs must be an integer >= 1 (got 0)",
+        ));
+    }
+    let scenario = input::scenario(py, scenario, set)?;
+    let indices: Vec<usize> = (0..scenario.runs.len()).collect();
+    let records = py
+        .detach(|| {
+            parallel::run_parallel(
+                &scenario,
+                &indices,
+                jobs,
+                |spec| {
+                    let mut rec = execute::run_spec(spec);
+                    finite::sanitize(&mut rec);
+                    rec
+                },
+                |_| {},
+            )
+        })
+        .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+    Ok(records.into_iter().map(record::Run::from).collect())
+}
+
+/// Validates a scenario (as for `run`) without running it; returns the labels of its runs.
+#[pyfunction]
+#[pyo3(signature = (scenario, set = None))]
+fn validate(
+    py: Python<'_>,
+    scenario: &Bound<'_, PyAny>,
+    set: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Vec<String>> {
+    let scenario = input::scenario(py, scenario, set)?;
+    Ok(scenario.runs.into_iter().map(|r| r.label).collect())
+}
+
+/// Names of the bundled scenarios (the thesis figures), e.g. `"fig2_5"`.
+#[pyfunction]
+fn scenarios() -> Vec<&'static str> {
+    bundled::BUNDLED.iter().map(|(n, _)| *n).collect()
+}
+
+/// The TOML text of a bundled scenario.
+#[pyfunction]
+fn scenario_text(name: &str) -> PyResult<&'static str> {
+    input::bundled(name)
+}
+
+/// Rebuilds a run from `Run.to_json()` (used by pickling, e.g. to return runs from Dask
+/// workers).
+#[pyfunction]
+fn run_from_json(text: &str) -> PyResult<record::Run> {
+    record::Run::from_json(text)
+}
+
+#[pymodule]
+fn _celltissue(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("ScenarioError", m.py().get_type::<errors::ScenarioError>())?;
+    m.add_class::<record::Run>()?;
+    m.add_function(wrap_pyfunction!(run, m)?)?;
+    m.add_function(wrap_pyfunction!(validate, m)?)?;
+    m.add_function(wrap_pyfunction!(scenarios, m)?)?;
+    m.add_function(wrap_pyfunction!(scenario_text, m)?)?;
+    m.add_function(wrap_pyfunction!(run_from_json, m)?)?;
+    Ok(())
+}

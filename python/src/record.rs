@@ -1,0 +1,208 @@
+//! `celltissue.Run`: one run's in-memory record ([`RunRecord`]) seen from Python — series and
+//! profiles as numpy arrays, stats and parameters as dicts. Picklable (through its JSON form,
+//! which round-trips every number exactly), so runs can come back from Dask workers.
+
+use celltissue::observe::{ModelKind, RunRecord};
+use numpy::{IntoPyArray, PyArray2};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+/// One run: one discretisation of one parameter set.
+#[pyclass(module = "celltissue", frozen)]
+pub struct Run {
+    rec: RunRecord,
+}
+
+impl From<RunRecord> for Run {
+    fn from(rec: RunRecord) -> Run {
+        Run { rec }
+    }
+}
+
+impl Run {
+    /// From `to_json()`.
+    pub fn from_json(text: &str) -> PyResult<Run> {
+        serde_json::from_str(text)
+            .map(|rec| Run { rec })
+            .map_err(|e| PyValueError::new_err(format!("not a celltissue run record: {e}")))
+    }
+}
+
+/// Python's value of a JSON value (through the `json` module).
+fn json_to_py<'py>(py: Python<'py>, v: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
+    py.import("json")?.call_method1("loads", (v.to_string(),))
+}
+
+#[pymethods]
+impl Run {
+    /// Label used in legends and file names, e.g. `"discrete K=0.01"`.
+    #[getter]
+    fn label(&self) -> &str {
+        &self.rec.label
+    }
+
+    /// `"discrete"` or `"continuum"`.
+    #[getter]
+    fn model(&self) -> &'static str {
+        match self.rec.model {
+            ModelKind::Discrete => "discrete",
+            ModelKind::Continuum => "continuum",
+        }
+    }
+
+    /// The resolved parameters (model configuration, `"kind"`, `"solver"`, `"sweep"`).
+    #[getter]
+    fn parameters<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        json_to_py(py, &self.rec.parameters)
+    }
+
+    /// Scalar series by name, each a numpy array over the output times `"t"`.
+    #[getter]
+    fn series<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = &self.rec.series;
+        let d = PyDict::new(py);
+        for (k, v) in [
+            ("t", &s.t),
+            ("length", &s.length),
+            ("max_pressure", &s.max_pressure),
+            ("min_pressure", &s.min_pressure),
+            ("max_stretch", &s.max_stretch),
+            ("min_stretch", &s.min_stretch),
+        ]
+        .into_iter()
+        .chain(s.extra.iter().map(|(k, v)| (k.as_str(), v)))
+        {
+            d.set_item(k, v.clone().into_pyarray(py))?;
+        }
+        Ok(d)
+    }
+
+    /// Snapshots at the profile times: a list of dicts with `"t"` (float) and per-cell
+    /// (per-node) numpy arrays `"X"` (reference position), `"x"`, `"stretch"`, `"pressure"`
+    /// and the model's further fields.
+    #[getter]
+    fn profiles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let list = PyList::empty(py);
+        for p in &self.rec.profiles {
+            let d = PyDict::new(py);
+            d.set_item("t", p.t)?;
+            for (k, v) in [
+                ("X", &p.x_ref),
+                ("x", &p.x),
+                ("stretch", &p.stretch),
+                ("pressure", &p.pressure),
+            ]
+            .into_iter()
+            .chain(p.extra.iter().map(|(k, v)| (k.as_str(), v)))
+            {
+                d.set_item(k, v.clone().into_pyarray(py))?;
+            }
+            list.append(d)?;
+        }
+        Ok(list)
+    }
+
+    /// One profile field stacked over the profile times: a `times × cells` numpy array.
+    /// Raises `ValueError` if the field is unknown or its length changes between times (cells
+    /// divided).
+    fn profile<'py>(&self, py: Python<'py>, field: &str) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let rows: Vec<&Vec<f64>> = self
+            .rec
+            .profiles
+            .iter()
+            .map(|p| match field {
+                "X" => Some(&p.x_ref),
+                "x" => Some(&p.x),
+                "stretch" => Some(&p.stretch),
+                "pressure" => Some(&p.pressure),
+                k => p.extra.get(k),
+            })
+            .collect::<Option<_>>()
+            .ok_or_else(|| {
+                PyValueError::new_err(format!("`{field}` is not a profile field of this run"))
+            })?;
+        let width = rows.first().map_or(0, |r| r.len());
+        if rows.iter().any(|r| r.len() != width) {
+            return Err(PyValueError::new_err(format!(
+                "`{field}` changes length between profile times (cells divided); use .profiles"
+            )));
+        }
+        let rows: Vec<Vec<f64>> = rows.into_iter().cloned().collect();
+        PyArray2::from_vec2(py, &rows).map_err(|e| PyValueError::new_err(e.to_string()))
+    }
+
+    /// Division events as numpy arrays `"t"`, `"parent"` (1-based), `"x"`, `"x_over_length"`,
+    /// `"cells_after"` (all empty without division).
+    #[getter]
+    fn divisions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let dv = &self.rec.divisions;
+        let d = PyDict::new(py);
+        let f = |g: fn(&celltissue::observe::DivisionRecord) -> f64| {
+            dv.iter().map(g).collect::<Vec<f64>>().into_pyarray(py)
+        };
+        let u = |g: fn(&celltissue::observe::DivisionRecord) -> usize| {
+            dv.iter()
+                .map(|x| g(x) as i64)
+                .collect::<Vec<i64>>()
+                .into_pyarray(py)
+        };
+        d.set_item("t", f(|x| x.t))?;
+        d.set_item("parent", u(|x| x.parent))?;
+        d.set_item("x", f(|x| x.x))?;
+        d.set_item("x_over_length", f(|x| x.x_over_length))?;
+        d.set_item("cells_after", u(|x| x.cells_after))?;
+        Ok(d)
+    }
+
+    /// Integrator work: `steps`, `residual_calls`, `jacobians` (ints), `wall_seconds` and
+    /// further counters by name.
+    #[getter]
+    fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = &self.rec.stats;
+        let d = PyDict::new(py);
+        d.set_item("steps", s.steps)?;
+        d.set_item("residual_calls", s.residual_calls)?;
+        d.set_item("jacobians", s.jacobians)?;
+        d.set_item("wall_seconds", s.wall_seconds)?;
+        for (k, v) in &s.extra {
+            d.set_item(k, v)?;
+        }
+        Ok(d)
+    }
+
+    /// The solver's message if the run failed (the record holds what was computed before),
+    /// else None.
+    #[getter]
+    fn error(&self) -> Option<&str> {
+        self.rec.error.as_deref()
+    }
+
+    /// The record as JSON (the `summary.json` schema of one run).
+    fn to_json(&self) -> PyResult<String> {
+        serde_json::to_string(&self.rec).map_err(|e| PyValueError::new_err(e.to_string()))
+    }
+
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (String,))> {
+        let f = py
+            .import("celltissue._celltissue")?
+            .getattr("run_from_json")?;
+        Ok((f, (self.to_json()?,)))
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Run(label={:?}, model={:?}, outputs={}, profiles={}, steps={}{})",
+            self.rec.label,
+            self.model(),
+            self.rec.series.t.len(),
+            self.rec.profiles.len(),
+            self.rec.stats.steps,
+            self.rec
+                .error
+                .as_ref()
+                .map(|e| format!(", error={e:?}"))
+                .unwrap_or_default()
+        )
+    }
+}

@@ -1,0 +1,63 @@
+"""Bad input raises celltissue.ScenarioError (a ValueError) naming the key and the valid range,
+before anything runs."""
+
+import pytest
+
+import celltissue
+
+
+@pytest.mark.parametrize(
+    "params, key, needle",
+    [
+        ({"cells": 0}, "model.cells", ">= 1"),
+        ({"K": -1.0}, "model.K", ">= 0"),
+        ({"kay": 1.0}, "model.kay", "unknown field"),
+        ({"K": "x"}, "model.K", "invalid type"),
+    ],
+)
+def test_bad_model_parameters_name_the_key(params, key, needle):
+    with pytest.raises(celltissue.ScenarioError) as info:
+        celltissue.line(**params).solve([0.0, 1.0])
+    e = info.value
+    assert isinstance(e, ValueError)
+    assert e.key == key
+    assert needle in e.message and key in str(e)
+
+
+def test_bad_override_names_the_key():
+    with pytest.raises(celltissue.ScenarioError) as info:
+        celltissue.run("fig2_5", set={"solver.rtol": 2.0})
+    assert info.value.key == "solver.rtol"
+    with pytest.raises(celltissue.ScenarioError) as info:
+        celltissue.validate("fig2_5", set="model.cells")
+    assert "model.cells" in info.value.message
+
+
+def test_unknown_scenario_lists_the_bundled_ones():
+    with pytest.raises(celltissue.ScenarioError) as info:
+        celltissue.run("fig9_9")
+    assert info.value.key is None
+    assert "fig2_5" in info.value.message
+
+
+def test_missing_file_and_bad_toml(tmp_path):
+    with pytest.raises(celltissue.ScenarioError, match="cannot read"):
+        celltissue.run(tmp_path / "absent.toml")
+    bad = tmp_path / "bad.toml"
+    bad.write_text("name = \n")
+    with pytest.raises(celltissue.ScenarioError, match="not valid TOML"):
+        celltissue.run(bad)
+
+
+def test_unusable_python_values():
+    with pytest.raises(celltissue.ScenarioError, match="None"):
+        celltissue.run({"name": "x", "model": {"kind": "line", "K": None}})
+    with pytest.raises(celltissue.ScenarioError, match="expected a bundled name"):
+        celltissue.run(42)
+    with pytest.raises(celltissue.ScenarioError, match="set"):
+        celltissue.run("fig2_5", set=3)
+
+
+def test_zero_jobs_is_refused():
+    with pytest.raises(ValueError, match="jobs must be an integer"):
+        celltissue.run("fig2_5", set={"model.cells": 4, "model.nodes": 5}, jobs=0)

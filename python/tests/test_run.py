@@ -1,0 +1,114 @@
+"""celltissue.run on bundled names, paths and dicts: the record's shape and types, `jobs`
+independence, and the physics of the returned data (quasi-static limit, discrete vs continuum)."""
+
+import math
+import pathlib
+import pickle
+
+import numpy as np
+import pytest
+
+import celltissue
+from conftest import SMALL_FIG2_5, record_without_timing
+
+
+def test_bundled_scenarios_are_embedded():
+    names = celltissue.scenarios()
+    assert "fig2_5" in names and "fig3_3" in names
+    assert 'name = "fig2_5"' in celltissue.scenario_text("fig2_5")
+
+
+def test_run_a_bundled_scenario_returns_records_with_numpy_arrays():
+    runs = celltissue.run("fig2_5", set=SMALL_FIG2_5)
+    assert [r.label for r in runs] == [
+        f"{m} K={k}" for k in ["1e-5", "0.01", "1", "10"] for m in ["discrete", "continuum"]
+    ]
+    assert [r.model for r in runs[:2]] == ["discrete", "continuum"]
+    for r in runs:
+        assert r.error is None
+        t = r.series["t"]
+        assert isinstance(t, np.ndarray) and t.dtype == np.float64
+        assert t[0] == 0.0 and len(t) == 122 and np.all(np.diff(t) > 0)
+        for name in ["length", "max_pressure", "min_stretch"]:
+            assert r.series[name].shape == t.shape
+            assert np.all(np.isfinite(r.series[name]))
+        assert [p["t"] for p in r.profiles] == [0.0, 1.0, 10.0, 1000.0]
+        width = 20 if r.model == "discrete" else r.profiles[0]["X"].shape[0]
+        assert r.profile("pressure").shape == (4, width)
+        assert set(r.stats) >= {"steps", "residual_calls", "jacobians", "wall_seconds"}
+        assert r.stats["steps"] > 0
+        assert r.parameters["kind"] == "line" and r.parameters["cells"] == 20
+        assert r.divisions["t"].shape == (0,)
+
+
+def test_jobs_do_not_change_the_records():
+    one = celltissue.run("fig2_5", set=SMALL_FIG2_5, jobs=1)
+    two = celltissue.run("fig2_5", set=SMALL_FIG2_5, jobs=2)
+    assert [record_without_timing(r) for r in one] == [record_without_timing(r) for r in two]
+
+
+def test_paths_and_dicts(small_line_toml):
+    by_str = celltissue.run(str(small_line_toml))
+    by_path = celltissue.run(pathlib.Path(small_line_toml))
+    assert [r.label for r in by_str] == ["discrete K=0.1", "continuum K=0.1",
+                                         "discrete K=1", "continuum K=1"]
+    as_dict = {
+        "name": "small",
+        "output": {"series": {"start": 0, "stop": 2, "count": 21}, "profiles": [0, 2]},
+        "model": {"kind": "line", "models": ["discrete", "continuum"], "nodes": 11, "cells": 10},
+        "sweep": {"parameter": "K", "values": [0.1, 1]},
+    }
+    by_dict = celltissue.run(as_dict)
+    for a, b, c in zip(by_str, by_path, by_dict):
+        assert record_without_timing(a) == record_without_timing(b) == record_without_timing(c)
+    assert celltissue.validate(as_dict) == [r.label for r in by_dict]
+
+
+def test_set_accepts_strings_lists_and_dicts(small_line_toml):
+    a = celltissue.run(small_line_toml, set="model.cells=6")
+    b = celltissue.run(small_line_toml, set=["model.cells=6"])
+    c = celltissue.run(small_line_toml, set={"model.cells": 6})
+    assert a[0].profile("x").shape == (2, 6)
+    assert record_without_timing(a[0]) == record_without_timing(b[0]) == record_without_timing(c[0])
+
+
+def test_quasi_static_limit_is_a_uniform_stretch():
+    """K → 0, η = 0: no drag, so every cell has the stretch l(t)/l₀ of the prescribed end
+    (MODEL.md §2.6, exponential ramp l(t) = l₀(1 − k₁ + k₁e^{−t}))."""
+    times = np.linspace(0.0, 3.0, 13)
+    r = celltissue.line(cells=20, K=1e-9, k1=0.1, eta=0.0).solve(times, rtol=1e-8, atol=1e-10)
+    exact = 1.0 - 0.1 + 0.1 * np.exp(-times)
+    np.testing.assert_allclose(r.series["t"], times, rtol=0, atol=0)
+    np.testing.assert_allclose(r.series["length"] / 20.0, exact, rtol=1e-12)
+    np.testing.assert_allclose(r.series["max_stretch"], exact, rtol=1e-6)
+    np.testing.assert_allclose(r.series["min_stretch"], exact, rtol=1e-6)
+
+
+def test_discrete_and_continuum_agree_at_n_100():
+    """The continuum is the N → ∞ limit of the discrete line: at N = 100 the length-scale
+    ratio is 1/100 and the two pressure ranges agree to about that (Fig 2.5)."""
+    runs = celltissue.run("fig2_5", set={"sweep.values": [1.0]})
+    disc, cont = runs
+    assert (disc.model, cont.model) == ("discrete", "continuum")
+    for name in ["max_pressure", "min_stretch"]:
+        d, c = disc.series[name], cont.series[name]
+        scale = np.max(np.abs(d - d[0])) or 1.0
+        assert np.max(np.abs(d - c)) / scale < 0.05, name
+
+
+def test_sheet_builder():
+    r = celltissue.sheet(cells_x=3, cells_y=3, k_th=1.0, k1=0.1, top="free").solve(
+        [0.0, 0.5, 1.0], profiles=[1.0]
+    )
+    assert r.error is None and r.parameters["kind"] == "sheet"
+    assert r.series["length"][0] == pytest.approx(3.0)
+    assert r.series["length"][-1] < 3.0
+
+
+def test_runs_pickle_exactly():
+    r = celltissue.line(cells=8).solve([0.0, 0.5, 1.0], profiles=[1.0])
+    r2 = pickle.loads(pickle.dumps(r))
+    assert r2.to_json() == r.to_json()
+    assert np.array_equal(r2.series["length"], r.series["length"])
+    assert "discrete" in repr(r2)
+    assert math.isfinite(r2.stats["wall_seconds"])
