@@ -56,7 +56,7 @@ impl WidthRule {
 }
 
 /// A substrate dissipation law: the drag factor `κ(A/A₀)` multiplying the drag coefficient `K`
-/// of a cell whose area ratio (current over reference contact area) is `A/A₀` (MODEL.md §2.3;
+/// of a cell whose area ratio (current over reference contact area) is `A/A₀` (docs/model.md §2.3;
 /// docs/model.md §2.3). The line passes `A/A₀ = g·g₂` (its cells' contact area grows with
 /// growth only), the uniaxial sheet `λ₁λ₂`. Generic over the scalar so the residual's dual
 /// evaluation differentiates it exactly.

@@ -100,10 +100,10 @@ fn profile(rec: &RunRecord, t: f64) -> &Profile {
 ///   relaxes on t ~ K l₀²/4 ≥ 2500) the uniform exact state λ = 0.9, p = 1/0.81;
 /// - 2.6 (K = 1e-5, t = 20): the static equilibrium at the run's l(20), uniform and Gaussian;
 /// - 2.7 (polynomial ramp, K = 0, uniform μ, any η): the exact uniform solution
-///   λ = 1 − k₁s(t), p = (μ + 6ηk₁t(1 − t))/(1 − k₁s)² (MODEL.md §5.3) at every output time;
+///   λ = 1 − k₁s(t), p = (μ + 6ηk₁t(1 − t))/(1 − k₁s)² (docs/model.md §5.3) at every output time;
 /// - 2.8 (Gaussian μ, K = 1e-5) and 2.9 (K = 0, η = 1e-5): quasi-static, so the profile at
 ///   t = 10 is the static equilibrium at l(10);
-/// - 2.10 (active ring): the Ref extremes of MODEL.md §5.3 over x and t ∈ [0, 100] (discrete).
+/// - 2.10 (active ring): the Ref extremes of docs/model.md §5.3 over x and t ∈ [0, 100] (discrete).
 #[test]
 fn chapter_2_scenarios_run_and_meet_their_references() {
     let tol = 1e-5;

@@ -143,7 +143,7 @@ fn unstressed_limit_and_viscous_cells() {
 }
 
 /// The free-end cell of a one-cell line (N = 1, L₀ = 1, γ₀ = g₂ = 1, m = 0) written out by
-/// hand from MODEL.md §2.2–2.7: K ẋ = −σ/α, ġ = ½(1 + tanh(σ/σ₀)), σ = α² − α⁻² + η α̇
+/// hand from docs/model.md §2.2–2.7: K ẋ = −σ/α, ġ = ½(1 + tanh(σ/σ₀)), σ = α² − α⁻² + η α̇
 /// (1 + α⁻²), α = x/g, α̇ = ẋ/g − α ġ/g. σ is implicit (α̇ holds ẋ and ġ, both functions of
 /// σ); it is the root of a strictly increasing function, found by bisection. The
 /// state is advanced by classical RK4 — an integration independent of the DAE residual and

@@ -4,7 +4,7 @@
 //! two laws of the model without drag (K = 0), where every boundary's force balance reads
 //! `W_{j+½}(σ_{j+1} − σ_j) = 0`: the full stress (elastic + viscous) is one value along the
 //! line at every instant, whatever the heterogeneity, and with a free end that value is 0, so
-//! every cell grows unstressed, `λ_j = g_j = 1 + t/2` exactly (MODEL.md §2.7).
+//! every cell grows unstressed, `λ_j = g_j = 1 + t/2` exactly (docs/model.md §2.7).
 
 use celltissue::cell::{Field, TanhGrowth};
 use celltissue::line::config::RightEndKind;

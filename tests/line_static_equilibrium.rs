@@ -197,7 +197,7 @@ fn fig2_6_continuum_reaches_the_static_equilibrium() {
 /// Fig 2.9 as shipped (`models/fig2_9.toml`: stiff cluster, K = 0, η = 1e-5, 1, 10,
 /// exponential ramp, discrete N = 100 and continuum n = 101), run to t = 80 at rtol 1e-8: on
 /// the run, max p and min λ tend to the static values at l(t) for every η — 2.265536 and
-/// 0.883155 with the file's centre sampling (MODEL.md §5.2; at t = 80, l = 90 to round-off)
+/// 0.883155 with the file's centre sampling (docs/model.md §5.2; at t = 80, l = 90 to round-off)
 /// — and,
 /// with `sampling = "integer_points"`, to the thesis's 2.267 (2.266775). Without drag the
 /// cells share one stress at every instant, so the run can only approach the static profile
@@ -247,7 +247,7 @@ fn fig2_9_runs_reach_the_stiff_cluster_static_values() {
             );
             assert!(rel(pmax, st.max_pressure()) < 1e-6, "{}", run.label);
             assert!(rel(lmin, st.min_stretch()) < 1e-6, "{}", run.label);
-            // the discrete line is the MODEL.md §5.2 problem: its Ref values
+            // the discrete line is the docs/model.md §5.2 problem: its Ref values
             if run.model == ModelKind::Discrete {
                 assert!(rel(pmax, max_p) < 2e-6, "{}: {pmax}", run.label);
                 assert!(rel(lmin, min_l) < 2e-6, "{}: {lmin}", run.label);

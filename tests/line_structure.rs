@@ -1,4 +1,4 @@
-//! Structure of the line's residual (MODEL.md §2.9): declared bandwidths for each form, the AD
+//! Structure of the line's residual (docs/model.md §2.9): declared bandwidths for each form, the AD
 //! Jacobian columns equal finite differences of the residual, the conservative continuum is a
 //! second-order consistent discretisation of the continuum force balance, and invalid states
 //! are rejected naming the cell.
@@ -142,8 +142,8 @@ fn ad_jacobian_equals_finite_differences() {
     check_jacobian(&discrete(nh(), &p).unwrap());
 }
 
-/// The conservative continuum (MODEL.md §3.3a: n segments of length h, drag K·h per node) is
-/// a second-order discretisation of the continuum force balance K v = W σ_X (MODEL.md §3.1):
+/// The conservative continuum (docs/model.md §3.3a: n segments of length h, drag K·h per node) is
+/// a second-order discretisation of the continuum force balance K v = W σ_X (docs/model.md §3.1):
 /// on smooth fields x(X), v(X) = ẋ(X) (heterogeneous Gaussian μ, η > 0, W = γ₀/λ), each
 /// node's residual divided by h equals K v − W σ_X to O(h²). The reference operator is
 /// evaluated from the closed-form fields (σ_X by a fourth-order difference with step 1e-3,

@@ -28,7 +28,7 @@ def test_fig2_5_data_path():
         # prescribed length, so at t = 1000 their mean is 1 − k₁ = 0.9 whatever K
         np.testing.assert_allclose(d.profiles[0]["stretch"], 1.0, atol=1e-12)
         assert np.mean(d.profiles[-1]["stretch"]) == pytest.approx(0.9, rel=1e-9)
-    # with weak drag the line has relaxed to the uniform stretch by t = 1000 (MODEL.md §2.6)
+    # with weak drag the line has relaxed to the uniform stretch by t = 1000 (docs/model.md §2.6)
     for k in ["1e-5", "0.01"]:
         for run in panels[k].values():
             np.testing.assert_allclose(run.profiles[-1]["stretch"], 0.9, atol=1e-4)

@@ -74,7 +74,7 @@ def test_set_accepts_strings_lists_and_dicts(small_line_toml):
 
 def test_quasi_static_limit_is_a_uniform_stretch():
     """K → 0, η = 0: no drag, so every cell has the stretch l(t)/l₀ of the prescribed end
-    (MODEL.md §2.6, exponential ramp l(t) = l₀(1 − k₁ + k₁e^{−t}))."""
+    (docs/model.md §2.6, exponential ramp l(t) = l₀(1 − k₁ + k₁e^{−t}))."""
     times = np.linspace(0.0, 3.0, 13)
     r = celltissue.line(cells=20, K=1e-9, k1=0.1, eta=0.0).solve(times, rtol=1e-8, atol=1e-10)
     exact = 1.0 - 0.1 + 0.1 * np.exp(-times)

@@ -116,13 +116,6 @@ pub fn run(path: &Path, out: &Path, sets: &[String], opts: RunOptions) -> i32 {
                     &indices,
                     jobs,
                     |spec| {
-                        if stop.load(Ordering::SeqCst) {
-                            // not started: reported as interrupted, never written as a run
-                            return RunRecord {
-                                label: spec.label.clone(),
-                                ..RunRecord::default()
-                            };
-                        }
                         log::info!("run: {}", spec.label);
                         let mut rec = execute::run_spec_in(spec, Some(&dir));
                         finite::sanitize(&mut rec);
@@ -170,33 +163,32 @@ pub fn run(path: &Path, out: &Path, sets: &[String], opts: RunOptions) -> i32 {
         std::thread::sleep(Duration::from_millis(20));
     }
     let interrupted_now = stop.load(Ordering::SeqCst);
-    let (runs, interrupted): (Vec<RunRecord>, Vec<String>) = if handle.is_finished()
-        && !interrupted_now
-    {
-        match handle.join() {
-            Ok(Ok(r)) => (r, Vec::new()),
-            Ok(Err(e)) => {
-                eprintln!("error: {e}");
-                return BAD_INPUT;
+    let (runs, interrupted): (Vec<RunRecord>, Vec<String>) =
+        if handle.is_finished() && !interrupted_now {
+            match handle.join() {
+                Ok(Ok(r)) => (r, Vec::new()),
+                Ok(Err(e)) => {
+                    eprintln!("error: {e}");
+                    return BAD_INPUT;
+                }
+                Err(_) => {
+                    eprintln!("error: a run panicked");
+                    return RUN_FAILED;
+                }
             }
-            Err(_) => {
-                eprintln!("error: a run panicked");
-                return RUN_FAILED;
+        } else {
+            // interrupted: keep what finished, name the rest (the worker is left to the exit)
+            let d = done.lock().map(|d| d.clone()).unwrap_or_default();
+            let mut runs = Vec::new();
+            let mut rest = Vec::new();
+            for (slot, &k) in d.into_iter().zip(&indices) {
+                match slot {
+                    Some(r) => runs.push(r),
+                    None => rest.push(scenario.runs[k].label.clone()),
+                }
             }
-        }
-    } else {
-        // interrupted: keep what finished, name the rest (the worker is left to the exit)
-        let d = done.lock().map(|d| d.clone()).unwrap_or_default();
-        let mut runs = Vec::new();
-        let mut rest = Vec::new();
-        for (slot, &k) in d.into_iter().zip(&indices) {
-            match slot {
-                Some(r) => runs.push(r),
-                None => rest.push(scenario.runs[k].label.clone()),
-            }
-        }
-        (runs, rest)
-    };
+            (runs, rest)
+        };
     pb.finish_and_clear();
     if let Some(shard) = shard {
         if interrupted.is_empty() {

@@ -2,8 +2,8 @@
 
 use super::registry::{self, Params, Registered};
 use super::{
-    EnergyError, Expression, Gent, Hgo, LineResponse, MooneyRivlin, NeoHookean, Ogden, ShearResponse,
-    SheetResponse, StrainEnergy,
+    EnergyError, Expression, Gent, Hgo, LineResponse, MooneyRivlin, NeoHookean, Ogden,
+    ShearResponse, SheetResponse, StrainEnergy,
 };
 use num_dual::DualNum;
 use serde::ser::{Error as _, SerializeMap};

@@ -22,8 +22,8 @@
 pub mod ad;
 mod any;
 mod error;
-mod gent;
 mod expression;
+mod gent;
 mod hgo;
 mod mooney_rivlin;
 mod neo_hookean;
@@ -35,8 +35,8 @@ mod tests;
 
 pub use any::AnyEnergy;
 pub use error::EnergyError;
-pub use gent::Gent;
 pub use expression::{Expression, ExpressionError};
+pub use gent::Gent;
 pub use hgo::Hgo;
 pub use mooney_rivlin::MooneyRivlin;
 pub use neo_hookean::NeoHookean;

@@ -258,7 +258,11 @@ pub fn write_figures(
             .all(|r| r.sweep.as_ref().and_then(|p| p.value).is_some());
         if numeric && groups.len() >= 2 {
             let stretch_label = if shear { "tan θ" } else { "λ" };
-            for (key, ylabel) in [("pressure", "p"), ("stretch", stretch_label), ("length", "l")] {
+            for (key, ylabel) in [
+                ("pressure", "p"),
+                ("stretch", stretch_label),
+                ("length", "l"),
+            ] {
                 let what = if shear && key == "stretch" {
                     "shear tan θ"
                 } else {
