@@ -70,7 +70,21 @@ fn ok(o: &Output) {
     );
 }
 
-/// Every file of a directory; `summary.json` with `wall_seconds` lines dropped.
+/// Drops the fields that differ between processes: `wall_seconds` and the provenance (date,
+/// command line).
+fn drop_timing(v: &mut serde_json::Value) {
+    match v {
+        serde_json::Value::Object(m) => {
+            m.remove("wall_seconds");
+            m.remove("provenance");
+            m.values_mut().for_each(drop_timing);
+        }
+        serde_json::Value::Array(a) => a.iter_mut().for_each(drop_timing),
+        _ => {}
+    }
+}
+
+/// Every file of a directory; `summary.json` without its timing and provenance fields.
 fn contents(dir: &Path) -> BTreeMap<String, Vec<u8>> {
     let mut m = BTreeMap::new();
     for e in std::fs::read_dir(dir).unwrap() {
@@ -80,12 +94,9 @@ fn contents(dir: &Path) -> BTreeMap<String, Vec<u8>> {
         if name == "summary.json" {
             let text = String::from_utf8(bytes).unwrap();
             assert!(text.contains("wall_seconds"));
-            bytes = text
-                .lines()
-                .filter(|l| !l.contains("\"wall_seconds\""))
-                .collect::<Vec<_>>()
-                .join("\n")
-                .into_bytes();
+            let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+            drop_timing(&mut v);
+            bytes = serde_json::to_vec_pretty(&v).unwrap();
         }
         m.insert(name, bytes);
     }

@@ -10,6 +10,7 @@
 
 use super::{commands, BAD_INPUT, RUN_FAILED};
 use celltissue::observe::{RunRecord, Summary};
+use celltissue::output;
 use celltissue::scenario::{self, parallel::Shard, Scenario};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -234,6 +235,14 @@ pub fn merge(dirs: &[PathBuf], out: &Path, quiet: bool) -> i32 {
             return BAD_INPUT;
         }
     };
+    // the output directory is claimed in its manifest, as `run` does
+    let prepared = match output::manifest::prepare(out, &summary.scenario, false) {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return BAD_INPUT;
+        }
+    };
     if let Err(e) = std::fs::create_dir_all(out)
         .map_err(io(out))
         .and_then(|()| dirs.iter().try_for_each(|d| copy_snapshots(d, out)))
@@ -245,5 +254,9 @@ pub fn merge(dirs: &[PathBuf], out: &Path, quiet: bool) -> i32 {
         quiet,
         ..Default::default()
     };
-    commands::write_outputs(out, &scenario, &summary, &opts, &[])
+    let code = commands::write_outputs(out, &scenario, &summary, &opts, &[]);
+    if let Err(e) = output::manifest::finish(out, &summary.scenario, &prepared) {
+        eprintln!("warning: {e}");
+    }
+    code
 }
