@@ -138,14 +138,14 @@ series = { start = 0.01, stop = 1, count = 3, spacing = "log" }
 profiles = [0]
 [model]
 kind = "shear"
-energy = { law = "expression", W = "mu/2*(I1 - 3)" }
+law = { law = "expression", W = "mu/2*(I1 - 3)" }
 "#;
     let Err(err) = load_str(sheet, Path::new("bad.toml"), &[]) else {
         panic!("rejected")
     };
     let err = err.to_string();
     assert!(
-        err.contains("model.energy") && err.contains("unknown name `mu`"),
+        err.contains("model.law") && err.contains("unknown name `mu`"),
         "{err}"
     );
 }
