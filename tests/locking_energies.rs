@@ -39,8 +39,8 @@ fn a_cell_past_the_lock_is_a_named_recoverable_error() {
     let mut y = line.initial_state();
     // cell 2 = [x1, x2] stretched to 1.5 > 1.4142
     let k2 = line.layout().xi[2];
-    for k in k2..y.len() {
-        y[k] += 0.5;
+    for v in &mut y[k2..] {
+        *v += 0.5;
     }
     let yp = vec![0.0; y.len()];
     let mut r = vec![0.0; y.len()];
@@ -57,8 +57,8 @@ fn a_cell_past_the_lock_is_a_named_recoverable_error() {
     // just inside the lock: finite
     let mut y = line.initial_state();
     let d = lock(0.5) - 1.0 - 1e-6;
-    for k in k2..y.len() {
-        y[k] += d;
+    for v in &mut y[k2..] {
+        *v += d;
     }
     line.residual(0.0, &y, &yp, &mut r).unwrap();
     assert!(r.iter().all(|v| v.is_finite()));

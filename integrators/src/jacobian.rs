@@ -3,7 +3,7 @@
 //! colour (bandwidth+1 for banded), never one per column.
 //!
 //! The same machinery also builds the matrix of consistent initialisation, whose column `j` is
-//! `∂F/∂ẏ_j` for a differential and `∂F/∂y_j` for an algebraic component ([`Columns::Init`]).
+//! `∂F/∂ẏ_j` for a differential and `∂F/∂y_j` for an algebraic component (`Columns::Init`).
 //!
 //! Sources, in order of preference (unless [`crate::Options::force_fd_jacobian`]):
 //! 1. [`Problem::jacobian`](crate::Problem::jacobian) if it returns `Ok(true)`;

@@ -226,13 +226,11 @@ impl<E: StrainEnergy> Line<E> {
         ] {
             *v = duplicate(v, cells, k);
         }
-        let mut shift = 0;
-        for (&j, s) in cells.iter().zip(&splits) {
+        for (shift, (&j, s)) in cells.iter().zip(&splits).enumerate() {
             let i = j - 1 + shift;
             self.l0_total += s.l0_daughter * 2.0 - c.l0[i];
             c.l0[i] = s.l0_daughter;
             c.l0[i + 1] = s.l0_daughter;
-            shift += 1;
         }
         // boundary drags: the new boundary j (between the daughters) has the mean of its
         // parent's two

@@ -801,7 +801,7 @@ impl<E: StrainEnergy> Line<E> {
             .p_ext
             .unwrap_or_else(|| self.cells.p_ext[j - 1]);
         if pe != 0.0 {
-            e.sigma = e.sigma - pe;
+            e.sigma -= pe;
         }
         Ok(())
     }

@@ -1,7 +1,7 @@
 //! The line of cells (thesis Ch. 2 and the growth part of Ch. 3; docs/model.md §2–§3), discrete and
 //! continuum, from a [`crate::StrainEnergy`] to a [`crate::observe::RunRecord`]:
 //!
-//! * [`array`] — [`Line`], the residual (docs/model.md §2.9) as a [`crate::CellArray`];
+//! * [`array`](mod@array) — [`Line`], the residual (docs/model.md §2.9) as a [`crate::CellArray`];
 //! * [`build`] — discrete and conservative-continuum builders from one [`LineParams`];
 //! * [`thesis_scheme`] — the thesis's non-conservative finite-difference scheme (reproduction
 //!   mode, Table 2.1);

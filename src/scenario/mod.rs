@@ -23,7 +23,7 @@
 //! values = [1e-5, 1e-2, 1, 10]
 //! ```
 //!
-//! [`load`] turns it into a [`Scenario`] whose [`RunSpec`]s are all validated before anything
+//! [`load()`] turns it into a [`Scenario`] whose [`RunSpec`]s are all validated before anything
 //! runs; [`execute`] runs them.
 
 pub mod error;

@@ -1185,7 +1185,7 @@ impl Method for Bdf {
 
     /// Goes on after a resizing event the problem maps (see [`Method::resume`]): a restart at
     /// order 1 from the mapped `(t, y, ẏ)` with the pre-event step size, whose first step is
-    /// checked by step doubling ([`Bdf::step_doubled`]) instead of against the extrapolated
+    /// checked by step doubling (`Bdf::step_doubled`) instead of against the extrapolated
     /// `ẏ`. A division makes the solution kink (each daughter grows at its parent's absolute
     /// rate, so the tissue's growth rate jumps and the velocities relax to new values within a
     /// time `∝ K`): any predictor built from before the event — mapped history or restart
