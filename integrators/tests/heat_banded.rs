@@ -70,7 +70,7 @@ fn bdf_heat_banded_matches_exact_solution() {
 /// split in two, so the step sizes differ in their last bits: the runs take the same steps and
 /// Newton iterations and agree far below the integration tolerance (`rtol·max|y| = 1e-6`). The
 /// bound is 1e-5 of it: measured 4.0e-13 when BDF accumulated its Newton corrections, 1.0e-12
-/// since it recomputes `y_new − predictor` from the history (session 4), whose cancellation
+/// since it recomputes `y_new − predictor` from the history, whose cancellation
 /// lets the split sums' last bits reach the step sizes.
 #[test]
 fn two_threads_give_the_one_thread_solution() {
