@@ -5,7 +5,7 @@
 //! steps, seconds per step for each N, and the least-squares exponent of time/step against N;
 //! target ≤ 1.1), then runs the criterion group (time per step, via `iter_custom`). Set
 //! `HEAT_REPORT=0` to skip the report, `HEAT_MAX_N` to cap N (default 1e6), `THREADS=2` to pass
-//! `Options::threads = 2` (default 1: benchmarks are single-threaded unless asked).
+//! `Options::parallel = Parallelism::from_threads(2)` (default 1: benchmarks are single-threaded unless asked).
 //!
 //! With `--features diffsol-compare` the same problem is also solved by diffsol's BDF at equal
 //! tolerances and the report prints both times and both errors against the exact semi-discrete
@@ -26,7 +26,7 @@ fn opts() -> Options {
     Options {
         rtol: 1e-6,
         atol: 1e-9,
-        threads: threads(),
+        parallel: integrators::Parallelism::from_threads(threads()).expect("THREADS is 1 or 2"),
         ..Default::default()
     }
 }

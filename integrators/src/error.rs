@@ -47,20 +47,46 @@ pub enum ErrorKind {
     InvalidInput(String),
 }
 
-impl ErrorKind {
-    /// The error for a step abandoned after recoverable failures whose last reason was `reason`
-    /// (a [`crate::system::StepFailure::Recoverable`]): the solver's own non-finite-residual and
-    /// zero-pivot failures keep their kinds; anything else came from the problem and is kept
-    /// verbatim as [`ErrorKind::Rejected`].
-    pub(crate) fn from_recoverable(reason: &str, component: Option<usize>) -> Self {
-        if reason.starts_with("non-finite residual") {
-            ErrorKind::NonFinite
-        } else if reason.starts_with("singular iteration matrix") {
-            ErrorKind::SingularMatrix {
-                column: component.unwrap_or(0),
-            }
-        } else {
-            ErrorKind::Rejected(reason.to_string())
+/// Why a step attempt failed in a way a smaller step may cure (the reason of a
+/// [`crate::system::StepFailure::Recoverable`]).
+///
+/// ```
+/// use integrators::{ErrorKind, RecoverableCause};
+/// let c = RecoverableCause::SingularMatrix { column: 3 };
+/// assert_eq!(c.to_string(), "singular iteration matrix (zero pivot in column 3)");
+/// assert_eq!(ErrorKind::from(c), ErrorKind::SingularMatrix { column: 3 });
+/// ```
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum RecoverableCause {
+    /// The residual had a NaN or infinite component.
+    #[error("non-finite residual component {component} ({value})")]
+    NonFiniteResidual {
+        /// The first non-finite component.
+        component: usize,
+        /// Its value.
+        value: f64,
+    },
+    /// A factorisation met a zero pivot.
+    #[error("singular iteration matrix (zero pivot in column {column})")]
+    SingularMatrix {
+        /// Column of the zero pivot.
+        column: usize,
+    },
+    /// The problem rejected the state ([`crate::ResidualError::Recoverable`]), with its reason.
+    #[error("{0}")]
+    Rejected(String),
+}
+
+impl From<RecoverableCause> for ErrorKind {
+    /// The error of a step abandoned after recoverable failures whose last cause was this:
+    /// the solver's own non-finite-residual and zero-pivot failures keep their kinds; the
+    /// problem's own reason is kept verbatim as [`ErrorKind::Rejected`].
+    fn from(cause: RecoverableCause) -> Self {
+        match cause {
+            RecoverableCause::NonFiniteResidual { .. } => ErrorKind::NonFinite,
+            RecoverableCause::SingularMatrix { column } => ErrorKind::SingularMatrix { column },
+            RecoverableCause::Rejected(reason) => ErrorKind::Rejected(reason),
         }
     }
 }

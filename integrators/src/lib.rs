@@ -57,9 +57,11 @@ pub mod solver;
 pub mod stats;
 pub mod system;
 
-pub use error::{ErrorKind, SolveFailure, SolverError};
+pub use error::{ErrorKind, RecoverableCause, SolveFailure, SolverError};
 pub use method::{Method, MethodKind};
-pub use options::{ErrorNorm, IterativeSettings, LinearSolverChoice, Options};
+pub use options::{
+    ErrorNorm, IterativeSettings, LinearSolverChoice, Options, OptionsError, Parallelism,
+};
 pub use pattern::{Pattern, SparsityPattern};
 pub use problem::{EventAction, JacobianSink, Problem, ResidualError};
 pub use solver::{EventRecord, Solution, Solver};

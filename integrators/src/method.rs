@@ -39,9 +39,13 @@ pub trait Method {
         Ok(false)
     }
 
-    /// Takes one accepted step, never beyond `t_stop` (landing on it exactly when it is reached).
-    /// On error the method's state is the last accepted one.
-    fn step(&mut self, sys: &mut System<'_>, t_stop: f64) -> Result<(), SolverError>;
+    /// Advances by one accepted step, never beyond `t_stop` (landing on it exactly when it is
+    /// reached), and returns how many accepted steps that took: 1, or more for a method that
+    /// takes internal sub-steps (BDF's restart takes two half steps). The driver counts steps
+    /// from it (`Stats::steps`, `Options::max_steps`); a method does not touch `stats.steps`.
+    /// Rejected attempts are counted by the method (`Stats::rejected_steps`). On error the
+    /// method's state is the last accepted one.
+    fn step(&mut self, sys: &mut System<'_>, t_stop: f64) -> Result<usize, SolverError>;
 
     /// Time of the last accepted step.
     fn t(&self) -> f64;

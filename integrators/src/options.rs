@@ -1,5 +1,6 @@
-//! Solver options: tolerances, step limits, Jacobian reuse, error norm and the choice of
-//! linear solver ([`LinearSolverChoice`]).
+//! Solver options: tolerances, step limits, Jacobian reuse, error norm, the choice of
+//! linear solver ([`LinearSolverChoice`]) and of parallelism ([`Parallelism`]); invalid
+//! values are an [`OptionsError`] naming the field and its valid range.
 
 /// Options shared by every method.
 ///
@@ -44,13 +45,115 @@ pub struct Options {
     pub norm: ErrorNorm,
     /// How the Newton systems are solved (default: [`LinearSolverChoice::Direct`]).
     pub linear_solver: LinearSolverChoice,
-    /// Threads a solve may use (≥ 1; default 1 — parallelism is passed in, never global).
-    /// With 2 or more, problems of at least [`crate::System::PARALLEL_MIN`] unknowns split
-    /// BDF's vector passes and the tridiagonal solve in two halves on two threads, and the
-    /// problem is told through [`crate::Problem::set_threads`] (celltissue's line splits its
-    /// residual sweep). Only two-way splits exist, so values above 2 act as 2. Results do not
-    /// depend on it beyond the summation order of norms.
-    pub threads: usize,
+    /// Whether the solve splits its vector passes (default [`Parallelism::Serial`] —
+    /// parallelism is passed in, never global). The problem is told through
+    /// [`crate::Problem::set_threads`] (celltissue's line splits its residual sweep). Results
+    /// do not depend on it beyond the summation order of norms.
+    pub parallel: Parallelism,
+}
+
+/// How a solve may use a second worker: BDF's vector passes (predictor, weights, error
+/// norms) and the tridiagonal solve are split in two halves run by [`rayon::join`] — on the
+/// rayon pool the solve runs in (the global one unless the caller
+/// [`install`](rayon::ThreadPool::install)s another), so no thread is started per pass.
+///
+/// ```
+/// use integrators::{Options, Parallelism};
+/// let o = Options { parallel: Parallelism::from_threads(2)?, ..Default::default() };
+/// assert!(o.parallel.splits(1 << 18) && !o.parallel.splits(1000));
+/// // a lower threshold, e.g. on a machine with idle cores:
+/// let p = Parallelism::Halves { min_len: 1 << 15 };
+/// assert!(p.splits(1 << 15) && p.threads() == 2);
+/// assert!(Parallelism::from_threads(3).is_err()); // only two-way splits exist
+/// # Ok::<(), integrators::OptionsError>(())
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Parallelism {
+    /// Every pass on the calling thread.
+    #[default]
+    Serial,
+    /// Passes over at least `min_len` (≥ 2) components run in two halves.
+    Halves {
+        /// Smallest pass length that is split ([`Parallelism::DEFAULT_MIN_LEN`] by default).
+        min_len: usize,
+    },
+}
+
+impl Parallelism {
+    /// Default split threshold, 2¹⁸ components. Set high on purpose: on a shared machine the
+    /// second worker may wait for a core while the first waits for it, which at 10⁵ unknowns
+    /// (a pass of ~0.1 ms) was measured to cost more than the split saves.
+    pub const DEFAULT_MIN_LEN: usize = 1 << 18;
+
+    /// From a thread count: 1 → [`Parallelism::Serial`], 2 → [`Parallelism::Halves`] at
+    /// [`Parallelism::DEFAULT_MIN_LEN`]; anything else is an error (passes split in two
+    /// halves at most, so more threads would be silently unused).
+    pub fn from_threads(threads: usize) -> Result<Self, OptionsError> {
+        match threads {
+            1 => Ok(Parallelism::Serial),
+            2 => Ok(Parallelism::Halves {
+                min_len: Self::DEFAULT_MIN_LEN,
+            }),
+            _ => Err(OptionsError::Threads(threads)),
+        }
+    }
+
+    /// Workers a pass may use: 1 or 2.
+    pub fn threads(self) -> usize {
+        match self {
+            Parallelism::Serial => 1,
+            Parallelism::Halves { .. } => 2,
+        }
+    }
+
+    /// Whether a pass over `n` components is split.
+    pub fn splits(self, n: usize) -> bool {
+        match self {
+            Parallelism::Serial => false,
+            Parallelism::Halves { min_len } => n >= min_len,
+        }
+    }
+}
+
+/// An option outside its valid range: the message names the field and the range.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum OptionsError {
+    /// A field outside its range.
+    #[error("{field} = {value} must be {range}")]
+    OutOfRange {
+        /// Field name (`linear_solver.rtol` for nested ones).
+        field: &'static str,
+        /// The value given, formatted.
+        value: String,
+        /// The valid range, in words.
+        range: String,
+    },
+    /// An unknown name for an enumerated option.
+    #[error("{field} = {value:?} must be {valid}")]
+    UnknownName {
+        /// Field name.
+        field: &'static str,
+        /// The name given.
+        value: String,
+        /// The valid names.
+        valid: &'static str,
+    },
+    /// A thread count other than 1 or 2.
+    #[error("threads = {0} must be 1 or 2 (passes are split in two halves at most)")]
+    Threads(usize),
+}
+
+fn out_of_range(
+    field: &'static str,
+    value: impl std::fmt::Display,
+    range: impl Into<String>,
+) -> OptionsError {
+    OptionsError::OutOfRange {
+        field,
+        value: value.to_string(),
+        range: range.into(),
+    }
 }
 
 /// How the linear systems of the Newton iterations are solved.
@@ -177,11 +280,24 @@ impl ErrorNorm {
     }
 
     /// Parses `"rms"` or `"max"`.
-    pub fn parse(s: &str) -> Result<Self, String> {
+    ///
+    /// ```
+    /// use integrators::ErrorNorm;
+    /// assert_eq!(ErrorNorm::parse("max"), Ok(ErrorNorm::Max));
+    /// assert_eq!(
+    ///     ErrorNorm::parse("l2").unwrap_err().to_string(),
+    ///     r#"norm = "l2" must be "rms" or "max""#
+    /// );
+    /// ```
+    pub fn parse(s: &str) -> Result<Self, OptionsError> {
         match s {
             "rms" => Ok(ErrorNorm::Rms),
             "max" => Ok(ErrorNorm::Max),
-            other => Err(format!("norm = {other:?} must be \"rms\" or \"max\"")),
+            other => Err(OptionsError::UnknownName {
+                field: "norm",
+                value: other.to_string(),
+                valid: "\"rms\" or \"max\"",
+            }),
         }
     }
 }
@@ -204,72 +320,78 @@ impl Default for Options {
             fixed_order: None,
             norm: ErrorNorm::Rms,
             linear_solver: LinearSolverChoice::Direct,
-            threads: 1,
+            parallel: Parallelism::Serial,
         }
     }
 }
 
 impl Options {
     /// Checks ranges; the error names the field and its valid range.
-    pub fn validate(&self) -> Result<(), String> {
+    ///
+    /// ```
+    /// let o = integrators::Options { rtol: 2.0, ..Default::default() };
+    /// assert_eq!(o.validate().unwrap_err().to_string(), "rtol = 2 must be in (0, 1)");
+    /// ```
+    pub fn validate(&self) -> Result<(), OptionsError> {
         if !(self.rtol > 0.0 && self.rtol < 1.0) {
-            return Err(format!("rtol = {} must be in (0, 1)", self.rtol));
+            return Err(out_of_range("rtol", self.rtol, "in (0, 1)"));
         }
         if !(self.atol > 0.0 && self.atol.is_finite()) {
-            return Err(format!("atol = {} must be positive and finite", self.atol));
+            return Err(out_of_range("atol", self.atol, "positive and finite"));
         }
         if let Some(h0) = self.h0 {
             if !(h0 > 0.0 && h0.is_finite()) {
-                return Err(format!("h0 = {h0} must be positive and finite"));
+                return Err(out_of_range("h0", h0, "positive and finite"));
             }
         }
         if self.h_max.is_nan() || self.h_max <= 0.0 {
-            return Err(format!("h_max = {} must be positive", self.h_max));
+            return Err(out_of_range("h_max", self.h_max, "positive"));
         }
         if !(self.h_min >= 0.0 && self.h_min < self.h_max) {
-            return Err(format!("h_min = {} must be in [0, h_max)", self.h_min));
+            return Err(out_of_range("h_min", self.h_min, "in [0, h_max)"));
         }
         if !(1..=5).contains(&self.max_order) {
-            return Err(format!("max_order = {} must be in 1..=5", self.max_order));
+            return Err(out_of_range("max_order", self.max_order, "in 1..=5"));
         }
         if self.max_newton_iters == 0 {
-            return Err("max_newton_iters must be at least 1".into());
+            return Err(out_of_range("max_newton_iters", 0, "at least 1"));
         }
         if let Some(h) = self.fixed_step {
             if !(h > 0.0 && h.is_finite()) {
-                return Err(format!("fixed_step = {h} must be positive and finite"));
+                return Err(out_of_range("fixed_step", h, "positive and finite"));
             }
         }
         if let Some(k) = self.fixed_order {
             if !(1..=self.max_order).contains(&k) {
-                return Err(format!(
-                    "fixed_order = {k} must be in 1..=max_order ({})",
-                    self.max_order
+                return Err(out_of_range(
+                    "fixed_order",
+                    k,
+                    format!("in 1..=max_order ({})", self.max_order),
                 ));
             }
         }
         if let LinearSolverChoice::Iterative(it) = self.linear_solver {
             if !(it.rtol > 0.0 && it.rtol < 1.0) {
-                return Err(format!(
-                    "linear_solver.rtol = {} must be in (0, 1)",
-                    it.rtol
-                ));
+                return Err(out_of_range("linear_solver.rtol", it.rtol, "in (0, 1)"));
             }
             if it.max_iters == 0 {
-                return Err("linear_solver.max_iters must be at least 1".into());
+                return Err(out_of_range("linear_solver.max_iters", 0, "at least 1"));
             }
             if !(it.newton_factor >= 0.0 && it.newton_factor < 1.0) {
-                return Err(format!(
-                    "linear_solver.newton_factor = {} must be in [0, 1)",
-                    it.newton_factor
+                return Err(out_of_range(
+                    "linear_solver.newton_factor",
+                    it.newton_factor,
+                    "in [0, 1)",
                 ));
             }
         }
-        if self.threads == 0 {
-            return Err("threads = 0 must be at least 1".into());
+        if let Parallelism::Halves { min_len } = self.parallel {
+            if min_len < 2 {
+                return Err(out_of_range("parallel.min_len", min_len, "at least 2"));
+            }
         }
         if self.event_tol.is_nan() || self.event_tol <= 0.0 {
-            return Err(format!("event_tol = {} must be positive", self.event_tol));
+            return Err(out_of_range("event_tol", self.event_tol, "positive"));
         }
         Ok(())
     }

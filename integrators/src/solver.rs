@@ -319,7 +319,12 @@ impl<O> Run<'_, O> {
 }
 
 /// Evaluates the event functions, checking their number and finiteness.
-fn eval_events<P: Problem>(p: &mut P, t: f64, y: &[f64], g: &mut Vec<f64>) -> Result<(), String> {
+fn eval_events<P: Problem>(
+    p: &mut P,
+    t: f64,
+    y: &[f64],
+    g: &mut Vec<f64>,
+) -> Result<(), ErrorKind> {
     let ne = p.num_events();
     g.clear();
     g.resize(ne, 0.0);
@@ -328,7 +333,9 @@ fn eval_events<P: Problem>(p: &mut P, t: f64, y: &[f64], g: &mut Vec<f64>) -> Re
     }
     p.events(t, y, g);
     if let Some(i) = g.iter().position(|v| !v.is_finite()) {
-        return Err(format!("event function {i} is not finite at t = {t}"));
+        return Err(ErrorKind::Residual(format!(
+            "event function {i} is not finite at t = {t}"
+        )));
     }
     Ok(())
 }
@@ -357,7 +364,7 @@ fn locate<P: Problem>(
     mut gb: Vec<f64>,
     ybuf: &mut Vec<f64>,
     ypbuf: &mut Vec<f64>,
-) -> Result<Located, String> {
+) -> Result<Located, ErrorKind> {
     let n = m.y().len();
     ybuf.resize(n, 0.0);
     ypbuf.resize(n, 0.0);
@@ -399,7 +406,9 @@ fn locate<P: Problem>(
         m.interpolate(tm, ybuf, ypbuf);
         eval_events(p, tm, ybuf, &mut gm)?;
         if gm.len() != ga.len() {
-            return Err("number of event functions changed during root finding".into());
+            return Err(ErrorKind::Residual(
+                "number of event functions changed during root finding".into(),
+            ));
         }
         let left = (0..ga.len()).any(|i| fires(ga[i], gm[i]));
         if left {
@@ -493,10 +502,10 @@ where
 
     // ---- input validation
     if let Err(e) = opts.validate() {
-        return invalid(run, e);
+        return invalid(run, e.to_string());
     }
     // parallelism is passed in: the problem learns how many threads it may use
-    p.set_threads(opts.threads);
+    p.set_threads(opts.parallel.threads());
     if !t0.is_finite() {
         return invalid(run, format!("t0 = {t0} is not finite"));
     }
@@ -536,7 +545,7 @@ where
         ));
     }
     if let Err(e) = run.cache.rebuild(p, opts) {
-        return invalid(run, e);
+        return Err(run.fail(e, t0, None));
     }
 
     // ---- consistent initialisation
@@ -551,7 +560,7 @@ where
     run.sol.y_last = y.clone();
     let mut g_prev = Vec::new();
     if let Err(e) = eval_events(p, t0, &y, &mut g_prev) {
-        return Err(run.fail(ErrorKind::Residual(e), t0, None));
+        return Err(run.fail(e, t0, None));
     }
     run.emit_at(p, t0, &y, &yp);
     let t_end = *t_out.last().expect("non-empty");
@@ -575,10 +584,14 @@ where
         }
         {
             let mut sys = System::new(p, opts, &mut run.stats, &mut run.cache);
-            if let Err(e) = method.step(&mut sys, t_end) {
-                run.sol.t_last = method.t();
-                run.sol.y_last = method.y().to_vec();
-                return Err(run.fail_err(e));
+            match method.step(&mut sys, t_end) {
+                // the driver counts steps (a method reports how many it took)
+                Ok(accepted) => sys.stats.steps += accepted,
+                Err(e) => {
+                    run.sol.t_last = method.t();
+                    run.sol.y_last = method.y().to_vec();
+                    return Err(run.fail_err(e));
+                }
             }
         }
         let t = method.t();
@@ -596,7 +609,7 @@ where
         if !g_prev.is_empty() {
             run.keep_last(method.y());
             if let Err(e) = eval_events(p, t, method.y(), &mut g_new) {
-                return Err(run.fail(ErrorKind::Residual(e), t, None));
+                return Err(run.fail(e, t, None));
             }
             if g_new.len() != g_prev.len() {
                 return Err(run.fail(
@@ -630,7 +643,7 @@ where
                     post,
                 } = match located {
                     Ok(v) => v,
-                    Err(e) => return Err(run.fail(ErrorKind::Residual(e), t, None)),
+                    Err(e) => return Err(run.fail(e, t, None)),
                 };
                 // outputs before the event (those within event_tol of it count as at it)
                 run.emit_interp(p, opts, method, ts - opts.event_tol, false);
@@ -712,7 +725,7 @@ where
                         if resized {
                             run.stats.resizes += 1;
                             if let Err(e) = run.cache.rebuild(p, opts) {
-                                return Err(run.fail(ErrorKind::InvalidInput(e), ts, None));
+                                return Err(run.fail(e, ts, None));
                             }
                         }
                         // a resize the problem can map (`Problem::map_history`): the method
@@ -739,7 +752,7 @@ where
                             }
                         }
                         if let Err(e) = eval_events(p, ts, &ynew, &mut g_prev) {
-                            return Err(run.fail(ErrorKind::Residual(e), ts, None));
+                            return Err(run.fail(e, ts, None));
                         }
                         mask_fired(&mut g_prev, &fired, &post);
                         run.sol.t_last = ts;

@@ -6,7 +6,7 @@
 //! The signatures here are the contract between the driver, the methods and the linear
 //! algebra; the Jacobian construction itself lives in [`crate::jacobian`].
 
-use crate::error::{ErrorKind, SolverError};
+use crate::error::{ErrorKind, RecoverableCause, SolverError};
 use crate::jacobian::{self, Columns};
 use crate::linalg::{LinearSolver, Matrix};
 use crate::options::Options;
@@ -20,8 +20,8 @@ pub enum StepFailure {
     /// Residual reported `ResidualError::Recoverable`, a non-finite value appeared, or a
     /// factorisation was singular: retry with a smaller step.
     Recoverable {
-        /// Reason, for the final error message if retries run out.
-        reason: String,
+        /// Cause, for the final error if retries run out.
+        reason: RecoverableCause,
         /// Component responsible, if known.
         component: Option<usize>,
     },
@@ -81,44 +81,50 @@ pub(crate) struct Spares {
 impl SystemCache {
     /// Re-reads dimension, pattern, colouring, tolerances and algebraic flags from the problem
     /// (at the start and after every resize). Errors if the problem's declared sizes disagree.
-    pub fn rebuild(&mut self, problem: &dyn Problem, opts: &Options) -> Result<(), String> {
+    pub fn rebuild(&mut self, problem: &dyn Problem, opts: &Options) -> Result<(), ErrorKind> {
         let n = problem.dim();
         let pattern = problem.pattern();
         if let Pattern::Sparse(p) = &pattern {
             if p.n() != n {
-                return Err(format!(
+                return Err(ErrorKind::InvalidInput(format!(
                     "sparse pattern is {}×{} but dim() = {n}",
                     p.n(),
                     p.n()
-                ));
+                )));
             }
         }
         let atol = match problem.atol() {
             Some(a) => {
                 if a.len() != n {
-                    return Err(format!("atol() has length {} but dim() = {n}", a.len()));
+                    return Err(ErrorKind::InvalidInput(format!(
+                        "atol() has length {} but dim() = {n}",
+                        a.len()
+                    )));
                 }
                 if let Some(i) = a.iter().position(|&x| !(x > 0.0 && x.is_finite())) {
-                    return Err(format!(
+                    return Err(ErrorKind::InvalidInput(format!(
                         "atol()[{i}] = {} must be positive and finite",
                         a[i]
-                    ));
+                    )));
                 }
                 a
             }
             None => {
                 if !(opts.atol > 0.0 && opts.atol.is_finite()) {
-                    return Err(format!("atol = {} must be positive and finite", opts.atol));
+                    return Err(ErrorKind::InvalidInput(format!(
+                        "atol = {} must be positive and finite",
+                        opts.atol
+                    )));
                 }
                 vec![opts.atol; n]
             }
         };
         let algebraic = problem.algebraic();
         if algebraic.len() != n {
-            return Err(format!(
+            return Err(ErrorKind::InvalidInput(format!(
                 "algebraic() has length {} but dim() = {n}",
                 algebraic.len()
-            ));
+            )));
         }
         let colour_cols = match pattern {
             // column j has colour j mod w: each group is a stride, built at its exact size
@@ -171,19 +177,14 @@ impl<'a> System<'a> {
         }
     }
 
-    /// Threads this solve may use for its vector passes: [`Options::threads`] capped at 2
-    /// (passes are split in two halves at most). Work is split only above
-    /// [`System::PARALLEL_MIN`] unknowns, where a thread's start-up (tens of µs) is a small
-    /// share of a pass.
-    pub fn threads(&self) -> usize {
-        self.opts.threads.clamp(1, 2)
+    /// How this solve may split its vector passes ([`Options::parallel`]).
+    pub fn parallel(&self) -> crate::Parallelism {
+        self.opts.parallel
     }
 
-    /// Problem size from which passes are split over [`System::threads`] threads. Set
-    /// high on purpose: on a shared machine the second thread may wait for a core while the
-    /// first waits for it, which at 10⁵ unknowns (a pass of ~0.1 ms) was measured to cost
-    /// more than the split saves.
-    pub const PARALLEL_MIN: usize = 1 << 18;
+    /// The default problem size from which passes are split
+    /// ([`crate::Parallelism::DEFAULT_MIN_LEN`]; a solve's own is in [`Options::parallel`]).
+    pub const PARALLEL_MIN: usize = crate::Parallelism::DEFAULT_MIN_LEN;
 
     /// Problem dimension (as cached at the last rebuild).
     pub fn dim(&self) -> usize {
@@ -223,7 +224,10 @@ impl<'a> System<'a> {
             .map_err(|e| self.residual_failure(e, t))?;
         if let Some(i) = crate::linalg::first_non_finite(r) {
             return Err(StepFailure::Recoverable {
-                reason: format!("non-finite residual component {i} ({})", r[i]),
+                reason: RecoverableCause::NonFiniteResidual {
+                    component: i,
+                    value: r[i],
+                },
                 component: Some(i),
             });
         }
@@ -233,9 +237,10 @@ impl<'a> System<'a> {
     /// Maps a [`ResidualError`] at time `t` to a [`StepFailure`].
     pub(crate) fn residual_failure(&self, e: ResidualError, t: f64) -> StepFailure {
         match e {
-            ResidualError::Recoverable { reason, component } => {
-                StepFailure::Recoverable { reason, component }
-            }
+            ResidualError::Recoverable { reason, component } => StepFailure::Recoverable {
+                reason: RecoverableCause::Rejected(reason),
+                component,
+            },
             ResidualError::Fatal(msg) => {
                 StepFailure::Fatal(SolverError::new(ErrorKind::Residual(msg), t, None))
             }
@@ -252,7 +257,7 @@ impl<'a> System<'a> {
     pub fn new_linear_solver(&self) -> LinearSolver {
         let mut lin =
             LinearSolver::with_choice(self.dim(), self.pattern(), self.opts.linear_solver);
-        lin.set_threads(self.threads());
+        lin.set_parallelism(self.parallel());
         lin
     }
 
@@ -351,7 +356,7 @@ impl<'a> System<'a> {
             self.stats.symbolic_factorizations += 1;
         }
         res.map_err(|column| StepFailure::Recoverable {
-            reason: format!("singular iteration matrix (zero pivot in column {column})"),
+            reason: RecoverableCause::SingularMatrix { column },
             component: Some(column),
         })
     }
@@ -372,7 +377,7 @@ impl<'a> System<'a> {
             self.stats.symbolic_factorizations += 1;
         }
         res.map_err(|column| StepFailure::Recoverable {
-            reason: format!("singular iteration matrix (zero pivot in column {column})"),
+            reason: RecoverableCause::SingularMatrix { column },
             component: Some(column),
         })
     }
@@ -846,7 +851,7 @@ mod tests {
                     assert_eq!(
                         f,
                         StepFailure::Recoverable {
-                            reason: "length ≤ 0".into(),
+                            reason: RecoverableCause::Rejected("length ≤ 0".into()),
                             component: Some(0)
                         }
                     )
@@ -924,7 +929,8 @@ mod tests {
             (3, "sparse pattern"),
         ] {
             let err = SystemCache::default().rebuild(&Bad(k), &opts).unwrap_err();
-            assert!(err.contains(needle), "{err}");
+            assert!(matches!(err, ErrorKind::InvalidInput(_)), "{err}");
+            assert!(err.to_string().contains(needle), "{err}");
         }
     }
 

@@ -63,9 +63,10 @@ fn bdf_heat_banded_matches_exact_solution() {
     }
 }
 
-/// `Options::threads = 2` above `System::PARALLEL_MIN` unknowns splits BDF's predictor/weights
-/// and error-norm passes and the twisted tridiagonal factorisation and solve in two halves on two
-/// threads, each half with the one-thread arithmetic. With the max norm nothing else differs:
+/// `Parallelism::Halves` splits, from its `min_len` unknowns, BDF's predictor/weights and
+/// error-norm passes and the twisted tridiagonal factorisation and solve in two halves run by
+/// `rayon::join`, each half with the one-thread arithmetic. The threshold is lowered to 4096 so
+/// a 20 000-unknown problem exercises every split (the default is 2¹⁸). With the max norm nothing else differs:
 /// the two runs are bitwise identical. With the RMS norm (the default) the norms' sums are
 /// split in two, so the step sizes differ in their last bits: the runs take the same steps and
 /// Newton iterations and agree far below the integration tolerance (`rtol·max|y| = 1e-6`). The
@@ -74,15 +75,16 @@ fn bdf_heat_banded_matches_exact_solution() {
 /// lets the split sums' last bits reach the step sizes.
 #[test]
 fn two_threads_give_the_one_thread_solution() {
-    let n = integrators::System::PARALLEL_MIN + 1001;
-    let run = |threads: usize, norm: integrators::ErrorNorm| {
+    let n = 20_001;
+    let split = integrators::Parallelism::Halves { min_len: 4096 };
+    let run = |parallel: integrators::Parallelism, norm: integrators::ErrorNorm| {
         let mut p = Ode(Heat {
             n,
             exact_jacobian: true,
         });
         let y0 = p.0.initial();
         let o = integrators::Options {
-            threads,
+            parallel,
             norm,
             ..opts(1e-6, 1e-9)
         };
@@ -91,11 +93,12 @@ fn two_threads_give_the_one_thread_solution() {
             .unwrap()
     };
     let max = integrators::ErrorNorm::Max;
-    let (one, two) = (run(1, max), run(2, max));
+    let serial = integrators::Parallelism::Serial;
+    let (one, two) = (run(serial, max), run(split, max));
     assert_eq!(one.stats, two.stats);
     assert_eq!(one.y, two.y, "max norm: bitwise the one-thread solution");
     let rms = integrators::ErrorNorm::Rms;
-    let (one, two) = (run(1, rms), run(2, rms));
+    let (one, two) = (run(serial, rms), run(split, rms));
     assert_eq!(one.stats.steps, two.stats.steps);
     assert_eq!(one.stats.newton_iterations, two.stats.newton_iterations);
     let ymax = one.y[0].iter().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -111,18 +114,30 @@ fn two_threads_give_the_one_thread_solution() {
 }
 
 #[test]
-fn zero_threads_is_a_named_input_error() {
+fn bad_parallel_settings_are_named_input_errors() {
+    use integrators::Parallelism;
+    for threads in [0, 3] {
+        let e = Parallelism::from_threads(threads).unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with(&format!("threads = {threads} must be 1 or 2")),
+            "{e}"
+        );
+    }
     let mut p = Ode(Heat {
         n: 10,
         exact_jacobian: true,
     });
     let y0 = p.0.initial();
     let o = integrators::Options {
-        threads: 0,
+        parallel: Parallelism::Halves { min_len: 1 },
         ..opts(1e-6, 1e-9)
     };
     let e = Solver::new(MethodKind::Bdf, o)
         .solve(&mut p, 0.0, &y0, &[0.02])
         .unwrap_err();
-    assert!(e.error.to_string().contains("threads"), "{}", e.error);
+    assert_eq!(
+        e.error.kind,
+        integrators::ErrorKind::InvalidInput("parallel.min_len = 1 must be at least 2".into())
+    );
 }

@@ -911,14 +911,11 @@ impl<E: StrainEnergy> Line<E> {
             return None;
         }
         let (ra, rb) = r.split_at_mut(split);
-        let (res_a, res_b) = std::thread::scope(|s| {
-            let second = s.spawn(|| self.residual_cells(t, y, yp, rb, split, c0, n));
-            let first = self.residual_cells(t, y, yp, ra, 0, 1, c0 - 1);
-            let second = second
-                .join()
-                .unwrap_or_else(|e| std::panic::resume_unwind(e));
-            (first, second)
-        });
+        // the second half on a rayon worker (no thread started per residual)
+        let (res_a, res_b) = rayon::join(
+            || self.residual_cells(t, y, yp, ra, 0, 1, c0 - 1),
+            || self.residual_cells(t, y, yp, rb, split, c0, n),
+        );
         Some(res_a.and(res_b))
     }
 

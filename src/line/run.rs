@@ -37,9 +37,10 @@ pub struct SolveSettings {
     /// Error norm (default [`ErrorNorm::Max`]: a line's dynamics concentrate at its ends,
     /// where the RMS norm would dilute the local error by `√N`; see [`ErrorNorm`]).
     pub norm: ErrorNorm,
-    /// Threads the solve may use ([`integrators::Options::threads`]; default 1). With 2, lines
-    /// of at least [`crate::line::array::PAR_MIN_CELLS`] cells split their residual sweep and
-    /// the integrator's vector passes and tridiagonal solve in two halves.
+    /// Threads the solve may use, 1 or 2 (default 1; anything else fails the run with a named
+    /// error, see [`integrators::Parallelism::from_threads`]). With 2, lines of at least
+    /// [`crate::line::array::PAR_MIN_CELLS`] cells split their residual sweep and the
+    /// integrator's vector passes and tridiagonal solve in two halves.
     pub threads: usize,
 }
 
@@ -271,11 +272,20 @@ pub fn integrate<A: LineModel>(
     settings: &SolveSettings,
     t_out: &[f64],
 ) -> Trajectory {
+    let parallel = match integrators::Parallelism::from_threads(settings.threads) {
+        Ok(p) => p,
+        Err(e) => {
+            return Trajectory {
+                error: Some(e.to_string()),
+                ..Default::default()
+            }
+        }
+    };
     let opts = Options {
         rtol: settings.rtol,
         atol: settings.atol,
         norm: settings.norm,
-        threads: settings.threads,
+        parallel,
         ..Default::default()
     };
     let solver = Solver::new(settings.method, opts);

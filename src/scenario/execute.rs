@@ -24,7 +24,9 @@ pub fn run_spec_in(spec: &RunSpec, dir: Option<&Path>) -> RunRecord {
             atol: spec.solver.atol,
             norm: spec.solver.norm,
             linear_solver: spec.solver.linear_solver,
-            threads: spec.solver.threads,
+            // validated to 1 or 2 by `SolverSection::validate`
+            parallel: integrators::Parallelism::from_threads(spec.solver.threads)
+                .unwrap_or_default(),
             ..Default::default()
         },
     };

@@ -420,6 +420,7 @@ krylov_rtol = 1e-6
             ("solver.newton_factor=-0.1", "solver.newton_factor"),
             ("solver.linear_solver=\"lu\"", "solver.linear_solver"),
             ("solver.threads=0", "solver.threads"),
+            ("solver.threads=3", "solver.threads"),
         ] {
             let e = load(sheet, &[set]).unwrap_err();
             assert_eq!(e.key_name(), Some(key), "{set}: {e}");

@@ -55,7 +55,7 @@ pub struct SolverSection {
     /// Iterative solver: fraction of the Newton tolerance the linear error may reach, in
     /// [0, 1); 0 keeps only `krylov_rtol`.
     pub newton_factor: f64,
-    /// Threads a run may use, ≥ 1 (default 1; 2 splits the passes of lines with ≥ 2¹⁸ cells).
+    /// Threads a run may use, 1 or 2 (default 1; 2 splits the passes of lines with ≥ 2¹⁸ cells).
     pub threads: usize,
 }
 
@@ -143,8 +143,8 @@ impl SolverSection {
                 format!("= {} must be finite and > 0", self.atol),
             ));
         }
-        let norm =
-            ErrorNorm::parse(&self.norm).map_err(|e| ScenarioError::key("solver.norm", e))?;
+        let norm = ErrorNorm::parse(&self.norm)
+            .map_err(|e| ScenarioError::key("solver.norm", e.to_string()))?;
         let linear_solver = match self.linear_solver.as_str() {
             "direct" => LinearSolverChoice::Direct,
             "iterative" => {
@@ -179,10 +179,13 @@ impl SolverSection {
                 ))
             }
         };
-        if self.threads == 0 {
+        if integrators::Parallelism::from_threads(self.threads).is_err() {
             return Err(ScenarioError::key(
                 "solver.threads",
-                "= 0 must be at least 1".to_string(),
+                format!(
+                    "= {} must be 1 or 2 (passes are split in two halves at most)",
+                    self.threads
+                ),
             ));
         }
         Ok(SolverChoice {

@@ -208,7 +208,7 @@ pub fn run_sheet<E: StrainEnergy>(
     solver
         .options
         .validate()
-        .map_err(|e| cfg_err("solver", "options", &e))?;
+        .map_err(|e| cfg_err("solver", "options", &e.to_string()))?;
     let (n, m) = match (model, grid) {
         (ModelKind::Discrete, None) => (cfg.cells_x, cfg.cells_y),
         (ModelKind::Discrete, Some(g)) if g == (cfg.cells_x, cfg.cells_y) => g,
@@ -327,7 +327,7 @@ pub fn run_shear<E: StrainEnergy>(
     solver
         .options
         .validate()
-        .map_err(|e| cfg_err("solver", "options", &e))?;
+        .map_err(|e| cfg_err("solver", "options", &e.to_string()))?;
     let times = all_times(out)?;
     let params = cfg.params();
     let m = match (model, grid, cfg.form) {

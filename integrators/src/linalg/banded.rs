@@ -121,9 +121,10 @@ pub(crate) struct BandLu {
     tri: Option<TriLu>,
     /// Multiply–add count of the last factorisation.
     pub(crate) flops: usize,
-    /// Threads the tridiagonal solve may use (2: the twisted halves run concurrently from
-    /// [`crate::System::PARALLEL_MIN`] unknowns). Set by [`super::LinearSolver::set_threads`].
-    pub(crate) threads: usize,
+    /// Whether the tridiagonal solve runs its twisted halves concurrently (from
+    /// [`crate::Parallelism::Halves`]' `min_len` unknowns). Set by
+    /// [`super::LinearSolver::set_parallelism`].
+    pub(crate) parallel: crate::Parallelism,
 }
 
 /// LU factors of a tridiagonal matrix with partial pivoting, eliminated from both ends at once
@@ -285,7 +286,8 @@ impl TriLu {
     /// [A(j−1, j), A(j, j), A(j+1, j)]` (entries outside the matrix are read and must be
     /// finite, as the band storage's zero slots are). One streaming pass from each end: the
     /// entries are loaded as the elimination reaches them, so a combined matrix `A + β·B` is
-    /// never stored. With `two_threads` the downward and the upward sweep run on two threads
+    /// never stored. With `two_threads` the downward and the upward sweep run concurrently
+    /// ([`rayon::join`]: the caller's thread and a pool worker, no thread started)
     /// (they touch disjoint rows until the twist), else interleaved in one loop; the
     /// arithmetic is the same. Returns the multiply–add count, or `Err(column)`: the first
     /// column holding a non-finite entry if there is one (as the band path's up-front check
@@ -318,31 +320,29 @@ impl TriLu {
             let (u_top, u_bot) = urow.split_at_mut(k + 1);
             // the upward sweep's state moves to its thread and back (two sweeps' running
             // states side by side on one stack would share a cache line, written every row)
-            let (rd, ru, up_back) = std::thread::scope(|sc| {
-                let h = sc.spawn(move || {
-                    for i in 0..bot_len {
-                        let j = n - 1 - i;
-                        let r = j - (k + 1);
-                        let out = (&mut s_bot[r], &mut m_bot[r], &mut u_bot[r]);
-                        if up.step(cols, j - 2, out).is_err() {
-                            return (up, Err((i, 1, j)));
-                        }
+            let upward = move || {
+                for i in 0..bot_len {
+                    let j = n - 1 - i;
+                    let r = j - (k + 1);
+                    let out = (&mut s_bot[r], &mut m_bot[r], &mut u_bot[r]);
+                    if up.step(cols, j - 2, out).is_err() {
+                        return (up, Err((i, 1, j)));
                     }
-                    (up, Ok(()))
-                });
-                let mut rd = Ok(());
+                }
+                (up, Ok(()))
+            };
+            let downward = || {
                 for j in 0..top_len {
                     if down
                         .step(cols, j + 2, (&mut s_top[j], &mut m_top[j], &mut u_top[j]))
                         .is_err()
                     {
-                        rd = Err((j, 0, j));
-                        break;
+                        return Err((j, 0, j));
                     }
                 }
-                let (up, ru) = h.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
-                (rd, ru, up)
-            });
+                Ok(())
+            };
+            let (rd, (up_back, ru)) = rayon::join(downward, upward);
             up = up_back;
             // the failure the interleaved loop meets first: step i, downward before upward
             match (rd, ru) {
@@ -464,7 +464,8 @@ impl TriLu {
         map
     }
 
-    /// [`solve_map`](Self::solve_map) with the two halves on two threads: the downward half
+    /// [`solve_map`](Self::solve_map) with the two halves run concurrently ([`rayon::join`]):
+    /// the downward half
     /// (rows `0..=k`) and the upward half (rows `k+1..n`) of each sweep touch disjoint parts
     /// of `b`, and only the twist rows `k`, `k+1` join them. `map` is split at `k + 1`
     /// ([`SolutionMap::split`]; a map that cannot be split gets the one-thread solve). Same
@@ -505,20 +506,22 @@ impl TriLu {
             }
             bc
         };
-        let (tc, bc) = std::thread::scope(|sc| {
-            let h = sc.spawn(|| up(&mut *bot));
-            let tc = down(&mut *top);
-            (
-                tc,
-                h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)),
-            )
-        });
+        let (tc, bc) = rayon::join(|| down(&mut *top), || up(&mut *bot));
         let (xk, xk1) = self.twist(tc, bc);
         top[k] = first.map(k, xk);
         bot[0] = second.map(k + 1, xk1);
-        // backward: outwards from the twist, one half per thread
-        std::thread::scope(|sc| {
-            let h = sc.spawn(|| {
+        // backward: outwards from the twist, one half per worker
+        rayon::join(
+            || {
+                let (mut t1, mut t2) = (xk, xk1);
+                for j in (0..k).rev() {
+                    let [v2, v1, inv] = urow[j];
+                    let x = (top[j] * inv - v2 * t2) - v1 * t1;
+                    top[j] = first.map(j, x);
+                    (t1, t2) = (x, t1);
+                }
+            },
+            || {
                 let (mut d1, mut d2) = (xk1, xk);
                 for (j, &[v2, v1, inv]) in urow.iter().enumerate().skip(k + 2) {
                     let i = j - (k + 1);
@@ -526,16 +529,8 @@ impl TriLu {
                     bot[i] = second.map(j, x);
                     (d1, d2) = (x, d1);
                 }
-            });
-            let (mut t1, mut t2) = (xk, xk1);
-            for j in (0..k).rev() {
-                let [v2, v1, inv] = urow[j];
-                let x = (top[j] * inv - v2 * t2) - v1 * t1;
-                top[j] = first.map(j, x);
-                (t1, t2) = (x, t1);
-            }
-            h.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
-        });
+            },
+        );
         first.merge(second);
         first
     }
@@ -555,7 +550,7 @@ impl BandLu {
                 factored: false,
                 tri: Some(TriLu::new(n)),
                 flops: 0,
-                threads: 1,
+                parallel: crate::Parallelism::Serial,
             };
         }
         Self {
@@ -568,7 +563,7 @@ impl BandLu {
             factored: false,
             tri: None,
             flops: 0,
-            threads: 1,
+            parallel: crate::Parallelism::Serial,
         }
     }
 
@@ -577,7 +572,7 @@ impl BandLu {
         self.factored = false;
         self.flops = 0;
         let tri = self.tri.as_mut().expect("tridiagonal solver");
-        let two = self.n >= crate::System::PARALLEL_MIN && self.threads >= 2;
+        let two = self.parallel.splits(self.n);
         let res = tri.factor(self.n, cols, two);
         if let Ok(f) = res {
             self.flops = f;
@@ -771,7 +766,7 @@ impl BandLu {
         assert_eq!(b.len(), self.n, "right-hand side length mismatch");
         match &self.tri {
             Some(tri) => {
-                if b.len() >= crate::System::PARALLEL_MIN && self.threads >= 2 {
+                if self.parallel.splits(b.len()) {
                     tri.solve_map_two_threads(b, map)
                 } else {
                     tri.solve_map(b, map)

@@ -913,7 +913,7 @@ mod option_tests {
                 ..Options::default()
             };
             let e = o.validate().unwrap_err();
-            assert!(e.contains(needle), "{e}");
+            assert!(e.to_string().contains(needle), "{e}");
         }
         assert_eq!(Options::default().linear_solver, LinearSolverChoice::Direct);
     }

@@ -370,19 +370,19 @@ impl LinearSolver {
         };
         Self { inner }
     }
-    /// Lets solves use up to `threads` threads where the solver can split its work (the
-    /// tridiagonal solve of at least [`crate::System::PARALLEL_MIN`] unknowns: its two twisted
-    /// halves); other solvers ignore it. Default 1.
+    /// Lets solves split their work where the solver can (the tridiagonal solve: its two
+    /// twisted halves, from [`crate::Parallelism::Halves`]' `min_len` unknowns); other solvers
+    /// ignore it. Default [`crate::Parallelism::Serial`].
     ///
     /// ```
     /// use integrators::linalg::LinearSolver;
-    /// use integrators::Pattern;
+    /// use integrators::{Parallelism, Pattern};
     /// let mut lu = LinearSolver::new(4, &Pattern::Banded { lower: 1, upper: 1 });
-    /// lu.set_threads(2);
+    /// lu.set_parallelism(Parallelism::Halves { min_len: 2 });
     /// ```
-    pub fn set_threads(&mut self, threads: usize) {
+    pub fn set_parallelism(&mut self, parallel: crate::Parallelism) {
         if let Inner::Banded(lu) = &mut self.inner {
-            lu.threads = threads.max(1);
+            lu.parallel = parallel;
         }
     }
 

@@ -69,7 +69,7 @@
 
 use std::collections::VecDeque;
 
-use crate::error::{ErrorKind, SolverError};
+use crate::error::{ErrorKind, RecoverableCause, SolverError};
 use crate::linalg::{LinearSolver, LinearTolerance, Matrix, SolutionMap};
 use crate::method::Method;
 use crate::options::ErrorNorm;
@@ -105,7 +105,7 @@ const MAX_JAC_AGE: usize = 50;
 enum LastFailure {
     ErrorTest(Option<usize>),
     Newton(Option<usize>),
-    Recoverable(String, Option<usize>),
+    Recoverable(RecoverableCause, Option<usize>),
 }
 
 /// Outcome of a failed Newton solve.
@@ -113,7 +113,7 @@ enum NewtonFail {
     /// Did not converge (rate too large or iteration limit).
     NoConvergence(Option<usize>),
     /// The residual/Jacobian/factorisation reported a recoverable failure.
-    Recoverable(String, Option<usize>),
+    Recoverable(RecoverableCause, Option<usize>),
     /// Abort.
     Fatal(SolverError),
 }
@@ -142,6 +142,9 @@ pub struct Bdf {
     steps_at_order: usize,
     /// Accepted steps since the last start.
     steps_since_start: usize,
+    /// Accepted steps in the current [`Method::step`] call (returned to the driver, which
+    /// counts steps).
+    accepted: usize,
     started: bool,
     times: VecDeque<f64>,
     vals: VecDeque<Vec<f64>>,
@@ -170,8 +173,8 @@ pub struct Bdf {
     nwt: Vec<f64>,
     /// Whether `ewt` is stored separately.
     ewt_separate: bool,
-    /// Threads of the vector passes ([`System::threads`], taken at `start`).
-    threads: usize,
+    /// Splitting of the vector passes ([`System::parallel`], taken at `start`).
+    parallel: crate::Parallelism,
     /// Whether the next step is the first after a [`Method::resume`] (checked by step
     /// doubling).
     doubling: bool,
@@ -223,10 +226,10 @@ fn interp_coeffs(z: &[f64], t: f64, p: &mut [f64; NC], dp: &mut [f64; NC]) {
     }
 }
 
-/// Where a vector pass of length `n` is split over two threads: a block boundary near the
-/// middle, or 0 (no split) below [`System::PARALLEL_MIN`] or with one thread.
-fn split_point(n: usize, threads: usize) -> usize {
-    if n < System::PARALLEL_MIN || threads < 2 {
+/// Where a vector pass of length `n` is split in two halves (run by [`rayon::join`]): a
+/// block boundary near the middle, or 0 (no split) when `parallel` does not split `n`.
+fn split_point(n: usize, parallel: crate::Parallelism) -> usize {
+    if !parallel.splits(n) || n < 2 * BLK {
         return 0;
     }
     (n / 2) / BLK * BLK
@@ -486,6 +489,7 @@ impl Bdf {
             k_last: 1,
             steps_at_order: 0,
             steps_since_start: 0,
+            accepted: 0,
             started: false,
             times: VecDeque::new(),
             vals: VecDeque::new(),
@@ -506,7 +510,7 @@ impl Bdf {
             ewt: Vec::new(),
             nwt: Vec::new(),
             ewt_separate: false,
-            threads: 1,
+            parallel: crate::Parallelism::Serial,
             doubling: false,
         }
     }
@@ -587,12 +591,12 @@ impl Bdf {
         let items = items.as_slice();
         let y0 = &self.vals[0][..];
         let n = y.len();
-        let mid = split_point(n, self.threads);
+        let mid = split_point(n, self.parallel);
         if mid == 0 {
             poly_blocks(items, y0, 0, y, yp, weights);
             return;
         }
-        // two halves on two threads (same arithmetic per component)
+        // two halves concurrently (same arithmetic per component)
         let (y1, y2) = y.split_at_mut(mid);
         let (yp1, yp2) = yp.split_at_mut(mid);
         let (w1, w2) = match weights {
@@ -616,13 +620,10 @@ impl Bdf {
                 (Some(half(n1, e1)), Some(half(n2, e2)))
             }
         };
-        std::thread::scope(|sc| {
-            let second = sc.spawn(|| poly_blocks(items, y0, mid, y2, yp2, w2));
-            poly_blocks(items, y0, 0, y1, yp1, w1);
-            second
-                .join()
-                .unwrap_or_else(|e| std::panic::resume_unwind(e));
-        });
+        rayon::join(
+            || poly_blocks(items, y0, 0, y1, yp1, w1),
+            || poly_blocks(items, y0, mid, y2, yp2, w2),
+        );
     }
 
     /// `α_m = Σ_{j=1..m} 1/(t_new - t_{j-1})` over the stored history.
@@ -693,20 +694,16 @@ impl Bdf {
         let items = self.order_items(orders, t_new);
         let items = &items[..orders.len()];
         let ewt = self.ewt();
-        let mid = split_point(n, self.threads);
+        let mid = split_point(n, self.parallel);
         let acc = if mid == 0 {
             norm_blocks(items, &self.ycur, ewt, norm, 0, n)
         } else {
-            // two halves on two threads; the partial norms are merged (an RMS sum in two parts)
+            // two halves concurrently; the partial norms are merged (an RMS sum in two parts)
             let ycur = &self.ycur[..];
-            let (mut a1, a2) = std::thread::scope(|sc| {
-                let second = sc.spawn(|| norm_blocks(items, ycur, ewt, norm, mid, n));
-                let first = norm_blocks(items, ycur, ewt, norm, 0, mid);
-                let second = second
-                    .join()
-                    .unwrap_or_else(|e| std::panic::resume_unwind(e));
-                (first, second)
-            });
+            let (mut a1, a2) = rayon::join(
+                || norm_blocks(items, ycur, ewt, norm, 0, mid),
+                || norm_blocks(items, ycur, ewt, norm, mid, n),
+            );
             for (a, b) in a1.iter_mut().zip(&a2) {
                 a.merge(b);
             }
@@ -892,7 +889,7 @@ impl Bdf {
         let (kind, comp) = match last {
             LastFailure::ErrorTest(c) => (ErrorKind::StepSizeTooSmall { h }, *c),
             LastFailure::Newton(c) => (ErrorKind::NewtonFailure, *c),
-            LastFailure::Recoverable(reason, c) => (ErrorKind::from_recoverable(reason, *c), *c),
+            LastFailure::Recoverable(reason, c) => (reason.clone().into(), *c),
         };
         SolverError::new(kind, self.t, comp)
     }
@@ -1002,7 +999,7 @@ impl Bdf {
                     sys.give_vec(full);
                     self.doubling = false;
                     self.h = h.max(h_floor);
-                    return self.step(sys, t_stop);
+                    return self.step_once(sys, t_stop);
                 }
                 continue;
             }
@@ -1068,7 +1065,7 @@ impl Bdf {
         self.times.push_front(t_new);
         self.vals.push_front(y_new);
         self.k_last = 1;
-        sys.stats.steps += 1;
+        self.accepted += 1;
         self.steps_since_jac += 1;
         self.steps_since_start += 1;
     }
@@ -1083,7 +1080,7 @@ impl Bdf {
         self.t = t0;
         self.t_prev = t0;
         self.yp.copy_from_slice(&self.yp0);
-        sys.stats.steps -= 1;
+        self.accepted -= 1;
         self.steps_since_jac = self.steps_since_jac.saturating_sub(1);
         self.steps_since_start = self.steps_since_start.saturating_sub(1);
     }
@@ -1103,7 +1100,7 @@ impl Method for Bdf {
         h: Option<f64>,
     ) -> Result<(), SolverError> {
         let n = sys.dim();
-        self.threads = sys.threads();
+        self.parallel = sys.parallel();
         if y.len() != n || yp.len() != n {
             return Err(SolverError::new(
                 ErrorKind::InvalidInput(format!(
@@ -1210,7 +1207,46 @@ impl Method for Bdf {
         Ok(true)
     }
 
-    fn step(&mut self, sys: &mut System<'_>, t_stop: f64) -> Result<(), SolverError> {
+    fn step(&mut self, sys: &mut System<'_>, t_stop: f64) -> Result<usize, SolverError> {
+        self.accepted = 0;
+        self.step_once(sys, t_stop)?;
+        Ok(self.accepted)
+    }
+
+    fn t(&self) -> f64 {
+        self.t
+    }
+
+    fn t_prev(&self) -> f64 {
+        self.t_prev
+    }
+
+    fn y(&self) -> &[f64] {
+        self.vals.front().map_or(&[], |v| v)
+    }
+
+    fn yp(&self) -> &[f64] {
+        &self.yp
+    }
+
+    fn h_next(&self) -> f64 {
+        self.h
+    }
+
+    fn interpolate(&self, t: f64, y: &mut [f64], yp: &mut [f64]) {
+        if self.t == self.t_prev || t == self.t {
+            y.copy_from_slice(&self.vals[0]);
+            yp.copy_from_slice(&self.yp);
+            return;
+        }
+        let m = (self.k_last + 1).min(self.times.len());
+        self.poly(m, t, y, yp);
+    }
+}
+
+impl Bdf {
+    /// One [`Method::step`]: the accepted steps it takes are counted in `accepted`.
+    fn step_once(&mut self, sys: &mut System<'_>, t_stop: f64) -> Result<(), SolverError> {
         if !self.started {
             return Err(SolverError::new(
                 ErrorKind::InvalidInput("BDF step before start".into()),
@@ -1434,7 +1470,7 @@ impl Method for Bdf {
             self.times.push_front(t_new);
             self.vals.push_front(y_new);
             self.k_last = k;
-            sys.stats.steps += 1;
+            self.accepted += 1;
             self.steps_since_jac += 1;
             self.steps_since_start += 1;
             if action_order != k {
@@ -1468,36 +1504,6 @@ impl Method for Bdf {
             }
             return Ok(());
         }
-    }
-
-    fn t(&self) -> f64 {
-        self.t
-    }
-
-    fn t_prev(&self) -> f64 {
-        self.t_prev
-    }
-
-    fn y(&self) -> &[f64] {
-        self.vals.front().map_or(&[], |v| v)
-    }
-
-    fn yp(&self) -> &[f64] {
-        &self.yp
-    }
-
-    fn h_next(&self) -> f64 {
-        self.h
-    }
-
-    fn interpolate(&self, t: f64, y: &mut [f64], yp: &mut [f64]) {
-        if self.t == self.t_prev || t == self.t {
-            y.copy_from_slice(&self.vals[0]);
-            yp.copy_from_slice(&self.yp);
-            return;
-        }
-        let m = (self.k_last + 1).min(self.times.len());
-        self.poly(m, t, y, yp);
     }
 }
 

@@ -364,7 +364,6 @@ impl Dopri5 {
             self.t_prev = self.t;
             self.t = t_new;
             self.h_last = h;
-            sys.stats.steps += 1;
             self.steps_since_measure += 1;
             self.j1_fresh = false;
             if !fixed {

@@ -370,7 +370,6 @@ impl Esdirk {
             self.t_prev = self.t;
             self.t = t_new;
             self.h_old = h;
-            sys.stats.steps += 1;
             let was_reject = self.reject;
             self.reject = false;
             self.jac_fresh = false;

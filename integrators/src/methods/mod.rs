@@ -37,7 +37,7 @@ macro_rules! method_accessors {
             &mut self,
             sys: &mut $crate::system::System<'_>,
             t_stop: f64,
-        ) -> Result<(), $crate::error::SolverError> {
+        ) -> Result<usize, $crate::error::SolverError> {
             $crate::methods::one_step::step(self, sys, t_stop)
         }
         $crate::methods::method_accessors!();

@@ -105,7 +105,7 @@ pub(crate) fn step<M: OneStep>(
     m: &mut M,
     sys: &mut System<'_>,
     t_stop: f64,
-) -> Result<(), SolverError> {
+) -> Result<usize, SolverError> {
     super::check_step_request(m.started(), m.time(), t_stop)?;
     if m.planned_h().is_nan() {
         let (y, yp) = m.state();
@@ -143,7 +143,7 @@ pub(crate) fn step<M: OneStep>(
                     let next = m.planned_h().max(planned.min(sys.opts.h_max));
                     m.set_h(next, false);
                 }
-                return Ok(());
+                return Ok(1);
             }
             Attempt::Rejected(fail, h_new) => {
                 sys.stats.rejected_steps += 1;

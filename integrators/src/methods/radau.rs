@@ -72,7 +72,7 @@ pub(crate) enum Fail {
     Newton { component: Option<usize> },
     /// The residual reported a recoverable error (or a non-finite value).
     Residual {
-        reason: String,
+        reason: crate::error::RecoverableCause,
         component: Option<usize>,
     },
     /// Zero pivot.
@@ -86,11 +86,7 @@ impl Fail {
             Fail::Singular { column } => {
                 SolverError::new(ErrorKind::SingularMatrix { column }, t, Some(column))
             }
-            Fail::Residual { reason, component } => SolverError::new(
-                ErrorKind::from_recoverable(&reason, component),
-                t,
-                component,
-            ),
+            Fail::Residual { reason, component } => SolverError::new(reason.into(), t, component),
             Fail::Newton { component } if !too_small => {
                 SolverError::new(ErrorKind::NewtonFailure, t, component)
             }
@@ -726,7 +722,6 @@ impl Radau5 {
             self.t = t_new;
             self.h_old = h;
             self.first = false;
-            sys.stats.steps += 1;
             if fixed {
                 self.reject = false;
                 self.jac_fresh = false;
