@@ -124,18 +124,51 @@ impl From<FieldTable> for Field {
     }
 }
 
+/// A field's parameters out of range ([`Field::validate`]): the innermost key (`mu.width`)
+/// and a message that names it.
+///
+/// ```
+/// use celltissue::cell::Field;
+/// let e = Field::Constant(-1.0).validate("mu", true).unwrap_err();
+/// assert_eq!(e.key, "mu");
+/// assert_eq!(e.to_string(), "mu = -1 must be finite and > 0");
+/// ```
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{message}")]
+pub struct FieldError {
+    /// The innermost key: the field's own key, or `key.parameter` (`mu.width`).
+    pub key: String,
+    /// The message (it starts with the key).
+    pub message: String,
+}
+
+/// An error inside a field table, turned into serde's error by the deserializer.
+#[derive(Debug, thiserror::Error)]
+enum FieldTableError {
+    /// At a key inside the table (reported as "`key`: message", which the scenario loader
+    /// turns into `mu.width`).
+    #[error("`{key}`: {message}")]
+    At { key: String, message: String },
+    /// Without a key inside the table.
+    #[error("{0}")]
+    Table(String),
+}
+
 /// A field from its table: the `type` key selects the variant; an error inside the table is
 /// reported as "`key`: message" (the scenario loader turns that into `mu.width`).
-fn field_from_table(mut table: toml::Table) -> Result<Field, String> {
+fn field_from_table(mut table: toml::Table) -> Result<Field, FieldTableError> {
     let kind = match table.remove("type") {
         Some(toml::Value::String(s)) => s,
         Some(other) => {
-            return Err(format!(
-                "`type`: expected a string (constant | gaussian | piecewise | per_cell | random), found a {}",
-                other.type_str()
-            ))
+            return Err(FieldTableError::At {
+                key: "type".into(),
+                message: format!(
+                    "expected a string (constant | gaussian | piecewise | per_cell | random), found a {}",
+                    other.type_str()
+                ),
+            })
         }
-        None => return Err("missing field `type`".into()),
+        None => return Err(FieldTableError::Table("missing field `type`".into())),
     };
     let mut tagged = toml::Table::new();
     tagged.insert(kind, toml::Value::Table(table));
@@ -146,8 +179,11 @@ fn field_from_table(mut table: toml::Table) -> Result<Field, String> {
             let path = e.path().to_string();
             let inner = e.inner().to_string();
             match path.split_once('.') {
-                Some((_, key)) if !key.is_empty() => format!("`{key}`: {inner}"),
-                _ => inner,
+                Some((_, key)) if !key.is_empty() => FieldTableError::At {
+                    key: key.to_string(),
+                    message: inner,
+                },
+                _ => FieldTableError::Table(inner),
             }
         })
 }
@@ -365,11 +401,21 @@ impl Field {
 
     /// Checks the field's own parameters; `key` names it in the message. `positive` demands
     /// every sampled value be `> 0` (else `≥ 0`).
-    pub fn validate(&self, key: &str, positive: bool) -> Result<(), String> {
+    pub fn validate(&self, key: &str, positive: bool) -> Result<(), FieldError> {
+        let err = |sub: &str, message: String| FieldError {
+            key: if sub.is_empty() {
+                key.to_string()
+            } else {
+                format!("{key}.{sub}")
+            },
+            message,
+        };
         let bad = |v: f64| !v.is_finite() || if positive { v <= 0.0 } else { v < 0.0 };
         let range = if positive { "> 0" } else { ">= 0" };
         match self {
-            Field::Constant(v) if bad(*v) => Err(format!("{key} = {v} must be finite and {range}")),
+            Field::Constant(v) if bad(*v) => {
+                Err(err("", format!("{key} = {v} must be finite and {range}")))
+            }
             Field::Gaussian {
                 base,
                 amplitude,
@@ -377,21 +423,27 @@ impl Field {
                 width,
             } => {
                 if bad(*base) {
-                    Err(format!("{key}.base = {base} must be finite and {range}"))
+                    Err(err(
+                        "base",
+                        format!("{key}.base = {base} must be finite and {range}"),
+                    ))
                 } else if !amplitude.is_finite() || bad(base + amplitude) {
-                    Err(format!(
+                    Err(err("amplitude", format!(
                         "{key}.amplitude = {amplitude} must be finite with base + amplitude = {} {range}",
                         base + amplitude
-                    ))
+                    )))
                 } else if !centre.is_finite() {
-                    Err(format!(
+                    Err(err("centre", format!(
                         "{key}.centre = {centre} must be finite (a fraction of l0, usually in [0, 1])"
-                    ))
+                    )))
                 } else if !(*width >= MIN_GAUSSIAN_WIDTH && width.is_finite()) {
-                    Err(format!(
+                    Err(err(
+                        "width",
+                        format!(
                         "{key}.width = {width} must be finite and >= {MIN_GAUSSIAN_WIDTH:e} (a \
                          fraction of l0; narrower bumps fall between samples and their \
                          squared width underflows)"
+                    ),
                     ))
                 } else {
                     Ok(())
@@ -399,29 +451,34 @@ impl Field {
             }
             Field::Piecewise { breaks, values } => {
                 if values.len() != breaks.len() + 1 {
-                    Err(format!(
-                        "{key}: piecewise needs len(values) = len(breaks) + 1 (got {} and {})",
-                        values.len(),
-                        breaks.len()
+                    Err(err(
+                        "",
+                        format!(
+                            "{key}: piecewise needs len(values) = len(breaks) + 1 (got {} and {})",
+                            values.len(),
+                            breaks.len()
+                        ),
                     ))
                 } else if let Some(v) = values.iter().find(|v| bad(**v)) {
-                    Err(format!(
-                        "{key}: piecewise value {v} must be finite and {range}"
+                    Err(err(
+                        "",
+                        format!("{key}: piecewise value {v} must be finite and {range}"),
                     ))
                 } else if let Some(b) = breaks.iter().find(|b| !b.is_finite()) {
-                    Err(format!("{key}.breaks: {b} must be finite"))
+                    Err(err("breaks", format!("{key}.breaks: {b} must be finite")))
                 } else if breaks.windows(2).any(|w| w[1] <= w[0]) {
-                    Err(format!("{key}: piecewise breaks must increase"))
+                    Err(err("", format!("{key}: piecewise breaks must increase")))
                 } else {
                     Ok(())
                 }
             }
             Field::PerCell { values } => {
                 if values.is_empty() {
-                    Err(format!("{key}: per_cell values must not be empty"))
+                    Err(err("", format!("{key}: per_cell values must not be empty")))
                 } else if let Some(v) = values.iter().find(|v| bad(**v)) {
-                    Err(format!(
-                        "{key}: per_cell value {v} must be finite and {range}"
+                    Err(err(
+                        "",
+                        format!("{key}: per_cell value {v} must be finite and {range}"),
                     ))
                 } else {
                     Ok(())
@@ -429,8 +486,11 @@ impl Field {
             }
             Field::Random { low, high, .. } => {
                 if bad(*low) || bad(*high) || high < low {
-                    Err(format!(
+                    Err(err(
+                        "",
+                        format!(
                         "{key}: random range [{low}, {high}] must satisfy {range} and low <= high"
+                    ),
                     ))
                 } else {
                     Ok(())

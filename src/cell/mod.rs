@@ -18,6 +18,6 @@ mod growth;
 mod viscosity;
 
 pub use active::Active;
-pub use field::{Field, FieldFn, Sampling};
+pub use field::{Field, FieldError, FieldFn, Sampling};
 pub use growth::{GrowthLaw, GrowthRate, TanhGrowth};
 pub use viscosity::{MaxwellBranch, ViscosityError, ViscosityModel, ViscousBranch};

@@ -217,7 +217,9 @@ impl DivisionRule for RandomThreshold {
 /// let c: DivisionConfig = toml::from_str("rule = \"age\"\nperiod = 2.5").unwrap();
 /// assert!(c.validate().is_ok());
 /// let bad: DivisionConfig = toml::from_str("rule = \"area\"\nratio = 0.5").unwrap();
-/// assert!(bad.validate().unwrap_err().contains("division.ratio"));
+/// let e = bad.validate().unwrap_err();
+/// assert_eq!(e.key, "ratio");
+/// assert_eq!(e.to_string(), "invalid `division.ratio` = 0.5: must be finite and > 1");
 /// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DivisionConfig {
@@ -262,11 +264,28 @@ pub enum RuleConfig {
     SurfaceToVolume(SurfaceToVolume),
 }
 
+/// A division setting out of range: the key inside `division` and its valid range.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("invalid `division.{key}` = {value}: must be {range}")]
+pub struct DivisionError {
+    /// The key inside the `division` table (`ratio`, `period`, `max_cells`, …).
+    pub key: &'static str,
+    /// The value given, formatted.
+    pub value: String,
+    /// The valid range.
+    pub range: &'static str,
+}
+
 impl DivisionConfig {
     /// Checks the ranges; the error names the key (`division.<key>`) and its valid range.
-    pub fn validate(&self) -> Result<(), String> {
-        let bad =
-            |k: &str, v: f64, r: &str| Err(format!("invalid `division.{k}` = {v}: must be {r}"));
+    pub fn validate(&self) -> Result<(), DivisionError> {
+        let bad = |key: &'static str, v: f64, range: &'static str| {
+            Err(DivisionError {
+                key,
+                value: v.to_string(),
+                range,
+            })
+        };
         match &self.rule {
             RuleConfig::Area(a) if !(a.ratio > 1.0 && a.ratio.is_finite()) => {
                 bad("ratio", a.ratio, "finite and > 1")
@@ -284,7 +303,11 @@ impl DivisionConfig {
                 bad("critical", r.critical, "finite and > 0")
             }
             _ => match self.max_cells {
-                Some(0) => Err("invalid `division.max_cells` = 0: must be >= 1".into()),
+                Some(0) => Err(DivisionError {
+                    key: "max_cells",
+                    value: "0".into(),
+                    range: ">= 1",
+                }),
                 _ => Ok(()),
             },
         }
@@ -378,7 +401,7 @@ mod tests {
         assert!(c.validate().is_ok());
         assert_eq!(c.seed(), 9);
         let c: DivisionConfig = toml::from_str("rule = \"random_area\"\nspread = 1.5").unwrap();
-        assert!(c.validate().unwrap_err().contains("division.mean"));
+        assert_eq!(c.validate().unwrap_err().key, "mean");
         assert!(toml::from_str::<DivisionConfig>("rule = \"size\"").is_err());
     }
 }

@@ -44,12 +44,12 @@ pub mod run;
 
 pub use dividing::{Dividing, InvariantReport};
 pub use division::{
-    AgeRule, AreaDoubling, CellView, DivisionConfig, DivisionRule, RandomThreshold, RuleConfig,
-    SplitMix64, SurfaceToVolume, DEFAULT_MAX_CELLS,
+    AgeRule, AreaDoubling, CellView, DivisionConfig, DivisionError, DivisionRule, RandomThreshold,
+    RuleConfig, SplitMix64, SurfaceToVolume, DEFAULT_MAX_CELLS,
 };
 pub use log::DivisionLog;
 pub use reindex::Split;
-pub use run::{run_proliferation, ProliferationConfig};
+pub use run::{run_proliferation, ProliferationConfig, ProliferationError};
 
 /// Errors of the division machinery (become fatal solver errors inside an event handler).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

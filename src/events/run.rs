@@ -15,6 +15,54 @@ use crate::proliferation::DensityContinuum;
 use serde::Serialize;
 use std::time::Instant;
 
+/// An invalid proliferating line; [`ProliferationError::key`] is the innermost scenario key
+/// (under `model`).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ProliferationError {
+    /// The `division` table does not parse.
+    #[error("invalid `division`: {0}")]
+    DivisionTable(toml::de::Error),
+    /// The line's keys do not parse.
+    #[error("invalid line configuration: {0}")]
+    LineTable(toml::de::Error),
+    /// The line's configuration is invalid.
+    #[error(transparent)]
+    Line(#[from] crate::line::LineError),
+    /// The division rule is invalid.
+    #[error(transparent)]
+    Division(#[from] super::division::DivisionError),
+    /// Division without growth.
+    #[error("invalid `growth`: division needs a growth law (add growth = {{ sigma0 = 0.1 }})")]
+    NoGrowth,
+    /// Division on a ring.
+    #[error("invalid `right_end` = \"periodic\": division is not supported on a ring")]
+    Ring,
+}
+
+impl ProliferationError {
+    /// The innermost key the error is about, relative to the model table (`division.ratio`,
+    /// `growth`, `mu.width`); `None` when no single key is at fault.
+    ///
+    /// ```
+    /// use celltissue::events::ProliferationConfig;
+    /// let t: toml::Table = toml::from_str("cells = 10\ngrowth = { sigma0 = 0.1 }\n\
+    ///     division = { rule = \"age\", period = -1 }").unwrap();
+    /// let e = ProliferationConfig::from_table(&t).unwrap().validate().unwrap_err();
+    /// assert_eq!(e.key().as_deref(), Some("division.period"));
+    /// ```
+    pub fn key(&self) -> Option<String> {
+        match self {
+            ProliferationError::DivisionTable(_) => Some("division".into()),
+            ProliferationError::LineTable(_) => None,
+            ProliferationError::Line(e) => e.key().map(str::to_string),
+            ProliferationError::Division(e) => Some(format!("division.{}", e.key)),
+            ProliferationError::NoGrowth => Some("growth".into()),
+            ProliferationError::Ring => Some("right_end".into()),
+        }
+    }
+}
+
 /// A proliferating line: the line's configuration (must grow, right end not periodic) and the
 /// division rule.
 ///
@@ -42,34 +90,29 @@ pub struct ProliferationConfig {
 impl ProliferationConfig {
     /// Parses a `[model]`-style table: the `division` key is the rule (default: area
     /// doubling), every other key belongs to [`LineConfig`]. Errors name the key.
-    pub fn from_table(table: &toml::Table) -> Result<Self, String> {
+    pub fn from_table(table: &toml::Table) -> Result<Self, ProliferationError> {
         let mut rest = table.clone();
         let division = match rest.remove("division") {
             None => DivisionConfig::default(),
             Some(v) => v
                 .try_into::<DivisionConfig>()
-                .map_err(|e| format!("invalid `division`: {e}"))?,
+                .map_err(ProliferationError::DivisionTable)?,
         };
         let line: LineConfig = toml::Value::Table(rest)
             .try_into()
-            .map_err(|e| format!("invalid line configuration: {e}"))?;
+            .map_err(ProliferationError::LineTable)?;
         Ok(Self { line, division })
     }
 
     /// Validates the line and the rule; division needs growth and a non-periodic right end.
-    pub fn validate(&self) -> Result<(), String> {
-        self.line.validate().map_err(|e| e.to_string())?;
+    pub fn validate(&self) -> Result<(), ProliferationError> {
+        self.line.validate()?;
         self.division.validate()?;
         if self.line.growth.is_none() {
-            return Err(
-                "invalid `growth`: division needs a growth law (add growth = { sigma0 = 0.1 })"
-                    .into(),
-            );
+            return Err(ProliferationError::NoGrowth);
         }
         if self.line.right_end == RightEndKind::Periodic {
-            return Err(
-                "invalid `right_end` = \"periodic\": division is not supported on a ring".into(),
-            );
+            return Err(ProliferationError::Ring);
         }
         Ok(())
     }
@@ -105,7 +148,7 @@ pub fn run_proliferation(
         error: None,
     };
     if let Err(e) = cfg.validate() {
-        rec.error = Some(e);
+        rec.error = Some(e.to_string());
         return rec;
     }
     if let Some(&bad) = times

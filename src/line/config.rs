@@ -240,14 +240,16 @@ impl LineConfig {
         let k_zero = self.k.is_identically_zero();
         let eta_zero = self.eta.is_identically_zero();
         if periodic && k_zero && !self.gauge {
-            return Err(LineError::Combination(
-                "`K` = 0 everywhere with `right_end` = \"periodic\": rigid translation is a null mode (singular at t = 0); set K > 0 somewhere or `gauge` = true".into(),
-            ));
+            return Err(LineError::Conflict {
+                key: "K",
+                message: "`K` = 0 everywhere with `right_end` = \"periodic\": rigid translation is a null mode (singular at t = 0); set K > 0 somewhere or `gauge` = true".into(),
+            });
         }
         if self.right_end == RightEndKind::Free && k_zero && eta_zero && self.growth.is_none() {
-            return Err(LineError::Combination(
-                "`right_end` = \"free\" with `K` = 0 and `eta` = 0 and no growth: nothing drives the line (only the trivial static state); set K > 0, eta > 0 or add [growth]".into(),
-            ));
+            return Err(LineError::Conflict {
+                key: "right_end",
+                message: "`right_end` = \"free\" with `K` = 0 and `eta` = 0 and no growth: nothing drives the line (only the trivial static state); set K > 0, eta > 0 or add [growth]".into(),
+            });
         }
         if self.right_end == RightEndKind::Prescribed && self.n_cells() < 2 && self.growth.is_none()
         {
@@ -260,9 +262,10 @@ impl LineConfig {
         if self.continuum_scheme == ContinuumScheme::Thesis
             && (self.growth.is_some() || self.right_end != RightEndKind::Prescribed)
         {
-            return Err(LineError::Combination(
-                "`continuum_scheme` = \"thesis\" supports only a prescribed right end without growth; use \"conservative\"".into(),
-            ));
+            return Err(LineError::Conflict {
+                key: "continuum_scheme",
+                message: "`continuum_scheme` = \"thesis\" supports only a prescribed right end without growth; use \"conservative\"".into(),
+            });
         }
         Ok(())
     }
@@ -275,18 +278,21 @@ impl LineConfig {
             })?;
             let eta_set = !matches!(self.eta, Field::Constant(e) if e == 0.0);
             if eta_set && matches!(v, ViscosityModel::KelvinVoigt { .. }) {
-                return Err(LineError::Combination(
-                    "both `eta` and `viscosity` = { model = \"kelvin_voigt\" } given; set one"
-                        .into(),
-                ));
+                return Err(LineError::Conflict {
+                    key: "eta",
+                    message:
+                        "both `eta` and `viscosity` = { model = \"kelvin_voigt\" } given; set one"
+                            .into(),
+                });
             }
         }
         let extended = self.viscosity.is_some()
             || !matches!(self.external_pressure, Field::Constant(p) if p == 0.0);
         if extended && self.continuum_scheme == ContinuumScheme::Thesis {
-            return Err(LineError::Combination(
-                "`continuum_scheme` = \"thesis\" supports neither `viscosity` nor `external_pressure`; use \"conservative\"".into(),
-            ));
+            return Err(LineError::Conflict {
+                key: "continuum_scheme",
+                message: "`continuum_scheme` = \"thesis\" supports neither `viscosity` nor `external_pressure`; use \"conservative\"".into(),
+            });
         }
         // the sampled values are checked when the line is built; a constant is checked here
         if let Field::Constant(p) = self.external_pressure {

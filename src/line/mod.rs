@@ -41,18 +41,44 @@ pub enum LineError {
         /// The valid range.
         range: String,
     },
-    /// A field description is invalid (message names the key).
+    /// A field description is invalid (the error names the innermost key).
     #[error("invalid field: {0}")]
-    Field(String),
+    Field(#[from] crate::cell::FieldError),
     /// The cell-centre drag form is singular on a ring (docs/model.md §2.5).
     #[error("invalid `drag_form` = \"centre\" with `right_end` = \"periodic\": the cell-centre form is singular on a ring (zig-zag null mode); use drag_form = \"boundary\"")]
     CentreFormPeriodic,
     /// A combination with no well-posed dynamics.
     #[error("invalid combination: {0}")]
     Combination(String),
+    /// A configuration key that conflicts with others (`key` is the one to change).
+    #[error("invalid combination: {message}")]
+    Conflict {
+        /// The scenario key the message starts from.
+        key: &'static str,
+        /// What conflicts and how to fix it.
+        message: String,
+    },
 }
 
 impl LineError {
+    /// The innermost scenario key the error is about (`mu.width`, `drag_form`, `K`), or
+    /// `None` when no single key is at fault.
+    ///
+    /// ```
+    /// use celltissue::line::LineError;
+    /// assert_eq!(LineError::invalid("cells", 0, ">= 1").key(), Some("cells"));
+    /// assert_eq!(LineError::Combination("no static state".into()).key(), None);
+    /// ```
+    pub fn key(&self) -> Option<&str> {
+        match self {
+            LineError::Invalid { key, .. } => Some(key),
+            LineError::Field(e) => Some(&e.key),
+            LineError::CentreFormPeriodic => Some("drag_form"),
+            LineError::Conflict { key, .. } => Some(key),
+            LineError::Combination(_) => None,
+        }
+    }
+
     /// An [`LineError::Invalid`] from displayable parts.
     pub fn invalid(key: &str, value: impl std::fmt::Display, range: &str) -> Self {
         LineError::Invalid {

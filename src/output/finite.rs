@@ -126,11 +126,24 @@ pub fn sanitize(rec: &mut RunRecord) -> bool {
     true
 }
 
-/// `Err(path)` naming the first non-finite number in the summary.
-pub fn check_summary(summary: &Summary) -> Result<(), String> {
+/// The first non-finite number of a summary: its run and its place in the run.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("run `{label}`: {place}")]
+pub struct NonFiniteError {
+    /// The run's label.
+    pub label: String,
+    /// Where in the run (series, profile or field and index).
+    pub place: String,
+}
+
+/// The first non-finite number in the summary, if any.
+pub fn check_summary(summary: &Summary) -> Result<(), NonFiniteError> {
     for rec in &summary.runs {
-        if let Some(p) = first_non_finite(rec) {
-            return Err(format!("run `{}`: {p}", rec.label));
+        if let Some(place) = first_non_finite(rec) {
+            return Err(NonFiniteError {
+                label: rec.label.clone(),
+                place,
+            });
         }
     }
     Ok(())

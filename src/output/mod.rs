@@ -35,7 +35,7 @@ pub enum OutputError {
     },
     /// A number is NaN or infinite (JSON cannot hold it; nothing is written).
     #[error("refusing to write a non-finite number: {0}")]
-    NonFinite(String),
+    NonFinite(#[from] finite::NonFiniteError),
     /// Serialisation failed.
     #[error("serialisation failed: {0}")]
     Serialize(String),

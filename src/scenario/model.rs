@@ -179,8 +179,10 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
                 }
             }
             let cfg = crate::events::ProliferationConfig { line, division };
-            cfg.validate()
-                .map_err(|e| ScenarioError::key(field_key(&e), e))?;
+            cfg.validate().map_err(|e| match e {
+                crate::events::ProliferationError::Line(e) => line_error(e),
+                other => ScenarioError::key(model_key(other.key().as_deref()), other.to_string()),
+            })?;
             ModelConfig::Proliferating(Box::new(cfg))
         }
         "line" => {
@@ -369,30 +371,14 @@ fn line_error(e: crate::line::LineError) -> ScenarioError {
             format!("model.{key}"),
             format!("= {value} is invalid: must be {range}"),
         ),
-        LineError::Field(msg) => {
-            let key: String = msg
-                .chars()
-                .take_while(|c| c.is_ascii_alphanumeric() || *c == '_' || *c == '.')
-                .collect();
-            let key = if key.is_empty() {
-                "model".into()
-            } else {
-                format!("model.{key}")
-            };
-            ScenarioError::key(key, msg)
-        }
-        other => ScenarioError::key(field_key(&other.to_string()), other.to_string()),
+        LineError::Field(e) => ScenarioError::key(format!("model.{}", e.key), e.to_string()),
+        other => ScenarioError::key(model_key(other.key()), other.to_string()),
     }
 }
 
-/// The first back-quoted key in a message, under `model.` (falls back to `model`).
-fn field_key(message: &str) -> String {
-    message
-        .split('`')
-        .nth(1)
-        .filter(|k| !k.is_empty() && !k.contains(' '))
-        .map(|k| format!("model.{k}"))
-        .unwrap_or_else(|| "model".into())
+/// A key under `model.` (`model` itself when no single key is at fault).
+fn model_key(key: Option<&str>) -> String {
+    key.map_or_else(|| "model".into(), |k| format!("model.{k}"))
 }
 
 #[cfg(test)]
