@@ -40,7 +40,7 @@ fn run(n_cells: usize, nodes: Option<usize>) -> (Vec<f64>, f64, integrators::Sta
         atol: 1e-8,
         method: env("METHOD")
             .and_then(|v| v.parse().ok())
-            .unwrap_or(MethodKind::Bdf),
+            .unwrap_or(MethodKind::Bdf.into()),
         norm: env("NORM")
             .map(|v| ErrorNorm::parse(&v).expect("NORM = max | rms"))
             .unwrap_or(ErrorNorm::Max),

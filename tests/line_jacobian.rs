@@ -270,7 +270,7 @@ fn macroscale_family_steps_unchanged() {
     let settings = SolveSettings {
         rtol: 1e-6,
         atol: 1e-8,
-        method: MethodKind::Bdf,
+        method: MethodKind::Bdf.into(),
         norm: ErrorNorm::Max,
         threads: 1,
     };

@@ -17,7 +17,7 @@ fn nh(mu: f64) -> NeoHookean {
 
 fn solver(rtol: f64) -> SolverSettings {
     SolverSettings {
-        method: MethodKind::Bdf,
+        method: MethodKind::Bdf.into(),
         options: Options {
             rtol,
             atol: rtol * 1e-2,

@@ -58,7 +58,7 @@ pub mod stats;
 pub mod system;
 
 pub use error::{ErrorKind, RecoverableCause, SolveFailure, SolverError};
-pub use method::{Method, MethodKind};
+pub use method::{CustomMethod, Method, MethodChoice, MethodKind};
 pub use options::{
     ErrorNorm, IterativeSettings, LinearSolverChoice, Options, OptionsError, Parallelism,
 };

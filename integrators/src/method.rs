@@ -1,5 +1,6 @@
-//! The [`Method`] trait every time-stepping scheme implements, and [`MethodKind`], which picks one
-//! by value or by name.
+//! The [`Method`] trait every time-stepping scheme implements; [`MethodKind`], which picks a
+//! built-in one by value or by name; and [`MethodChoice`], which also covers methods of the
+//! caller's own [`register`]ed by name.
 
 use crate::error::SolverError;
 use crate::system::System;
@@ -112,16 +113,17 @@ impl MethodKind {
 }
 
 impl std::str::FromStr for MethodKind {
-    type Err = String;
+    type Err = MethodError;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         match s.to_ascii_lowercase().as_str() {
             "bdf" => Ok(MethodKind::Bdf),
             "esdirk" | "trbdf2" | "tr-bdf2" => Ok(MethodKind::Esdirk),
             "radau" | "radau5" | "radauiia" => Ok(MethodKind::Radau),
             "dopri" | "dopri5" | "rk45" => Ok(MethodKind::Dopri),
-            other => Err(format!(
-                "unknown method `{other}`; valid: bdf, esdirk, radau, dopri"
-            )),
+            other => Err(MethodError::Unknown {
+                name: other.to_string(),
+                valid: "bdf, esdirk, radau, dopri".into(),
+            }),
         }
     }
 }
@@ -130,4 +132,181 @@ impl std::fmt::Display for MethodKind {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.name())
     }
+}
+
+/// A method of the caller's own, selectable by name once [`register`]ed: its name and a
+/// constructor of fresh method objects.
+///
+/// Compared, hashed and printed by name (names are unique in the registry).
+#[derive(Clone, Copy)]
+pub struct CustomMethod {
+    /// The name scenarios and [`std::str::FromStr`] use (not a built-in name or alias).
+    pub name: &'static str,
+    /// A fresh method object.
+    pub build: fn() -> Box<dyn Method>,
+    /// Whether it is implicit (handles stiffness and algebraic components).
+    pub stiff: bool,
+}
+
+impl PartialEq for CustomMethod {
+    fn eq(&self, other: &Self) -> bool {
+        self.name == other.name
+    }
+}
+impl Eq for CustomMethod {}
+impl std::hash::Hash for CustomMethod {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        self.name.hash(state)
+    }
+}
+impl std::fmt::Debug for CustomMethod {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_tuple("CustomMethod").field(&self.name).finish()
+    }
+}
+
+/// A method by value: a built-in [`MethodKind`] or a [`CustomMethod`]. Accepted wherever a
+/// method is chosen ([`crate::Solver::new`] takes `impl Into<MethodChoice>`, so a
+/// [`MethodKind`] works as before), parsed from the built-in names and the registered ones.
+///
+/// ```
+/// use integrators::method::{register, CustomMethod, MethodChoice};
+/// use integrators::MethodKind;
+/// // a user method: here BDF under another name (a real one implements `Method` itself)
+/// fn build() -> Box<dyn integrators::Method> { MethodKind::Bdf.build() }
+/// register(CustomMethod { name: "my_bdf", build, stiff: true })?;
+/// let m: MethodChoice = "my_bdf".parse()?;
+/// assert_eq!(m.name(), "my_bdf");
+/// assert_eq!("radau".parse::<MethodChoice>()?, MethodKind::Radau);
+/// assert!("euler".parse::<MethodChoice>().unwrap_err().to_string().contains("my_bdf"));
+/// # Ok::<(), integrators::method::MethodError>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MethodChoice {
+    /// A built-in method.
+    Builtin(MethodKind),
+    /// A registered method of the caller's own.
+    Custom(CustomMethod),
+}
+
+impl Default for MethodChoice {
+    /// BDF.
+    fn default() -> Self {
+        MethodChoice::Builtin(MethodKind::Bdf)
+    }
+}
+
+impl From<MethodKind> for MethodChoice {
+    fn from(kind: MethodKind) -> Self {
+        MethodChoice::Builtin(kind)
+    }
+}
+
+impl From<CustomMethod> for MethodChoice {
+    fn from(m: CustomMethod) -> Self {
+        MethodChoice::Custom(m)
+    }
+}
+
+impl PartialEq<MethodKind> for MethodChoice {
+    fn eq(&self, other: &MethodKind) -> bool {
+        *self == MethodChoice::Builtin(*other)
+    }
+}
+
+impl MethodChoice {
+    /// The name [`std::str::FromStr`] accepts.
+    pub fn name(self) -> &'static str {
+        match self {
+            MethodChoice::Builtin(k) => k.name(),
+            MethodChoice::Custom(m) => m.name,
+        }
+    }
+
+    /// Whether the method is implicit (handles stiffness and algebraic components).
+    pub fn is_stiff(self) -> bool {
+        match self {
+            MethodChoice::Builtin(k) => k.is_stiff(),
+            MethodChoice::Custom(m) => m.stiff,
+        }
+    }
+
+    /// A fresh method object.
+    pub fn build(self) -> Box<dyn Method> {
+        match self {
+            MethodChoice::Builtin(k) => k.build(),
+            MethodChoice::Custom(m) => (m.build)(),
+        }
+    }
+}
+
+impl std::fmt::Display for MethodChoice {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// An unknown method name, or a registration under a name already taken.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum MethodError {
+    /// No built-in or registered method has this name.
+    #[error("unknown method `{name}`; valid: {valid}")]
+    Unknown {
+        /// The name given.
+        name: String,
+        /// The valid names, comma-separated.
+        valid: String,
+    },
+    /// The name is a built-in one (or alias) or already registered.
+    #[error("method name `{0}` is already taken")]
+    Taken(String),
+}
+
+impl std::str::FromStr for MethodChoice {
+    type Err = MethodError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        if let Ok(k) = s.parse::<MethodKind>() {
+            return Ok(k.into());
+        }
+        let reg = registry().read().unwrap_or_else(|e| e.into_inner());
+        if let Some(m) = reg.iter().find(|m| m.name == s) {
+            return Ok((*m).into());
+        }
+        let valid: Vec<&str> = MethodKind::ALL
+            .iter()
+            .map(|k| k.name())
+            .chain(reg.iter().map(|m| m.name))
+            .collect();
+        Err(MethodError::Unknown {
+            name: s.to_string(),
+            valid: valid.join(", "),
+        })
+    }
+}
+
+/// The process-wide registry of [`CustomMethod`]s (read-mostly: registered at start-up by a
+/// user's `main`, read when scenarios are parsed).
+fn registry() -> &'static std::sync::RwLock<Vec<CustomMethod>> {
+    static REGISTRY: std::sync::RwLock<Vec<CustomMethod>> = std::sync::RwLock::new(Vec::new());
+    &REGISTRY
+}
+
+/// Makes `method` selectable by name ([`MethodChoice`]'s `FromStr`, so scenario files too).
+/// Fails if the name is a built-in name or alias or already registered.
+pub fn register(method: CustomMethod) -> Result<(), MethodError> {
+    if method.name.parse::<MethodKind>().is_ok() {
+        return Err(MethodError::Taken(method.name.to_string()));
+    }
+    let mut reg = registry().write().unwrap_or_else(|e| e.into_inner());
+    if reg.iter().any(|m| m.name == method.name) {
+        return Err(MethodError::Taken(method.name.to_string()));
+    }
+    reg.push(method);
+    Ok(())
+}
+
+/// The registered methods, in registration order.
+pub fn registered() -> Vec<CustomMethod> {
+    registry().read().unwrap_or_else(|e| e.into_inner()).clone()
 }

@@ -46,7 +46,7 @@
 use std::cell::RefCell;
 
 use crate::error::{ErrorKind, SolveFailure, SolverError};
-use crate::method::{Method, MethodKind};
+use crate::method::{Method, MethodChoice};
 use crate::options::Options;
 use crate::problem::{EventAction, Problem, ResidualError};
 use crate::stats::Stats;
@@ -86,7 +86,7 @@ pub struct Solution {
 
 /// Where the solver gets its method from.
 enum MethodSource {
-    Kind(MethodKind),
+    Kind(MethodChoice),
     Boxed(RefCell<Box<dyn Method>>),
 }
 
@@ -120,11 +120,12 @@ impl std::fmt::Debug for Solver {
 }
 
 impl Solver {
-    /// A solver using a built-in method (a fresh method object per solve).
-    pub fn new(kind: MethodKind, opts: Options) -> Self {
+    /// A solver using a built-in ([`crate::MethodKind`]) or registered method
+    /// ([`MethodChoice`]); a fresh method object per solve.
+    pub fn new(method: impl Into<MethodChoice>, opts: Options) -> Self {
         Self {
             opts,
-            source: MethodSource::Kind(kind),
+            source: MethodSource::Kind(method.into()),
         }
     }
 

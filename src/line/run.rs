@@ -19,7 +19,9 @@ use crate::array::{ArrayProblem, CellArray};
 use crate::energy::StrainEnergy;
 use crate::observe::{ModelKind, RunRecord, RunStats, Series};
 use crate::scalar::Scalar;
-use integrators::{ErrorNorm, MethodKind, Options, ResidualError, SolveFailure, Solver, Stats};
+use integrators::{
+    ErrorNorm, MethodChoice, MethodKind, Options, ResidualError, SolveFailure, Solver, Stats,
+};
 use std::cell::RefCell;
 use std::time::Instant;
 
@@ -28,8 +30,8 @@ use std::time::Instant;
 /// units").
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SolveSettings {
-    /// Method.
-    pub method: MethodKind,
+    /// Method (built-in or registered).
+    pub method: MethodChoice,
     /// Relative tolerance.
     pub rtol: f64,
     /// Absolute tolerance in cell units.
@@ -47,7 +49,7 @@ pub struct SolveSettings {
 impl Default for SolveSettings {
     fn default() -> Self {
         Self {
-            method: MethodKind::Bdf,
+            method: MethodKind::Bdf.into(),
             rtol: 1e-6,
             atol: 1e-8,
             norm: ErrorNorm::Max,

@@ -3,7 +3,7 @@
 //! (see [`super::model`]), which owns and validates the rest of the keys.
 
 use super::error::ScenarioError;
-use integrators::{ErrorNorm, IterativeSettings, LinearSolverChoice, MethodKind};
+use integrators::{ErrorNorm, IterativeSettings, LinearSolverChoice, MethodChoice};
 use serde::{Deserialize, Serialize};
 
 /// The file's top level as written (before sweep expansion and model parsing).
@@ -80,7 +80,7 @@ impl Default for SolverSection {
 pub struct SolverChoice {
     /// Method.
     #[serde(serialize_with = "method_name")]
-    pub method: MethodKind,
+    pub method: MethodChoice,
     /// Relative tolerance.
     pub rtol: f64,
     /// Absolute tolerance (cell units).
@@ -120,17 +120,20 @@ fn norm_name<S: serde::Serializer>(n: &ErrorNorm, s: S) -> Result<S::Ok, S::Erro
     })
 }
 
-fn method_name<S: serde::Serializer>(m: &MethodKind, s: S) -> Result<S::Ok, S::Error> {
+fn method_name<S: serde::Serializer>(m: &MethodChoice, s: S) -> Result<S::Ok, S::Error> {
     s.serialize_str(m.name())
 }
 
 impl SolverSection {
     /// Checks the method name and tolerance ranges.
     pub fn validate(&self) -> Result<SolverChoice, ScenarioError> {
-        let method: MethodKind = self
-            .method
-            .parse()
-            .map_err(|e: String| ScenarioError::key("solver.method", e))?;
+        // built-in names and the methods registered with `integrators::method::register`
+        let method: MethodChoice =
+            self.method
+                .parse()
+                .map_err(|e: integrators::method::MethodError| {
+                    ScenarioError::key("solver.method", e.to_string())
+                })?;
         if !(self.rtol > 0.0 && self.rtol < 1.0) {
             return Err(ScenarioError::key(
                 "solver.rtol",

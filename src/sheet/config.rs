@@ -19,7 +19,7 @@ use super::ramp::Ramp;
 use super::shear::ShearParams;
 use super::uniaxial::SheetParams;
 use crate::energy::{AnyEnergy, NeoHookean};
-use integrators::{MethodKind, Options};
+use integrators::{MethodChoice, MethodKind, Options};
 use serde::{Deserialize, Serialize};
 
 /// The side `y = w₀` of the sheet.
@@ -279,8 +279,8 @@ impl ShearConfig {
 /// Integrator choice for a run: method and options (tolerances etc.).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SolverSettings {
-    /// Time-stepping method.
-    pub method: MethodKind,
+    /// Time-stepping method (built-in or registered).
+    pub method: MethodChoice,
     /// Tolerances and limits. For the sheet, `atol` is applied in cell units (× `h_X`, `h_Y`).
     pub options: Options,
 }
@@ -289,7 +289,7 @@ impl Default for SolverSettings {
     /// BDF with `rtol = 1e-8`, `atol = 1e-10`, max norm.
     fn default() -> Self {
         Self {
-            method: MethodKind::Bdf,
+            method: MethodKind::Bdf.into(),
             options: Options {
                 rtol: 1e-8,
                 atol: 1e-10,
