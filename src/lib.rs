@@ -11,6 +11,8 @@
 pub mod array;
 pub mod boundary;
 pub mod cell;
+#[cfg(feature = "cli")]
+pub mod cli;
 pub mod energy;
 pub mod events;
 pub mod line;
@@ -28,3 +30,40 @@ pub use energy::{
     ShearResponse, SheetResponse, StrainEnergy,
 };
 pub use scalar::Scalar;
+
+/// The time integrators (crate `celltissue-integrators`), so an outside crate needs only
+/// `celltissue` in its `Cargo.toml`.
+pub use integrators;
+pub use integrators::{
+    ErrorNorm, Method, MethodChoice, MethodKind, Options, OptionsError, Parallelism, Problem,
+    Solver,
+};
+/// Forward-mode AD numbers (crate `num-dual`): strain energies and growth laws are written
+/// generically over [`Scalar`], which `f64` and [`num_dual::Dual64`] implement.
+pub use num_dual;
+/// Serialisation (crate `serde`): a registered strain energy derives `Serialize` and
+/// `Deserialize` (with `#[serde(crate = "celltissue::serde")]` when `serde` is not a direct
+/// dependency).
+pub use serde;
+
+/// Time-stepping methods by name: register a method of one's own ([`register`]) and scenarios
+/// select it with `solver.method = "<name>"` (see `docs/guide-method.md`).
+pub mod method {
+    pub use integrators::method::{
+        register, registered, CustomMethod, Method, MethodChoice, MethodError, MethodKind,
+    };
+}
+
+pub use cell::{GrowthLaw, GrowthRate};
+pub use events::{CellView, DivisionRule};
+
+/// The extension guides in `docs/`: their code blocks are compiled and run as doctests.
+#[cfg(doctest)]
+mod guides {
+    #[doc = include_str!("../docs/guide-method.md")]
+    struct Method;
+    #[doc = include_str!("../docs/guide-growth-law.md")]
+    struct GrowthLaw;
+    #[doc = include_str!("../docs/guide-division-rule.md")]
+    struct DivisionRule;
+}

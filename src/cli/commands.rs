@@ -3,10 +3,10 @@
 //! thread so that SIGINT/SIGTERM keep the finished runs, then hands the records to the writers.
 
 use super::{catalogue, merge, BAD_INPUT, OK, RUN_FAILED};
-use celltissue::observe::{RunRecord, Summary};
-use celltissue::output::{self, finite, interrupt};
-use celltissue::scenario::parallel::{run_parallel, Shard};
-use celltissue::scenario::{self, execute};
+use crate::observe::{RunRecord, Summary};
+use crate::output::{self, finite, interrupt};
+use crate::scenario::parallel::{run_parallel, Shard};
+use crate::scenario::{self, execute};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal as _;
 use std::path::Path;
@@ -301,7 +301,7 @@ pub fn write_outputs(
 }
 
 /// Prints the failed runs, if any; returns the exit code.
-fn report_failures(runs: &[celltissue::observe::RunRecord]) -> i32 {
+fn report_failures(runs: &[crate::observe::RunRecord]) -> i32 {
     let failed: Vec<&str> = runs
         .iter()
         .filter(|r| r.error.is_some())

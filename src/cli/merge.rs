@@ -9,9 +9,9 @@
 //! (timing fields aside).
 
 use super::{commands, BAD_INPUT, RUN_FAILED};
-use celltissue::observe::{RunRecord, Summary};
-use celltissue::output;
-use celltissue::scenario::{self, parallel::Shard, Scenario};
+use crate::observe::{RunRecord, Summary};
+use crate::output;
+use crate::scenario::{self, parallel::Shard, Scenario};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 

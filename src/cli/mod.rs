@@ -1,4 +1,18 @@
-//! Argument parsing (clap) and the commands.
+//! The command-line interface as a library function (feature `cli`, on by default): argument
+//! parsing (clap) and the commands `run`, `merge`, `validate` and `list`.
+//!
+//! A binary of one's own gets the whole interface with its own laws and methods: register them
+//! (strain energies with [`crate::energy::registry::register`], time-stepping methods with
+//! [`crate::method::register`]), then call [`main`]. Scenarios then name them like the
+//! built-in ones (`law = { law = "my_law", … }`, `solver.method = "my_method"`).
+//!
+//! ```no_run
+//! fn main() {
+//!     celltissue::energy::registry::register::<celltissue::NeoHookean>("my_neo_hookean")
+//!         .expect("a new name");
+//!     std::process::exit(celltissue::cli::main());
+//! }
+//! ```
 
 mod catalogue;
 mod commands;
@@ -80,12 +94,28 @@ enum Command {
     List,
 }
 
-/// Parses the command line and runs the command; returns the exit code.
+/// Parses the process's command line and runs the command; returns the exit code
+/// ([`OK`], [`RUN_FAILED`] or [`BAD_INPUT`]).
 pub fn main() -> i32 {
+    main_from(std::env::args_os())
+}
+
+/// As [`main`], with the arguments given (the first is the program name).
+///
+/// ```
+/// // `--help` prints the usage and succeeds
+/// assert_eq!(celltissue::cli::main_from(["celltissue", "list"]), celltissue::cli::OK);
+/// assert_eq!(celltissue::cli::main_from(["celltissue", "frobnicate"]), celltissue::cli::BAD_INPUT);
+/// ```
+pub fn main_from<I, T>(args: I) -> i32
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
     // RUST_LOG=info (or debug) for run and write diagnostics; warnings by default
     let _ = env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn"))
         .try_init();
-    let cli = match Cli::try_parse() {
+    let cli = match Cli::try_parse_from(args) {
         Ok(c) => c,
         Err(e) => {
             let code = if e.use_stderr() { BAD_INPUT } else { OK };

@@ -38,6 +38,7 @@
 pub mod dividing;
 pub mod division;
 pub mod log;
+#[cfg(feature = "plots")]
 pub mod plots;
 pub mod reindex;
 pub mod run;

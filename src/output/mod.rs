@@ -6,13 +6,17 @@
 //! Nothing here runs a model.
 
 pub mod atomic;
+#[cfg(feature = "plots")]
 pub mod figures;
 pub mod files;
 pub mod finite;
+#[cfg(feature = "plots")]
 pub mod fonts;
+#[cfg(feature = "cli")]
 pub mod interrupt;
 pub mod manifest;
 pub mod npz;
+#[cfg(feature = "plots")]
 pub mod plot;
 pub mod provenance;
 pub mod vtu;
@@ -73,6 +77,7 @@ pub struct WriteOptions {
     /// Labels of runs cut short by an interrupt (recorded in `summary.json`).
     pub interrupted: Vec<String>,
     /// Progress of the write phase (one tick per stage); hidden when not on a terminal.
+    #[cfg(feature = "cli")]
     pub progress: Option<indicatif::ProgressBar>,
 }
 
@@ -100,6 +105,7 @@ pub fn write_all_with(
         source,
     })?;
     let stage = |what: &str| {
+        #[cfg(feature = "cli")]
         if let Some(p) = &opts.progress {
             p.set_message(what.to_string());
             p.inc(1);
@@ -122,6 +128,7 @@ pub fn write_all_with(
     w.data
         .extend(vtu::write_line_snapshots(dir, scenario, summary)?);
     w.data.push(files::write_scenario(dir, &scenario.table)?);
+    #[cfg(feature = "plots")]
     if !opts.no_plots {
         stage("plots");
         for (path, result) in figures::write_figures(dir, scenario, summary) {

@@ -27,6 +27,7 @@ use crate::scalar::Scalar;
 pub mod config;
 pub mod exact;
 pub mod observe;
+#[cfg(feature = "plots")]
 pub mod plot;
 pub mod ramp;
 pub mod run;

@@ -18,9 +18,11 @@ use super::observe::{
     push_shear_series, push_sheet_series, shear_observables, shear_profile, sheet_observables,
     sheet_profile,
 };
+#[cfg(feature = "plots")]
+use super::plot;
 use super::shear::{ShearCellCentre, ShearColumn, ShearFields};
 use super::uniaxial::UniaxialSheet;
-use super::{plot, vtk};
+use super::vtk;
 use crate::array::{ArrayProblem, CellArray};
 use crate::energy::StrainEnergy;
 use crate::observe::{ModelKind, RunRecord, RunStats, Series};
@@ -256,12 +258,17 @@ pub fn run_sheet<E: StrainEnergy>(
                 let path = d.join(&name);
                 vtk::write_vtu(&path, *t, &cells).map_err(io_err(&path))?;
                 pvd.push((*t, name));
-                let png = d.join(format!("{prefix}_pressure_{i:04}.png"));
-                let title = format!("pressure, t = {t}");
-                plot::write_sheet_png(&png, &cells, &title, None).map_err(|e| RunError::Io {
-                    path: png.clone(),
-                    source: std::io::Error::other(e.to_string()),
-                })?;
+                #[cfg(feature = "plots")]
+                {
+                    let png = d.join(format!("{prefix}_pressure_{i:04}.png"));
+                    let title = format!("pressure, t = {t}");
+                    plot::write_sheet_png(&png, &cells, &title, None).map_err(|e| {
+                        RunError::Io {
+                            path: png.clone(),
+                            source: std::io::Error::other(e.to_string()),
+                        }
+                    })?;
+                }
             }
         }
     }
