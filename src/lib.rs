@@ -46,7 +46,7 @@ pub use num_dual;
 /// dependency).
 pub use serde;
 
-/// Time-stepping methods by name: register a method of one's own ([`register`]) and scenarios
+/// Time-stepping methods by name: register a method of one's own ([`method::register`]) and scenarios
 /// select it with `solver.method = "<name>"` (see `docs/guide-method.md`).
 pub mod method {
     pub use integrators::method::{

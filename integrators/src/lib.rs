@@ -60,7 +60,8 @@ pub mod system;
 pub use error::{ErrorKind, RecoverableCause, SolveFailure, SolverError};
 pub use method::{CustomMethod, Method, MethodChoice, MethodKind};
 pub use options::{
-    ErrorNorm, IterativeSettings, LinearSolverChoice, Options, OptionsError, Parallelism,
+    BdfOptions, ErrorNorm, IterativeSettings, LinearSolverChoice, Options, OptionsError,
+    Parallelism,
 };
 pub use pattern::{Pattern, SparsityPattern};
 pub use problem::{EventAction, JacobianSink, Problem, ResidualError};

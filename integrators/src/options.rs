@@ -22,8 +22,9 @@ pub struct Options {
     pub h_min: f64,
     /// Maximum number of steps.
     pub max_steps: usize,
-    /// Maximum BDF order (1..=5).
-    pub max_order: usize,
+    /// Settings of the BDF method only ([`BdfOptions`]); a solve with another method and
+    /// non-default BDF settings is an `InvalidInput` error naming the setting.
+    pub bdf: BdfOptions,
     /// Exclude algebraic components from the local error test (as IDA's `suppressalg`).
     pub suppress_algebraic: bool,
     /// Event location tolerance on t (absolute).
@@ -32,14 +33,10 @@ pub struct Options {
     pub force_fd_jacobian: bool,
     /// Maximum Newton iterations per nonlinear solve.
     pub max_newton_iters: usize,
-    /// Fixed-step mode (for order-of-accuracy studies): when `Some(h)`, the one-step methods
-    /// (ESDIRK, Radau IIA, Dormand–Prince) take steps of exactly `h` (the last one shortened to
-    /// land on the stop time) and skip the local error test. `None` (default): adaptive steps.
+    /// Fixed-step mode (for order-of-accuracy studies): when `Some(h)`, every method takes
+    /// steps of exactly `h` (the last one shortened to land on the stop time) and skips the
+    /// local error test. `None` (default): adaptive steps.
     pub fixed_step: Option<f64>,
-    /// BDF only: use exactly this order (reached as soon as the history allows after each
-    /// start) instead of selecting it; step-size control stays on. `None` (default): variable
-    /// order up to [`Options::max_order`]. Used for tolerance-sweep order studies of the BDF.
-    pub fixed_order: Option<usize>,
     /// How weighted error vectors are measured in the local error test and the Newton
     /// convergence test of every method (default: RMS).
     pub norm: ErrorNorm,
@@ -142,6 +139,18 @@ pub enum OptionsError {
     /// A thread count other than 1 or 2.
     #[error("threads = {0} must be 1 or 2 (passes are split in two halves at most)")]
     Threads(usize),
+    /// A setting of one method given for another.
+    #[error("{field} = {value} applies to method {applies_to} only, not {method}")]
+    NotForMethod {
+        /// The setting.
+        field: &'static str,
+        /// Its value, formatted.
+        value: String,
+        /// The method it belongs to.
+        applies_to: &'static str,
+        /// The method chosen.
+        method: &'static str,
+    },
 }
 
 fn out_of_range(
@@ -153,6 +162,38 @@ fn out_of_range(
         field,
         value: value.to_string(),
         range: range.into(),
+    }
+}
+
+/// Settings of the BDF method ([`crate::MethodKind::Bdf`]), ignored by no other method: a
+/// solve with another method rejects non-default values ([`Options::check_method`]).
+///
+/// ```
+/// use integrators::{BdfOptions, MethodKind, Options};
+/// let o = Options { bdf: BdfOptions { fixed_order: Some(2), ..Default::default() }, ..Default::default() };
+/// assert!(o.check_method(MethodKind::Bdf.into()).is_ok());
+/// assert_eq!(
+///     o.check_method(MethodKind::Radau.into()).unwrap_err().to_string(),
+///     "bdf.fixed_order = 2 applies to method bdf only, not radau"
+/// );
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BdfOptions {
+    /// Maximum order (1..=5; default 5).
+    pub max_order: usize,
+    /// Use exactly this order (reached as soon as the history allows after each start)
+    /// instead of selecting it; step-size control stays on. `None` (default): variable order
+    /// up to `max_order`. Used for tolerance-sweep order studies.
+    pub fixed_order: Option<usize>,
+}
+
+impl Default for BdfOptions {
+    /// `max_order = 5`, variable order.
+    fn default() -> Self {
+        Self {
+            max_order: 5,
+            fixed_order: None,
+        }
     }
 }
 
@@ -311,13 +352,12 @@ impl Default for Options {
             h_max: f64::INFINITY,
             h_min: 0.0,
             max_steps: 1_000_000,
-            max_order: 5,
+            bdf: BdfOptions::default(),
             suppress_algebraic: true,
             event_tol: 1e-12,
             force_fd_jacobian: false,
             max_newton_iters: 4,
             fixed_step: None,
-            fixed_order: None,
             norm: ErrorNorm::Rms,
             linear_solver: LinearSolverChoice::Direct,
             parallel: Parallelism::Serial,
@@ -326,6 +366,36 @@ impl Default for Options {
 }
 
 impl Options {
+    /// Rejects settings that belong to another method than `method` (today: non-default
+    /// [`BdfOptions`] with a method other than BDF), naming the setting.
+    pub fn check_method(&self, method: crate::MethodChoice) -> Result<(), OptionsError> {
+        self.check_method_name(method.name())
+    }
+
+    /// As [`check_method`](Self::check_method), by the method's name.
+    pub(crate) fn check_method_name(&self, method: &'static str) -> Result<(), OptionsError> {
+        if method == "bdf" {
+            return Ok(());
+        }
+        let d = BdfOptions::default();
+        let bad = if self.bdf.max_order != d.max_order {
+            Some(("bdf.max_order", self.bdf.max_order.to_string()))
+        } else {
+            self.bdf
+                .fixed_order
+                .map(|k| ("bdf.fixed_order", k.to_string()))
+        };
+        match bad {
+            Some((field, value)) => Err(OptionsError::NotForMethod {
+                field,
+                value,
+                applies_to: "bdf",
+                method,
+            }),
+            None => Ok(()),
+        }
+    }
+
     /// Checks ranges; the error names the field and its valid range.
     ///
     /// ```
@@ -350,8 +420,12 @@ impl Options {
         if !(self.h_min >= 0.0 && self.h_min < self.h_max) {
             return Err(out_of_range("h_min", self.h_min, "in [0, h_max)"));
         }
-        if !(1..=5).contains(&self.max_order) {
-            return Err(out_of_range("max_order", self.max_order, "in 1..=5"));
+        if !(1..=5).contains(&self.bdf.max_order) {
+            return Err(out_of_range(
+                "bdf.max_order",
+                self.bdf.max_order,
+                "in 1..=5",
+            ));
         }
         if self.max_newton_iters == 0 {
             return Err(out_of_range("max_newton_iters", 0, "at least 1"));
@@ -361,12 +435,12 @@ impl Options {
                 return Err(out_of_range("fixed_step", h, "positive and finite"));
             }
         }
-        if let Some(k) = self.fixed_order {
-            if !(1..=self.max_order).contains(&k) {
+        if let Some(k) = self.bdf.fixed_order {
+            if !(1..=self.bdf.max_order).contains(&k) {
                 return Err(out_of_range(
-                    "fixed_order",
+                    "bdf.fixed_order",
                     k,
-                    format!("in 1..=max_order ({})", self.max_order),
+                    format!("in 1..=bdf.max_order ({})", self.bdf.max_order),
                 ));
             }
         }

@@ -167,7 +167,7 @@ pub trait Problem {
         false
     }
 
-    /// Called by the solver before it integrates, with [`crate::Options::threads`]: the most
+    /// Called by the solver before it integrates, with [`crate::Parallelism::threads`] of [`crate::Options::parallel`]: the most
     /// threads the problem's own evaluations (residual, directional derivatives) may use.
     /// Default: ignore it (evaluate on the calling thread).
     fn set_threads(&mut self, _threads: usize) {}

@@ -502,7 +502,10 @@ where
         |run: Run<'_, O>, msg: String| Err(run.fail(ErrorKind::InvalidInput(msg), t0, None));
 
     // ---- input validation
-    if let Err(e) = opts.validate() {
+    if let Err(e) = opts
+        .validate()
+        .and_then(|()| opts.check_method_name(method.name()))
+    {
         return invalid(run, e.to_string());
     }
     // parallelism is passed in: the problem learns how many threads it may use

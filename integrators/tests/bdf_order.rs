@@ -1,6 +1,6 @@
 //! Observed order of accuracy of the BDF at each fixed order k = 1..5, by a **tolerance sweep**
 //! (the BDF is a multistep method: a fixed-step study would be dominated by its low-order
-//! start). With `Options::fixed_order = k` the step-size control stays on; the global error then
+//! start). With `BdfOptions::fixed_order = Some(k)` the step-size control stays on; the global error then
 //! behaves like `C·N^{−k}` in the number of steps N, so the slope of log(err) against log(N),
 //! fitted by least squares over the sweep, must be −k ± 0.3.
 //!
@@ -51,8 +51,10 @@ fn bdf_fixed_order_tolerance_sweep_observed_order() {
             let o = Options {
                 rtol: tol,
                 atol: tol,
-                fixed_order: Some(k),
-                max_order: 5,
+                bdf: integrators::BdfOptions {
+                    fixed_order: Some(k),
+                    max_order: 5,
+                },
                 ..Default::default()
             };
             let sol = Solver::new(MethodKind::Bdf, o)

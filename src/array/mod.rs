@@ -129,7 +129,7 @@ pub trait CellArray {
     }
 
     /// Threads the residual sweep may use, passed in by the solver from
-    /// [`integrators::Options::threads`] (see [`integrators::Problem::set_threads`]); default:
+    /// [`integrators::Options::parallel`] (see [`integrators::Problem::set_threads`]); default:
     /// ignore it.
     fn set_threads(&mut self, _threads: usize) {}
 }

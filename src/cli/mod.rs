@@ -7,11 +7,10 @@
 //! built-in ones (`law = { law = "my_law", … }`, `solver.method = "my_method"`).
 //!
 //! ```no_run
-//! fn main() {
-//!     celltissue::energy::registry::register::<celltissue::NeoHookean>("my_neo_hookean")
-//!         .expect("a new name");
-//!     std::process::exit(celltissue::cli::main());
-//! }
+//! // the `main` of a binary of one's own
+//! celltissue::energy::registry::register::<celltissue::NeoHookean>("my_neo_hookean")
+//!     .expect("a new name");
+//! std::process::exit(celltissue::cli::main());
 //! ```
 
 mod catalogue;

@@ -32,7 +32,7 @@ use std::sync::Arc;
 pub const NONE: usize = usize::MAX;
 
 /// Lines with at least this many cells (and not closed into a ring) evaluate their residual on
-/// two threads when the solver passes `threads ≥ 2` ([`integrators::Options::threads`], via
+/// two threads when the solver passes `threads ≥ 2` ([`integrators::Options::parallel`], via
 /// [`CellArray::set_threads`]), each sweeping half of the cells; below it a thread's start-up
 /// (tens of µs) would be a noticeable share of a sweep. The result is bitwise that of the
 /// serial sweep.

@@ -60,7 +60,7 @@
 //! a typed error (step size too small / Newton failure / non-finite / singular matrix, with the
 //! worst component). The step never passes `t_stop` (the last one is shortened to land on it).
 //!
-//! With [`crate::Options::fixed_order`] the order climbs to that value as soon as the history
+//! With [`crate::BdfOptions::fixed_order`] the order climbs to that value as soon as the history
 //! allows and stays there; with [`crate::Options::fixed_step`] every step has that size and the
 //! error test is skipped (the start is still at order 1).
 //!
@@ -118,7 +118,7 @@ enum NewtonFail {
     Fatal(SolverError),
 }
 
-/// Variable-order, variable-step BDF (orders 1 to [`crate::Options::max_order`]) for residual
+/// Variable-order, variable-step BDF (orders 1 to [`crate::BdfOptions::max_order`]) for residual
 /// DAEs `F(t, y, ẏ) = 0`.
 ///
 /// ```
@@ -1339,8 +1339,8 @@ impl Bdf {
             // local error test; the norms of the order-(k−1), (k−2) and, when an order raise
             // may be considered below, (k+1) differences come from the same sweep
             let had_failures = nef > 0 || ncf > 0;
-            let may_raise = opts.fixed_order.is_none()
-                && k < opts.max_order
+            let may_raise = opts.bdf.fixed_order.is_none()
+                && k < opts.bdf.max_order
                 && self.steps_at_order + 1 > k
                 && self.times.len() >= k + 2
                 && !had_failures;
@@ -1385,7 +1385,7 @@ impl Bdf {
                     knew = k - 1;
                 }
             }
-            if let Some(fo) = opts.fixed_order {
+            if let Some(fo) = opts.bdf.fixed_order {
                 knew = k.min(fo);
             }
 
@@ -1427,9 +1427,9 @@ impl Bdf {
             // accepted: choose the next order (IDA's rules)
             let mut err_new = if knew < k { err_km1 } else { err_k };
             let mut action_order = knew;
-            let can_raise = opts.fixed_order.is_none()
+            let can_raise = opts.bdf.fixed_order.is_none()
                 && knew == k
-                && k < opts.max_order
+                && k < opts.bdf.max_order
                 && self.steps_at_order + 1 > k
                 && self.times.len() >= k + 2
                 && !had_failures;
@@ -1449,9 +1449,9 @@ impl Bdf {
                     err_new = err_kp1;
                 }
             }
-            if let Some(fo) = opts.fixed_order {
+            if let Some(fo) = opts.bdf.fixed_order {
                 // climb to the fixed order as soon as the history allows
-                action_order = fo.min(opts.max_order).min(self.times.len());
+                action_order = fo.min(opts.bdf.max_order).min(self.times.len());
             }
 
             // accept
