@@ -86,8 +86,8 @@ impl System<'_> {
         // the line's 10⁶-cell macroscale run fail late (see the issue #2 note), the RMS start
         // costs fig2_6's continuum a few rejected first tries
         let norm = crate::ErrorNorm::Rms;
-        let d0 = norm.of(y0, w);
-        let d1 = norm.of(yp0, w);
+        let d0 = self.norm_with(norm, y0, w);
+        let d1 = self.norm_with(norm, yp0, w);
         let h0 = if d0 < 1e-5 || d1 < 1e-5 || !d1.is_finite() {
             1e-6 * span
         } else {
@@ -113,7 +113,7 @@ impl System<'_> {
                 *a -= b;
             }
         }
-        let d2 = norm.of(yp1, w) / h0;
+        let d2 = self.norm_with(norm, yp1, w) / h0;
         let dmax = d1.max(d2);
         let h1 = if dmax <= 1e-15 || !dmax.is_finite() {
             (h0 * 1e-3).max(1e-6 * span)
