@@ -294,11 +294,11 @@ impl ErrorMap {
             v.len() == self.len() && w.len() == self.len(),
             "norm: length mismatch"
         );
-        self.norm_range(v, w, norm, 0, v.len(), true)
+        self.norm_range(v, w, norm, 0, v.len())
             .finish(norm, v.len())
     }
 
-    /// Partial norm over rows `lo..hi` (see [`NormSum`]), with or without the end rows.
+    /// Partial norm over rows `lo..hi` (see [`NormSum`]), end rows included.
     pub(crate) fn norm_range(
         &self,
         v: &[f64],
@@ -306,15 +306,12 @@ impl ErrorMap {
         norm: ErrorNorm,
         lo: usize,
         hi: usize,
-        ends: bool,
     ) -> NormSum {
         let mut s = NormSum::default();
         for (i, wi) in w.iter().enumerate().take(hi).skip(lo) {
             s.push(norm, self.quantity(i, v) * wi);
         }
-        if ends {
-            self.for_each_end(lo, hi, w, |i, we| s.push(norm, v[i] * we));
-        }
+        self.for_each_end(lo, hi, w, |i, we| s.push(norm, v[i] * we));
         s
     }
 

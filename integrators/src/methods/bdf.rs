@@ -350,20 +350,20 @@ fn norm_blocks(
 
 /// The Newton norm of `v` (weights `w`) through a non-empty error map, on two threads for a
 /// large state (the halves' partial norms are merged, as [`Bdf::error_norms`] does). The end
-/// rows ([`ErrorMap::with_end`]) are left to the error test: measured on fig2_6's continuum
-/// (n = 2000, K = 1e-5, rtol 1e-8), testing the position of the boundary next to the driven
-/// end in its own cell's units made every Newton iteration of the first step fail down to
-/// h ≈ 10⁻⁸ (the cell is compressed on the drag time scale); its neighbours' differences
-/// already converge it.
+/// rows ([`ErrorMap::with_end`]) are tested as in the error test: without them a Newton
+/// correction that moves the boundary next to a driven end together with its neighbours (a
+/// smooth profile, small in every difference) passes while the end cell's stretch is far from
+/// converged — measured on fig2_6's continuum (n = 2000, K = 1e-5, rtol 1e-6), an accepted
+/// first step left that cell at λ = 0.48 against 0.999.
 fn map_norm(map: &ErrorMap, v: &[f64], w: &[f64], norm: ErrorNorm, threads: usize) -> f64 {
     let n = v.len();
     let mid = split_point(n, threads);
     let sum = if mid == 0 {
-        map.norm_range(v, w, norm, 0, n, false)
+        map.norm_range(v, w, norm, 0, n)
     } else {
         std::thread::scope(|sc| {
-            let second = sc.spawn(|| map.norm_range(v, w, norm, mid, n, false));
-            let mut first: NormSum = map.norm_range(v, w, norm, 0, mid, false);
+            let second = sc.spawn(|| map.norm_range(v, w, norm, mid, n));
+            let mut first: NormSum = map.norm_range(v, w, norm, 0, mid);
             let second = second
                 .join()
                 .unwrap_or_else(|e| std::panic::resume_unwind(e));
