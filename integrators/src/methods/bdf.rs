@@ -1373,7 +1373,11 @@ impl Method for Bdf {
                 }
                 Err(NewtonFail::Recoverable(reason, c)) => {
                     last = LastFailure::Recoverable(reason, c);
-                    // the matrix may be bad near the failure point
+                    // the matrix may be bad near the failure point: a Jacobian taken at a
+                    // predictor far outside the problem's domain (non-finite entries, reported
+                    // as a zero pivot) would otherwise be refactored at every smaller step and
+                    // fail each time (measured: the density continuum at K = 1e-5, t ≈ 4)
+                    self.jac_valid = false;
                     Some(0.25)
                 }
             };
