@@ -68,14 +68,17 @@ fn smooth_restart_avoids_rejections_after_divisions() {
     println!("max |Δt_division| = {dt:e}, l = {l_fast} vs {l_slow}");
     assert!(dt < 1e-5, "division times differ by {dt}");
     assert!((l_fast / l_slow - 1.0).abs() < 1e-5);
-    // measured: smooth 808 steps (1.15 per division), 21 rejected (0.03 per division);
-    // consistent 2604 steps (3.72), 1119 rejected (1.60); division times agree to 1.0e-7,
-    // l(7) to 2.4e-8 relative
+    // measured under the cell-unit accuracy contract (docs/model.md §8.1; issue #11): smooth
+    // 2828 steps (4.04 per division), 1272 rejected (1.82); consistent 7881 steps (11.3),
+    // 2443 rejected (3.49); division times agree to 5.2e-10, l(7) to 1.4e-11 relative. (Under
+    // the old position-relative test: smooth 1.15 steps and 0.03 rejections per division,
+    // consistent 3.72 and 1.60, division times to 1.0e-7, l(7) to 2.4e-8 — the new-born
+    // cell's transient was below rtol·|x| and went unresolved.)
     let (sf, rf) = per(&fast, divs);
-    let (_, rs) = per(&slow, t_slow.len());
+    let (ss, rs) = per(&slow, t_slow.len());
     assert!(
-        sf < 1.3 && rf < 0.1,
-        "smooth restart: {sf} steps, {rf} rejected per division"
+        sf < 0.5 * ss && rf < 0.6 * rs,
+        "smooth restart: {sf} steps, {rf} rejected per division (consistent: {ss}, {rs})"
     );
     assert!(
         rs > 1.0,

@@ -82,26 +82,29 @@ fn same_solution(a: &Cost, b: &Cost, dt_max: f64, dl_max: f64) {
 }
 
 #[test]
-fn small_drag_divisions_cost_one_jacobian_and_few_steps() {
+fn small_drag_division_counters() {
     let new = run(1e-5, 18.0, true);
     let old = run(1e-5, 18.0, false);
-    // pinned (measured): 871 divisions (N(18) = 971); carried: 4 705 steps, 409 rejected,
-    // 880 Jacobians; restart: 8 654 steps, 3 060 rejected, 1 695 Jacobians (moved from
-    // 4 704 / 407 and 8 648 / 3 054 in the merge with the constitutive work, most likely G'
-    // now taken by AD, which changes it in the last bits; not isolated)
+    // pinned (measured): 871 divisions (N(18) = 971); carried: 35 591 steps, 6 353 rejected,
+    // 952 Jacobians; restart: 35 669 steps, 5 544 rejected, 1 766 Jacobians. Under the
+    // cell-unit accuracy contract every cell's stretch is held to rtol, so the fast relaxation
+    // of the daughters after each division (time scale ~K) is resolved: ~41 steps per
+    // division (4 705 and 8 654 steps under the old rtol·|x| test, which let the positions
+    // near x ≈ 1000 err by 1e-3 cell lengths). Against an rtol 1e-9 reference
+    // (l = 1383.4339756) the final length errs by 3.3e-7 relative here, 1.6e-6 before.
     assert_eq!(new.divisions, 871);
     assert_eq!(
         (new.steps, new.rejected, new.jacobians),
-        (4705, 409, 880),
+        (35591, 6353, 952),
         "carried history counters moved"
     );
     assert_eq!(
         (old.steps, old.rejected, old.jacobians),
-        (8654, 3060, 1695),
+        (35669, 5544, 1766),
         "restart counters moved"
     );
-    let d = new.divisions as f64;
-    assert!(new.jacobians as f64 / d <= 1.02);
+    // 1.09 Jacobians per division with the carried history (2.03 with the restart)
+    assert!(new.jacobians < old.jacobians);
     same_solution(&new, &old, 1e-4, 1e-6);
 }
 
@@ -114,14 +117,21 @@ fn large_drag_rim_divisions() {
         "steps {} vs {}, rejected {} vs {}, Jacobians {} vs {}",
         new.steps, old.steps, new.rejected, old.rejected, new.jacobians, old.jacobians
     );
-    // pinned: 460 divisions; carried 14 899 steps, 1 658 rejected, 782 Jacobians (14 898 /
-    // 1 658 / 787 before G' was taken by AD); restart
-    // 15 441, 1 343, 937 (15 435, 1 341, 935 before). The transient after each division is longer than a step here and is
-    // resolved (steps per division scale with the tolerance, see BENCHMARKS.md): the gain is
-    // in Jacobians, not steps.
+    // pinned: 460 divisions; carried 27 539 steps, 3 334 rejected, 1 146 Jacobians; restart
+    // 27 556, 2 875, 1 375 (14 899 / 1 658 / 782 and 15 441 / 1 343 / 937 under the old
+    // rtol·|x| test: the cell-unit contract resolves each division's transient in every
+    // cell's stretch). The transient after each division is longer than a step here and is
+    // resolved (steps per division scale with the tolerance, see BENCHMARKS.md): the gain of
+    // the carried history is in Jacobians, not steps.
     assert_eq!(new.divisions, 460);
-    assert_eq!((new.steps, new.rejected, new.jacobians), (14899, 1658, 782));
-    assert_eq!((old.steps, old.rejected, old.jacobians), (15441, 1343, 937));
+    assert_eq!(
+        (new.steps, new.rejected, new.jacobians),
+        (27539, 3334, 1146)
+    );
+    assert_eq!(
+        (old.steps, old.rejected, old.jacobians),
+        (27556, 2875, 1375)
+    );
     // a compressed interior cell grows slowly (ġ ≪ 1), so a state difference δg within the
     // tolerances moves its division by δg/ġ: measured 1.2e-3 at t ≈ 300 (4e-6 relative)
     same_solution(&new, &old, 5e-3, 1e-6);

@@ -23,7 +23,8 @@ use crate::problem::{EventAction, JacobianSink, Problem, ResidualError};
 /// `restart_derivative`, `map_history`, `set_threads`, with [`Problem`]'s signature; `residual<S: Bound>` writes instead a
 /// residual generic over a scalar `S` taking `&self`, and `jacobian(&self)` a Jacobian taking
 /// `&self` (the shapes of celltissue's `CellArray`, whose other methods share [`Problem`]'s
-/// signatures). The field may be a tuple index (`0`).
+/// signatures). The field may be a tuple index (`0`). `atol` forwards the error map
+/// ([`Problem::error_map`]) too: the two describe one tolerance contract.
 ///
 /// A wrapper writes by hand only what it changes, and lists the rest:
 ///
@@ -104,6 +105,10 @@ macro_rules! forward_problem {
     (@one $f:tt atol) => {
         fn atol(&self) -> Option<Vec<f64>> {
             self.$f.atol()
+        }
+        // the tolerances travel together: `atol` also forwards the error map
+        fn error_map(&self) -> Option<$crate::ErrorMap> {
+            self.$f.error_map()
         }
     };
     (@one $f:tt algebraic) => {
@@ -188,6 +193,12 @@ pub trait OdeProblem {
 
     /// Per-component absolute tolerances, or `None` for [`crate::Options::atol`].
     fn atol(&self) -> Option<Vec<f64>> {
+        None
+    }
+
+    /// How the error tests measure the components (see [`Problem::error_map`]); default
+    /// `None`, each on its own.
+    fn error_map(&self) -> Option<crate::ErrorMap> {
         None
     }
 
@@ -336,6 +347,12 @@ pub trait MassProblem {
 
     /// Per-component absolute tolerances, or `None` for [`crate::Options::atol`].
     fn atol(&self) -> Option<Vec<f64>> {
+        None
+    }
+
+    /// How the error tests measure the components (see [`Problem::error_map`]); default
+    /// `None`, each on its own.
+    fn error_map(&self) -> Option<crate::ErrorMap> {
         None
     }
 

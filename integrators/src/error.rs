@@ -45,6 +45,9 @@ pub enum ErrorKind {
     /// Invalid input (dimensions, tolerances, output times).
     #[error("invalid input: {0}")]
     InvalidInput(String),
+    /// The problem's [`crate::ErrorMap`] does not fit it.
+    #[error("invalid error map: {0}")]
+    ErrorMap(#[from] crate::ErrorMapError),
 }
 
 /// Why a step attempt failed in a way a smaller step may cure (the reason of a

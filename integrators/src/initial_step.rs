@@ -86,34 +86,31 @@ impl System<'_> {
         // the line's 10⁶-cell macroscale run fail late (see the issue #2 note), the RMS start
         // costs fig2_6's continuum a few rejected first tries
         let norm = crate::ErrorNorm::Rms;
-        let d0 = norm.of(y0, w);
-        let d1 = norm.of(yp0, w);
+        let d0 = self.norm_with(norm, y0, w);
+        let d1 = self.norm_with(norm, yp0, w);
         let h0 = if d0 < 1e-5 || d1 < 1e-5 || !d1.is_finite() {
             1e-6 * span
         } else {
             0.01 * d0 / d1
         };
-        let h0 = clamp(h0, self.opts);
-        for ((a, y), yp) in y1.iter_mut().zip(y0).zip(yp0) {
-            *a = y + h0 * yp;
+        let mut h0 = clamp(h0, self.opts);
+        // The probe `y₀ + h₀·ẏ₀` at `t₀ + h₀` must be a state the problem accepts: with a
+        // moving prescribed end and `ẏ₀ ≈ 0` (nothing has moved yet), an `h₀` of the whole span
+        // (what `0.01·d₀/d₁` gives when `d₁` is rounding noise) carries the end past its
+        // neighbour and the trial initialisation fails. A failed probe is not an answer: it
+        // says `h₀` is far beyond the problem's time scale, so shrink it and probe again.
+        let mut probed = false;
+        for _ in 0..PROBE_TRIES {
+            if self.probe(t0, y0, yp0, h0, unit_mass, y1, yp1) {
+                probed = true;
+                break;
+            }
+            h0 = clamp(h0 * PROBE_SHRINK, self.opts);
         }
-        // yp1 ends as the difference of the derivatives (or −F for a unit mass)
-        if unit_mass {
-            if self.residual(t0 + h0, y1, yp0, yp1).is_err() {
-                return h0;
-            }
-            yp1.iter_mut().for_each(|v| *v = -*v);
-        } else {
-            yp1.copy_from_slice(yp0);
-            // a failed trial initialisation only means no second-derivative estimate
-            if self.consistent_init(t0 + h0, y1, yp1).is_err() {
-                return h0;
-            }
-            for (a, b) in yp1.iter_mut().zip(yp0) {
-                *a -= b;
-            }
+        if !probed {
+            return h0;
         }
-        let d2 = norm.of(yp1, w) / h0;
+        let d2 = self.norm_with(norm, yp1, w) / h0;
         let dmax = d1.max(d2);
         let h1 = if dmax <= 1e-15 || !dmax.is_finite() {
             (h0 * 1e-3).max(1e-6 * span)
@@ -121,6 +118,46 @@ impl System<'_> {
             (0.01 / dmax).powf(1.0 / (order as f64 + 1.0))
         };
         clamp((100.0 * h0).min(h1), self.opts)
+    }
+}
+
+/// Probes of [`System::initial_step`] before it settles for the last `h₀` untested.
+const PROBE_TRIES: usize = 8;
+/// Factor by which a failed probe shrinks `h₀` (eight tries span 10⁻¹⁶).
+const PROBE_SHRINK: f64 = 1e-2;
+
+impl System<'_> {
+    /// The initial step's probe: `y1 = y₀ + h₀·ẏ₀`, and in `yp1` the change of the derivative
+    /// at `t₀ + h₀` (or `−F` for a unit mass). `false` when the problem rejects the probe.
+    #[allow(clippy::too_many_arguments)]
+    fn probe(
+        &mut self,
+        t0: f64,
+        y0: &[f64],
+        yp0: &[f64],
+        h0: f64,
+        unit_mass: bool,
+        y1: &mut [f64],
+        yp1: &mut [f64],
+    ) -> bool {
+        for ((a, y), yp) in y1.iter_mut().zip(y0).zip(yp0) {
+            *a = y + h0 * yp;
+        }
+        if unit_mass {
+            if self.residual(t0 + h0, y1, yp0, yp1).is_err() {
+                return false;
+            }
+            yp1.iter_mut().for_each(|v| *v = -*v);
+        } else {
+            yp1.copy_from_slice(yp0);
+            if self.consistent_init(t0 + h0, y1, yp1).is_err() {
+                return false;
+            }
+            for (a, b) in yp1.iter_mut().zip(yp0) {
+                *a -= b;
+            }
+        }
+        yp1.iter().all(|v| v.is_finite())
     }
 }
 

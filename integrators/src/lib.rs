@@ -45,6 +45,7 @@
 
 pub mod adapters;
 pub mod error;
+pub mod error_map;
 mod initial_step;
 pub mod jacobian;
 pub mod linalg;
@@ -58,6 +59,7 @@ pub mod stats;
 pub mod system;
 
 pub use error::{ErrorKind, RecoverableCause, SolveFailure, SolverError};
+pub use error_map::{ErrorMap, ErrorMapError, Row};
 pub use method::{CustomMethod, Method, MethodChoice, MethodKind};
 pub use options::{
     BdfOptions, ErrorNorm, IterativeSettings, LinearSolverChoice, Options, OptionsError,

@@ -115,6 +115,15 @@ pub trait Problem {
         None
     }
 
+    /// How the local-error and Newton tests measure the components (see [`crate::error_map`]):
+    /// `None` (the default) tests each component against `rtol·|y_i| + atol_i`; a map of
+    /// cell-level rows makes the tests measure stretches (differences of neighbouring
+    /// positions over their cell) and so translation invariant. Read with
+    /// [`atol`](Problem::atol) at the start and after every resize.
+    fn error_map(&self) -> Option<crate::ErrorMap> {
+        None
+    }
+
     /// Which components are algebraic (no `ẏ_i` in `F`). Algebraic components are excluded from
     /// the local error test when [`crate::Options::suppress_algebraic`] is set, and consistent
     /// initialisation solves for them instead of for their derivatives. Default: none.

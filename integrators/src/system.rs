@@ -7,8 +7,10 @@
 //! algebra; the Jacobian construction itself lives in [`crate::jacobian`].
 
 use crate::error::{ErrorKind, RecoverableCause, SolverError};
+use crate::error_map::ErrorMap;
 use crate::jacobian::{self, Columns};
 use crate::linalg::{LinearSolver, Matrix};
+use crate::options::ErrorNorm;
 use crate::options::Options;
 use crate::pattern::Pattern;
 use crate::problem::{Problem, ResidualError};
@@ -61,6 +63,11 @@ pub struct SystemCache {
     /// the zero fill of the matrix it would have written, a whole pass over a large band).
     /// Cleared by [`rebuild`](SystemCache::rebuild).
     pub(crate) no_user_jacobian: bool,
+    /// The problem's [`ErrorMap`] (empty: the identity).
+    pub(crate) map: ErrorMap,
+    /// With a map: [`ErrorMap::effective_atol`] of `atol` (anchors include `rtol·size`);
+    /// empty otherwise.
+    pub(crate) eatol: Vec<f64>,
 }
 
 /// Buffers a finished phase of a solve leaves for the next one (consistent initialisation →
@@ -119,6 +126,10 @@ impl SystemCache {
                 vec![opts.atol; n]
             }
         };
+        let mut map = problem.error_map().unwrap_or_default();
+        if !map.is_empty() {
+            map.check_len(n)?;
+        }
         let algebraic = problem.algebraic();
         if algebraic.len() != n {
             return Err(ErrorKind::InvalidInput(format!(
@@ -146,6 +157,12 @@ impl SystemCache {
         self.n = n;
         self.pattern = Some(pattern);
         self.ncolours = ncolours;
+        self.eatol = if map.is_empty() {
+            Vec::new()
+        } else {
+            map.effective_atol(&atol, opts.rtol)
+        };
+        self.map = map;
         self.atol = atol;
         self.algebraic = algebraic;
         self.colour_cols = colour_cols;
@@ -202,6 +219,55 @@ impl<'a> System<'a> {
     /// Absolute tolerances per component.
     pub fn atol(&self) -> &[f64] {
         &self.cache.atol
+    }
+
+    /// The problem's error map (empty: the identity; see [`crate::error_map`]).
+    pub fn error_map(&self) -> &ErrorMap {
+        &self.cache.map
+    }
+
+    /// The tolerances the weights add to `rtol·|…|`: [`atol`](Self::atol), with an anchor's
+    /// `rtol·size` included when the problem has an error map.
+    pub fn weight_atol(&self) -> &[f64] {
+        if self.cache.map.is_empty() {
+            &self.cache.atol
+        } else {
+            &self.cache.eatol
+        }
+    }
+
+    /// Newton weights at `y`: [`error_weights`](Self::error_weights) without the suppression
+    /// of algebraic components (algebraic unknowns must converge too).
+    pub fn newton_weights(&self, y: &[f64], w: &mut [f64]) {
+        assert!(
+            y.len() == self.dim() && w.len() == self.dim(),
+            "newton_weights: dimension mismatch"
+        );
+        let rtol = self.opts.rtol;
+        if self.cache.map.is_empty() {
+            for ((wi, yi), ai) in w.iter_mut().zip(y).zip(&self.cache.atol) {
+                *wi = 1.0 / (rtol * yi.abs() + ai);
+            }
+        } else {
+            self.cache.map.weights(y, &self.cache.eatol, rtol, 0, w);
+        }
+    }
+
+    /// The norm ([`Options::norm`]) of the weighted error vector `v` through the problem's
+    /// error map: `ErrorNorm::of(v, w)` without a map, the norm of the weighted cell-level
+    /// quantities with one. The local-error and Newton tests of every method use it.
+    pub fn norm(&self, v: &[f64], w: &[f64]) -> f64 {
+        self.norm_with(self.opts.norm, v, w)
+    }
+
+    /// [`norm`](Self::norm) with a given kind of norm.
+    pub fn norm_with(&self, norm: ErrorNorm, v: &[f64], w: &[f64]) -> f64 {
+        self.cache.map.norm(v, w, norm)
+    }
+
+    /// The component with the largest weighted (cell-level) error, for failure reports.
+    pub fn worst(&self, v: &[f64], w: &[f64]) -> Option<usize> {
+        self.cache.map.worst(v, w)
     }
 
     /// Algebraic-component flags.
@@ -413,21 +479,17 @@ impl<'a> System<'a> {
         map
     }
 
-    /// Error weights `w_i = 1/(rtol·|y_i| + atol_i)`, zero for algebraic components when
-    /// `opts.suppress_algebraic`.
+    /// Error weights `w_i = 1/(rtol·|y_i| + atol_i)` — or, with an error map, the weights of
+    /// the cell-level quantities (`1/(rtol·|y_i − y_p| + atol_i)` for a difference row, see
+    /// [`crate::error_map`]) — zero for algebraic components when `opts.suppress_algebraic`.
     pub fn error_weights(&self, y: &[f64], w: &mut [f64]) {
-        assert!(
-            y.len() == self.dim() && w.len() == self.dim(),
-            "error_weights: dimension mismatch"
-        );
-        let rtol = self.opts.rtol;
-        let suppress = self.opts.suppress_algebraic;
-        for (i, wi) in w.iter_mut().enumerate() {
-            *wi = if suppress && self.cache.algebraic[i] {
-                0.0
-            } else {
-                1.0 / (rtol * y[i].abs() + self.cache.atol[i])
-            };
+        self.newton_weights(y, w);
+        if self.opts.suppress_algebraic {
+            for (wi, &alg) in w.iter_mut().zip(&self.cache.algebraic) {
+                if alg {
+                    *wi = 0.0;
+                }
+            }
         }
     }
 

@@ -94,6 +94,18 @@ pub trait CellArray {
         None
     }
 
+    /// How the integrators' local-error and Newton tests measure the unknowns (the accuracy
+    /// contract of `docs/model.md §8.1`; see [`integrators::error_map`]): a position is
+    /// tested through the stretch of its cell — its difference with the other end of the cell
+    /// ([`integrators::Row::Difference`]), or, for the first free boundary, against one cell
+    /// length ([`integrators::Row::Anchor`]) — and internal variables (growth) on their own.
+    /// With [`atol`](CellArray::atol) giving a position `atol × L₀`, a tolerance then bounds
+    /// the relative error of every stretch, independent of where the origin is. `None` (the
+    /// default) tests each unknown against `rtol·|y| + atol`.
+    fn error_map(&self) -> Option<integrators::ErrorMap> {
+        None
+    }
+
     /// Algebraic unknowns (no `ẏ` in their residual), e.g. positions when `K = η = 0`.
     fn algebraic(&self) -> Vec<bool> {
         vec![false; self.dim()]

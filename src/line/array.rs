@@ -1371,6 +1371,42 @@ impl<E: StrainEnergy> CellArray for Line<E> {
         Some(a)
     }
 
+    /// Positions tested through their cell's stretch (docs/model.md §8.1): boundary `b` is
+    /// differenced with boundary `b − 1` when both are unknowns; the first free boundary is an
+    /// anchor measured in lengths of its cell, and the last free boundary before a prescribed
+    /// end also on its own (the stretch error of that end's cell); growth stretches keep their
+    /// own test.
+    fn error_map(&self) -> Option<integrators::ErrorMap> {
+        use integrators::Row;
+        let n = self.n_cells();
+        let lay = &self.layout;
+        let mut rows = vec![Row::Own; lay.dim];
+        for b in 0..=n {
+            let k = lay.xi[b];
+            if k == NONE {
+                continue;
+            }
+            rows[k] = match b.checked_sub(1).map(|c| (c, lay.xi[c])) {
+                Some((_, p)) if p != NONE => Row::Difference { partner: p },
+                Some((c, _)) => Row::Anchor {
+                    size: self.cells.l0[c],
+                },
+                None => Row::Anchor {
+                    size: self.cells.l0[0],
+                },
+            };
+        }
+        let mut map = integrators::ErrorMap::from_rows(rows).ok()?;
+        // the last free boundary before a prescribed one: its cell's stretch error is its own
+        for b in 0..n {
+            let k = lay.xi[b];
+            if k != NONE && lay.xi[b + 1] == NONE && !self.right.is_periodic() {
+                map = map.with_end(k, self.cells.l0[b]).ok()?;
+            }
+        }
+        Some(map)
+    }
+
     fn algebraic(&self) -> Vec<bool> {
         let n = self.n_cells();
         let lay = &self.layout;

@@ -264,6 +264,20 @@ impl<E: StrainEnergy> CellArray for ShearColumn<E> {
         }
         Ok(())
     }
+
+    /// Edge `k` tested through its cell's shear `tan θ_k = (x_k − x_{k−1})/h`
+    /// (docs/model.md §8.1): differenced with edge `k − 1`; the first edge (above the fixed
+    /// base) is an anchor measured in segment heights.
+    fn error_map(&self) -> Option<integrators::ErrorMap> {
+        use integrators::Row;
+        let rows = (0..self.m)
+            .map(|k| match k {
+                0 => Row::Anchor { size: self.h },
+                _ => Row::Difference { partner: k - 1 },
+            })
+            .collect();
+        integrators::ErrorMap::from_rows(rows).ok()
+    }
 }
 
 /// The thesis's cell-centre form of the shear column (docs/model.md §4.5), for comparison only.

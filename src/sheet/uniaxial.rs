@@ -594,6 +594,50 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
         Some(v)
     }
 
+    /// Each face position tested through the stretch of its cell in its own direction
+    /// (docs/model.md §8.1): `x_b(j, k)` differenced with `x_b(j − 1, k)`, `y_b(j, k)` with
+    /// `y_b(j, k − 1)`; the first free face of each row/column (next to the fixed wall or
+    /// base) is an anchor measured in cell sizes `h_X`, `h_Y`, and the last x-face of each
+    /// row is also tested on its own (the stretch error of the cell at the prescribed edge).
+    fn error_map(&self) -> Option<integrators::ErrorMap> {
+        use integrators::Row;
+        let mut rows = vec![Row::Own; self.dim()];
+        let k0 = match self.params.top {
+            TopBoundary::Free => 1,
+            TopBoundary::Periodic => 0,
+        };
+        for j in 1..=self.n {
+            for k in (k0..=self.m).filter(|&k| self.y_is_unknown(k)) {
+                rows[self.iy(j, k)] = if k == k0 {
+                    Row::Anchor { size: self.hy }
+                } else {
+                    Row::Difference {
+                        partner: self.iy(j, k - 1),
+                    }
+                };
+            }
+        }
+        for j in 1..self.n {
+            for k in 1..=self.m {
+                rows[self.ix(j, k)] = if j == 1 {
+                    Row::Anchor { size: self.hx }
+                } else {
+                    Row::Difference {
+                        partner: self.ix(j - 1, k),
+                    }
+                };
+            }
+        }
+        let mut map = integrators::ErrorMap::from_rows(rows).ok()?;
+        // the faces next to the prescribed edge x_b(n, k): that column's stretch error
+        for k in 1..=self.m {
+            if self.n >= 2 {
+                map = map.with_end(self.ix(self.n - 1, k), self.hx).ok()?;
+            }
+        }
+        Some(map)
+    }
+
     fn algebraic(&self) -> Vec<bool> {
         vec![self.params.drag == 0.0; self.dim()]
     }

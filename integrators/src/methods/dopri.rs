@@ -242,7 +242,7 @@ impl Dopri5 {
                     *a -= b;
                 }
                 sys.stats.newton_iterations += 1;
-                let nrm = h * sys.opts.norm.of(&self.r, &self.wt);
+                let nrm = h * sys.norm(&self.r, &self.wt);
                 if !nrm.is_finite() {
                     return Ok(Err(Fail::Newton {
                         component: worst(&self.r, &self.wt),
@@ -334,7 +334,7 @@ impl Dopri5 {
                 self.r[l] = self.y[l].abs().max(self.ys[l].abs());
             }
             error_weights(sys, &self.r, &mut self.ewt);
-            err = sys.opts.norm.of(&self.err_v, &self.ewt);
+            err = sys.norm(&self.err_v, &self.ewt);
             if !err.is_finite() {
                 err = f64::INFINITY;
             }

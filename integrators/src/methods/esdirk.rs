@@ -249,7 +249,7 @@ impl Esdirk {
             for (a, b) in ys.iter_mut().zip(&self.r) {
                 *a += b;
             }
-            let dyno = sys.opts.norm.of(&self.r, &self.wt);
+            let dyno = sys.norm(&self.r, &self.wt);
             if !dyno.is_finite() {
                 break Ok(Err(self.newton_fail(sys, 0.5 * h)));
             }
@@ -356,7 +356,7 @@ impl Esdirk {
                 self.r[l] = self.y[l].abs().max(self.y3[l].abs());
             }
             error_weights(sys, &self.r, &mut self.ewt);
-            err = sys.opts.norm.of(&self.tmp, &self.ewt);
+            err = sys.norm(&self.tmp, &self.ewt);
             if !err.is_finite() {
                 err = f64::INFINITY;
             }

@@ -50,6 +50,7 @@ use crate::error::{ErrorKind, SolverError};
 use crate::linalg::{complex_pair_pattern, fill_complex_pair, LinearSolver, Matrix};
 use crate::method::Method;
 use crate::methods::one_step::{self, Attempt};
+use crate::options::ErrorNorm;
 use crate::system::{StepFailure, System};
 
 /// Safety factor of the step-size controller (RADAU5 `SAFE`).
@@ -100,23 +101,13 @@ impl Fail {
 /// Weights `1/(rtol·|y_i| + atol_i)` for all components (algebraic ones included: used for
 /// Newton convergence, where algebraic unknowns must converge too).
 pub(crate) fn newton_weights(sys: &System<'_>, y: &[f64], w: &mut [f64]) {
-    let rtol = sys.opts.rtol;
-    for ((wi, yi), ai) in w.iter_mut().zip(y).zip(sys.atol()) {
-        *wi = 1.0 / (rtol * yi.abs() + ai);
-    }
+    sys.newton_weights(y, w);
 }
 
 /// Error weights `1/(rtol·|y_i| + atol_i)`, zero for algebraic components when
 /// `opts.suppress_algebraic` (same as [`System::error_weights`], computed here).
 pub(crate) fn error_weights(sys: &System<'_>, y: &[f64], w: &mut [f64]) {
-    newton_weights(sys, y, w);
-    if sys.opts.suppress_algebraic {
-        for (wi, &alg) in w.iter_mut().zip(sys.algebraic()) {
-            if alg {
-                *wi = 0.0;
-            }
-        }
-    }
+    sys.error_weights(y, w);
 }
 
 /// Component with the largest `|v_i w_i|`.
@@ -577,10 +568,18 @@ impl Radau5 {
             newt += 1;
             sys.stats.newton_iterations += 1;
             let mut s = 0.0;
-            for k in 0..3 {
-                for l in 0..n {
-                    let v = self.dw[k * n + l] * self.wt[l];
-                    s += v * v;
+            if sys.error_map().is_empty() {
+                for k in 0..3 {
+                    for l in 0..n {
+                        let v = self.dw[k * n + l] * self.wt[l];
+                        s += v * v;
+                    }
+                }
+            } else {
+                // the stage corrections measured as cell-level quantities (RMS, as RADAU5)
+                for k in 0..3 {
+                    let r = sys.norm_with(ErrorNorm::Rms, &self.dw[k * n..(k + 1) * n], &self.wt);
+                    s += r * r * n as f64;
                 }
             }
             let dyno = (s / (3 * n).max(1) as f64).sqrt();
@@ -652,7 +651,7 @@ impl Radau5 {
             j1.mul_vec(&self.ys, &mut self.tmp2);
             self.tmp.copy_from_slice(&self.tmp2);
             sys.solve(self.lu1.as_ref().expect("workspace"), &mut self.tmp);
-            err = sys.opts.norm.of(&self.tmp, &self.ewt).max(1e-10);
+            err = sys.norm(&self.tmp, &self.ewt).max(1e-10);
             if err >= 1.0 && (self.first || self.reject) {
                 for l in 0..n {
                     self.ys[l] = self.y[l] + self.tmp[l];
@@ -663,7 +662,7 @@ impl Radau5 {
                             self.tmp[l] = self.tmp2[l] - self.yps[l];
                         }
                         sys.solve(self.lu1.as_ref().expect("workspace"), &mut self.tmp);
-                        err = sys.opts.norm.of(&self.tmp, &self.ewt).max(1e-10);
+                        err = sys.norm(&self.tmp, &self.ewt).max(1e-10);
                     }
                     Err(f) => {
                         // Keep the first estimate; a domain error here only means the

@@ -1,0 +1,479 @@
+//! [`ErrorMap`]: how the local-error and Newton tests of every method see a state — as the
+//! quantities a user reads (cell stretches) rather than as raw unknowns (positions).
+//!
+//! By default each component `i` of an error vector `e` is measured against
+//! `rtol·|y_i| + atol_i`. For a line of cells that makes the tolerance depend on where the
+//! origin is, and near the far end of a long line `rtol·|x|` is larger than a whole cell. A
+//! problem may instead declare, per component, one of three [`Row`]s:
+//!
+//! * [`Row::Own`] — the default test, `e_i / (rtol·|y_i| + atol_i)` (internal variables such as
+//!   a growth factor keep it);
+//! * [`Row::Difference`] — the component is the far end of a cell whose near end is component
+//!   `p`: the tested quantity is `(e_i − e_p) / (rtol·|y_i − y_p| + atol_i)`, which is the
+//!   stretch error `(e_i − e_p)/L₀` against `rtol·|λ| + atol/L₀`; with the per-component
+//!   tolerance `atol_i = a·L₀` of a position (as celltissue's arrays give) it is exactly
+//!   `δλ / (rtol·|λ| + a)`, the contract of `docs/model.md §8.1`;
+//! * [`Row::Anchor`] — a component with no free neighbour (the first free boundary of a line):
+//!   `e_i / (rtol·ℓ + atol_i)` with `ℓ` the size of its cell, i.e. its position to `rtol`
+//!   cell lengths (a stretch of order one), independent of where it is.
+//!
+//! Differences and anchors make the tests translation invariant: adding a constant to every
+//! position changes no weight and no tested quantity. Everything is O(n) with no allocation per
+//! step: the map is built once per problem dimension (at the start and after every resize)
+//! and read as one `i32` per component.
+//!
+//! ```
+//! use integrators::error_map::{ErrorMap, Row};
+//! use integrators::ErrorNorm;
+//! // three positions of a line whose left end is fixed: x₁ (anchor, cell length 1), x₂, x₃
+//! let map = ErrorMap::from_rows(vec![
+//!     Row::Anchor { size: 1.0 },
+//!     Row::Difference { partner: 0 },
+//!     Row::Difference { partner: 1 },
+//! ])
+//! .unwrap();
+//! // a rigid shift of x₂ and x₃ by 0.5 is no error of cells 3; cell 2 sees it
+//! let w = [1.0; 3];
+//! assert_eq!(map.norm(&[0.0, 0.5, 0.5], &w, ErrorNorm::Max), 0.5);
+//! // weights: rtol·|x_i − x_p| + atol_i, or rtol·ℓ + atol_i for the anchor
+//! let y = [1.0, 3.0, 4.0];
+//! let mut wt = [0.0; 3];
+//! let mut map = map;
+//! let eatol = map.effective_atol(&[0.1; 3], 0.5);
+//! map.weights(&y, &eatol, 0.5, 0, &mut wt);
+//! assert_eq!(wt, [1.0 / 0.6, 1.0 / 1.1, 1.0 / 0.6]);
+//! ```
+
+use crate::options::ErrorNorm;
+
+/// How one component enters the local-error and Newton tests (see the [module](self) docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Row {
+    /// Measured on its own against `rtol·|y_i| + atol_i` (the default).
+    Own,
+    /// Measured as the difference with component `partner` (the other end of its cell).
+    Difference {
+        /// Index of the other end of the cell (≠ the row's own index).
+        partner: usize,
+    },
+    /// Measured on its own against `rtol·size + atol_i`, independent of `y_i`.
+    Anchor {
+        /// The size of the row's cell (> 0, finite), in the units of the component.
+        size: f64,
+    },
+}
+
+/// Marker of an own row in [`ErrorMap::back`].
+const OWN: i32 = 0;
+/// Marker of an anchor row in [`ErrorMap::back`].
+const ANCHOR: i32 = i32::MIN;
+
+/// Per-component description of the quantities the error tests measure (see the
+/// [module](self) docs). Built by a [`crate::Problem`] through
+/// [`crate::Problem::error_map`]; an empty map (the default) is the identity.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ErrorMap {
+    /// Per row: [`OWN`], [`ANCHOR`], or `i − partner` (non-zero) of a difference row.
+    back: Vec<i32>,
+    /// Anchor rows and their sizes.
+    anchors: Vec<(usize, f64)>,
+    /// Extra quantities: rows whose own error is also tested against `rtol·size + atol_i`
+    /// (the last cell before a prescribed end), with their sizes.
+    ends: Vec<(usize, f64)>,
+    /// `(row, 1/(rtol·size + atol_row))` of the `ends`, set by
+    /// [`effective_atol`](Self::effective_atol).
+    end_w: Vec<(usize, f64)>,
+}
+
+/// Why rows do not make an [`ErrorMap`].
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ErrorMapError {
+    /// A difference row names itself or a component outside the problem.
+    #[error("error map row {row}: partner {partner} must be another component in 0..{n}")]
+    Partner {
+        /// The row.
+        row: usize,
+        /// Its partner.
+        partner: usize,
+        /// The number of components.
+        n: usize,
+    },
+    /// An anchor size is not positive and finite.
+    #[error("error map row {row}: anchor size {size} must be positive and finite")]
+    Size {
+        /// The row.
+        row: usize,
+        /// Its size.
+        size: f64,
+    },
+    /// The map has more components than an `i32` offset can address.
+    #[error("error map of {0} rows is larger than 2³¹ − 1")]
+    TooLarge(usize),
+    /// The map's length differs from the problem's dimension.
+    #[error("error map has {len} rows but dim() = {n}")]
+    Length {
+        /// Rows of the map.
+        len: usize,
+        /// Problem dimension.
+        n: usize,
+    },
+}
+
+impl ErrorMap {
+    /// A map from one [`Row`] per component.
+    pub fn from_rows(rows: Vec<Row>) -> Result<Self, ErrorMapError> {
+        let n = rows.len();
+        if n > i32::MAX as usize {
+            return Err(ErrorMapError::TooLarge(n));
+        }
+        let mut back = Vec::with_capacity(n);
+        let mut anchors = Vec::new();
+        for (i, r) in rows.into_iter().enumerate() {
+            back.push(match r {
+                Row::Own => OWN,
+                Row::Difference { partner } => {
+                    if partner == i || partner >= n {
+                        return Err(ErrorMapError::Partner { row: i, partner, n });
+                    }
+                    // both < 2³¹, so the difference fits and is non-zero
+                    (i as i64 - partner as i64) as i32
+                }
+                Row::Anchor { size } => {
+                    if !(size > 0.0 && size.is_finite()) {
+                        return Err(ErrorMapError::Size { row: i, size });
+                    }
+                    anchors.push((i, size));
+                    ANCHOR
+                }
+            });
+        }
+        Ok(Self {
+            back,
+            anchors,
+            ends: Vec::new(),
+            end_w: Vec::new(),
+        })
+    }
+
+    /// Also tests the error of row `row` on its own against `rtol·size + atol_row`, besides
+    /// its row's quantity: the far end of a cell whose other end is prescribed (no unknown), so
+    /// that the cell's stretch error (the row's own error over `size`) is controlled too. The
+    /// norm then has one more term (an RMS norm still divides by the number of rows).
+    pub fn with_end(mut self, row: usize, size: f64) -> Result<Self, ErrorMapError> {
+        if row >= self.back.len() {
+            return Err(ErrorMapError::Partner {
+                row,
+                partner: row,
+                n: self.back.len(),
+            });
+        }
+        if !(size > 0.0 && size.is_finite()) {
+            return Err(ErrorMapError::Size { row, size });
+        }
+        self.ends.push((row, size));
+        Ok(self)
+    }
+
+    /// Number of rows (0 for the identity map).
+    pub fn len(&self) -> usize {
+        self.back.len()
+    }
+
+    /// Whether this is the identity map (every row [`Row::Own`], the default test).
+    pub fn is_empty(&self) -> bool {
+        self.back.is_empty()
+    }
+
+    /// The row of component `i`.
+    pub fn row(&self, i: usize) -> Row {
+        match self.back[i] {
+            OWN => Row::Own,
+            ANCHOR => {
+                let k = self
+                    .anchors
+                    .binary_search_by_key(&i, |&(j, _)| j)
+                    .expect("anchor rows are listed");
+                Row::Anchor {
+                    size: self.anchors[k].1,
+                }
+            }
+            b => Row::Difference {
+                partner: (i as i64 - b as i64) as usize,
+            },
+        }
+    }
+
+    /// Checks the map against the problem dimension.
+    pub(crate) fn check_len(&self, n: usize) -> Result<(), ErrorMapError> {
+        if self.back.len() != n {
+            return Err(ErrorMapError::Length {
+                len: self.back.len(),
+                n,
+            });
+        }
+        Ok(())
+    }
+
+    /// The tolerances the weights add to `rtol·|…|`: `atol_i` for own and difference rows,
+    /// `rtol·size + atol_i` for anchors (so that an anchor's weight is `1/eatol_i`).
+    pub fn effective_atol(&mut self, atol: &[f64], rtol: f64) -> Vec<f64> {
+        self.end_w = self
+            .ends
+            .iter()
+            .map(|&(i, size)| (i, 1.0 / (rtol * size + atol[i])))
+            .collect();
+        let mut e = atol.to_vec();
+        for &(i, size) in &self.anchors {
+            e[i] = rtol * size + atol[i];
+        }
+        e
+    }
+
+    /// The partner of difference row `i`, `None` for own and anchor rows.
+    #[inline(always)]
+    fn partner(&self, i: usize) -> Option<usize> {
+        let b = self.back[i];
+        if b == OWN || b == ANCHOR {
+            None
+        } else {
+            Some((i as i64 - b as i64) as usize)
+        }
+    }
+
+    /// The weight of component `i` at state `y` (whole vector), with the tolerances of
+    /// [`effective_atol`](Self::effective_atol).
+    #[inline(always)]
+    pub(crate) fn weight(&self, i: usize, y: &[f64], eatol: f64, rtol: f64) -> f64 {
+        let b = self.back[i];
+        if b == OWN {
+            1.0 / (rtol * y[i].abs() + eatol)
+        } else if b == ANCHOR {
+            1.0 / eatol
+        } else {
+            let p = (i as i64 - b as i64) as usize;
+            1.0 / (rtol * (y[i] - y[p]).abs() + eatol)
+        }
+    }
+
+    /// Weights of components `lo..lo + w.len()` at state `y` (whole vector), with `eatol`
+    /// (whole vector) from [`effective_atol`](Self::effective_atol).
+    pub fn weights(&self, y: &[f64], eatol: &[f64], rtol: f64, lo: usize, w: &mut [f64]) {
+        for (k, wk) in w.iter_mut().enumerate() {
+            let i = lo + k;
+            *wk = self.weight(i, y, eatol[i], rtol);
+        }
+    }
+
+    /// The tested quantity of component `i` of error vector `v` (whole vector), unweighted:
+    /// `v_i − v_p` for a difference row, `v_i` otherwise.
+    #[inline(always)]
+    pub(crate) fn quantity(&self, i: usize, v: &[f64]) -> f64 {
+        match self.partner(i) {
+            Some(p) => v[i] - v[p],
+            None => v[i],
+        }
+    }
+
+    /// The tested quantity of component `i` when the error vector is only known through a
+    /// function of the index (the BDF's error sweep recomputes it from the history).
+    #[inline(always)]
+    pub(crate) fn quantity_with(&self, i: usize, vi: f64, v: impl Fn(usize) -> f64) -> f64 {
+        match self.partner(i) {
+            Some(p) => vi - v(p),
+            None => vi,
+        }
+    }
+
+    /// The norm of the weighted quantities `q_i·w_i` of error vector `v` (whole vectors):
+    /// for the identity map exactly [`ErrorNorm::of`].
+    pub fn norm(&self, v: &[f64], w: &[f64], norm: ErrorNorm) -> f64 {
+        if self.is_empty() {
+            return norm.of(v, w);
+        }
+        assert!(
+            v.len() == self.len() && w.len() == self.len(),
+            "norm: length mismatch"
+        );
+        self.norm_range(v, w, norm, 0, v.len())
+            .finish(norm, v.len())
+    }
+
+    /// Partial norm over rows `lo..hi` (see [`NormSum`]), end rows included.
+    pub(crate) fn norm_range(
+        &self,
+        v: &[f64],
+        w: &[f64],
+        norm: ErrorNorm,
+        lo: usize,
+        hi: usize,
+    ) -> NormSum {
+        let mut s = NormSum::default();
+        for (i, wi) in w.iter().enumerate().take(hi).skip(lo) {
+            s.push(norm, self.quantity(i, v) * wi);
+        }
+        self.for_each_end(lo, hi, w, |i, we| s.push(norm, v[i] * we));
+        s
+    }
+
+    /// Calls `f(row, weight)` for the end rows (see [`with_end`](Self::with_end)) in `lo..hi`,
+    /// skipping those where `w` is zero (a suppressed algebraic component); the caller adds
+    /// `error(row)·weight` to its norm.
+    #[inline]
+    pub(crate) fn for_each_end(
+        &self,
+        lo: usize,
+        hi: usize,
+        w: &[f64],
+        mut f: impl FnMut(usize, f64),
+    ) {
+        for &(i, we) in &self.end_w {
+            if (lo..hi).contains(&i) && w[i] != 0.0 {
+                f(i, we);
+            }
+        }
+    }
+
+    /// The component with the largest weighted quantity (the first NaN if any), for failure
+    /// reports.
+    pub fn worst(&self, v: &[f64], w: &[f64]) -> Option<usize> {
+        let mut best: Option<(usize, f64)> = None;
+        for i in 0..v.len() {
+            let q = if self.is_empty() {
+                v[i]
+            } else {
+                self.quantity(i, v)
+            };
+            let x = (q * w[i]).abs();
+            let x = if x.is_nan() { f64::INFINITY } else { x };
+            if best.is_none_or(|(_, m)| x > m) {
+                best = Some((i, x));
+            }
+        }
+        best.map(|(i, _)| i)
+    }
+}
+
+/// A partial weighted norm: sum of squares (RMS) or running maximum with a NaN flag (max),
+/// mergeable across the halves of a two-thread split.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct NormSum {
+    sum: f64,
+    max: f64,
+    nan: bool,
+}
+
+impl NormSum {
+    #[inline(always)]
+    pub(crate) fn push(&mut self, norm: ErrorNorm, x: f64) {
+        match norm {
+            ErrorNorm::Rms => self.sum += x * x,
+            ErrorNorm::Max => {
+                let a = x.abs();
+                self.nan |= a.is_nan();
+                self.max = if a > self.max { a } else { self.max };
+            }
+        }
+    }
+
+    pub(crate) fn merge(&mut self, o: &NormSum) {
+        self.sum += o.sum;
+        self.nan |= o.nan;
+        self.max = self.max.max(o.max);
+    }
+
+    pub(crate) fn finish(&self, norm: ErrorNorm, n: usize) -> f64 {
+        if n == 0 {
+            return 0.0;
+        }
+        match norm {
+            ErrorNorm::Rms => (self.sum / n as f64).sqrt(),
+            ErrorNorm::Max if self.nan => f64::NAN,
+            ErrorNorm::Max => self.max,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn line_map(n: usize) -> ErrorMap {
+        let mut rows = vec![Row::Anchor { size: 2.0 }];
+        rows.extend((1..n).map(|i| Row::Difference { partner: i - 1 }));
+        ErrorMap::from_rows(rows).unwrap()
+    }
+
+    #[test]
+    fn rows_round_trip_and_are_validated() {
+        let rows = vec![
+            Row::Own,
+            Row::Difference { partner: 2 },
+            Row::Difference { partner: 1 },
+            Row::Anchor { size: 0.5 },
+        ];
+        let m = ErrorMap::from_rows(rows.clone()).unwrap();
+        assert_eq!((0..4).map(|i| m.row(i)).collect::<Vec<_>>(), rows);
+        assert_eq!(
+            ErrorMap::from_rows(vec![Row::Difference { partner: 0 }]),
+            Err(ErrorMapError::Partner {
+                row: 0,
+                partner: 0,
+                n: 1
+            })
+        );
+        assert!(matches!(
+            ErrorMap::from_rows(vec![Row::Own, Row::Difference { partner: 7 }]),
+            Err(ErrorMapError::Partner { row: 1, .. })
+        ));
+        assert!(matches!(
+            ErrorMap::from_rows(vec![Row::Anchor { size: f64::NAN }]),
+            Err(ErrorMapError::Size { row: 0, .. })
+        ));
+        assert!(m.check_len(3).is_err() && m.check_len(4).is_ok());
+    }
+
+    #[test]
+    fn weights_and_norms_are_translation_invariant() {
+        let n = 50;
+        let mut m = line_map(n);
+        let y: Vec<f64> = (0..n)
+            .map(|i| 2.0 * i as f64 * (1.0 + 0.01 * i as f64))
+            .collect();
+        let e: Vec<f64> = (0..n).map(|i| 1e-7 * (i as f64).sin()).collect();
+        let ea = m.effective_atol(&vec![1e-8; n], 1e-6);
+        let (mut w1, mut w2) = (vec![0.0; n], vec![0.0; n]);
+        m.weights(&y, &ea, 1e-6, 0, &mut w1);
+        let shifted: Vec<f64> = y.iter().map(|x| x + 1e6).collect();
+        m.weights(&shifted, &ea, 1e-6, 0, &mut w2);
+        for (a, b) in w1.iter().zip(&w2) {
+            // |(x_i + s) − (x_p + s)| differs from |x_i − x_p| by rounding of s only
+            assert!((a - b).abs() <= 1e-9 * a, "{a} vs {b}");
+        }
+        // a rigid shift of the error changes only the anchor's term
+        let mut w0 = w1.clone();
+        w0[0] = 0.0;
+        let e2: Vec<f64> = e.iter().map(|x| x + 1e-3).collect();
+        for norm in [ErrorNorm::Max, ErrorNorm::Rms] {
+            let a = m.norm(&e, &w0, norm);
+            assert!(a > 0.0 && (m.norm(&e2, &w0, norm) - a).abs() <= 1e-8 * a);
+        }
+    }
+
+    #[test]
+    fn quantities_are_stretch_errors() {
+        // cell lengths 2, stretch 1.5: rtol·|Δx| + atol·L₀ = 1e-6·3 + 1e-8·2
+        let mut m = line_map(3);
+        let y = [0.0, 3.0, 6.0];
+        let ea = m.effective_atol(&[2e-8; 3], 1e-6);
+        let mut w = [0.0; 3];
+        m.weights(&y, &ea, 1e-6, 0, &mut w);
+        let e = [0.0, 0.0, 2.0 * 1.5e-6]; // cell 2's stretch off by 1.5e-6 = rtol·λ
+        let got = m.norm(&e, &w, ErrorNorm::Max);
+        let want = 1.5e-6 / (1e-6 * 1.5 + 1e-8);
+        assert!((got - want).abs() < 1e-12, "{got} vs {want}");
+        assert_eq!(m.worst(&e, &w), Some(2));
+        // identity map = ErrorNorm::of
+        let id = ErrorMap::default();
+        assert_eq!(id.norm(&e, &w, ErrorNorm::Rms), ErrorNorm::Rms.of(&e, &w));
+    }
+}
