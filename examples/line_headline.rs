@@ -1,0 +1,107 @@
+//! The line's headline numbers with the accuracy each was bought at: solve time and work
+//! counters at rtol 1e-6 (atol 1e-8, BDF, max norm), and the largest stretch and pressure errors
+//! over every cell and output time against a tight run of the same problem (rtol 1e-10,
+//! atol 1e-12).
+//!
+//! Families (docs/model.md §5.4): `macro` — the macroscale-fixed line, `l₀ = N`, `K = 1/N`,
+//! exponential ramp with ramp time `N`, `k₁ = 0.1`, outputs at `t = N/4, N/2, N`; `raw` — the
+//! thesis's Chapter 2 problem, `K = 1`, unit-time ramp, outputs at `t = 1, 5, 10`.
+//!
+//! Run: `cargo run --release --example line_headline -- FAMILY N [THREADS]`, e.g.
+//! `cargo run --release --example line_headline -- macro 1000000 2`. The reference run is not
+//! timed. Prints one markdown table row.
+
+use celltissue::line::build::discrete;
+use celltissue::line::run::{integrate, SolveSettings};
+use celltissue::line::LineConfig;
+use celltissue::{ArrayProblem, NeoHookean};
+use std::time::Instant;
+
+/// The problem and its output times.
+fn family(name: &str, n: usize) -> (LineConfig, Vec<f64>) {
+    let nf = n as f64;
+    match name {
+        "macro" => (
+            LineConfig {
+                cells: n,
+                k: (1.0 / nf).into(),
+                t_ramp: nf,
+                ..Default::default()
+            },
+            vec![0.25 * nf, 0.5 * nf, nf],
+        ),
+        "raw" => (
+            LineConfig {
+                cells: n,
+                k: 1.0.into(),
+                ..Default::default()
+            },
+            vec![1.0, 5.0, 10.0],
+        ),
+        other => {
+            eprintln!("unknown family {other:?}: macro | raw");
+            std::process::exit(2);
+        }
+    }
+}
+
+/// Stretches and pressures at the output times, the solve's wall time and counters.
+fn solve(
+    cfg: &LineConfig,
+    t_out: &[f64],
+    rtol: f64,
+    atol: f64,
+    threads: usize,
+) -> (Vec<(Vec<f64>, Vec<f64>)>, f64, integrators::Stats) {
+    let p = cfg.params(atol);
+    let line = discrete(NeoHookean::new(1.0).expect("valid"), &p).expect("valid line");
+    let settings = SolveSettings {
+        rtol,
+        atol,
+        threads,
+        ..Default::default()
+    };
+    let mut prob = ArrayProblem::new(line);
+    let start = Instant::now();
+    let traj = integrate(&mut prob, &settings, t_out);
+    let wall = start.elapsed().as_secs_f64();
+    if let Some(e) = traj.error {
+        eprintln!("rtol {rtol:e}: {e}");
+        std::process::exit(1);
+    }
+    let fields = traj
+        .snapshots
+        .into_iter()
+        .map(|s| (s.lambda, s.pressure))
+        .collect();
+    (fields, wall, traj.stats)
+}
+
+/// Largest |a − b| over every cell and time, for the stretch (0) or the pressure (1).
+fn max_err(a: &[(Vec<f64>, Vec<f64>)], b: &[(Vec<f64>, Vec<f64>)], pressure: bool) -> f64 {
+    a.iter()
+        .zip(b)
+        .flat_map(|(x, y)| {
+            let (u, v) = if pressure { (&x.1, &y.1) } else { (&x.0, &y.0) };
+            u.iter().zip(v).map(|(p, q)| (p - q).abs())
+        })
+        .fold(0.0, f64::max)
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let name = args.first().map(String::as_str).unwrap_or("macro");
+    let n: usize = args.get(1).and_then(|v| v.parse().ok()).unwrap_or(10_000);
+    let threads: usize = args.get(2).and_then(|v| v.parse().ok()).unwrap_or(1);
+    let (cfg, t_out) = family(name, n);
+    let (run, wall, s) = solve(&cfg, &t_out, 1e-6, 1e-8, threads);
+    let (reference, _, _) = solve(&cfg, &t_out, 1e-10, 1e-12, threads);
+    println!(
+        "| {name} | {n} | {threads} | {wall:.3} s | {} | {} | {} | {:.1e} | {:.1e} |",
+        s.steps,
+        s.newton_iterations,
+        s.factorizations,
+        max_err(&run, &reference, false),
+        max_err(&run, &reference, true),
+    );
+}
