@@ -45,6 +45,9 @@ fn family(name: &str, n: usize) -> (LineConfig, Vec<f64>) {
     }
 }
 
+/// Stretches and pressures of every cell, one pair per output time.
+type Fields = Vec<(Vec<f64>, Vec<f64>)>;
+
 /// Stretches and pressures at the output times, the solve's wall time and counters.
 fn solve(
     cfg: &LineConfig,
@@ -52,7 +55,7 @@ fn solve(
     rtol: f64,
     atol: f64,
     threads: usize,
-) -> (Vec<(Vec<f64>, Vec<f64>)>, f64, integrators::Stats) {
+) -> (Fields, f64, integrators::Stats) {
     let p = cfg.params(atol);
     let line = discrete(NeoHookean::new(1.0).expect("valid"), &p).expect("valid line");
     let settings = SolveSettings {
