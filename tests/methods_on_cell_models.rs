@@ -1,0 +1,124 @@
+//! Every method on a cell model (issue #11 §1), not only on the integrators' own test problems:
+//! BDF, ESDIRK (TR-BDF2) and Radau IIA on the bundled Fig 2.5 and Fig 2.8 scenarios (discrete
+//! N = 100 and continuum n = 101, η = 0, K ∈ {1e-2, 1} and {1e-5, 1}) at rtol 1e-6 and 1e-8
+//! (atol 100× smaller), against a tight BDF run (rtol 1e-10, atol 1e-12) of the same scenario.
+//! The error is the largest relative difference in stretch and in pressure over every cell and
+//! profile time.
+//!
+//! What is asserted: BDF lands within 10·rtol in stretch and pressure everywhere (measured
+//! 0.2–2.3·rtol at 1e-6); every method's errors fall at least 10× from rtol 1e-6 to 1e-8.
+//! What is measured and not asserted (printed with `-- --nocapture`; the work–precision table
+//! in BENCHMARKS.md): Radau IIA stays within 2·rtol except on Fig 2.8 at K = 1e-5, where it
+//! takes 32 steps and errs by 73·rtol in stretch (145·rtol in pressure) at rtol 1e-6 and by
+//! 11·rtol at 1e-8; ESDIRK errs by 3–7·rtol on Fig 2.5 and 6–120·rtol on Fig 2.8 at 1e-6, its
+//! error falling like rtol^0.7 (second order with error-per-step control). Under the cell-unit
+//! contract the former 100× gap between ESDIRK and BDF on Fig 2.5 (2.2e-3 against 2e-5 in the
+//! minimum stretch, under the position test) is down to 4–8×. The one-step methods' large
+//! errors on the quasi-static stiff cluster (K = 1e-5: the stretches follow the ramp almost
+//! algebraically) are not explained yet.
+
+use celltissue::observe::RunRecord;
+use celltissue::scenario::execute::run_spec;
+use std::path::Path;
+
+/// Runs `models/<name>.toml` with the overrides, one record per run (model × sweep value).
+fn runs(name: &str, sets: &[&str]) -> Vec<RunRecord> {
+    let f = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("models/{name}.toml"));
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let s = celltissue::scenario::load(&f, &sets).expect("scenario loads");
+    s.runs
+        .iter()
+        .map(|r| {
+            let rec = run_spec(r);
+            assert!(rec.error.is_none(), "{name} {}: {:?}", r.label, rec.error);
+            rec
+        })
+        .collect()
+}
+
+/// Largest relative difference of stretch and of pressure over every profile.
+fn errors(a: &RunRecord, b: &RunRecord) -> (f64, f64) {
+    let rel = |x: &[f64], y: &[f64]| {
+        x.iter()
+            .zip(y)
+            .map(|(p, q)| ((p - q) / q).abs())
+            .fold(0.0, f64::max)
+    };
+    assert_eq!(a.profiles.len(), b.profiles.len());
+    a.profiles
+        .iter()
+        .zip(&b.profiles)
+        .fold((0.0f64, 0.0f64), |(s, p), (x, y)| {
+            assert_eq!(x.t, y.t);
+            (
+                s.max(rel(&x.stretch, &y.stretch)),
+                p.max(rel(&x.pressure, &y.pressure)),
+            )
+        })
+}
+
+/// Each method on the scenario's runs at rtol 1e-6 and 1e-8 (atol 100× smaller), against the
+/// tight BDF reference: BDF within 10·rtol in stretch and pressure at both tolerances; every
+/// method's errors fall by at least 10× from rtol 1e-6 to 1e-8 (convergence as the tolerance
+/// falls: a method whose estimate missed an error source would stall).
+fn check(name: &str, sweep: &str) {
+    let reference = runs(
+        name,
+        &[
+            sweep,
+            "solver.method=\"bdf\"",
+            "solver.rtol=1e-10",
+            "solver.atol=1e-12",
+        ],
+    );
+    for method in ["bdf", "esdirk", "radau"] {
+        let m = format!("solver.method=\"{method}\"");
+        let mut errs = Vec::new();
+        for (rtol, atol) in [(1e-6, 1e-8), (1e-8, 1e-10)] {
+            let r = format!("solver.rtol={rtol:e}");
+            let a = format!("solver.atol={atol:e}");
+            let got = runs(name, &[sweep, &m, &r, &a]);
+            let e: Vec<(f64, f64)> = got
+                .iter()
+                .zip(&reference)
+                .map(|(g, r)| {
+                    let (es, ep) = errors(g, r);
+                    println!(
+                        "{name} {} {method} rtol {rtol:e}: {} steps, {:.4} s, stretch error {es:.1e} \
+                         ({:.0}·rtol), pressure error {ep:.1e} ({:.0}·rtol)",
+                        g.label,
+                        g.stats.steps,
+                        g.stats.wall_seconds,
+                        es / rtol,
+                        ep / rtol
+                    );
+                    if method == "bdf" {
+                        assert!(
+                            es <= 10.0 * rtol && ep <= 10.0 * rtol,
+                            "{name} {} bdf rtol {rtol:e}: stretch {es:e}, pressure {ep:e}",
+                            g.label
+                        );
+                    }
+                    (es, ep)
+                })
+                .collect();
+            errs.push(e);
+        }
+        for (i, (coarse, fine)) in errs[0].iter().zip(&errs[1]).enumerate() {
+            assert!(
+                fine.0 <= 0.1 * coarse.0 && fine.1 <= 0.1 * coarse.1,
+                "{name} run {i} {method}: errors {coarse:?} at rtol 1e-6 but {fine:?} at 1e-8"
+            );
+        }
+    }
+}
+
+#[test]
+fn fig2_5_every_method_converges_and_bdf_meets_the_contract() {
+    check("fig2_5", "sweep.values=[1e-2, 1]");
+}
+
+#[test]
+fn fig2_8_every_method_converges_and_bdf_meets_the_contract() {
+    check("fig2_8", "sweep.values=[1e-5, 1]");
+}
