@@ -66,3 +66,12 @@ def test_division_seeds_on_dask(client):
 def test_invalid_member_raises_scenario_error(client):
     with pytest.raises(celltissue.ScenarioError, match="model.cells"):
         ensemble.run_ensemble(client, "fig2_5", [{"model.cells": 0}])
+
+
+def test_scenario_error_from_a_worker_keeps_key_and_message(client):
+    # a swept key overridden by --set, and a value out of range: both raised on a worker
+    for member, key in [({"model.K": 0.5}, "model.K"), ({"model.mu": -1.0}, "model.mu")]:
+        with pytest.raises(celltissue.ScenarioError) as info:
+            ensemble.run_ensemble(client, "fig2_5", [member])
+        assert info.value.key == key
+        assert key in info.value.message

@@ -73,6 +73,8 @@ impl ScenarioError {
     pub fn key_name(&self) -> Option<&str> {
         match self {
             ScenarioError::Key { key, .. } => Some(key),
+            // a `--set key=value` argument names its key before the `=`
+            ScenarioError::Set { arg, .. } => arg.split_once('=').map(|(k, _)| k.trim()),
             _ => None,
         }
     }
@@ -259,6 +261,13 @@ fn unknown_field(message: &str) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_set_error_names_the_key_of_its_argument() {
+        let e = ScenarioError::set("model.K = 0.1", "conflicts with the sweep");
+        assert_eq!(e.key_name(), Some("model.K"));
+        assert_eq!(ScenarioError::set("model.K", "no `=`").key_name(), None);
+    }
 
     #[test]
     fn join_handles_root_and_prefix() {
