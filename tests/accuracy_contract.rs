@@ -6,9 +6,13 @@
 //!   tested quantities is exact; see the test for the measured effect of rounding);
 //! * at rtol 1e-6 the largest stretch error against a tight (rtol 1e-10) reference is at most
 //!   10·rtol on the macroscale family (`l₀ = N`, `K = 1/N`, ramp time `N`) and on the raw
-//!   Chapter 2 problem (`K = 1`, unit-time exponential ramp), at N = 10² and 10⁴ (the raw
-//!   problem at N = 10⁴ and the macroscale at 10⁶ are `#[ignore]`d: minutes on the shared
-//!   machine; `cargo test --release --test accuracy_contract -- --ignored`);
+//!   Chapter 2 problem (`K = 1`, unit-time exponential ramp), at N = 10² and 10⁴. The
+//!   macroscale at 10⁶ is `#[ignore]`d (its rtol 1e-10 reference takes far longer than CI
+//!   allows; `cargo test --release --test accuracy_contract -- --ignored`). The raw problem at
+//!   N = 10⁴ is `#[ignore]`d because it fails: its end moves 0.1·N = 1000 cell lengths per unit
+//!   time while the line relaxes diffusively (μ/K = 1 cell² per unit time), the end cell is
+//!   crushed to λ ≈ 0.04 by t ≈ 0.01, and resolving its stretch to rtol takes more than 10⁶
+//!   steps — an open problem, not a passing test;
 //! * fig2_7 (K = 0, polynomial ramp, exact solution uniform λ) stays uniform to 1e-5 for every
 //!   η ∈ {1e-5, 1e-2, 1, 10};
 //! * the same contract on a 50 × 50 free-top sheet.
@@ -110,7 +114,7 @@ fn raw_chapter_2_stretch_error_is_a_few_rtol_at_100_cells() {
 }
 
 #[test]
-#[ignore = "N = 10⁴: ≈ 10⁴ steps per run, minutes on the shared machine"]
+#[ignore = "N = 10⁴: fails — the rtol 1e-6 run exceeds 10⁶ steps by t ≈ 0.0105 (end cell crushed to λ ≈ 0.04)"]
 fn raw_chapter_2_stretch_error_is_a_few_rtol_at_10000_cells() {
     contract("raw Ch. 2", &raw(10_000), &[0.5, 1.0, 2.0, 10.0]);
 }
