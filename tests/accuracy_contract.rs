@@ -9,10 +9,9 @@
 //!   Chapter 2 problem (`K = 1`, unit-time exponential ramp), at N = 10² and 10⁴. The
 //!   macroscale at 10⁶ is `#[ignore]`d (its rtol 1e-10 reference takes far longer than CI
 //!   allows; `cargo test --release --test accuracy_contract -- --ignored`). The raw problem at
-//!   N = 10⁴ is `#[ignore]`d because it fails: its end moves 0.1·N = 1000 cell lengths per unit
-//!   time while the line relaxes diffusively (μ/K = 1 cell² per unit time), the end cell is
-//!   crushed to λ ≈ 0.04 by t ≈ 0.01, and resolving its stretch to rtol takes more than 10⁶
-//!   steps — an open problem, not a passing test;
+//!   N = 10⁴ is checked through its first crushed cells (t ≤ 0.01) in CI and to t = 10 under
+//!   `--ignored`, against a reference at rtol 1e-9 (see `RAW_10K_REFERENCE_RTOL` for why not
+//!   1e-10);
 //! * fig2_7 (K = 0, polynomial ramp, exact solution uniform λ) stays uniform to 1e-5 for every
 //!   η ∈ {1e-5, 1e-2, 1, 10};
 //! * the same contract on a 50 × 50 free-top sheet.
@@ -78,12 +77,18 @@ fn raw(n: usize) -> LineConfig {
 
 /// Stretch error at rtol 1e-6 against rtol 1e-10, printed, and checked ≤ 10·rtol.
 fn contract(name: &str, cfg: &LineConfig, t_out: &[f64]) {
+    contract_against(name, cfg, t_out, 1e-10)
+}
+
+/// Stretch error at rtol 1e-6 against a reference at `rtol_ref`, printed, and checked
+/// ≤ 10·rtol.
+fn contract_against(name: &str, cfg: &LineConfig, t_out: &[f64], rtol_ref: f64) {
     let (loose, steps) = line_stretches(cfg, &settings(1e-6), t_out);
-    let (tight, steps_ref) = line_stretches(cfg, &settings(1e-10), t_out);
+    let (tight, steps_ref) = line_stretches(cfg, &settings(rtol_ref), t_out);
     let err = max_diff(&loose, &tight);
     println!(
-        "{name} N = {}: max stretch error {err:.2e} at rtol 1e-6 ({steps} steps; reference \
-         {steps_ref} steps)",
+        "{name} N = {}: max stretch error {err:.2e} at rtol 1e-6 ({steps} steps; reference at \
+         rtol {rtol_ref:e}: {steps_ref} steps)",
         cfg.cells
     );
     assert!(
@@ -113,10 +118,37 @@ fn raw_chapter_2_stretch_error_is_a_few_rtol_at_100_cells() {
     contract("raw Ch. 2", &raw(100), &[0.5, 1.0, 2.0, 10.0]);
 }
 
+/// The raw problem at N = 10⁴ drives its end 0.1·N = 1000 cell lengths per unit time into a
+/// line that relaxes diffusively (μ/K = 1 cell² per unit time), so cells are crushed one after
+/// another to λ ≈ 0.08 → 0.01 (a compression front). Its reference runs at rtol 1e-9, not 1e-10:
+/// positions reach 10⁴ cell lengths, so rounding puts noise of ε·10⁴/λ ≈ 5e-11 into a crushed
+/// cell's stretch, which is what rtol 1e-10 asks for; the BDF order selection then sees the
+/// noise in its higher differences and drops from 5 to 2–3 (measured over t ≤ 0.004: 906 steps
+/// at rtol 1e-9, 10 886 at 1e-10; over t ≤ 0.01 the 1e-10 run takes 797 793 steps). At rtol
+/// 1e-9 the reference's own error is ~1e-9 (the 1e-8 run differs from it by 5.9e-8 over
+/// t ≤ 0.01). Measured to t = 10: 2.99e-6 at rtol 1e-6.
+const RAW_10K_REFERENCE_RTOL: f64 = 1e-9;
+
 #[test]
-#[ignore = "N = 10⁴: fails — the rtol 1e-6 run exceeds 10⁶ steps by t ≈ 0.0105 (end cell crushed to λ ≈ 0.04)"]
+fn raw_chapter_2_stretch_error_is_a_few_rtol_at_10000_cells_through_the_first_crushes() {
+    // the first ten cells crushed, in ≈ 3 700 steps for both runs
+    contract_against(
+        "raw Ch. 2",
+        &raw(10_000),
+        &[0.002, 0.005, 0.01],
+        RAW_10K_REFERENCE_RTOL,
+    );
+}
+
+#[test]
+#[ignore = "N = 10⁴ to t = 10: 3.5 min (67 220 steps at rtol 1e-6, 495 769 for the reference)"]
 fn raw_chapter_2_stretch_error_is_a_few_rtol_at_10000_cells() {
-    contract("raw Ch. 2", &raw(10_000), &[0.5, 1.0, 2.0, 10.0]);
+    contract_against(
+        "raw Ch. 2",
+        &raw(10_000),
+        &[0.5, 1.0, 2.0, 10.0],
+        RAW_10K_REFERENCE_RTOL,
+    );
 }
 
 #[test]
