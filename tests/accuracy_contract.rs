@@ -4,11 +4,11 @@
 //! * shifting the whole problem by 10⁶ cell lengths changes the steps and the stretches only
 //!   through the rounding of positions near 10⁶ (translation invariance of the weights and
 //!   tested quantities is exact; see the test for the measured effect of rounding);
-//! * at rtol 1e-6 the largest stretch error against a tight (rtol 1e-10) reference is at most
+//! * at rtol 1e-6 the largest stretch error against a tight reference (rtol 1e-10, or 1e-8 and 1e-9 where positions reach 10⁶ and 10⁴ cell lengths) is at most
 //!   10·rtol on the macroscale family (`l₀ = N`, `K = 1/N`, ramp time `N`) and on the raw
 //!   Chapter 2 problem (`K = 1`, unit-time exponential ramp), at N = 10² and 10⁴. The
-//!   macroscale at 10⁶ is `#[ignore]`d (its rtol 1e-10 reference takes far longer than CI
-//!   allows; `cargo test --release --test accuracy_contract -- --ignored`). The raw problem at
+//!   macroscale at 10⁶ is `#[ignore]`d (`cargo test --release --test accuracy_contract --
+//!   --ignored`; its reference runs at rtol 1e-8, see the test for why). The raw problem at
 //!   N = 10⁴ is checked through its first crushed cells (t ≤ 0.01) in CI and to t = 10 under
 //!   `--ignored`, against a reference at rtol 1e-9 (see `RAW_10K_REFERENCE_RTOL` for why not
 //!   1e-10);
@@ -106,11 +106,15 @@ fn macroscale_stretch_error_is_a_few_rtol_at_100_and_10000_cells() {
     }
 }
 
+/// At N = 10⁶ positions reach 10⁶ cell lengths, where rounding alone is ε·10⁶ ≈ 2e-10 of a
+/// cell: a reference at rtol 1e-10 would ask for its own noise (the BDF order then collapses,
+/// as on the raw problem below, and the run took more than 14 minutes), so the reference runs at
+/// rtol 1e-8 (779 steps). Measured: 2.0e-7 at rtol 1e-6 (231 steps).
 #[test]
-#[ignore = "N = 10⁶: minutes on the shared machine"]
+#[ignore = "N = 10⁶: about 35 s of solving and 0.75 GB"]
 fn macroscale_stretch_error_is_a_few_rtol_at_a_million_cells() {
     let n = 1_000_000usize;
-    contract("macroscale", &macroscale(n), &[n as f64]);
+    contract_against("macroscale", &macroscale(n), &[n as f64], 1e-8);
 }
 
 #[test]

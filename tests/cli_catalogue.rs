@@ -231,3 +231,28 @@ fn help_and_bad_subcommand() {
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn a_bundled_name_runs_from_any_directory_and_an_unknown_name_lists_the_catalogue() {
+    let empty = std::env::temp_dir().join(format!("ct_catalogue_{}", std::process::id()));
+    std::fs::create_dir_all(&empty).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_celltissue"))
+        .args(["validate", "fig2_7"])
+        .current_dir(&empty)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let out = Command::new(env!("CARGO_BIN_EXE_celltissue"))
+        .args(["validate", "fig9_9"])
+        .current_dir(&empty)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("`fig9_9` is neither a scenario file nor a bundled scenario")
+            && err.contains("fig2_5"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&empty).unwrap();
+}

@@ -1,7 +1,6 @@
 //! From Python arguments to a validated [`Scenario`]: a bundled name, a path or a dict, and
 //! `set` overrides as a string, a list of strings or a dict.
 
-use crate::bundled::BUNDLED;
 use crate::errors::{from_scenario, scenario_error};
 use celltissue::scenario::{self, Scenario};
 use pyo3::prelude::*;
@@ -10,26 +9,18 @@ use std::path::{Path, PathBuf};
 
 /// The text of a bundled scenario, or a `ScenarioError` listing the names.
 pub fn bundled(name: &str) -> PyResult<&'static str> {
-    BUNDLED
-        .iter()
-        .find(|(n, _)| *n == name)
-        .map(|(_, t)| *t)
-        .ok_or_else(|| {
-            Python::attach(|py| {
-                scenario_error(
-                    py,
-                    None,
-                    format!(
-                        "`{name}` is neither a scenario file nor a bundled scenario ({})",
-                        BUNDLED
-                            .iter()
-                            .map(|(n, _)| *n)
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    ),
-                )
-            })
+    scenario::bundled::text(name).ok_or_else(|| {
+        Python::attach(|py| {
+            scenario_error(
+                py,
+                None,
+                format!(
+                    "`{name}` is neither a scenario file nor a bundled scenario ({})",
+                    scenario::bundled::names()
+                ),
+            )
         })
+    })
 }
 
 /// A Python value (dict, list, number, string, bool) as TOML, via its JSON form.

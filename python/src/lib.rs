@@ -13,11 +13,6 @@ use celltissue::output::finite;
 use celltissue::scenario::{execute, parallel};
 use pyo3::prelude::*;
 
-/// The bundled scenarios, embedded at build time by `build.rs`.
-mod bundled {
-    include!(concat!(env!("OUT_DIR"), "/bundled.rs"));
-}
-
 /// Runs a scenario and returns its runs (in scenario order).
 ///
 /// `scenario` is a bundled scenario's name (see `scenarios()`), a path to a TOML file, or a
@@ -74,7 +69,10 @@ fn validate(
 /// Names of the bundled scenarios (the thesis figures), e.g. `"fig2_5"`.
 #[pyfunction]
 fn scenarios() -> Vec<&'static str> {
-    bundled::BUNDLED.iter().map(|(n, _)| *n).collect()
+    celltissue::scenario::bundled::BUNDLED
+        .iter()
+        .map(|(n, _)| *n)
+        .collect()
 }
 
 /// The TOML text of a bundled scenario.

@@ -2,7 +2,8 @@
 //! directory (manifest), runs the chosen share of its runs (`--jobs`, `--shard`) on a worker
 //! thread so that SIGINT/SIGTERM keep the finished runs, then hands the records to the writers.
 
-use super::{catalogue, merge, BAD_INPUT, OK, RUN_FAILED};
+use super::catalogue::{self, Source};
+use super::{merge, BAD_INPUT, OK, RUN_FAILED};
 use crate::observe::{RunRecord, Summary};
 use crate::output::{self, finite, interrupt};
 use crate::scenario::parallel::{run_parallel, Shard};
@@ -41,17 +42,29 @@ fn bar(len: u64, quiet: bool, template: &str) -> ProgressBar {
 }
 
 /// Loads and validates, or prints the error (exit code 2).
-fn load(path: &Path, sets: &[String]) -> Result<scenario::Scenario, i32> {
-    scenario::load(path, sets).map_err(|e| {
+fn load(source: &Source, sets: &[String]) -> Result<scenario::Scenario, i32> {
+    let loaded = match source {
+        Source::File(path) if !path.exists() && path.extension().is_none() => {
+            eprintln!(
+                "error: `{}` is neither a scenario file nor a bundled scenario ({})",
+                path.display(),
+                scenario::bundled::names()
+            );
+            return Err(BAD_INPUT);
+        }
+        Source::File(path) => scenario::load(path, sets),
+        Source::Embedded { text, .. } => scenario::load_str(text, &source.display_path(), sets),
+    };
+    loaded.map_err(|e| {
         eprintln!("error: {e}");
         BAD_INPUT
     })
 }
 
 /// `celltissue run`.
-pub fn run(path: &Path, out: &Path, sets: &[String], opts: RunOptions) -> i32 {
+pub fn run(source: &Source, out: &Path, sets: &[String], opts: RunOptions) -> i32 {
     let quiet = opts.quiet;
-    let scenario = match load(path, sets) {
+    let scenario = match load(source, sets) {
         Ok(s) => s,
         Err(code) => return code,
     };
@@ -319,8 +332,8 @@ fn report_failures(runs: &[crate::observe::RunRecord]) -> i32 {
 }
 
 /// `celltissue validate`.
-pub fn validate(path: &Path, sets: &[String]) -> i32 {
-    match load(path, sets) {
+pub fn validate(source: &Source, sets: &[String]) -> i32 {
+    match load(source, sets) {
         Ok(s) => {
             println!(
                 "{}: ok — {} run(s): {}",
@@ -338,10 +351,11 @@ pub fn validate(path: &Path, sets: &[String]) -> i32 {
     }
 }
 
-/// `celltissue list`.
+/// `celltissue list`: the catalogue (files on disk, then the embedded scenarios they do not
+/// shadow), one line each: name, description, where it comes from.
 pub fn list() -> i32 {
-    let files = catalogue::files();
-    if files.is_empty() {
+    let sources = catalogue::sources();
+    if sources.is_empty() {
         eprintln!(
             "no scenarios found in {}",
             catalogue::dirs()
@@ -352,11 +366,15 @@ pub fn list() -> i32 {
         );
         return RUN_FAILED;
     }
-    let rows: Vec<(String, String, String)> = files
+    let rows: Vec<(String, String, String)> = sources
         .iter()
-        .map(|p| {
-            let (name, desc) = std::fs::read_to_string(p)
-                .ok()
+        .map(|src| {
+            let text = match src {
+                Source::File(p) => std::fs::read_to_string(p).ok(),
+                Source::Embedded { text, .. } => Some(text.to_string()),
+            };
+            let path = src.display_path();
+            let (name, desc) = text
                 .and_then(|t| toml::from_str::<toml::Table>(&t).ok())
                 .map(|t| {
                     let get = |k: &str| t.get(k).and_then(|v| v.as_str()).unwrap_or("").to_string();
@@ -364,14 +382,14 @@ pub fn list() -> i32 {
                 })
                 .unwrap_or_else(|| (String::new(), "(unreadable scenario file)".into()));
             let name = if name.is_empty() {
-                p.file_stem()
+                path.file_stem()
                     .unwrap_or_default()
                     .to_string_lossy()
                     .into_owned()
             } else {
                 name
             };
-            (name, desc, p.display().to_string())
+            (name, desc, path.display().to_string())
         })
         .collect();
     let w = rows.iter().map(|r| r.0.len()).max().unwrap_or(0);
