@@ -19,6 +19,7 @@ pub mod line;
 pub mod observe;
 pub mod output;
 pub mod proliferation;
+pub mod registry;
 pub mod scalar;
 pub mod scenario;
 pub mod sheet;

@@ -14,7 +14,7 @@ fn run(k: f64, m: f64, form: DragForm, t: &[f64]) -> RunRecord {
         m,
         drag_form: form,
         right_end: RightEndKind::Free,
-        growth: Some(TanhGrowth::default()),
+        growth: Some(celltissue::cell::growth_laws::tanh(TanhGrowth::default()).unwrap()),
         ..Default::default()
     };
     let times = OutputTimes {

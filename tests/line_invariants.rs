@@ -74,7 +74,7 @@ fn heterogeneous_viscous_discrete_and_continuum() {
 fn free_end_growth() {
     let c = LineConfig {
         right_end: RightEndKind::Free,
-        growth: Some(TanhGrowth::default()),
+        growth: Some(celltissue::cell::growth_laws::tanh(TanhGrowth::default()).unwrap()),
         m: 1.0,
         ..cfg()
     };
@@ -164,7 +164,7 @@ fn without_drag_a_free_growing_line_grows_unstressed() {
     let c = LineConfig {
         k: 0.0.into(),
         right_end: RightEndKind::Free,
-        growth: Some(TanhGrowth::default()),
+        growth: Some(celltissue::cell::growth_laws::tanh(TanhGrowth::default()).unwrap()),
         ..cfg()
     };
     let rec = run_line(&c, ModelKind::Discrete, None, &tight(), &times());

@@ -223,15 +223,16 @@ impl<O> Run<'_, O> {
         self.sol.y_last.extend_from_slice(y);
     }
 
-    fn fail(mut self, kind: ErrorKind, t: f64, component: Option<usize>) -> SolveFailure {
-        self.sol.stats = self.stats;
-        SolveFailure {
-            error: SolverError::new(kind, t, component),
-            partial: Box::new(self.sol),
-        }
+    fn fail(self, kind: ErrorKind, t: f64, component: Option<usize>) -> SolveFailure {
+        self.fail_err(SolverError::new(kind, t, component))
     }
 
     fn fail_err(mut self, error: SolverError) -> SolveFailure {
+        log::warn!(
+            "solve failed: {error} (after {} steps, {} rejected)",
+            self.stats.steps,
+            self.stats.rejected_steps
+        );
         self.sol.stats = self.stats;
         SolveFailure {
             error,
@@ -671,6 +672,11 @@ where
                 };
                 run.stats.events += 1;
                 let dim_after = p.dim();
+                log::debug!(
+                    "event at t = {ts:e}: {} function(s) fired, {action:?}, dimension {nn} -> \
+                     {dim_after}",
+                    fired.len()
+                );
                 run.sol.events.push(EventRecord {
                     t: ts,
                     fired: fired.clone(),

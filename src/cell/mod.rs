@@ -4,7 +4,8 @@
 //! * [`Field`] — heterogeneous material fields of the reference position `X` (μ scale, η, K,
 //!   active amplitude), sampled at cell centres or integer points ([`Sampling`]);
 //! * [`GrowthRate`] / [`GrowthLaw`] / [`TanhGrowth`] — stress-controlled growth `ġ = G(σ)`,
-//!   written generically over the scalar, derivative by AD;
+//!   written generically over the scalar, derivative by AD; [`growth_laws`] is their registry
+//!   by name (`growth = { law = "tanh", … }` in a scenario);
 //! * [`Active`] — the travelling active-stress wave (2.83);
 //! * [`ViscosityModel`] / [`MaxwellBranch`] — Kelvin–Voigt, Maxwell and standard-linear-solid
 //!   viscosity, the branch's viscous stretch an internal variable ([`ViscousBranch`]).
@@ -15,9 +16,11 @@
 mod active;
 mod field;
 mod growth;
+pub mod growth_laws;
 mod viscosity;
 
 pub use active::Active;
 pub use field::{Field, FieldError, FieldFn, Sampling};
 pub use growth::{GrowthLaw, GrowthRate, TanhGrowth};
+pub use growth_laws::GrowthSpec;
 pub use viscosity::{MaxwellBranch, ViscosityError, ViscosityModel, ViscousBranch};

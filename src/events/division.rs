@@ -8,6 +8,8 @@
 //!   `θ ~ Uniform[r − w, r + w]` by a seeded [`SplitMix64`] generator (draws happen in event
 //!   order — daughter with the lower index first — so a run is reproducible from its seed).
 
+use super::rules::RuleSpec;
+use crate::registry::{positive, ParamError, Params};
 use serde::{Deserialize, Serialize};
 
 /// What a rule sees of one cell: its growth and age, and (for rules whose
@@ -92,6 +94,40 @@ pub trait DivisionRule: Send + Sync {
     fn needs_mechanics(&self) -> bool {
         false
     }
+
+    /// Checks the rule's parameters when a scenario builds it by name (default: nothing to
+    /// check); the error names the parameter and its valid range.
+    fn check(&self) -> Result<(), ParamError> {
+        Ok(())
+    }
+
+    /// Seed of the generator that [`draw_threshold`](DivisionRule::draw_threshold) draws from
+    /// (default 0, for rules that draw nothing).
+    fn seed(&self) -> u64 {
+        0
+    }
+}
+
+/// A shared rule is a rule (what a parsed [`DivisionConfig`] holds).
+impl<R: DivisionRule + ?Sized> DivisionRule for std::sync::Arc<R> {
+    fn event(&self, cell: &CellView) -> f64 {
+        (**self).event(cell)
+    }
+    fn draw_threshold(&self, rng: &mut SplitMix64) -> f64 {
+        (**self).draw_threshold(rng)
+    }
+    fn name(&self) -> String {
+        (**self).name()
+    }
+    fn needs_mechanics(&self) -> bool {
+        (**self).needs_mechanics()
+    }
+    fn check(&self) -> Result<(), ParamError> {
+        (**self).check()
+    }
+    fn seed(&self) -> u64 {
+        (**self).seed()
+    }
 }
 
 /// Division when the cell's perimeter-to-area ratio `2(1/ℓ + 1/W)` falls to `critical`
@@ -125,6 +161,9 @@ impl DivisionRule for SurfaceToVolume {
     fn needs_mechanics(&self) -> bool {
         true
     }
+    fn check(&self) -> Result<(), ParamError> {
+        positive("critical", self.critical)
+    }
 }
 
 /// Division when the footprint area reaches `ratio` times its reference value (default 2).
@@ -153,6 +192,12 @@ impl DivisionRule for AreaDoubling {
     fn name(&self) -> String {
         format!("area ratio {}", self.ratio)
     }
+    fn check(&self) -> Result<(), ParamError> {
+        match self.ratio > 1.0 && self.ratio.is_finite() {
+            true => Ok(()),
+            false => Err(ParamError::range("ratio", self.ratio, "finite and > 1")),
+        }
+    }
 }
 
 /// Division at a fixed age `period` after birth (cell-cycle clock; independent of growth).
@@ -172,6 +217,9 @@ impl DivisionRule for AgeRule {
     }
     fn name(&self) -> String {
         format!("age {}", self.period)
+    }
+    fn check(&self) -> Result<(), ParamError> {
+        positive("period", self.period)
     }
 }
 
@@ -205,27 +253,46 @@ impl DivisionRule for RandomThreshold {
             self.mean + self.spread
         )
     }
+    fn check(&self) -> Result<(), ParamError> {
+        if !(self.spread >= 0.0 && self.spread.is_finite()) {
+            return Err(ParamError::range("spread", self.spread, "finite and >= 0"));
+        }
+        if !(self.mean - self.spread > 1.0 && self.mean.is_finite()) {
+            return Err(ParamError::range(
+                "mean",
+                self.mean,
+                "finite with mean - spread > 1",
+            ));
+        }
+        Ok(())
+    }
+    fn seed(&self) -> u64 {
+        self.seed
+    }
 }
 
-/// The rule as written in a scenario: `division = { rule = "area", ratio = 2 }`,
-/// `{ rule = "age", period = 2 }`, `{ rule = "random_area", mean = 2, spread = 0.2, seed = 1 }`
-/// or `{ rule = "surface_to_volume", critical = 3 }`,
-/// plus an optional cap `max_cells` (no division once `N` reaches it).
+/// The `division` table of a scenario: the rule by name with its parameters
+/// (`{ rule = "area", ratio = 2 }`, `{ rule = "age", period = 2 }`,
+/// `{ rule = "random_area", mean = 2, spread = 0.2, seed = 1 }`,
+/// `{ rule = "surface_to_volume", critical = 3 }` or any rule registered with
+/// [`super::rules::register`]), plus an optional cap `max_cells` (no division once `N` reaches
+/// it). The rule is built, and its parameters checked, when the table is parsed.
 ///
 /// ```
 /// use celltissue::events::DivisionConfig;
 /// let c: DivisionConfig = toml::from_str("rule = \"age\"\nperiod = 2.5").unwrap();
 /// assert!(c.validate().is_ok());
-/// let bad: DivisionConfig = toml::from_str("rule = \"area\"\nratio = 0.5").unwrap();
-/// let e = bad.validate().unwrap_err();
-/// assert_eq!(e.key, "ratio");
-/// assert_eq!(e.to_string(), "invalid `division.ratio` = 0.5: must be finite and > 1");
+/// assert_eq!(c.rule.name(), "age");
+/// let e = toml::from_str::<DivisionConfig>("rule = \"area\"\nratio = 0.5").unwrap_err();
+/// assert!(e.message().starts_with("`ratio` = 0.5: must be finite and > 1"), "{e}");
+/// let e = toml::from_str::<DivisionConfig>("rule = \"size\"").unwrap_err();
+/// assert!(e.message().starts_with("`rule` = \"size\": not a registered division rule (age, area,"));
 /// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DivisionConfig {
     /// The rule.
     #[serde(flatten)]
-    pub rule: RuleConfig,
+    pub rule: RuleSpec,
     /// Stop dividing once the line has this many cells (default [`DEFAULT_MAX_CELLS`]; every
     /// run ends: a rule that fires too often, e.g. `period = 1e-300` or `ratio = 1.0001`, stops
     /// at the cap instead of dividing forever).
@@ -244,90 +311,51 @@ fn default_max_cells() -> Option<usize> {
 impl Default for DivisionConfig {
     fn default() -> Self {
         Self {
-            rule: RuleConfig::Area(AreaDoubling::default()),
+            rule: RuleSpec::build("area", &Params::new())
+                .expect("the built-in area rule builds from its defaults"),
             max_cells: default_max_cells(),
         }
     }
 }
 
-/// The rule variants of [`DivisionConfig`].
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "rule", rename_all = "snake_case")]
-pub enum RuleConfig {
-    /// [`AreaDoubling`].
-    Area(AreaDoubling),
-    /// [`AgeRule`].
-    Age(AgeRule),
-    /// [`RandomThreshold`].
-    RandomArea(RandomThreshold),
-    /// [`SurfaceToVolume`].
-    SurfaceToVolume(SurfaceToVolume),
-}
-
-/// A division setting out of range: the key inside `division` and its valid range.
+/// A division setting out of range: the key inside `division` and what is wrong.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("invalid `division.{key}` = {value}: must be {range}")]
-pub struct DivisionError {
+#[error("invalid `division.{}`{}", .0.key, .0.detail())]
+pub struct DivisionError(pub ParamError);
+
+impl DivisionError {
     /// The key inside the `division` table (`ratio`, `period`, `max_cells`, …).
-    pub key: &'static str,
-    /// The value given, formatted.
-    pub value: String,
-    /// The valid range.
-    pub range: &'static str,
+    pub fn key(&self) -> &str {
+        &self.0.key
+    }
 }
 
 impl DivisionConfig {
-    /// Checks the ranges; the error names the key (`division.<key>`) and its valid range.
+    /// Checks what parsing does not: `max_cells ≥ 1` (the rule's parameters are checked when
+    /// it is built).
     pub fn validate(&self) -> Result<(), DivisionError> {
-        let bad = |key: &'static str, v: f64, range: &'static str| {
-            Err(DivisionError {
-                key,
-                value: v.to_string(),
-                range,
-            })
-        };
-        match &self.rule {
-            RuleConfig::Area(a) if !(a.ratio > 1.0 && a.ratio.is_finite()) => {
-                bad("ratio", a.ratio, "finite and > 1")
-            }
-            RuleConfig::Age(a) if !(a.period > 0.0 && a.period.is_finite()) => {
-                bad("period", a.period, "finite and > 0")
-            }
-            RuleConfig::RandomArea(r) if !(r.spread >= 0.0 && r.spread.is_finite()) => {
-                bad("spread", r.spread, "finite and >= 0")
-            }
-            RuleConfig::RandomArea(r) if !(r.mean - r.spread > 1.0 && r.mean.is_finite()) => {
-                bad("mean", r.mean, "finite with mean - spread > 1")
-            }
-            RuleConfig::SurfaceToVolume(r) if !(r.critical > 0.0 && r.critical.is_finite()) => {
-                bad("critical", r.critical, "finite and > 0")
-            }
-            _ => match self.max_cells {
-                Some(0) => Err(DivisionError {
-                    key: "max_cells",
-                    value: "0".into(),
-                    range: ">= 1",
-                }),
-                _ => Ok(()),
-            },
+        match self.max_cells {
+            Some(0) => Err(DivisionError(ParamError::range("max_cells", 0, ">= 1"))),
+            _ => Ok(()),
         }
     }
 
     /// The rule object.
     pub fn build(&self) -> Box<dyn DivisionRule> {
-        match &self.rule {
-            RuleConfig::Area(a) => Box::new(*a),
-            RuleConfig::Age(a) => Box::new(*a),
-            RuleConfig::RandomArea(r) => Box::new(*r),
-            RuleConfig::SurfaceToVolume(r) => Box::new(*r),
-        }
+        Box::new(self.rule.law().clone())
     }
 
     /// RNG seed of the rule (0 if it draws nothing).
     pub fn seed(&self) -> u64 {
-        match &self.rule {
-            RuleConfig::RandomArea(r) => r.seed,
-            _ => 0,
+        self.rule.law().seed()
+    }
+
+    /// The division area ratio when the rule is the area rule (the only rule the
+    /// proliferating continuum supports), `None` otherwise.
+    pub fn area_ratio(&self) -> Option<f64> {
+        match self.rule.name() {
+            "area" => self.rule.params().get("ratio").and_then(|v| v.as_f64()),
+            _ => None,
         }
     }
 }
@@ -394,14 +422,39 @@ mod tests {
     #[test]
     fn config_parses_and_validates() {
         let c: DivisionConfig = toml::from_str("rule = \"area\"").unwrap();
-        assert_eq!(c.rule, RuleConfig::Area(AreaDoubling { ratio: 2.0 }));
+        assert_eq!((c.rule.name(), c.area_ratio()), ("area", Some(2.0)));
+        assert_eq!(c, DivisionConfig::default());
         let c: DivisionConfig =
             toml::from_str("rule = \"random_area\"\nspread = 0.5\nseed = 9\nmax_cells = 50")
                 .unwrap();
         assert!(c.validate().is_ok());
-        assert_eq!(c.seed(), 9);
-        let c: DivisionConfig = toml::from_str("rule = \"random_area\"\nspread = 1.5").unwrap();
-        assert_eq!(c.validate().unwrap_err().key, "mean");
+        assert_eq!((c.seed(), c.max_cells, c.area_ratio()), (9, Some(50), None));
+        let e = toml::from_str::<DivisionConfig>("rule = \"random_area\"\nspread = 1.5");
+        assert!(e.unwrap_err().message().starts_with("`mean` = 2: must be"));
         assert!(toml::from_str::<DivisionConfig>("rule = \"size\"").is_err());
+        let e = toml::from_str::<DivisionConfig>("max_cells = 0\nrule = \"age\"\nperiod = 1");
+        let e = e.unwrap().validate().unwrap_err();
+        assert_eq!(
+            (e.key(), e.to_string().as_str()),
+            (
+                "max_cells",
+                "invalid `division.max_cells` = 0: must be >= 1"
+            )
+        );
+    }
+
+    #[test]
+    fn the_echo_holds_every_parameter_once_and_parses_back() {
+        let c: DivisionConfig = toml::from_str("rule = \"random_area\"\nspread = 0.25").unwrap();
+        let echo = toml::to_string(&c).unwrap();
+        for key in [
+            "rule = \"random_area\"",
+            "mean = 2.0",
+            "spread = 0.25",
+            "seed = 0",
+        ] {
+            assert_eq!(echo.matches(key).count(), 1, "{key} in {echo}");
+        }
+        assert_eq!(toml::from_str::<DivisionConfig>(&echo).unwrap(), c);
     }
 }

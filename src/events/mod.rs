@@ -6,6 +6,8 @@
 //!   `A/A₀ = g g₂` reaches 2), [`AgeRule`] (fixed cycle time) and [`RandomThreshold`] (per-cell
 //!   threshold drawn at birth from a seeded [`SplitMix64`]); [`DivisionConfig`] is the
 //!   scenario's `division = { rule = … }` table;
+//! * [`rules`] — the registry of rules by name (built-ins, and [`rules::register`] for a
+//!   program's own);
 //! * [`reindex`] — `Line::split_cell` / `Line::split_cells`: two daughters of reference
 //!   length `L₀g/2` with `g = 1` and the parent's material parameters, a boundary at the
 //!   midpoint; all `k` cells that fire at one time in one O(N + k) pass;
@@ -41,15 +43,17 @@ pub mod log;
 #[cfg(feature = "plots")]
 pub mod plots;
 pub mod reindex;
+pub mod rules;
 pub mod run;
 
 pub use dividing::{Dividing, InvariantReport};
 pub use division::{
     AgeRule, AreaDoubling, CellView, DivisionConfig, DivisionError, DivisionRule, RandomThreshold,
-    RuleConfig, SplitMix64, SurfaceToVolume, DEFAULT_MAX_CELLS,
+    SplitMix64, SurfaceToVolume, DEFAULT_MAX_CELLS,
 };
 pub use log::DivisionLog;
 pub use reindex::Split;
+pub use rules::RuleSpec;
 pub use run::{run_proliferation, ProliferationConfig, ProliferationError};
 
 /// Errors of the division machinery (become fatal solver errors inside an event handler).

@@ -4,7 +4,7 @@
 //! with the `"cells"` series (`N` at each output time) and the `"divisions"` list.
 
 use super::dividing::Dividing;
-use super::division::{DivisionConfig, RuleConfig};
+use super::division::DivisionConfig;
 use crate::array::ArrayProblem;
 use crate::energy::StrainEnergy;
 use crate::line::config::RightEndKind;
@@ -48,15 +48,25 @@ impl ProliferationError {
     /// use celltissue::events::ProliferationConfig;
     /// let t: toml::Table = toml::from_str("cells = 10\ngrowth = { sigma0 = 0.1 }\n\
     ///     division = { rule = \"age\", period = -1 }").unwrap();
-    /// let e = ProliferationConfig::from_table(&t).unwrap().validate().unwrap_err();
+    /// let e = ProliferationConfig::from_table(&t).unwrap_err();
     /// assert_eq!(e.key().as_deref(), Some("division.period"));
     /// ```
     pub fn key(&self) -> Option<String> {
         match self {
-            ProliferationError::DivisionTable(_) => Some("division".into()),
+            ProliferationError::DivisionTable(e) => {
+                // A rule's parameter error reads "`key` …" ([`crate::registry::ParamError`]).
+                let inner = e
+                    .message()
+                    .strip_prefix('`')
+                    .and_then(|r| r.split_once('`'));
+                Some(match inner {
+                    Some((key, _)) => format!("division.{key}"),
+                    None => "division".into(),
+                })
+            }
             ProliferationError::LineTable(_) => None,
             ProliferationError::Line(e) => e.key().map(str::to_string),
-            ProliferationError::Division(e) => Some(format!("division.{}", e.key)),
+            ProliferationError::Division(e) => Some(format!("division.{}", e.key())),
             ProliferationError::NoGrowth => Some("growth".into()),
             ProliferationError::Ring => Some("right_end".into()),
         }
@@ -202,7 +212,7 @@ fn with_law<E: StrainEnergy + Clone>(
             }
         }
         ModelKind::Continuum => {
-            let RuleConfig::Area(a) = cfg.division.rule else {
+            let Some(ratio) = cfg.division.area_ratio() else {
                 rec.error = Some(
                     "invalid `division.rule`: the proliferating continuum supports only \"area\""
                         .into(),
@@ -212,9 +222,7 @@ fn with_law<E: StrainEnergy + Clone>(
             let n = nodes.unwrap_or(n0);
             let built = crate::line::build::continuum(energy, &params, n)
                 .map_err(|e| e.to_string())
-                .and_then(|line| {
-                    DensityContinuum::new(line, n0, a.ratio).map_err(|e| e.to_string())
-                });
+                .and_then(|line| DensityContinuum::new(line, n0, ratio).map_err(|e| e.to_string()));
             match built {
                 Ok(mut d) => {
                     d.max_cells = cfg.division.max_cells.map(|m| m as f64);

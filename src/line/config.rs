@@ -18,7 +18,7 @@
 use super::build::LineParams;
 use super::LineError;
 use crate::boundary::{Ramp, RampKind, RightEnd};
-use crate::cell::{Active, Field, Sampling, TanhGrowth, ViscosityModel};
+use crate::cell::{Active, Field, Sampling, ViscosityModel};
 use crate::energy::{AnyEnergy, NeoHookean};
 use crate::substrate::{DragForm, WidthRule};
 use serde::{Deserialize, Serialize};
@@ -49,8 +49,8 @@ pub enum ContinuumScheme {
     Thesis,
 }
 
-/// Growth parameters (`[growth]` table; absent = no growth).
-pub type GrowthConfig = TanhGrowth;
+/// The growth law by name (`growth = { law = "tanh", sigma0 = 0.1 }`; absent = no growth).
+pub type GrowthConfig = crate::cell::GrowthSpec;
 
 /// The line of cells as configured in a scenario. Every key has the thesis default.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -97,7 +97,8 @@ pub struct LineConfig {
     pub active: Option<Active>,
     /// Active amplitude field `A(X)` (used with `active`).
     pub active_amplitude: Field,
-    /// Growth `{ sigma0, gm }` (absent = no growth).
+    /// Growth law `{ law = "tanh", sigma0, gm }` (`law` defaults to `tanh`; any name in
+    /// [`crate::cell::growth_laws`]; absent = no growth).
     pub growth: Option<GrowthConfig>,
     /// The strain energy, e.g. `law = { law = "neo_hookean", mu = 1 }` (any [`AnyEnergy`];
     /// scaled per cell by `mu`).
@@ -228,10 +229,6 @@ impl LineConfig {
                 return Err(LineError::invalid("active.omega", a.omega, "finite"));
             }
         }
-        if let Some(g) = &self.growth {
-            finite_pos("growth.sigma0", g.sigma0)?;
-            finite_pos("growth.gm", g.gm)?;
-        }
         self.validate_viscosity_and_pressure()?;
         let periodic = self.right_end == RightEndKind::Periodic;
         if periodic && self.drag_form == DragForm::Centre {
@@ -356,9 +353,7 @@ impl LineConfig {
             form: self.drag_form,
             right,
             active: self.active,
-            growth: self
-                .growth
-                .map(|g| Arc::new(g) as Arc<dyn crate::cell::GrowthLaw>),
+            growth: self.growth.as_ref().map(|g| g.law().clone()),
             maxwell: self.viscosity.and_then(|v| v.branch().ok().flatten()),
             p_ext: self.external_pressure.clone(),
             atol_cell,

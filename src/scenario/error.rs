@@ -147,10 +147,16 @@ pub(crate) fn deserialize_at<T: serde::de::DeserializeOwned>(
     })
 }
 
-/// The key and the rest of a message of the form "`key`: rest" (`key` a dotted bare key).
+/// The key and the rest of a message of the form "`key`: rest" or "`key` = value: rest" (the
+/// latter keeps "= value: rest"; `key` a dotted bare key).
 fn nested_key(message: &str) -> Option<(String, String)> {
     let rest = message.strip_prefix('`')?;
-    let (key, rest) = rest.split_once("`: ")?;
+    let (key, after) = rest.split_once('`')?;
+    let rest = match (after.strip_prefix(": "), after.strip_prefix(" = ")) {
+        (Some(r), _) => r,
+        (None, Some(_)) => &after[1..],
+        (None, None) => return None,
+    };
     let bare = !key.is_empty()
         && key
             .chars()

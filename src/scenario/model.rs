@@ -170,7 +170,7 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
             line.validate().map_err(line_error)?;
             if models.contains(&ModelKind::Continuum) {
                 check_continuum_grid(&line, nodes)?;
-                if !matches!(division.rule, crate::events::RuleConfig::Area(_)) {
+                if division.area_ratio().is_none() {
                     return Err(ScenarioError::key(
                         "model.division.rule",
                         "the proliferating continuum (model \"continuum\") supports only \

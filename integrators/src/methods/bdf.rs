@@ -1101,6 +1101,15 @@ impl Bdf {
                 None => None,
             };
             if let Some(f) = factor {
+                log::debug!(
+                    "BDF step-doubled first step after an event rejected at t = {t0:e}, \
+                     h = {h_try:e}: {}",
+                    if fail.is_some() {
+                        "Newton failed".to_string()
+                    } else {
+                        format!("error estimate {err:.3e} (tolerance 1)")
+                    }
+                );
                 sys.stats.rejected_steps += 1;
                 if half_pushed {
                     self.pop_accepted(sys, t0);
@@ -1444,6 +1453,10 @@ impl Bdf {
                 }
             };
             if let Some(f) = fail_factor {
+                log::debug!(
+                    "BDF step rejected at t = {:e}, h = {h_try:e}, order {k}: {last:?}",
+                    self.t
+                );
                 sys.stats.rejected_steps += 1;
                 ncf += 1;
                 h = h_try * f;
@@ -1509,6 +1522,11 @@ impl Bdf {
             // (NaN error estimates fail the test)
             let passed = err_k <= 1.0;
             if fixed.is_none() && !passed {
+                log::debug!(
+                    "BDF step rejected at t = {:e}, h = {h_try:e}, order {k}: error estimate \
+                     {err_k:.3e} (tolerance 1)",
+                    self.t
+                );
                 nef += 1;
                 sys.stats.error_test_failures += 1;
                 sys.stats.rejected_steps += 1;

@@ -146,6 +146,10 @@ pub(crate) fn step<M: OneStep>(
                 return Ok(1);
             }
             Attempt::Rejected(fail, h_new) => {
+                log::debug!(
+                    "{} step rejected at t = {t:e}, h = {h:e}: {fail:?}; retrying with h = {h_new:e}",
+                    std::any::type_name::<M>().rsplit("::").next().unwrap_or("one-step")
+                );
                 sys.stats.rejected_steps += 1;
                 failures += 1;
                 if fixed.is_some() {

@@ -1,0 +1,420 @@
+//! Name → constructor registries for the cell laws a scenario picks by name: the division rule
+//! (`division = { rule = "<name>", … }`, [`crate::events::rules`]) and the growth law
+//! (`growth = { law = "<name>", … }`, [`crate::cell::growth_laws`]). One mechanism for both: a
+//! [`Registry`] maps a name to a [`Constructor`] that turns the table's other keys
+//! ([`Params`]) into the law, validating them; a [`Named`] value is what a configuration
+//! holds — the name, the resolved parameters (echoed in `scenario.toml` and `summary.json`)
+//! and the built law.
+//!
+//! The registries are process-wide (scenarios are deserialized by serde, which carries no
+//! context) and behind an `RwLock`; built-ins are inserted on first use. A program that links
+//! `celltissue` registers its own law once, before it loads scenarios, and every scenario can
+//! name it with the same validation and error messages as the built-in ones.
+//!
+//! ```
+//! use celltissue::registry::{Params, ParamError, Registry};
+//! use std::sync::Arc;
+//!
+//! static SHAPES: Registry<f64> = Registry::new("shape", "shape", || {
+//!     vec![("unit", Arc::new(|_: &Params| Ok((1.0, Params::new()))))]
+//! });
+//! assert_eq!(SHAPES.names(), ["unit"]);
+//! SHAPES.register("scaled", Arc::new(|p: &Params| {
+//!     let s = p.get("s").and_then(|v| v.as_f64()).ok_or(ParamError::new("s", "missing"))?;
+//!     Ok((s, p.clone()))
+//! }))?;
+//! let p: Params = serde_json::from_str(r#"{"s": 2.5}"#)?;
+//! assert_eq!(SHAPES.build("scaled", &p)?.0, 2.5);
+//! let e = SHAPES.build("square", &p).unwrap_err().to_string();
+//! assert_eq!(e, "`shape` = \"square\": not a registered shape (scaled, unit)");
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::fmt;
+use std::sync::{Arc, OnceLock, RwLock};
+
+/// A law's parameters: its scenario table without the name key.
+pub type Params = serde_json::Map<String, serde_json::Value>;
+
+/// Builds a law from its parameters and returns it with the parameters it resolved (defaults
+/// filled in), which is what the configuration echoes.
+pub type Constructor<T> = Arc<dyn Fn(&Params) -> Result<(T, Params), ParamError> + Send + Sync>;
+
+/// A parameter that does not build a law: the key inside the law's table and what is wrong.
+/// Displayed as "`key` = value: must be range" or "`key`: message", the form the scenario
+/// layer turns into a full key path (`model.division.ratio`).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("`{key}`{detail}")]
+pub struct ParamError {
+    /// The key inside the law's table (`ratio`, `sigma0`, …, or the name key itself).
+    pub key: String,
+    /// What follows the key: " = value: must be range" or ": message".
+    detail: String,
+}
+
+impl ParamError {
+    /// `key`: `message`.
+    ///
+    /// ```
+    /// let e = celltissue::registry::ParamError::new("seed", "must be an integer");
+    /// assert_eq!(e.to_string(), "`seed`: must be an integer");
+    /// ```
+    pub fn new(key: impl Into<String>, message: impl fmt::Display) -> Self {
+        Self {
+            key: key.into(),
+            detail: format!(": {message}"),
+        }
+    }
+
+    /// `key` = `value`: must be `range`.
+    ///
+    /// ```
+    /// let e = celltissue::registry::ParamError::range("ratio", 0.5, "finite and > 1");
+    /// assert_eq!(e.to_string(), "`ratio` = 0.5: must be finite and > 1");
+    /// ```
+    pub fn range(key: impl Into<String>, value: impl fmt::Display, range: &str) -> Self {
+        Self {
+            key: key.into(),
+            detail: format!(" = {value}: must be {range}"),
+        }
+    }
+
+    /// Everything after the key (" = 0.5: must be …" or ": …").
+    pub fn detail(&self) -> &str {
+        &self.detail
+    }
+}
+
+/// Checks `v` is finite and `> 0`, naming `key` otherwise (the commonest range of a law's
+/// parameter).
+///
+/// ```
+/// use celltissue::registry::positive;
+/// assert!(positive("period", 2.0).is_ok());
+/// assert_eq!(positive("period", 0.0).unwrap_err().to_string(),
+///            "`period` = 0: must be finite and > 0");
+/// ```
+pub fn positive(key: &str, v: f64) -> Result<(), ParamError> {
+    if v > 0.0 && v.is_finite() {
+        Ok(())
+    } else {
+        Err(ParamError::range(key, v, "finite and > 0"))
+    }
+}
+
+/// Deserializes a law's parameters into `L` (so `#[serde(deny_unknown_fields)]` and field
+/// defaults apply) and serializes it back, which fills in the defaults. Errors name the key:
+/// the unknown or missing field, or the field whose value has the wrong type.
+///
+/// ```
+/// #[derive(serde::Serialize, serde::Deserialize)]
+/// #[serde(deny_unknown_fields)]
+/// struct Age { period: f64, #[serde(default)] jitter: f64 }
+/// use celltissue::registry::{parse, Params};
+/// let p: Params = serde_json::from_str(r#"{"period": 2}"#).unwrap();
+/// let (age, resolved) = parse::<Age>(&p).unwrap();
+/// assert_eq!((age.period, resolved["jitter"].as_f64()), (2.0, Some(0.0)));
+/// let p: Params = serde_json::from_str(r#"{"perod": 2}"#).unwrap();
+/// assert_eq!(parse::<Age>(&p).err().unwrap().key, "perod");
+/// let p: Params = serde_json::from_str(r#"{"period": "two"}"#).unwrap();
+/// assert_eq!(parse::<Age>(&p).err().unwrap().key, "period");
+/// ```
+pub fn parse<L: Serialize + DeserializeOwned>(p: &Params) -> Result<(L, Params), ParamError> {
+    let law: L =
+        serde_path_to_error::deserialize(serde_json::Value::Object(p.clone())).map_err(|e| {
+            let message = e.inner().to_string();
+            let path = e.path().to_string();
+            let key = quoted_after(&message, "unknown field `")
+                .or_else(|| quoted_after(&message, "missing field `"))
+                .map(|f| f.to_string())
+                .unwrap_or(if path == "." { String::new() } else { path });
+            ParamError::new(key, message)
+        })?;
+    let resolved = match serde_json::to_value(&law) {
+        Ok(serde_json::Value::Object(m)) => m,
+        _ => p.clone(),
+    };
+    Ok((law, resolved))
+}
+
+/// The text between `prefix` and the next backquote in `message`.
+fn quoted_after<'a>(message: &'a str, prefix: &str) -> Option<&'a str> {
+    let rest = &message[message.find(prefix)? + prefix.len()..];
+    Some(&rest[..rest.find('`')?])
+}
+
+/// A registration that cannot be taken.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum RegistryError {
+    /// A name must be `[a-z0-9_]+`.
+    #[error("`{0}` is not a valid {1} name (use lower-case letters, digits and `_`)")]
+    BadName(String, &'static str),
+    /// The name is taken (built-in or registered before).
+    #[error("a {1} named `{0}` is already registered")]
+    Duplicate(String, &'static str),
+}
+
+/// A process-wide map from names to [`Constructor`]s of `T`, seeded with built-ins on first
+/// use (`static` with [`Registry::new`]).
+pub struct Registry<T: 'static> {
+    what: &'static str,
+    key: &'static str,
+    builtins: fn() -> Vec<(&'static str, Constructor<T>)>,
+    map: OnceLock<RwLock<BTreeMap<String, Constructor<T>>>>,
+}
+
+impl<T: 'static> Registry<T> {
+    /// A registry of `what` (for messages: "division rule"), selected in a table by the key
+    /// `key` (`rule`, `law`), holding `builtins` from the start.
+    pub const fn new(
+        what: &'static str,
+        key: &'static str,
+        builtins: fn() -> Vec<(&'static str, Constructor<T>)>,
+    ) -> Self {
+        Self {
+            what,
+            key,
+            builtins,
+            map: OnceLock::new(),
+        }
+    }
+
+    /// What the registry holds, e.g. "division rule".
+    pub fn what(&self) -> &'static str {
+        self.what
+    }
+
+    /// The key that names the law in a table (`rule`, `law`).
+    pub fn key(&self) -> &'static str {
+        self.key
+    }
+
+    fn lock(&self) -> &RwLock<BTreeMap<String, Constructor<T>>> {
+        self.map.get_or_init(|| {
+            let m = (self.builtins)()
+                .into_iter()
+                .map(|(n, c)| (n.to_owned(), c))
+                .collect();
+            RwLock::new(m)
+        })
+    }
+
+    fn read(&self) -> std::sync::RwLockReadGuard<'_, BTreeMap<String, Constructor<T>>> {
+        // Inserts are atomic, so a lock poisoned by a panic elsewhere still holds a whole map.
+        self.lock().read().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// The registered names, sorted.
+    pub fn names(&self) -> Vec<String> {
+        self.read().keys().cloned().collect()
+    }
+
+    /// Builds the law `name` from its parameters; an unknown name lists the registered ones.
+    pub fn build(&self, name: &str, params: &Params) -> Result<(T, Params), ParamError> {
+        let ctor = self.read().get(name).cloned();
+        match ctor {
+            Some(c) => c(params),
+            None => Err(ParamError {
+                key: self.key.to_owned(),
+                detail: format!(
+                    " = \"{name}\": not a registered {} ({})",
+                    self.what,
+                    self.names().join(", ")
+                ),
+            }),
+        }
+    }
+
+    /// Registers `ctor` under `name` (`[a-z0-9_]+`, not already taken).
+    pub fn register(&self, name: &str, ctor: Constructor<T>) -> Result<(), RegistryError> {
+        let valid = !name.is_empty()
+            && name
+                .chars()
+                .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
+        if !valid {
+            return Err(RegistryError::BadName(name.to_owned(), self.what));
+        }
+        let mut m = self.lock().write().unwrap_or_else(|e| e.into_inner());
+        if m.contains_key(name) {
+            return Err(RegistryError::Duplicate(name.to_owned(), self.what));
+        }
+        m.insert(name.to_owned(), ctor);
+        Ok(())
+    }
+}
+
+/// Which registry a [`Named`] value resolves in, and the name used when its table has none.
+pub trait Kind: 'static {
+    /// The built law.
+    type Law: Clone + Send + Sync + 'static;
+    /// The registry.
+    fn registry() -> &'static Registry<Self::Law>;
+    /// The name assumed when the table omits the name key (`None`: the key is required).
+    fn default_name() -> Option<&'static str> {
+        None
+    }
+}
+
+/// A law picked by name in a scenario: the name, its resolved parameters and the law built from
+/// them. It deserializes from the law's table (the name key plus parameters, built and
+/// validated on the spot) and serializes back to the same table with defaults filled in.
+pub struct Named<K: Kind> {
+    name: String,
+    params: Params,
+    law: K::Law,
+}
+
+impl<K: Kind> Named<K> {
+    /// Builds the law `name` from `params` in `K`'s registry.
+    pub fn build(name: &str, params: &Params) -> Result<Self, ParamError> {
+        let (law, params) = K::registry().build(name, params)?;
+        Ok(Self {
+            name: name.to_owned(),
+            params,
+            law,
+        })
+    }
+
+    /// The name the law is registered under.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The resolved parameters.
+    pub fn params(&self) -> &Params {
+        &self.params
+    }
+
+    /// The built law.
+    pub fn law(&self) -> &K::Law {
+        &self.law
+    }
+}
+
+impl<K: Kind> Clone for Named<K> {
+    fn clone(&self) -> Self {
+        Self {
+            name: self.name.clone(),
+            params: self.params.clone(),
+            law: self.law.clone(),
+        }
+    }
+}
+
+impl<K: Kind> fmt::Debug for Named<K> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} {:?}", self.name, self.params)
+    }
+}
+
+/// Two laws are equal when they have the same name and resolved parameters.
+impl<K: Kind> PartialEq for Named<K> {
+    fn eq(&self, other: &Self) -> bool {
+        self.name == other.name && self.params == other.params
+    }
+}
+
+impl<K: Kind> Serialize for Named<K> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut table = Params::new();
+        table.insert(K::registry().key().to_owned(), self.name.clone().into());
+        table.extend(self.params.clone());
+        table.serialize(s)
+    }
+}
+
+impl<'de, K: Kind> Deserialize<'de> for Named<K> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let mut p = Params::deserialize(d)?;
+        let key = K::registry().key();
+        let name = match (p.remove(key), K::default_name()) {
+            (Some(serde_json::Value::String(s)), _) => s,
+            (None, Some(default)) => default.to_owned(),
+            (None, None) => {
+                return Err(serde::de::Error::custom(ParamError::new(
+                    key,
+                    format!(
+                        "missing: name the {} ({})",
+                        K::registry().what(),
+                        K::registry().names().join(", ")
+                    ),
+                )))
+            }
+            (Some(other), _) => {
+                return Err(serde::de::Error::custom(ParamError::new(
+                    key,
+                    format!(
+                        "{other} must be a string naming the {}",
+                        K::registry().what()
+                    ),
+                )))
+            }
+        };
+        Self::build(&name, &p).map_err(serde::de::Error::custom)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Scale;
+    static SCALES: Registry<f64> = Registry::new("scale", "scale", || {
+        vec![(
+            "fixed",
+            Arc::new(|p: &Params| {
+                let v = p.get("v").and_then(|v| v.as_f64()).unwrap_or(1.0);
+                positive("v", v)?;
+                let mut r = Params::new();
+                r.insert("v".into(), v.into());
+                Ok((v, r))
+            }),
+        )]
+    });
+    impl Kind for Scale {
+        type Law = f64;
+        fn registry() -> &'static Registry<f64> {
+            &SCALES
+        }
+        fn default_name() -> Option<&'static str> {
+            Some("fixed")
+        }
+    }
+
+    #[test]
+    fn a_named_law_round_trips_with_its_defaults_filled_in() {
+        let n: Named<Scale> = serde_json::from_str("{}").unwrap();
+        assert_eq!((n.name(), *n.law()), ("fixed", 1.0));
+        let back = serde_json::to_string(&n).unwrap();
+        assert_eq!(back, r#"{"scale":"fixed","v":1.0}"#);
+        assert_eq!(serde_json::from_str::<Named<Scale>>(&back).unwrap(), n);
+        let e = serde_json::from_str::<Named<Scale>>(r#"{"v": -2}"#).unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("`v` = -2: must be finite and > 0"),
+            "{e}"
+        );
+        let e = serde_json::from_str::<Named<Scale>>(r#"{"scale": 3}"#).unwrap_err();
+        assert!(
+            e.to_string().starts_with("`scale`: 3 must be a string"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn names_are_checked_and_never_replaced() {
+        assert_eq!(
+            SCALES.register("Fixed", Arc::new(|_: &Params| Ok((0.0, Params::new())))),
+            Err(RegistryError::BadName("Fixed".into(), "scale"))
+        );
+        assert_eq!(
+            SCALES.register("fixed", Arc::new(|_: &Params| Ok((0.0, Params::new())))),
+            Err(RegistryError::Duplicate("fixed".into(), "scale"))
+        );
+        assert_eq!(SCALES.build("fixed", &Params::new()).unwrap().0, 1.0);
+    }
+}
