@@ -13,6 +13,10 @@
 //! * with `plots.position`: `profiles_position[_<value>].png` — `x` against `X` with the
 //!   uniform-strain line `x = (l/l₀)X` dashed (Fig 2.6), and `profiles_deviation[_<value>].png`
 //!   — `x − (l/l₀)X`, which makes a heterogeneous line's departure from it visible;
+//! * shear columns: `profiles_displacement[_<value>].png` — the edge positions `x_e` against
+//!   their reference heights, base included (Fig 4.6d);
+//! * with `plots.histories`: `histories_stretch[_<value>].png` — every cell's `λ` (`tan θ`)
+//!   against `t` through the profile times (Fig 4.6c);
 //! * with `plots.rectangles`: `cells_<label>.png` — cell rectangles coloured by pressure, one
 //!   row per profile time (Fig 2.10e).
 
@@ -192,6 +196,7 @@ pub fn write_figures(
             vec![
                 ("pressure", "p", "pressure"),
                 ("stretch", "tan θ", "shear tan θ"),
+                ("displacement", "x_e (edge position)", "edge displacement"),
             ]
         } else {
             vec![("pressure", "p", "pressure"), ("stretch", "λ", "stretch")]
@@ -206,6 +211,14 @@ pub fn write_figures(
             for (rec, _) in &g.runs {
                 for p in &rec.profiles {
                     let ti = times.iter().position(|t| close(*t, p.t)).unwrap_or(0);
+                    if key == "displacement" {
+                        let Some(pts) = edge_displacement(p) else {
+                            continue;
+                        };
+                        let label = format!("{} t={}", model_word(rec.model), format_number(p.t));
+                        curves.push(Curve::new(label, style(rec.model), ti, pts));
+                        continue;
+                    }
                     let xs = match scenario.plots.profile_axis {
                         ProfileAxis::Reference => &p.x_ref,
                         ProfileAxis::Current => &p.x,
@@ -238,7 +251,10 @@ pub fn write_figures(
             }
             let chart = Chart {
                 title: title(&format!("{what} profiles{at}")),
-                x_label: xdesc.into(),
+                x_label: match key {
+                    "displacement" => "reference height Y of the edge".into(),
+                    _ => xdesc.into(),
+                },
                 y_label: ylabel.into(),
                 x_axis: Axis::Linear,
                 y_axis: Axis::Linear,
@@ -305,6 +321,32 @@ pub fn write_figures(
         }
     }
 
+    // per-cell histories through the profile times (Fig 4.6c)
+    if scenario.plots.histories {
+        let ylabel = if shear { "tan θ" } else { "λ" };
+        for (gi, g) in groups.iter().enumerate() {
+            let suffix = match (&g.label, &sweep_name) {
+                (Some(l), Some(n)) => format!("_{}", slug(&format!("{n}={l}"))),
+                _ => String::new(),
+            };
+            let curves = g
+                .runs
+                .iter()
+                .flat_map(|(rec, _)| histories(rec, gi))
+                .collect();
+            let chart = Chart {
+                title: title(&format!("{ylabel} of every cell against time{suffix}")),
+                x_label: "t".into(),
+                y_label: ylabel.into(),
+                x_axis: axis(scenario.plots.time_axis),
+                y_axis: Axis::Linear,
+                curves,
+            };
+            let file = format!("histories_stretch{suffix}.png");
+            emit(file.clone(), plot_chart(&dir.join(&file), &chart));
+        }
+    }
+
     // cell rectangles: lines and rings only (sheets draw their own cells, see
     // `crate::sheet::plot`; rows of a line's rectangle plot would overlap on a sheet)
     if scenario.plots.rectangles {
@@ -336,6 +378,55 @@ pub fn write_figures(
         summary,
     ));
     out
+}
+
+/// Most per-cell curves one run draws in a histories plot (`plots.histories`).
+pub const MAX_HISTORIES: usize = 60;
+
+/// Each cell's stretch through a run's profile times: one curve per cell (every k-th cell when
+/// there are more than [`MAX_HISTORIES`]); discrete runs dashed, continuum runs solid (as the
+/// thesis draws Fig 4.6c) in colours of their own (`2·group`, `2·group + 1`), the run's label
+/// on its first curve only.
+fn histories(rec: &RunRecord, group: usize) -> Vec<Curve> {
+    let color = 2 * group + usize::from(rec.model == ModelKind::Continuum);
+    let cells = rec
+        .profiles
+        .iter()
+        .map(|p| p.stretch.len())
+        .min()
+        .unwrap_or(0);
+    let every = cells.div_ceil(MAX_HISTORIES).max(1);
+    let style = match rec.model {
+        ModelKind::Discrete => Style::Dashed,
+        ModelKind::Continuum => Style::Line,
+    };
+    (0..cells)
+        .step_by(every)
+        .map(|j| {
+            let pts = rec.profiles.iter().map(|p| (p.t, p.stretch[j])).collect();
+            let label = if j == 0 {
+                rec.label.clone()
+            } else {
+                String::new()
+            };
+            Curve::new(label, style, color, pts)
+        })
+        .collect()
+}
+
+/// A shear profile's edge positions against the edges' reference heights, base `(0, 0)`
+/// included (Fig 4.6d): the profile holds each cell's centre height `Y` and its top edge's
+/// position `x_edge`, and the edges sit where consecutive cells meet, `Y_top = 2Y − Y_below`.
+fn edge_displacement(p: &Profile) -> Option<Vec<(f64, f64)>> {
+    let x_edge = p.extra.get("x_edge")?;
+    let mut below = 0.0;
+    let mut pts = vec![(0.0, 0.0)];
+    for (y, x) in p.x_ref.iter().zip(x_edge) {
+        let top = 2.0 * y - below;
+        pts.push((top, *x));
+        below = top;
+    }
+    Some(pts)
 }
 
 fn model_word(m: ModelKind) -> &'static str {

@@ -250,4 +250,8 @@ pub struct PlotSettings {
     pub position: bool,
     /// Also draw cell rectangles coloured by pressure at each profile time (Fig 2.10e).
     pub rectangles: bool,
+    /// Also plot each cell's stretch (tan θ for a shear column) against `t` through the
+    /// profile times, one curve per cell or continuum segment (Fig 4.6c); at most
+    /// [`crate::output::figures::MAX_HISTORIES`] curves per run (every k-th cell beyond).
+    pub histories: bool,
 }
