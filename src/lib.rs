@@ -16,6 +16,7 @@ pub mod cli;
 pub mod energy;
 pub mod events;
 pub mod line;
+pub mod modes;
 pub mod observe;
 pub mod output;
 pub mod proliferation;

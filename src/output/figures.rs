@@ -129,6 +129,18 @@ pub fn write_figures(
             series.push(e);
         }
     }
+    // a registered mode's own series are drawn under their names
+    let mode = scenario
+        .runs
+        .iter()
+        .any(|r| matches!(r.config, ModelConfig::Mode(..)));
+    if mode {
+        for key in summary.runs.iter().flat_map(|r| r.series.extra.keys()) {
+            if !series.iter().any(|s| s.0 == key.as_str()) {
+                series.push((key.as_str(), key.as_str(), key.as_str()));
+            }
+        }
+    }
     for (key, ylabel, what) in series {
         let mut curves = Vec::new();
         // one legend entry per meaning: the first reference curve of each kind is labelled,

@@ -52,6 +52,9 @@ pub fn run_spec_in(spec: &RunSpec, dir: Option<&Path>) -> RunRecord {
             run_shear(cfg, law, spec.model, nodes, &sheet_solver(), &outputs())
                 .unwrap_or_else(|e| failed(spec, e.to_string()))
         }
+        ModelConfig::Mode(mode) => mode
+            .law()
+            .run(spec.model, nodes, &sheet_solver(), &outputs()),
         ModelConfig::Line(cfg) => {
             let solver = SolveSettings {
                 method: spec.solver.method,

@@ -29,6 +29,24 @@ pub const SCENARIO_KEYS: [&str; 3] = ["kind", "models", "nodes"];
 /// The model kinds a scenario can name.
 pub const KINDS: [&str; 3] = ["line", "sheet", "shear"];
 
+/// A law's parameter error ([`crate::registry::ParamError`]) under the table `prefix`.
+fn param_error(prefix: &str, e: &crate::registry::ParamError) -> ScenarioError {
+    let key = match e.key.as_str() {
+        "" => prefix.to_owned(),
+        k => format!("{prefix}.{k}"),
+    };
+    let detail = e.detail();
+    let message = detail.strip_prefix(": ").unwrap_or(detail.trim_start());
+    ScenarioError::key(key, message.to_owned())
+}
+
+/// The built-in kinds and the registered modes ([`crate::modes::register`]), for messages.
+fn valid_kinds() -> String {
+    let mut kinds: Vec<String> = KINDS.iter().map(|k| k.to_string()).collect();
+    kinds.extend(crate::modes::names());
+    kinds.join(", ")
+}
+
 /// A parsed and validated model configuration.
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
@@ -42,15 +60,18 @@ pub enum ModelConfig {
     Sheet(Box<SheetConfig>, AnyEnergy),
     /// The simple-shear column (thesis Chapter 4.3) and its strain energy (the config's `law`).
     Shear(Box<ShearConfig>, AnyEnergy),
+    /// A deformation mode a program registered ([`crate::modes::register`]).
+    Mode(Box<crate::modes::ModeSpec>),
 }
 
 impl ModelConfig {
     /// The `kind` string.
-    pub fn kind(&self) -> &'static str {
+    pub fn kind(&self) -> &str {
         match self {
             ModelConfig::Line(_) | ModelConfig::Proliferating(_) => "line",
             ModelConfig::Sheet(..) => "sheet",
             ModelConfig::Shear(..) => "shear",
+            ModelConfig::Mode(m) => m.name(),
         }
     }
 
@@ -63,6 +84,7 @@ impl ModelConfig {
             ModelConfig::Proliferating(c) => serde_json::to_value(c),
             ModelConfig::Sheet(c, _) => serde_json::to_value(c),
             ModelConfig::Shear(c, _) => serde_json::to_value(c),
+            ModelConfig::Mode(m) => Ok(serde_json::Value::Object(m.params().clone())),
         };
         v.unwrap_or(serde_json::Value::Null)
     }
@@ -92,14 +114,14 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
                 format!(
                     "expected a string, found a {}; valid: {}",
                     other.type_str(),
-                    KINDS.join(", ")
+                    valid_kinds()
                 ),
             ))
         }
         None => {
             return Err(ScenarioError::key(
                 "model.kind",
-                format!("missing; valid: {}", KINDS.join(", ")),
+                format!("missing; valid: {}", valid_kinds()),
             ))
         }
     };
@@ -255,10 +277,20 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
             let law = cfg.law.clone();
             ModelConfig::Shear(Box::new(cfg), law)
         }
+        other if crate::modes::names().iter().any(|n| n == other) => {
+            // a registered mode: the rest of the table is its parameters
+            let params: crate::registry::Params = match serde_json::to_value(&rest) {
+                Ok(serde_json::Value::Object(m)) => m,
+                _ => crate::registry::Params::new(),
+            };
+            let spec = crate::modes::ModeSpec::build(other, &params)
+                .map_err(|e| param_error("model", &e))?;
+            ModelConfig::Mode(Box::new(spec))
+        }
         other => {
             return Err(ScenarioError::key(
                 "model.kind",
-                format!("unknown model kind `{other}`; valid: {}", KINDS.join(", ")),
+                format!("unknown model kind `{other}`; valid: {}", valid_kinds()),
             ))
         }
     };

@@ -83,7 +83,7 @@ fn cfg_err(key: &str, value: impl ToString, expected: &str) -> RunError {
 }
 
 /// All output times (series ∪ profiles), sorted and deduplicated, after checking them.
-fn all_times(out: &Outputs) -> Result<Vec<f64>, RunError> {
+pub(crate) fn all_times(out: &Outputs) -> Result<Vec<f64>, RunError> {
     let mut t: Vec<f64> = out
         .times
         .iter()
@@ -151,7 +151,7 @@ fn solve<A: CellArray>(
     Solver::new(solver.method, solver.options.clone()).solve(problem, 0.0, y0, t_out)
 }
 
-fn run_stats(s: &Stats, wall: f64) -> RunStats {
+pub(crate) fn run_stats(s: &Stats, wall: f64) -> RunStats {
     let mut r = RunStats {
         steps: s.steps,
         residual_calls: s.residual_calls,

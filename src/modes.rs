@@ -1,0 +1,218 @@
+//! Deformation modes by name: what `kind = "<name>"` in a scenario's `[model]` resolves to when
+//! it is not one of the built-in kinds (`line`, `sheet`, `shear`). A new mode is a [`Mode`]
+//! — its configuration type, its [`CellArray`] built discretely or as the continuum on `n`
+//! segments (the mode declares its own continuum scaling of drag, viscosity and forces), and
+//! what to record of a state — plus one [`register`] call; the scenario layer, the runner
+//! ([`run_mode`]), the outputs, plots, sweeps, `--set`, `--jobs` and the Python module then
+//! treat it like the built-in kinds. `examples/tethered_line.rs` is one, out of the library's
+//! source, in one file (`docs/guide-deformation-mode.md`).
+//!
+//! The registry is a [`crate::registry::Registry`] like the division rules' and growth laws':
+//! the `[model]` table's keys other than `kind`, `models` and `nodes` are the mode's
+//! parameters, deserialized into [`Mode::Config`] and checked by [`Mode::check`] when the
+//! scenario loads, errors naming `model.<key>`.
+
+use crate::array::{ArrayProblem, CellArray};
+use crate::observe::{ModelKind, Profile, RunRecord, Series};
+use crate::registry::RegistryError;
+use crate::registry::{parse, Constructor, Kind, Named, ParamError, Params, Registry};
+use crate::sheet::config::SolverSettings;
+use crate::sheet::run::{all_times, integrate, run_stats, Outputs};
+use serde::de::DeserializeOwned;
+use serde::Serialize;
+use std::fmt::Debug;
+use std::sync::Arc;
+use std::time::Instant;
+
+/// A deformation mode: how a scenario's parameters become a cell array, and what is recorded of
+/// its states.
+///
+/// Every record has the series `length`, `max_pressure`, `min_pressure`, `max_stretch`,
+/// `min_stretch` (the extremes taken over the [`Profile`] that [`observe`](Mode::observe)
+/// returns) plus the mode's [`extra_series`](Mode::extra_series), and at the profile times the
+/// profiles themselves.
+pub trait Mode: Send + Sync + 'static {
+    /// The `[model]` table's keys (other than `kind`, `models`, `nodes`).
+    type Config: Serialize + DeserializeOwned + Debug + Send + Sync + 'static;
+    /// The cell array.
+    type Array: CellArray;
+
+    /// Checks the configuration when the scenario loads (default: nothing); the error names
+    /// the key and its valid range.
+    fn check(_config: &Self::Config) -> Result<(), ParamError> {
+        Ok(())
+    }
+
+    /// The array and its initial state: the discrete array, or the continuum on `nodes`
+    /// segments (`None`: the mode's default).
+    fn build(
+        config: &Self::Config,
+        model: ModelKind,
+        nodes: Option<usize>,
+    ) -> Result<(Self::Array, Vec<f64>), ParamError>;
+
+    /// The per-cell (per-segment) profile of a state at `t`: reference and current positions,
+    /// stretch, pressure and any extra fields.
+    fn observe(array: &Self::Array, t: f64, y: &[f64]) -> Profile;
+
+    /// The array's length `l(t)`.
+    fn length(array: &Self::Array, t: f64, y: &[f64]) -> f64;
+
+    /// Further scalar series of a state (default: none).
+    fn extra_series(_array: &Self::Array, _t: f64, _y: &[f64]) -> Vec<(String, f64)> {
+        Vec::new()
+    }
+}
+
+/// A configured mode, ready to run (what the registry builds from a scenario's table).
+pub trait ModeRun: Send + Sync + Debug {
+    /// Runs one model (discrete, or continuum on `nodes`).
+    fn run(
+        &self,
+        model: ModelKind,
+        nodes: Option<usize>,
+        solver: &SolverSettings,
+        out: &Outputs,
+    ) -> RunRecord;
+}
+
+/// A mode with its configuration.
+struct Configured<M: Mode>(M::Config);
+
+impl<M: Mode> Debug for Configured<M> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.0.fmt(f)
+    }
+}
+
+impl<M: Mode> ModeRun for Configured<M> {
+    fn run(
+        &self,
+        model: ModelKind,
+        nodes: Option<usize>,
+        solver: &SolverSettings,
+        out: &Outputs,
+    ) -> RunRecord {
+        run_mode::<M>(&self.0, model, nodes, solver, out)
+    }
+}
+
+/// A mode as a scenario's configuration holds it: its name (`kind`), resolved parameters and
+/// the configured mode.
+pub type ModeSpec = Named<Modes>;
+
+/// The registry of deformation modes (selected by the `kind` key).
+pub struct Modes;
+
+static MODES: Registry<Arc<dyn ModeRun>> = Registry::new("deformation mode", "kind", Vec::new);
+
+impl Kind for Modes {
+    type Law = Arc<dyn ModeRun>;
+    fn registry() -> &'static Registry<Self::Law> {
+        &MODES
+    }
+}
+
+/// Registers the mode `M` under `name` (`[a-z0-9_]+`; not a built-in kind, not taken):
+/// scenarios may then write `kind = "<name>"` with `M::Config`'s keys in `[model]`.
+///
+/// ```
+/// let e = celltissue::modes::register::<NoMode>("line").unwrap_err();
+/// assert_eq!(e.to_string(), "a deformation mode named `line` is already registered");
+/// # use celltissue::{modes::Mode, observe::{ModelKind, Profile}, registry::ParamError};
+/// # struct NoMode;
+/// # impl Mode for NoMode {
+/// #     type Config = ();
+/// #     type Array = celltissue::line::Line<celltissue::NeoHookean>;
+/// #     fn build(_: &(), _: ModelKind, _: Option<usize>)
+/// #         -> Result<(Self::Array, Vec<f64>), ParamError> { unreachable!() }
+/// #     fn observe(_: &Self::Array, _: f64, _: &[f64]) -> Profile { unreachable!() }
+/// #     fn length(_: &Self::Array, _: f64, _: &[f64]) -> f64 { unreachable!() }
+/// # }
+/// ```
+pub fn register<M: Mode>(name: &str) -> Result<(), RegistryError> {
+    if crate::scenario::model::KINDS.contains(&name) {
+        return Err(RegistryError::Duplicate(name.to_owned(), MODES.what()));
+    }
+    let ctor: Constructor<Arc<dyn ModeRun>> = Arc::new(|p: &Params| {
+        let (config, resolved) = parse::<M::Config>(p)?;
+        M::check(&config)?;
+        Ok((
+            Arc::new(Configured::<M>(config)) as Arc<dyn ModeRun>,
+            resolved,
+        ))
+    });
+    MODES.register(name, ctor)
+}
+
+/// The registered mode names (the built-in kinds not included), sorted.
+pub fn names() -> Vec<String> {
+    MODES.names()
+}
+
+/// Runs a mode: builds the array, integrates it over the union of the series and profile
+/// times, and records the series and profiles. A failed build or solve gives a record with
+/// `error` (and whatever it had computed before the failure).
+pub fn run_mode<M: Mode>(
+    config: &M::Config,
+    model: ModelKind,
+    nodes: Option<usize>,
+    solver: &SolverSettings,
+    out: &Outputs,
+) -> RunRecord {
+    let mut rec = RunRecord {
+        label: String::new(),
+        model,
+        parameters: serde_json::to_value(config).unwrap_or_default(),
+        series: Series::default(),
+        profiles: Vec::new(),
+        stats: Default::default(),
+        divisions: Vec::new(),
+        error: None,
+    };
+    let times = match all_times(out) {
+        Ok(t) => t,
+        Err(e) => {
+            rec.error = Some(e.to_string());
+            return rec;
+        }
+    };
+    let (array, y0) = match M::build(config, model, nodes) {
+        Ok(built) => built,
+        Err(e) => {
+            rec.error = Some(format!("invalid {e}"));
+            return rec;
+        }
+    };
+    let start = Instant::now();
+    let mut problem = ArrayProblem::new(array);
+    let (states, stats, error) = integrate(&mut problem, &y0, &times, solver);
+    rec.stats = run_stats(&stats, start.elapsed().as_secs_f64());
+    rec.error = error;
+    let array = &problem.array;
+    for (t, y) in &states {
+        let profile = M::observe(array, *t, y);
+        if out.times.contains(t) {
+            let s = &mut rec.series;
+            let extreme = |v: &[f64], max: bool| {
+                v.iter()
+                    .copied()
+                    .reduce(if max { f64::max } else { f64::min })
+                    .unwrap_or(f64::NAN)
+            };
+            s.t.push(*t);
+            s.length.push(M::length(array, *t, y));
+            s.max_pressure.push(extreme(&profile.pressure, true));
+            s.min_pressure.push(extreme(&profile.pressure, false));
+            s.max_stretch.push(extreme(&profile.stretch, true));
+            s.min_stretch.push(extreme(&profile.stretch, false));
+            for (k, v) in M::extra_series(array, *t, y) {
+                s.extra.entry(k).or_default().push(v);
+            }
+        }
+        if out.profile_times.contains(t) {
+            rec.profiles.push(profile);
+        }
+    }
+    rec
+}
