@@ -1,5 +1,6 @@
 //! Writers: from a [`Summary`] to files in an output directory — `summary.json` (metadata,
-//! provenance, series), a numpy `.npz` per run ([`npz`]), CSV series and profiles, VTU/PVD
+//! provenance, series), a numpy `.npz` per run ([`npz`]), with the `hdf5` feature one
+//! `results.h5` of every run (`h5`), CSV series and profiles, VTU/PVD
 //! snapshots for ParaView ([`vtu`]), the resolved `scenario.toml`, and PNG plots laid out like
 //! the thesis figures ([`figures`], built on the reusable [`plot`] module). Every file is
 //! written atomically ([`atomic`]) and recorded in the directory's manifest ([`manifest`]).
@@ -12,6 +13,8 @@ pub mod files;
 pub mod finite;
 #[cfg(feature = "plots")]
 pub mod fonts;
+#[cfg(feature = "hdf5")]
+pub mod h5;
 #[cfg(feature = "cli")]
 pub mod interrupt;
 pub mod manifest;
@@ -122,6 +125,12 @@ pub fn write_all_with(
     )?);
     stage("arrays (.npz)");
     w.data.extend(files::write_arrays(dir, summary)?);
+    #[cfg(feature = "hdf5")]
+    {
+        stage("results.h5");
+        w.data
+            .push(h5::write_results(dir, summary, opts.provenance.as_ref())?);
+    }
     stage("CSV");
     w.data.extend(files::write_csvs(dir, summary)?);
     stage("VTU/PVD");
@@ -143,4 +152,4 @@ pub fn write_all_with(
 }
 
 /// Stages of [`write_all_with`] reported to its progress bar.
-pub const WRITE_STAGES: u64 = 5;
+pub const WRITE_STAGES: u64 = 5 + cfg!(feature = "hdf5") as u64;

@@ -21,13 +21,13 @@ use std::io::{self, Seek, Write};
 use std::path::Path;
 
 /// One member: its shape and data.
-enum Member {
+pub(crate) enum Member {
     F64(Vec<u64>, Vec<f64>),
     I64(Vec<u64>, Vec<i64>),
 }
 
 /// The members of a run's archive, by name (without `.npy`).
-fn members(rec: &RunRecord) -> BTreeMap<String, Member> {
+pub(crate) fn members(rec: &RunRecord) -> BTreeMap<String, Member> {
     let mut m = BTreeMap::new();
     for (k, v) in super::files::series_columns(rec) {
         m.insert(
