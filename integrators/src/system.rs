@@ -155,7 +155,7 @@ impl SystemCache {
         };
         let ncolours = colour_cols.len();
         self.n = n;
-        self.pattern = Some(pattern);
+        let old_pattern = self.pattern.replace(pattern);
         self.ncolours = ncolours;
         self.eatol = if map.is_empty() {
             Vec::new()
@@ -166,7 +166,27 @@ impl SystemCache {
         self.atol = atol;
         self.algebraic = algebraic;
         self.colour_cols = colour_cols;
-        self.spares = Spares::default();
+        // Spares survive a resize that keeps a band (a dividing line): vectors are resized
+        // when taken, band matrices and solvers grow in place here; anything else is dropped.
+        // Their contents are stale either way, as every spare's is.
+        let same_band = matches!(
+            (&old_pattern, &self.pattern),
+            (Some(a @ Pattern::Banded { .. }), Some(b)) if a == b
+        );
+        let spares = std::mem::take(&mut self.spares);
+        if same_band {
+            self.spares.vecs = spares.vecs;
+            self.spares.matrices = spares
+                .matrices
+                .into_iter()
+                .filter_map(|mut m| m.grow(n).then_some(m))
+                .collect();
+            self.spares.solvers = spares
+                .solvers
+                .into_iter()
+                .filter_map(|mut l| l.grow(n).then_some(l))
+                .collect();
+        }
         self.no_user_jacobian = false;
         Ok(())
     }
@@ -341,9 +361,10 @@ impl<'a> System<'a> {
         }
     }
 
-    /// Returns a vector to the spares (one of another length is dropped).
+    /// Returns a vector to the spares (one of another length too: [`take_vec`](Self::take_vec)
+    /// resizes it, keeping its allocation across a resize of the problem).
     pub(crate) fn give_vec(&mut self, v: Vec<f64>) {
-        if v.len() == self.dim() {
+        if v.capacity() > 0 {
             self.cache.spares.vecs.push(v);
         }
     }

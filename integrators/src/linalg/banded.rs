@@ -65,11 +65,22 @@ impl SolutionMap for Identity {
     }
 }
 
+/// Whether a band of an `n × n` matrix may have been narrowed by [`clamped`] (then the
+/// declared band is not known, and the storage cannot grow in place).
+fn may_be_clamped(n: usize, lower: usize, upper: usize) -> bool {
+    lower.max(upper) + 1 >= n
+}
+
+/// Band widths of an `n × n` matrix: at most `n − 1`.
+fn clamped(n: usize, lower: usize, upper: usize) -> (usize, usize) {
+    let m = n.saturating_sub(1);
+    (lower.min(m), upper.min(m))
+}
+
 impl BandMatrix {
     /// A zero `n × n` band matrix; `lower`/`upper` are clamped to `n − 1`.
     pub fn zeros(n: usize, lower: usize, upper: usize) -> Self {
-        let m = n.saturating_sub(1);
-        let (lower, upper) = (lower.min(m), upper.min(m));
+        let (lower, upper) = clamped(n, lower, upper);
         let ld = 2 * lower + upper + 1;
         Self {
             n,
@@ -77,6 +88,19 @@ impl BandMatrix {
             upper,
             data: vec![0.0; ld * n],
         }
+    }
+
+    /// Grows the matrix to `n × n` in place, keeping its storage, when its clamped band is the
+    /// same at the new size (`false` otherwise, the matrix unchanged). The added columns are
+    /// zero; the old entries stay, so the caller refills the matrix before use, as a reused
+    /// one's (a line that gains cells keeps its band: this saves a zeroed allocation).
+    pub(crate) fn grow(&mut self, n: usize) -> bool {
+        if n < self.n || may_be_clamped(self.n, self.lower, self.upper) {
+            return false;
+        }
+        self.data.resize(self.ld() * n, 0.0);
+        self.n = n;
+        true
     }
 
     /// Slots per column of the storage (`2·lower + upper + 1`).
@@ -538,8 +562,8 @@ impl TriLu {
 
 impl BandLu {
     pub(crate) fn new(n: usize, lower: usize, upper: usize) -> Self {
-        let shape = BandMatrix::zeros(n, lower, upper);
-        if (shape.lower, shape.upper) == (1, 1) {
+        let (lower, upper) = clamped(n, lower, upper);
+        if (lower, upper) == (1, 1) {
             return Self {
                 n,
                 l: 1,
@@ -555,9 +579,9 @@ impl BandLu {
         }
         Self {
             n,
-            l: shape.lower,
-            u: shape.upper,
-            ab: vec![0.0; shape.data.len()],
+            l: lower,
+            u: upper,
+            ab: vec![0.0; (2 * lower + upper + 1) * n],
             ipiv: vec![0; n],
             dinv: vec![0.0; n],
             factored: false,
@@ -565,6 +589,30 @@ impl BandLu {
             flops: 0,
             parallel: crate::Parallelism::Serial,
         }
+    }
+
+    /// Grows the factor storage to `n` unknowns in place when the clamped band stays the same
+    /// (`false` otherwise, nothing changed); the factorisation is then stale, as after
+    /// [`new`](Self::new).
+    pub(crate) fn grow(&mut self, n: usize) -> bool {
+        if n < self.n || may_be_clamped(self.n, self.l, self.u) {
+            return false;
+        }
+        match &mut self.tri {
+            Some(t) => {
+                t.mult.resize(n, 0.0);
+                t.swap.resize(n, false);
+                t.urow.resize(n, [0.0; 3]);
+            }
+            None => {
+                self.ab.resize((2 * self.l + self.u + 1) * n, 0.0);
+                self.ipiv.resize(n, 0);
+                self.dinv.resize(n, 0.0);
+            }
+        }
+        self.n = n;
+        self.factored = false;
+        true
     }
 
     /// Runs the compact tridiagonal factorisation on the column entries `col(j)`.
@@ -874,6 +922,47 @@ mod tests {
             data[4 * j + 3] = if j + 1 < n { (2.1 * f).cos() } else { 0.0 };
         }
         data
+    }
+
+    /// A band matrix with entries at every in-band slot (diagonally dominant).
+    fn filled(n: usize, l: usize, u: usize) -> BandMatrix {
+        let mut m = BandMatrix::zeros(n, l, u);
+        for j in 0..n {
+            let (r0, r1) = m.col_range(j);
+            for i in r0..r1 {
+                let k = m.index(i, j).unwrap();
+                m.data[k] = if i == j {
+                    4.0 + j as f64
+                } else {
+                    (i + 2 * j) as f64 * 0.1 - 0.3
+                };
+            }
+        }
+        m
+    }
+
+    #[test]
+    fn grown_storage_factors_and_solves_as_new_storage() {
+        for (l, u) in [(1, 1), (2, 2), (1, 3)] {
+            // a factor of the small matrix leaves stale entries in every buffer
+            let (mut m, mut lu) = (filled(7, l, u), BandLu::new(7, l, u));
+            lu.factor(&m).unwrap();
+            assert!(m.grow(12) && lu.grow(12));
+            assert!(!m.grow(5) && !lu.grow(5), "shrinking is not growth");
+            let fresh = filled(12, l, u);
+            m.data.copy_from_slice(&fresh.data); // the caller refills a grown matrix
+            let mut lu_new = BandLu::new(12, l, u);
+            lu.factor(&m).unwrap();
+            lu_new.factor(&fresh).unwrap();
+            let b: Vec<f64> = (0..12).map(|i| (i as f64).sin()).collect();
+            let (mut x, mut x_new) = (b.clone(), b);
+            lu.solve(&mut x);
+            lu_new.solve(&mut x_new);
+            assert_eq!(x, x_new, "l = {l}, u = {u}");
+        }
+        // a band clamped by a small size widens when it grows: no growth in place
+        let mut m = BandMatrix::zeros(2, 2, 2);
+        assert!(!m.grow(10));
     }
 
     #[test]

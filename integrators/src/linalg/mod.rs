@@ -202,6 +202,16 @@ impl Matrix {
             Matrix::Sparse(m) => m.pattern.n(),
         }
     }
+
+    /// Grows a band matrix to `n × n` in place, keeping its storage, when its band is the same
+    /// at the new size; `false` for any other change (the caller then allocates a new one).
+    /// Its entries are stale: refill before use.
+    pub(crate) fn grow(&mut self, n: usize) -> bool {
+        match self {
+            Matrix::Banded(m) => m.grow(n),
+            _ => n == self.n(),
+        }
+    }
     /// Sets every stored value to zero (keeps the pattern).
     pub fn set_zero(&mut self) {
         let d = match self {
@@ -356,6 +366,15 @@ pub fn fill_complex_pair(j0: &Matrix, j1: &Matrix, alpha: f64, beta: f64, out: &
 }
 
 impl LinearSolver {
+    /// Grows a band solver to `n` unknowns in place when its band is the same at the new size
+    /// (factorisation stale); `false` for any other change.
+    pub(crate) fn grow(&mut self, n: usize) -> bool {
+        match &mut self.inner {
+            Inner::Banded(lu) => lu.grow(n),
+            _ => false,
+        }
+    }
+
     /// A solver for `n × n` matrices with this pattern.
     pub fn new(n: usize, pattern: &Pattern) -> Self {
         let inner = match pattern {

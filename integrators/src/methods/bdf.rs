@@ -1242,10 +1242,19 @@ impl Method for Bdf {
         if n != self.n || pattern_changed {
             self.n = n;
             self.pattern = Some(sys.pattern().clone());
-            self.jy = None;
-            self.jyp = None;
-            self.iter = None;
-            self.lin = None;
+            // the same band at a new size (a line that gained cells): the Newton matrices and
+            // the factor storage grow in place (refilled before use), else they are rebuilt
+            let grown = !pattern_changed
+                && self.jy.as_mut().is_some_and(|m| m.grow(n))
+                && self.jyp.as_mut().is_some_and(|m| m.grow(n))
+                && self.lin.as_mut().is_some_and(|l| l.grow(n))
+                && self.lin.as_ref().is_some_and(|l| l.combines_in_place());
+            if !grown {
+                self.jy = None;
+                self.jyp = None;
+                self.iter = None;
+                self.lin = None;
+            }
             // the working vectors are taken at the first step (`ensure_work`), after the
             // starting-step estimate has handed its scratch back
             for v in [
