@@ -1,0 +1,109 @@
+use super::*;
+
+#[test]
+fn interpolation_reproduces_polynomials() {
+    // cubic through 4 nodes: exact value and derivative
+    let f = |t: f64| 1.0 + 2.0 * t - t * t + 0.5 * t * t * t;
+    let df = |t: f64| 2.0 - 2.0 * t + 1.5 * t * t;
+    let z = [1.0, 0.7, 0.2, -0.4];
+    let mut p = [0.0; NC];
+    let mut dp = [0.0; NC];
+    interp_coeffs(&z, 1.3, &mut p, &mut dp);
+    let v: f64 = (0..4).map(|i| p[i] * f(z[i])).sum();
+    let d: f64 = (0..4).map(|i| dp[i] * f(z[i])).sum();
+    assert!((v - f(1.3)).abs() < 1e-12);
+    assert!((d - df(1.3)).abs() < 1e-12);
+}
+
+#[test]
+fn split_vector_passes_match_the_whole_pass() {
+    // the two-thread split of the predictor/weights pass and of the error-norm sweep, run
+    // here on one thread at a block boundary: predictor and weights bitwise, norms merged
+    let n = 3 * BLK + 17;
+    let vec_of = |k: f64| -> Vec<f64> { (0..n).map(|i| (i as f64 * k).sin() + 1.5).collect() };
+    let (h0, h1, h2) = (vec_of(0.3), vec_of(0.7), vec_of(1.1));
+    let mut list = [(&[][..], 0.0, 0.0); NC];
+    list[0] = (&h0[..], 1.7, 0.4);
+    list[1] = (&h1[..], -0.9, -1.3);
+    list[2] = (&h2[..], 0.2, 0.9);
+    let items = Items { list, len: 3 };
+    let atol = vec![1e-6; n];
+    let alg: Vec<bool> = (0..n).map(|i| i % 5 == 0).collect();
+    // the identity and a line's cell map (anchor + differences with the previous
+    // component, so the sweep's partners cross the block and split boundaries)
+    let mut rows = vec![crate::Row::Anchor { size: 2.0 }];
+    rows.extend((1..n).map(|i| crate::Row::Difference { partner: i - 1 }));
+    let line = ErrorMap::from_rows(rows).expect("valid rows");
+    for mut map in [ErrorMap::default(), line] {
+        let eatol = if map.is_empty() {
+            atol.clone()
+        } else {
+            map.effective_atol(&atol, 1e-3)
+        };
+        let run = |mid: usize| {
+            let (mut y, mut yp, mut nw, mut ew) =
+                (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+            let (y1, y2) = y.split_at_mut(mid);
+            let (yp1, yp2) = yp.split_at_mut(mid);
+            let (n1, n2) = nw.split_at_mut(mid);
+            let (e1, e2) = ew.split_at_mut(mid);
+            let w = |nwt, ewt| Weights {
+                nwt,
+                ewt: Some(ewt),
+                atol: &eatol,
+                algebraic: &alg,
+                rtol: 1e-3,
+                map: &map,
+            };
+            poly_blocks(items.as_slice(), &h0, 0, y1, yp1, Some(w(n1, e1)));
+            poly_blocks(items.as_slice(), &h0, mid, y2, yp2, Some(w(n2, e2)));
+            (y, yp, nw, ew)
+        };
+        let whole = run(n);
+        let split = run(BLK);
+        assert_eq!(whole, split);
+        let ycur = vec_of(0.5);
+        let norm_items = [Items { list, len: 3 }, Items { list, len: 2 }];
+        for norm in [ErrorNorm::Max, ErrorNorm::Rms] {
+            let a = norm_blocks(&norm_items, &ycur, &whole.3, norm, &map, 0, n);
+            let mut a1 = norm_blocks(&norm_items, &ycur, &whole.3, norm, &map, 0, BLK);
+            let a2 = norm_blocks(&norm_items, &ycur, &whole.3, norm, &map, BLK, n);
+            for (x, y) in a1.iter_mut().zip(&a2) {
+                x.merge(y);
+            }
+            let close = |x: f64, y: f64| (x - y).abs() <= 1e-14 * x.abs().max(1e-300);
+            // (two orders in the sweep: the other accumulators stay empty)
+            for ((x, y), it) in a.iter().zip(&a1).zip(&norm_items) {
+                assert!(
+                    x.finish(n) > 0.0 && close(x.finish(n), y.finish(n)),
+                    "{norm:?}"
+                );
+                // against the materialised error vector through `ErrorMap::norm`
+                let err: Vec<f64> = (0..n)
+                    .map(|i| ycur[i] - it.as_slice().iter().map(|&(v, c, _)| c * v[i]).sum::<f64>())
+                    .collect();
+                let direct = map.norm(&err, &whole.3, norm);
+                assert!(
+                    close(x.finish(n), direct),
+                    "{norm:?}: {} vs {direct}",
+                    x.finish(n)
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn confluent_node_uses_the_derivative() {
+    // quadratic through (1, f(1)), and the double node (0, f(0), f'(0))
+    let f = |t: f64| 3.0 - t + 2.0 * t * t;
+    let df = |t: f64| -1.0 + 4.0 * t;
+    let z = [1.0, 0.0, 0.0];
+    let mut p = [0.0; NC];
+    let mut dp = [0.0; NC];
+    interp_coeffs(&z, 0.6, &mut p, &mut dp);
+    let v = p[0] * f(1.0) + p[1] * f(0.0) + p[2] * f(0.0) + p[3] * df(0.0);
+    let d = dp[0] * f(1.0) + dp[1] * f(0.0) + dp[2] * f(0.0) + dp[3] * df(0.0);
+    assert!((v - f(0.6)).abs() < 1e-12);
+    assert!((d - df(0.6)).abs() < 1e-12);
+}
