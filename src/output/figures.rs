@@ -284,7 +284,12 @@ pub fn write_figures(
             .runs
             .iter()
             .all(|r| r.sweep.as_ref().and_then(|p| p.value).is_some());
-        if numeric && groups.len() >= 2 {
+        // an ensemble's seed is not a parameter to plot against (see `super::ensemble`)
+        let ensemble = scenario
+            .sweep
+            .as_ref()
+            .is_some_and(|s| s.ensemble.is_some());
+        if numeric && groups.len() >= 2 && !ensemble {
             let stretch_label = if shear { "tan θ" } else { "λ" };
             for (key, ylabel) in [
                 ("pressure", "p"),

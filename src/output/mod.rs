@@ -1,12 +1,14 @@
 //! Writers: from a [`Summary`] to files in an output directory — `summary.json` (metadata,
 //! provenance, series), a numpy `.npz` per run ([`npz`]), with the `hdf5` feature one
-//! `results.h5` of every run (`h5`), CSV series and profiles, VTU/PVD
+//! `results.h5` of every run (`h5`), CSV series and profiles, ensemble statistics
+//! ([`ensemble`]), VTU/PVD
 //! snapshots for ParaView ([`vtu`]), the resolved `scenario.toml`, and PNG plots laid out like
 //! the thesis figures ([`figures`], built on the reusable [`plot`] module). Every file is
 //! written atomically ([`atomic`]) and recorded in the directory's manifest ([`manifest`]).
 //! Nothing here runs a model.
 
 pub mod atomic;
+pub mod ensemble;
 #[cfg(feature = "plots")]
 pub mod figures;
 pub mod files;
@@ -133,6 +135,8 @@ pub fn write_all_with(
     }
     stage("CSV");
     w.data.extend(files::write_csvs(dir, summary)?);
+    w.data
+        .extend(ensemble::write_ensemble(dir, scenario, summary)?);
     stage("VTU/PVD");
     w.data
         .extend(vtu::write_line_snapshots(dir, scenario, summary)?);
@@ -140,7 +144,9 @@ pub fn write_all_with(
     #[cfg(feature = "plots")]
     if !opts.no_plots {
         stage("plots");
-        for (path, result) in figures::write_figures(dir, scenario, summary) {
+        let figures = figures::write_figures(dir, scenario, summary);
+        let ensemble = ensemble::ensemble_figures(dir, scenario, summary);
+        for (path, result) in figures.into_iter().chain(ensemble) {
             match result {
                 Ok(()) => w.plots.push(path),
                 Err(plot::PlotError::NoData) => {}

@@ -52,6 +52,8 @@ pub struct SweepInfo {
     pub name: String,
     /// Every swept key, in declaration order (`["model.k1", "model.drag_exponent"]`).
     pub parameters: Vec<String>,
+    /// The ensemble's seed key (`"model.division.seed"`) when the sweep has an ensemble.
+    pub ensemble: Option<String>,
 }
 
 /// A validated scenario, ready to run.
@@ -148,7 +150,9 @@ pub fn resolve(table: toml::Table) -> Result<Scenario, ScenarioError> {
         None => None,
         Some(sw) => {
             let parameters = swept_keys(sw)?;
+            let ensemble = crate::scenario::sweep::ensemble_key(sw)?;
             Some(SweepInfo {
+                ensemble,
                 key: parameters.join(","),
                 name: points
                     .first()

@@ -49,6 +49,37 @@ pub struct SweepSection {
     /// Zipped lists: the `i`-th values of these parameters run together.
     #[serde(default)]
     pub zip: Option<Vec<SweepAxis>>,
+    /// Realisations of a stochastic model: the seed key runs through `realisations`
+    /// consecutive values, as the product's last (fastest) axis; the outputs add the
+    /// ensemble's statistics ([`crate::output::ensemble`]).
+    #[serde(default)]
+    pub ensemble: Option<EnsembleSpec>,
+}
+
+/// `ensemble = { realisations = 32 }`: the seeded runs of one parameter set.
+///
+/// ```
+/// use celltissue::scenario::sweep::{expand, SweepSection};
+/// let s: SweepSection = toml::from_str("ensemble = { realisations = 3, first_seed = 7 }")
+///     .unwrap();
+/// let labels: Vec<String> = expand(&s).unwrap().iter().map(|p| p.assignment()).collect();
+/// assert_eq!(labels, ["seed=7", "seed=8", "seed=9"]);
+/// ```
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EnsembleSpec {
+    /// The seed's dotted key (default `"division.seed"`, the stochastic division rule's).
+    #[serde(default = "default_seed_key")]
+    pub parameter: String,
+    /// Number of realisations, 2 to [`MAX_SWEEP_POINTS`].
+    pub realisations: usize,
+    /// The first seed (default 0); realisation `i` has seed `first_seed + i`.
+    #[serde(default)]
+    pub first_seed: u32,
+}
+
+fn default_seed_key() -> String {
+    "division.seed".into()
 }
 
 /// One swept parameter of a `grid` or `zip`.
@@ -120,6 +151,16 @@ pub fn sweep_key(at: &str, parameter: &str) -> Result<Vec<String>, ScenarioError
         "model" | "solver" | "output" | "plots" => parts,
         _ => std::iter::once("model".to_string()).chain(parts).collect(),
     })
+}
+
+/// The ensemble's seed key (full dotted key), if the sweep has an ensemble.
+pub fn ensemble_key(sw: &SweepSection) -> Result<Option<String>, ScenarioError> {
+    match &sw.ensemble {
+        None => Ok(None),
+        Some(e) => Ok(Some(
+            sweep_key("sweep.ensemble.parameter", &e.parameter)?.join("."),
+        )),
+    }
 }
 
 /// The full keys a sweep sets (empty without a sweep), e.g. `["model.K"]`.
@@ -206,6 +247,25 @@ fn axes(sw: &SweepSection) -> Result<Vec<Vec<Axis>>, ScenarioError> {
             ));
         }
         dims.push(group);
+    }
+    if let Some(e) = &sw.ensemble {
+        if !(2..=MAX_SWEEP_POINTS).contains(&e.realisations) {
+            return Err(ScenarioError::key(
+                "sweep.ensemble.realisations",
+                format!(
+                    "= {} must be in 2..={MAX_SWEEP_POINTS} (an ensemble has several realisations)",
+                    e.realisations
+                ),
+            ));
+        }
+        let seeds =
+            (0..e.realisations as i64).map(|i| toml::Value::Integer(e.first_seed as i64 + i));
+        let a = SweepAxis {
+            parameter: e.parameter.clone(),
+            values: seeds.collect(),
+            labels: None,
+        };
+        dims.push(vec![axis("sweep.ensemble".into(), &a)?]);
     }
     if sw.grid.as_ref().is_some_and(Vec::is_empty) {
         return Err(ScenarioError::key(
