@@ -15,9 +15,10 @@
 //! 11·rtol at 1e-8; ESDIRK errs by 3–7·rtol on Fig 2.5 and 6–120·rtol on Fig 2.8 at 1e-6, its
 //! error falling like rtol^0.7 (second order with error-per-step control). Under the cell-unit
 //! contract the former 100× gap between ESDIRK and BDF on Fig 2.5 (2.2e-3 against 2e-5 in the
-//! minimum stretch, under the position test) is down to 4–8×. The one-step methods' large
-//! errors on the quasi-static stiff cluster (K = 1e-5: the stretches follow the ramp almost
-//! algebraically) are not explained yet.
+//! minimum stretch, under the position test) is down to 4–8×; ESDIRK's rtol^0.7 is tolerance
+//! proportionality under error-per-step control for order 2. The one-step methods' large
+//! errors on the quasi-static stiff cluster (K = 1e-5) grow as K → 0 and vanish at K ≥ 1e-3:
+//! order reduction on a singular perturbation (BENCHMARKS.md, "Methods on cell models").
 
 use celltissue::observe::RunRecord;
 use celltissue::scenario::execute::run_spec;
