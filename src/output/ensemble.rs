@@ -11,7 +11,8 @@
 //!   realisations in 20 bins of [0, 1]: divisions per realisation in each bin, their mean and
 //!   5–95 % quantiles, and the bin's fraction of all divisions;
 //! * with plots, `ensemble_length.png` and `ensemble_cells.png` — every group's mean with its
-//!   5–95 % band.
+//!   5–95 % band — and `ensemble_divisions.png`, divisions per realisation against `x_d/l`
+//!   (mean and 5–95 % band).
 //!
 //! Each realisation is a deterministic function of its seed, and the statistics of the
 //! realisations in seed order, so the files do not depend on `--jobs` or on sharding.
@@ -171,6 +172,28 @@ pub fn statistics_csv(g: &Group<'_>) -> String {
 /// A group's division-location histogram as CSV (see the module docs); `None` when no
 /// realisation divided.
 pub fn divisions_csv(g: &Group<'_>) -> Option<String> {
+    let hist = location_histogram(g)?;
+    let total: f64 = hist.iter().map(|(_, d)| d[0]).sum();
+    let mut out = String::from("bin_lo,bin_hi,per_realisation_mean");
+    for (_, suffix) in QUANTILES {
+        let _ = write!(out, ",per_realisation_{suffix}");
+    }
+    out.push_str(",fraction\n");
+    let half = 0.5 / LOCATION_BINS as f64;
+    for (centre, d) in &hist {
+        let _ = write!(out, "{},{}", centre - half, centre + half);
+        for x in d {
+            let _ = write!(out, ",{x}");
+        }
+        // the mean count over the total of the means is the bin's share of all divisions
+        let _ = writeln!(out, ",{}", d[0] / total);
+    }
+    Some(out)
+}
+
+/// Divisions per realisation in each `x_d/l` bin: the bin's centre and the mean and
+/// [`QUANTILES`] over the realisations; `None` when no realisation divided.
+fn location_histogram(g: &Group<'_>) -> Option<Vec<(f64, [f64; 6])>> {
     let runs = usable(g);
     if runs.iter().all(|r| r.divisions.is_empty()) {
         return None;
@@ -186,27 +209,13 @@ pub fn divisions_csv(g: &Group<'_>) -> Option<String> {
             c
         })
         .collect();
-    let total: f64 = counts.iter().flatten().sum();
-    let mut out = String::from("bin_lo,bin_hi,per_realisation_mean");
-    for (_, suffix) in QUANTILES {
-        let _ = write!(out, ",per_realisation_{suffix}");
-    }
-    out.push_str(",fraction\n");
-    for b in 0..LOCATION_BINS {
-        let mut v: Vec<f64> = counts.iter().map(|c| c[b]).collect();
-        let d = describe(&mut v);
-        let sum: f64 = counts.iter().map(|c| c[b]).sum();
-        let (lo, hi) = (
-            b as f64 / LOCATION_BINS as f64,
-            (b + 1) as f64 / LOCATION_BINS as f64,
-        );
-        let _ = write!(out, "{lo},{hi}");
-        for x in d {
-            let _ = write!(out, ",{x}");
-        }
-        let _ = writeln!(out, ",{}", sum / total);
-    }
-    Some(out)
+    let hist = (0..LOCATION_BINS)
+        .map(|b| {
+            let mut v: Vec<f64> = counts.iter().map(|c| c[b]).collect();
+            ((b as f64 + 0.5) / LOCATION_BINS as f64, describe(&mut v))
+        })
+        .collect();
+    Some(hist)
 }
 
 /// Writes every group's statistics (nothing without an ensemble); returns the paths.
@@ -308,6 +317,44 @@ pub fn ensemble_figures(
             curves,
         };
         let path = dir.join(format!("ensemble_{key}.png"));
+        let result = plot_chart(&path, &chart);
+        out.push((path, result));
+    }
+    // division locations: divisions per realisation in each x_d/l bin, mean and 5–95 %
+    let mut curves = Vec::new();
+    for (gi, g) in groups.iter().enumerate() {
+        let Some(h) = location_histogram(g) else {
+            continue;
+        };
+        let at = |k: usize| h.iter().map(|(x, d)| (*x, d[k])).collect::<Vec<_>>();
+        curves.push(Curve::new(
+            format!("{} mean", g.label),
+            Style::Line,
+            gi,
+            at(0),
+        ));
+        curves.push(Curve::new(
+            format!("{} 5–95 %", g.label),
+            Style::Dashed,
+            gi,
+            at(1),
+        ));
+        curves.push(Curve::new(String::new(), Style::Dashed, gi, at(5)));
+    }
+    if !curves.is_empty() {
+        let chart = Chart {
+            title: format!(
+                "{}: where cells divide (bins of {} of the length)",
+                scenario.name,
+                1.0 / LOCATION_BINS as f64
+            ),
+            x_label: "x_d / l".into(),
+            y_label: "divisions per realisation".into(),
+            x_axis: Axis::Linear,
+            y_axis: Axis::Linear,
+            curves,
+        };
+        let path = dir.join("ensemble_divisions.png");
         let result = plot_chart(&path, &chart);
         out.push((path, result));
     }
