@@ -14,8 +14,7 @@
 
 use crate::array::{ArrayProblem, CellArray};
 use crate::observe::{ModelKind, Profile, RunRecord, Series};
-use crate::registry::RegistryError;
-use crate::registry::{parse, Constructor, Kind, Named, ParamError, Params, Registry};
+use crate::registry::{checked, Constructor, Kind, Named, ParamError, Registry, RegistryError};
 use crate::sheet::config::SolverSettings;
 use crate::sheet::run::{all_times, integrate, run_stats, Outputs};
 use serde::de::DeserializeOwned;
@@ -134,14 +133,8 @@ pub fn register<M: Mode>(name: &str) -> Result<(), RegistryError> {
     if crate::scenario::model::KINDS.contains(&name) {
         return Err(RegistryError::Duplicate(name.to_owned(), MODES.what()));
     }
-    let ctor: Constructor<Arc<dyn ModeRun>> = Arc::new(|p: &Params| {
-        let (config, resolved) = parse::<M::Config>(p)?;
-        M::check(&config)?;
-        Ok((
-            Arc::new(Configured::<M>(config)) as Arc<dyn ModeRun>,
-            resolved,
-        ))
-    });
+    let ctor: Constructor<Arc<dyn ModeRun>> =
+        checked::<M::Config, _>(M::check, |config| Arc::new(Configured::<M>(config)));
     MODES.register(name, ctor)
 }
 

@@ -140,6 +140,22 @@ pub fn parse<L: Serialize + DeserializeOwned>(p: &Params) -> Result<(L, Params),
     Ok((law, resolved))
 }
 
+/// The constructor of a law type `L`: [`parse`] the parameters into `L`, `check` them, and
+/// `wrap` the law into the registry's object (e.g. `Arc<dyn Trait>`). What every typed
+/// registration ([`crate::events::rules::register`], [`crate::cell::growth_laws::register`],
+/// [`crate::modes::register`]) builds.
+pub fn checked<L, T>(check: fn(&L) -> Result<(), ParamError>, wrap: fn(L) -> T) -> Constructor<T>
+where
+    L: Serialize + DeserializeOwned + 'static,
+    T: 'static,
+{
+    Arc::new(move |p: &Params| {
+        let (law, resolved) = parse::<L>(p)?;
+        check(&law)?;
+        Ok((wrap(law), resolved))
+    })
+}
+
 /// The text between `prefix` and the next backquote in `message`.
 fn quoted_after<'a>(message: &'a str, prefix: &str) -> Option<&'a str> {
     let rest = &message[message.find(prefix)? + prefix.len()..];

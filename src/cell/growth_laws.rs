@@ -30,8 +30,9 @@
 //! ```
 
 use super::growth::{GrowthLaw, TanhGrowth};
-use crate::registry::RegistryError;
-use crate::registry::{parse, Constructor, Kind, Named, ParamError, Params, Registry};
+use crate::registry::{
+    checked, Constructor, Kind, Named, ParamError, Params, Registry, RegistryError,
+};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 use std::sync::Arc;
@@ -61,11 +62,7 @@ fn typed<L>() -> Constructor<Arc<dyn GrowthLaw>>
 where
     L: GrowthLaw + Serialize + DeserializeOwned + 'static,
 {
-    Arc::new(|p| {
-        let (law, resolved) = parse::<L>(p)?;
-        law.check()?;
-        Ok((Arc::new(law) as Arc<dyn GrowthLaw>, resolved))
-    })
+    checked::<L, _>(L::check, |law| Arc::new(law))
 }
 
 /// Registers the law type `L` under `name` (`[a-z0-9_]+`, not taken): line scenarios may then

@@ -28,7 +28,7 @@
 //! ```
 
 use super::division::{AgeRule, AreaDoubling, DivisionRule, RandomThreshold, SurfaceToVolume};
-use crate::registry::{parse, Constructor, Kind, Named, Registry, RegistryError};
+use crate::registry::{checked, Constructor, Kind, Named, Registry, RegistryError};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 use std::sync::Arc;
@@ -60,11 +60,7 @@ fn typed<R>() -> Constructor<Arc<dyn DivisionRule>>
 where
     R: DivisionRule + Serialize + DeserializeOwned + 'static,
 {
-    Arc::new(|p| {
-        let (rule, resolved) = parse::<R>(p)?;
-        rule.check()?;
-        Ok((Arc::new(rule) as Arc<dyn DivisionRule>, resolved))
-    })
+    checked::<R, _>(R::check, |rule| Arc::new(rule))
 }
 
 /// Registers the rule type `R` under `name` (`[a-z0-9_]+`, not taken): scenarios may then write
