@@ -4,27 +4,32 @@
 //! interrupted; a second signal exits at once (status 130).
 
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 /// Exit status after an interrupt (128 + SIGINT).
 pub const INTERRUPTED: i32 = 130;
 
-/// The flag raised by the first SIGINT/SIGTERM. Installing twice returns the same flag's
-/// clone only once (`ctrlc` allows one handler per process); later calls get a flag that is
-/// never raised.
+/// The flag raised by the first SIGINT/SIGTERM, lowered again for this run. The handler is
+/// installed once per process (`ctrlc` allows one); later calls, e.g. a program that runs the
+/// CLI several times ([`crate::cli::main_from`]), get the same flag.
 pub fn install() -> Arc<AtomicBool> {
-    let flag = Arc::new(AtomicBool::new(false));
-    let f = flag.clone();
-    let result = ctrlc::set_handler(move || {
-        if f.swap(true, Ordering::SeqCst) {
-            std::process::exit(INTERRUPTED);
+    static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
+    let flag = FLAG.get_or_init(|| {
+        let flag = Arc::new(AtomicBool::new(false));
+        let f = flag.clone();
+        let result = ctrlc::set_handler(move || {
+            if f.swap(true, Ordering::SeqCst) {
+                std::process::exit(INTERRUPTED);
+            }
+            eprintln!(
+                "\ninterrupted: writing the finished runs (interrupt again to quit without writing)"
+            );
+        });
+        if let Err(e) = result {
+            log::warn!("cannot install the interrupt handler: {e}");
         }
-        eprintln!(
-            "\ninterrupted: writing the finished runs (interrupt again to quit without writing)"
-        );
+        flag
     });
-    if let Err(e) = result {
-        log::warn!("cannot install the interrupt handler: {e}");
-    }
-    flag
+    flag.store(false, Ordering::SeqCst);
+    flag.clone()
 }
