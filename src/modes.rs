@@ -183,16 +183,16 @@ pub fn run_mode<M: Mode>(
     rec.stats = run_stats(&stats, start.elapsed().as_secs_f64());
     rec.error = error;
     let array = &problem.array;
+    let extreme = |v: &[f64], max: bool| {
+        v.iter()
+            .copied()
+            .reduce(if max { f64::max } else { f64::min })
+            .unwrap_or(f64::NAN)
+    };
     for (t, y) in &states {
         let profile = M::observe(array, *t, y);
         if out.times.contains(t) {
             let s = &mut rec.series;
-            let extreme = |v: &[f64], max: bool| {
-                v.iter()
-                    .copied()
-                    .reduce(if max { f64::max } else { f64::min })
-                    .unwrap_or(f64::NAN)
-            };
             s.t.push(*t);
             s.length.push(M::length(array, *t, y));
             s.max_pressure.push(extreme(&profile.pressure, true));

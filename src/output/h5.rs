@@ -28,6 +28,21 @@ fn text_attr(loc: &hdf5::Location, name: &str, value: &str) -> hdf5::Result<()> 
         .write_scalar(&v)
 }
 
+/// A dataset of `shape` holding `data` in `group`.
+fn dataset<T: hdf5::H5Type>(
+    group: &hdf5::Group,
+    name: &str,
+    shape: &[u64],
+    data: &[T],
+) -> hdf5::Result<()> {
+    let shape: Vec<usize> = shape.iter().map(|&d| d as usize).collect();
+    group
+        .new_dataset::<T>()
+        .shape(shape)
+        .create(name)?
+        .write_raw(data)
+}
+
 /// Writes `summary`'s runs to `dir/results.h5`; returns its path.
 pub fn write_results(
     dir: &Path,
@@ -90,24 +105,9 @@ fn write_into(
                 Ok(g) => g,
                 Err(_) => run.create_group(group)?,
             };
-            let builder = parent.new_dataset_builder();
             match member {
-                Member::F64(shape, v) => {
-                    let shape: Vec<usize> = shape.iter().map(|&d| d as usize).collect();
-                    builder
-                        .empty::<f64>()
-                        .shape(shape)
-                        .create(leaf)?
-                        .write_raw(&v)?
-                }
-                Member::I64(shape, v) => {
-                    let shape: Vec<usize> = shape.iter().map(|&d| d as usize).collect();
-                    builder
-                        .empty::<i64>()
-                        .shape(shape)
-                        .create(leaf)?
-                        .write_raw(&v)?
-                }
+                Member::F64(shape, v) => dataset(&parent, leaf, &shape, &v)?,
+                Member::I64(shape, v) => dataset(&parent, leaf, &shape, &v)?,
             }
         }
     }

@@ -29,17 +29,6 @@ pub const SCENARIO_KEYS: [&str; 3] = ["kind", "models", "nodes"];
 /// The model kinds a scenario can name.
 pub const KINDS: [&str; 3] = ["line", "sheet", "shear"];
 
-/// A law's parameter error ([`crate::registry::ParamError`]) under the table `prefix`.
-fn param_error(prefix: &str, e: &crate::registry::ParamError) -> ScenarioError {
-    let key = match e.key.as_str() {
-        "" => prefix.to_owned(),
-        k => format!("{prefix}.{k}"),
-    };
-    let detail = e.detail();
-    let message = detail.strip_prefix(": ").unwrap_or(detail.trim_start());
-    ScenarioError::key(key, message.to_owned())
-}
-
 /// The built-in kinds and the registered modes ([`crate::modes::register`]), for messages.
 fn valid_kinds() -> String {
     let mut kinds: Vec<String> = KINDS.iter().map(|k| k.to_string()).collect();
@@ -278,13 +267,11 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
             ModelConfig::Shear(Box::new(cfg), law)
         }
         other if crate::modes::names().iter().any(|n| n == other) => {
-            // a registered mode: the rest of the table is its parameters
-            let params: crate::registry::Params = match serde_json::to_value(&rest) {
-                Ok(serde_json::Value::Object(m)) => m,
-                _ => crate::registry::Params::new(),
-            };
-            let spec = crate::modes::ModeSpec::build(other, &params)
-                .map_err(|e| param_error("model", &e))?;
+            // a registered mode: the table (with its `kind`) deserializes as the growth
+            // laws' and division rules' do, errors naming `model.<key>` the same way
+            let mut table = rest;
+            table.insert("kind".into(), toml::Value::String(other.to_owned()));
+            let spec: crate::modes::ModeSpec = deserialize_at("model", toml::Value::Table(table))?;
             ModelConfig::Mode(Box::new(spec))
         }
         other => {
