@@ -4,6 +4,7 @@
 //! the unknown, and the cell-centre form is the edge form in other variables.
 
 use celltissue::array::{ArrayProblem, CellArray};
+use celltissue::cell::{Field, MaxwellBranch};
 use celltissue::sheet::exact::{sheet_free_steady, sheet_periodic_steady};
 use celltissue::sheet::shear::{ShearCellCentre, ShearColumn, ShearParams};
 use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
@@ -110,13 +111,30 @@ fn perturbed_state(sheet: &UniaxialSheet<NeoHookean>) -> Vec<f64> {
 
 #[test]
 fn declared_sparse_pattern_contains_ad_jacobian_which_matches_finite_differences() {
-    for top in [TopBoundary::Free, TopBoundary::Periodic] {
-        for m_exp in [0.0, 1.0] {
+    // plain cells, then standard-linear-solid and Maxwell cells (viscous stretches in the
+    // state) under a Gaussian external pressure
+    let branches = [
+        None,
+        Some(MaxwellBranch::standard_linear_solid(0.7, 1.3).unwrap()),
+        Some(MaxwellBranch::maxwell(0.7, 1.3).unwrap()),
+    ];
+    for (top, m_exp, branch) in [TopBoundary::Free, TopBoundary::Periodic]
+        .into_iter()
+        .flat_map(|top| [0.0, 1.0].map(|m| (top, m)))
+        .flat_map(|(top, m)| branches.map(|b| (top, m, b)))
+    {
+        {
             let p = SheetParams {
                 cells_x: 4,
                 cells_y: 3,
                 drag_exponent: m_exp,
                 top,
+                branch,
+                external_pressure: if branch.is_some() {
+                    Field::gaussian_bump(0.1, 0.5, 0.4, 0.2)
+                } else {
+                    Field::Constant(0.0)
+                },
                 ..Default::default()
             };
             let sheet = UniaxialSheet::discrete(nh(), &p).unwrap();
@@ -147,7 +165,7 @@ fn declared_sparse_pattern_contains_ad_jacobian_which_matches_finite_differences
                     let fd = (rp[i] - rm[i]) / (2.0 * e);
                     assert!(
                         (fd - col[i]).abs() < 1e-7,
-                        "{top:?} m={m_exp} ({i},{j}): AD {} FD {fd}",
+                        "{top:?} m={m_exp} {branch:?} ({i},{j}): AD {} FD {fd}",
                         col[i]
                     );
                     if col[i] != 0.0 {

@@ -41,6 +41,10 @@ pub trait ViscousBranch: Send + Sync {
     fn keeps_elastic(&self) -> bool;
     /// Whether the internal variable `q` is admissible (finite and, for a stretch, > 0).
     fn admissible(&self, q: f64) -> bool;
+    /// The quasi-3D sheet cell's flow rule (docs/viscoelasticity.md, "The sheet"): rates
+    /// `(q̇₁, q̇₂)` of its two in-plane internal variables given `q` and the branch's in-plane
+    /// stresses `(σ₁₁, σ₂₂)` (its `σ₃₃` is 0).
+    fn sheet_rate<S: Scalar>(&self, q: [S; 2], sigma_branch: [S; 2]) -> [S; 2];
 }
 
 /// A finite-strain Maxwell branch (modulus `μ_m`, viscosity `η_m`), in parallel with the
@@ -119,6 +123,12 @@ impl MaxwellBranch {
         self.eta_m / (4.0 * self.mu_m)
     }
 
+    /// The branch's modulus relative to the cell law's own, `μ_m / μ`: the factor on the law's
+    /// stresses at the elastic stretch.
+    pub fn modulus_ratio<E: StrainEnergy>(&self, law: &E) -> f64 {
+        self.mu_m / law.shear_modulus()
+    }
+
     /// Branch pressure `μ_m/μ · p_el(a_e)` at `a_e = α / a_v` (in `f64`, for observers).
     pub fn pressure<E: StrainEnergy>(&self, law: &E, alpha: f64, av: f64) -> f64 {
         self.mu_m / law.shear_modulus() * law.line(alpha / av).pressure
@@ -134,7 +144,7 @@ impl ViscousBranch for MaxwellBranch {
     #[inline]
     fn stress<S: Scalar, E: StrainEnergy>(&self, law: &E, alpha: S, av: S) -> S {
         let ae = alpha / av;
-        let s = self.mu_m / law.shear_modulus();
+        let s = self.modulus_ratio(law);
         let r = law.line(ae.re());
         ae.lift(s * r.sigma, s * r.dsigma)
     }
@@ -152,6 +162,18 @@ impl ViscousBranch for MaxwellBranch {
     #[inline]
     fn admissible(&self, av: f64) -> bool {
         av > 0.0 && av.is_finite()
+    }
+
+    /// Isochoric flow along the deviatoric branch stress, `ȧ_i / a_i = 2 dev(σ_m)_ii / η_m`
+    /// with `σ_m,33 = 0`: `ȧ₁/a₁ = 2(2σ₁₁ − σ₂₂)/(3η_m)`, and 1 ↔ 2. At small strain both
+    /// directions relax with the line's `τ = η_m/(4μ_m)`.
+    #[inline]
+    fn sheet_rate<S: Scalar>(&self, a: [S; 2], s: [S; 2]) -> [S; 2] {
+        let c = 2.0 / (3.0 * self.eta_m);
+        [
+            a[0] * (s[0] * 2.0 - s[1]) * c,
+            a[1] * (s[1] * 2.0 - s[0]) * c,
+        ]
     }
 }
 

@@ -18,6 +18,7 @@
 use super::ramp::Ramp;
 use super::shear::ShearParams;
 use super::uniaxial::SheetParams;
+use crate::cell::{Field, ViscosityModel};
 use crate::energy::{AnyEnergy, NeoHookean};
 use integrators::{MethodChoice, MethodKind, Options};
 use serde::{Deserialize, Serialize};
@@ -131,6 +132,13 @@ pub struct SheetConfig {
     /// Strain energy, e.g. `law = { law = "mooney_rivlin", c1 = 0.3, c2 = 0.2 }` (default
     /// neo-Hookean `μ = 1`).
     pub law: AnyEnergy,
+    /// Viscosity `{ model = "maxwell", mu_m, eta_m }` or
+    /// `{ model = "standard_linear_solid", mu_m, eta_m }` (absent: elastic cells, as in the
+    /// thesis; docs/viscoelasticity.md).
+    pub viscosity: Option<ViscosityModel>,
+    /// External pressure `p_e(X)` on the cells' upper faces (any finite number or field of `X`,
+    /// constant along `Y`; docs/external_pressure.md).
+    pub external_pressure: Field,
 }
 
 fn default_law() -> AnyEnergy {
@@ -151,6 +159,8 @@ impl Default for SheetConfig {
             ramp: Ramp::default(),
             top: TopBoundary::Free,
             law: default_law(),
+            viscosity: None,
+            external_pressure: Field::Constant(0.0),
         }
     }
 }
@@ -187,6 +197,34 @@ impl SheetConfig {
             self.drag() * 2.0,
             "must be > 0 with a periodic side (rigid y-translation is a null mode)",
         )?;
+        self.validate_viscosity_and_pressure()
+    }
+
+    /// Checks `viscosity` (Maxwell or standard linear solid only) and `external_pressure`
+    /// (finite at every cell centre of the discrete sheet).
+    fn validate_viscosity_and_pressure(&self) -> Result<(), ConfigError> {
+        if let Some(v) = &self.viscosity {
+            need(
+                !matches!(v, ViscosityModel::KelvinVoigt { .. }),
+                "viscosity.model",
+                "\"kelvin_voigt\"",
+                "must be \"maxwell\" or \"standard_linear_solid\" (the sheet has no Kelvin–Voigt viscosity)",
+            )?;
+            v.branch().map_err(|e| ConfigError {
+                key: format!("viscosity.{}", e.key),
+                value: e.value.to_string(),
+                expected: format!("must be {}", e.range),
+            })?;
+        }
+        let centres: Vec<f64> = (0..self.cells_x).map(|j| j as f64 + 0.5).collect();
+        let p_ext = self.external_pressure.sample(&centres, self.cells_x as f64);
+        if let Some(bad) = p_ext.iter().find(|v| !v.is_finite()) {
+            return Err(ConfigError {
+                key: "external_pressure".into(),
+                value: bad.to_string(),
+                expected: "must be finite at every cell".into(),
+            });
+        }
         Ok(())
     }
 
@@ -202,6 +240,8 @@ impl SheetConfig {
             k1: self.k1,
             ramp: self.ramp,
             top: self.top,
+            branch: self.viscosity.and_then(|v| v.branch().ok().flatten()),
+            external_pressure: self.external_pressure.clone(),
         }
     }
 }

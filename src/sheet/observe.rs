@@ -131,8 +131,9 @@ pub fn push_sheet_series(s: &mut Series, o: &SheetObservables) {
 
 /// A per-cell sheet [`Profile`]: `X`/`x` are reference/current centre x, `stretch` is `λ₁`;
 /// `extra` holds `Y`, `y`, `stretch_y` (λ₂), `stretch_z` (λ₃), `height`, `sigma11`, `sigma22`,
-/// `kappa`, `column` (j), `row` (k). Cells are listed column by column.
-pub fn sheet_profile(t: f64, cells: &[SheetCell]) -> Profile {
+/// `kappa`, `column` (j), `row` (k), and with a Maxwell branch (`branch`) the viscous
+/// stretches `viscous_x` (a₁) and `viscous_y` (a₂). Cells are listed column by column.
+pub fn sheet_profile(t: f64, cells: &[SheetCell], branch: bool) -> Profile {
     let mut p = Profile {
         t,
         ..Default::default()
@@ -173,6 +174,12 @@ pub fn sheet_profile(t: f64, cells: &[SheetCell]) -> Profile {
     }
     for (k, col) in keys.iter().zip(cols) {
         p.extra.insert(k.to_string(), col);
+    }
+    if branch {
+        for (i, key) in ["viscous_x", "viscous_y"].into_iter().enumerate() {
+            let col = cells.iter().map(|c| c.viscous[i]).collect();
+            p.extra.insert(key.to_string(), col);
+        }
     }
     p
 }

@@ -251,7 +251,7 @@ pub fn run_sheet<E: StrainEnergy>(
             push_sheet_series(&mut series, &sheet_observables(sheet, *t, y, &cells));
         }
         if contains(&out.profile_times, *t) {
-            profiles.push(sheet_profile(*t, &cells));
+            profiles.push(sheet_profile(*t, &cells, sheet.branch().is_some()));
             if let Some(d) = &out.dir {
                 let i = pvd.len();
                 let name = format!("{prefix}_{i:04}.vtu");

@@ -7,15 +7,23 @@
 //! block-tridiagonal with blocks of size `2m`; it is declared as a [`Pattern::Sparse`] built from
 //! its entries (no dense `dim × dim` matrix anywhere).
 //!
+//! With a Maxwell branch ([`SheetParams::branch`]) each column block starts with the `2m`
+//! viscous stretches `a₁, a₂` of its cells (`(j, k)` at [`UniaxialSheet::iq`] and the next
+//! index), so the blocks are `4m` wide.
+//!
 //! **Equations** (per face, primes = neighbouring cell; `D = K h_X h_Y / γ₀` is the per-face drag,
 //! `= K` for the discrete model):
 //! `D κ ẋ_b(j,k) = H W (σ₁₁' − σ₁₁)`, `D κ ẏ_b(j,k) = H L (σ₂₂' − σ₂₂)`, and for a free top
-//! `D κ ẏ_b(j,m) = −H L σ₂₂(j,m)` with the top cell's own `H`, `L`.
+//! `D κ ẏ_b(j,m) = −H L σ₂₂(j,m)` with the top cell's own `H`, `L`. A cell's `σᵢᵢ` is the law's
+//! (unless the cell is a Maxwell cell) plus the branch's `μ_m/μ · σᵢᵢ(λ₁/a₁, λ₂/a₂)` minus the
+//! external pressure `p_e(X)` on its upper face; each viscous stretch has the row
+//! `ȧᵢ − aᵢ·2 dev(σ_m)ᵢᵢ/η_m = 0` (docs/viscoelasticity.md, "The sheet"; docs/external_pressure.md).
 
 use super::config::TopBoundary;
 use super::lift2;
 use super::ramp::Ramp;
 use crate::array::CellArray;
+use crate::cell::{Field, MaxwellBranch, ViscousBranch};
 use crate::energy::{SheetResponse, StrainEnergy};
 use crate::scalar::Scalar;
 use crate::substrate::{Dissipation, PowerLawDrag};
@@ -25,7 +33,7 @@ use std::sync::Arc;
 
 /// Physical parameters of a sheet (docs/model.md §0.3, §4.1). The grid is chosen separately
 /// ([`UniaxialSheet::discrete`] or [`UniaxialSheet::continuum`]).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct SheetParams {
     /// Number of cells in x, `N` (so `l₀ = N`).
     pub cells_x: usize,
@@ -45,6 +53,11 @@ pub struct SheetParams {
     pub ramp: Ramp,
     /// Free (zero-traction) or periodic side `y = w₀`.
     pub top: TopBoundary,
+    /// Maxwell branch of every cell (Maxwell or standard-linear-solid cells), if any.
+    pub branch: Option<MaxwellBranch>,
+    /// External pressure `p_e(X)` on each cell's upper face `z = H`, a field of the reference
+    /// position `X` sampled at the cell (segment) centres; constant along `Y`.
+    pub external_pressure: Field,
 }
 
 impl Default for SheetParams {
@@ -61,6 +74,8 @@ impl Default for SheetParams {
             k1: 0.1,
             ramp: Ramp::default(),
             top: TopBoundary::Free,
+            branch: None,
+            external_pressure: Field::Constant(0.0),
         }
     }
 }
@@ -90,6 +105,8 @@ pub struct SheetCell {
     pub s22: f64,
     /// Drag factor `κ = (λ₁λ₂)^m`.
     pub kappa: f64,
+    /// Viscous stretches `(a₁, a₂)` of the Maxwell branch (`(1, 1)` without one).
+    pub viscous: [f64; 2],
 }
 
 /// The state of one cell inside a residual evaluation.
@@ -101,6 +118,9 @@ struct CellS<S> {
     kappa: S,
     s11: S,
     s22: S,
+    /// Viscous stretches and the branch's in-plane stresses (unused without a branch).
+    a: [S; 2],
+    branch: [S; 2],
 }
 
 /// A uniaxial sheet of `n × m` cells (or continuum segments) as a [`CellArray`].
@@ -126,6 +146,14 @@ pub struct UniaxialSheet<E: StrainEnergy> {
     /// Per-cell response cache keyed by the exact `(λ₁, λ₂)` values: all colours of one AD
     /// Jacobian share the real parts, so the law is evaluated once per cell per Jacobian.
     cache: RefCell<Vec<(f64, f64, SheetResponse)>>,
+    /// The same for the branch, keyed by the elastic stretches `(λ₁/a₁, λ₂/a₂)`.
+    branch_cache: RefCell<Vec<(f64, f64, SheetResponse)>>,
+    /// `p_e` of each column `j = 1..n` (index `j − 1`).
+    p_ext: Vec<f64>,
+    /// Unknowns per column block: `2m`, or `4m` with a branch.
+    block: usize,
+    /// Offset of the face unknowns in a block: 0, or `2m` with a branch.
+    faces: usize,
     atol_cell: Option<f64>,
 }
 
@@ -210,6 +238,16 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
         )?;
         let hx = p.cells_x as f64 / n as f64;
         let hy = p.cells_y as f64 * p.gamma0 / m as f64;
+        let centres: Vec<f64> = (1..=n).map(|j| (j as f64 - 0.5) * hx).collect();
+        let p_ext = p.external_pressure.sample(&centres, p.cells_x as f64);
+        if let Some(&bad) = p_ext.iter().find(|v| !v.is_finite()) {
+            return Err(SheetBuildError::Range {
+                key: "external_pressure",
+                value: bad,
+                expected: "finite at every cell",
+            });
+        }
+        let faces = if p.branch.is_some() { 2 * m } else { 0 };
         let mut s = Self {
             law,
             params: p.clone(),
@@ -220,10 +258,17 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
             face_drag: p.drag * hx * hy / p.gamma0,
             pattern: Pattern::Dense,
             cache: RefCell::new(Vec::new()),
+            branch_cache: RefCell::new(Vec::new()),
+            p_ext,
+            block: faces + 2 * m,
+            faces,
             atol_cell: None,
         };
         s.pattern = Pattern::Sparse(Arc::new(s.build_pattern()));
         s.cache = RefCell::new(vec![(f64::NAN, f64::NAN, zero_response()); n * m]);
+        if s.params.branch.is_some() {
+            s.branch_cache = RefCell::new(vec![(f64::NAN, f64::NAN, zero_response()); n * m]);
+        }
         Ok(s)
     }
 
@@ -265,7 +310,7 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
 
     /// Index of the unknown `y_b(j, k)` (`j = 1..n`; `k = 1..m` free top, `k = 0..m−1` periodic).
     pub fn iy(&self, j: usize, k: usize) -> usize {
-        let base = (j - 1) * 2 * self.m;
+        let base = (j - 1) * self.block + self.faces;
         match self.params.top {
             TopBoundary::Free => base + k - 1,
             TopBoundary::Periodic => base + k,
@@ -273,7 +318,20 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
     }
     /// Index of the unknown `x_b(j, k)` (`j = 1..n−1`, `k = 1..m`).
     pub fn ix(&self, j: usize, k: usize) -> usize {
-        (j - 1) * 2 * self.m + self.m + k - 1
+        (j - 1) * self.block + self.faces + self.m + k - 1
+    }
+    /// Index of cell `(j, k)`'s viscous stretch `a₁` (`a₂` is the next unknown), with a
+    /// Maxwell branch (`j = 1..n`, `k = 1..m`).
+    pub fn iq(&self, j: usize, k: usize) -> usize {
+        (j - 1) * self.block + 2 * (k - 1)
+    }
+    /// The Maxwell branch, if any.
+    pub fn branch(&self) -> Option<&MaxwellBranch> {
+        self.params.branch.as_ref()
+    }
+    /// The sampled external pressure of each column (index `j − 1`).
+    pub fn external_pressure(&self) -> &[f64] {
+        &self.p_ext
     }
 
     /// Whether `y_b(j,k)` is an unknown (else it is the fixed base or the periodic image).
@@ -284,10 +342,17 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
         }
     }
 
-    /// The initial state `x_b = j h_X`, `y_b = k h_Y`.
+    /// The initial state `x_b = j h_X`, `y_b = k h_Y` (and relaxed branches, `a₁ = a₂ = 1`).
     pub fn initial_state(&self) -> Vec<f64> {
         let mut y = vec![0.0; self.dim()];
         for j in 1..=self.n {
+            if let Some(b) = &self.params.branch {
+                for k in 1..=self.m {
+                    let q = self.iq(j, k);
+                    y[q] = b.initial();
+                    y[q + 1] = b.initial();
+                }
+            }
             for k in 0..=self.m {
                 if self.y_is_unknown(k) {
                     y[self.iy(j, k)] = k as f64 * self.hy;
@@ -344,6 +409,9 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
 
     /// Unknown indices a cell's state depends on.
     fn cell_deps(&self, j: usize, k: usize, out: &mut Vec<usize>) {
+        if self.params.branch.is_some() {
+            out.extend([self.iq(j, k), self.iq(j, k) + 1]);
+        }
         for jj in [j - 1, j] {
             if jj >= 1 && jj < self.n {
                 out.push(self.ix(jj, k));
@@ -371,6 +439,13 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
             }
         };
         for j in 1..=self.n {
+            if self.params.branch.is_some() {
+                for k in 1..=self.m {
+                    let q = self.iq(j, k);
+                    add(q, &[(j, k)], &mut entries);
+                    add(q + 1, &[(j, k)], &mut entries);
+                }
+            }
             for k in 0..=self.m {
                 if !self.y_is_unknown(k) {
                     continue;
@@ -391,10 +466,17 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
         SparsityPattern::from_entries(self.dim(), &entries)
     }
 
-    /// The law's response at `(λ₁, λ₂)` for cell `c`, cached by exact argument values.
+    /// The law's response at `(λ₁, λ₂)` for cell `c`, cached in `cache` by exact argument
+    /// values.
     #[inline]
-    fn response(&self, c: usize, l1: f64, l2: f64) -> SheetResponse {
-        let mut cache = self.cache.borrow_mut();
+    fn response(
+        &self,
+        cache: &RefCell<Vec<(f64, f64, SheetResponse)>>,
+        c: usize,
+        l1: f64,
+        l2: f64,
+    ) -> SheetResponse {
+        let mut cache = cache.borrow_mut();
         let e = &mut cache[c];
         if e.0 == l1 && e.1 == l2 {
             return e.2;
@@ -444,17 +526,64 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
                 component: Some(self.iy(j, kk)),
             });
         }
-        if let Err(e) = self.law.admissible([a, b, 1.0 / (a * b)]) {
-            return Err(ResidualError::Recoverable {
-                reason: format!("sheet cell (j={j}, k={k}): {e}"),
-                component: if j < self.n {
-                    Some(self.ix(j, k))
-                } else {
-                    None
-                },
-            });
+        let c = (j - 1) * self.m + (k - 1);
+        let branch = self.params.branch.as_ref();
+        let (mut s11, mut s22) = if branch.is_none_or(|br| br.keeps_elastic()) {
+            if let Err(e) = self.law.admissible([a, b, 1.0 / (a * b)]) {
+                return Err(ResidualError::Recoverable {
+                    reason: format!("sheet cell (j={j}, k={k}): {e}"),
+                    component: if j < self.n {
+                        Some(self.ix(j, k))
+                    } else {
+                        None
+                    },
+                });
+            }
+            let r = self.response(&self.cache, c, a, b);
+            (
+                lift2(l1, l2, r.s11, r.tangent[0][0], r.tangent[0][1]),
+                lift2(l1, l2, r.s22, r.tangent[1][0], r.tangent[1][1]),
+            )
+        } else {
+            (S::from(0.0), S::from(0.0))
+        };
+        let mut av = [S::from(1.0); 2];
+        let mut sb = [S::from(0.0); 2];
+        if let Some(br) = branch {
+            let q = self.iq(j, k);
+            av = [y[q], y[q + 1]];
+            let (q1, q2) = (av[0].re(), av[1].re());
+            if !(br.admissible(q1) && br.admissible(q2)) {
+                return Err(ResidualError::Recoverable {
+                    reason: format!(
+                        "viscous stretches (a₁, a₂) = ({q1}, {q2}) of sheet cell (j={j}, k={k}) must be finite and > 0"
+                    ),
+                    component: Some(if br.admissible(q1) { q + 1 } else { q }),
+                });
+            }
+            let (e1, e2) = (l1 / av[0], l2 / av[1]);
+            let (x1, x2) = (e1.re(), e2.re());
+            if let Err(e) = self.law.admissible([x1, x2, 1.0 / (x1 * x2)]) {
+                return Err(ResidualError::Recoverable {
+                    reason: format!("Maxwell branch of sheet cell (j={j}, k={k}): {e}"),
+                    component: Some(q),
+                });
+            }
+            let r = self.response(&self.branch_cache, c, x1, x2);
+            let f = br.modulus_ratio(&self.law);
+            let t = r.tangent;
+            sb = [
+                lift2(e1, e2, f * r.s11, f * t[0][0], f * t[0][1]),
+                lift2(e1, e2, f * r.s22, f * t[1][0], f * t[1][1]),
+            ];
+            s11 += sb[0];
+            s22 += sb[1];
         }
-        let r = self.response((j - 1) * self.m + (k - 1), a, b);
+        let pe = self.p_ext[j - 1];
+        if pe != 0.0 {
+            s11 -= S::from(pe);
+            s22 -= S::from(pe);
+        }
         let area = l1 * l2;
         let kappa = self.dissipation().kappa(area);
         Ok(CellS {
@@ -462,32 +591,54 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
             l2,
             h: area.recip() * self.params.beta0,
             kappa,
-            s11: lift2(l1, l2, r.s11, r.tangent[0][0], r.tangent[0][1]),
-            s22: lift2(l1, l2, r.s22, r.tangent[1][0], r.tangent[1][1]),
+            s11,
+            s22,
+            a: av,
+            branch: sb,
         })
     }
 
-    /// Per-cell fields at state `y`, time `t` (column-major: index `(j−1)·m + (k−1)`).
+    /// Per-cell fields at state `y`, time `t` (column-major: index `(j−1)·m + (k−1)`). The
+    /// stresses and the pressure include the branch and the external pressure.
     pub fn cells(&self, t: f64, y: &[f64]) -> Vec<SheetCell> {
         let lt = self.length(t);
+        let branch = self.params.branch.as_ref();
+        let respond = |l1: f64, l2: f64| {
+            if l1 > 0.0 && l2 > 0.0 {
+                self.law.sheet(l1, l2)
+            } else {
+                SheetResponse {
+                    s11: f64::NAN,
+                    s22: f64::NAN,
+                    pressure: f64::NAN,
+                    tangent: [[f64::NAN; 2]; 2],
+                }
+            }
+        };
         let mut out = Vec::with_capacity(self.n * self.m);
         for j in 1..=self.n {
+            let pe = self.p_ext[j - 1];
             for k in 1..=self.m {
                 let x = [self.xb_s(y, lt, j - 1, k), self.xb_s(y, lt, j, k)];
                 let yy = [self.yb_s(y, j, k - 1), self.yb_s(y, j, k)];
                 let l1 = (x[1] - x[0]) / self.hx;
                 let l2 = (yy[1] - yy[0]) / self.hy;
                 let l3 = 1.0 / (l1 * l2);
-                let r = if l1 > 0.0 && l2 > 0.0 {
-                    self.law.sheet(l1, l2)
+                let mut r = if branch.is_none_or(|br| br.keeps_elastic()) {
+                    respond(l1, l2)
                 } else {
-                    SheetResponse {
-                        s11: f64::NAN,
-                        s22: f64::NAN,
-                        pressure: f64::NAN,
-                        tangent: [[f64::NAN; 2]; 2],
-                    }
+                    zero_response()
                 };
+                let mut viscous = [1.0, 1.0];
+                if let Some(br) = branch {
+                    let q = self.iq(j, k);
+                    viscous = [y[q], y[q + 1]];
+                    let rb = respond(l1 / viscous[0], l2 / viscous[1]);
+                    let f = br.modulus_ratio(&self.law);
+                    r.s11 += f * rb.s11;
+                    r.s22 += f * rb.s22;
+                    r.pressure += f * rb.pressure;
+                }
                 out.push(SheetCell {
                     j,
                     k,
@@ -496,10 +647,11 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
                     reference: [(j as f64 - 0.5) * self.hx, (k as f64 - 0.5) * self.hy],
                     stretch: [l1, l2, l3],
                     height: self.params.beta0 * l3,
-                    pressure: r.pressure,
-                    s11: r.s11,
-                    s22: r.s22,
+                    pressure: r.pressure + pe,
+                    s11: r.s11 - pe,
+                    s22: r.s22 - pe,
                     kappa: self.dissipation().kappa(l1 * l2),
+                    viscous,
                 });
             }
         }
@@ -518,7 +670,7 @@ fn zero_response() -> SheetResponse {
 
 impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
     fn dim(&self) -> usize {
-        (2 * self.n - 1) * self.m
+        self.n * self.block - self.m
     }
 
     fn pattern(&self) -> Pattern {
@@ -542,6 +694,15 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
             cur.push(self.cell_s(y, lt, 1, k)?);
         }
         for j in 1..=n {
+            // viscous stretches of column j
+            if let Some(br) = &self.params.branch {
+                for (k, c) in (1..=m).zip(&cur) {
+                    let q = self.iq(j, k);
+                    let rate = br.sheet_rate(c.a, c.branch);
+                    r[q] = yp[q] - rate[0];
+                    r[q + 1] = yp[q + 1] - rate[1];
+                }
+            }
             // y-faces of column j
             for k in 0..=m {
                 if !self.y_is_unknown(k) {
@@ -586,9 +747,16 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
     fn atol(&self) -> Option<Vec<f64>> {
         let a = self.atol_cell?;
         let mut v = vec![a * self.hy; self.dim()];
-        for j in 1..self.n {
+        for j in 1..=self.n {
             for k in 1..=self.m {
-                v[self.ix(j, k)] = a * self.hx;
+                if j < self.n {
+                    v[self.ix(j, k)] = a * self.hx;
+                }
+                if self.params.branch.is_some() {
+                    // viscous stretches are in cell units already
+                    v[self.iq(j, k)] = a;
+                    v[self.iq(j, k) + 1] = a;
+                }
             }
         }
         Some(v)
@@ -639,6 +807,15 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
     }
 
     fn algebraic(&self) -> Vec<bool> {
-        vec![self.params.drag == 0.0; self.dim()]
+        let mut v = vec![self.params.drag == 0.0; self.dim()];
+        if self.params.branch.is_some() {
+            for j in 1..=self.n {
+                for k in 1..=self.m {
+                    v[self.iq(j, k)] = false;
+                    v[self.iq(j, k) + 1] = false;
+                }
+            }
+        }
+        v
     }
 }
