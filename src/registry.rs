@@ -343,34 +343,48 @@ impl<K: Kind> Serialize for Named<K> {
     }
 }
 
-impl<'de, K: Kind> Deserialize<'de> for Named<K> {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let mut p = Params::deserialize(d)?;
+impl<K: Kind> Named<K> {
+    /// Builds the law from its whole table (the name key plus parameters), with a typed error
+    /// naming the key at fault — what deserializing does, without serde's text channel.
+    ///
+    /// ```
+    /// use celltissue::events::rules::RuleSpec;
+    /// let t: celltissue::registry::Params =
+    ///     serde_json::from_str(r#"{"rule": "age", "period": -1}"#).unwrap();
+    /// assert_eq!(RuleSpec::from_table(t).unwrap_err().key, "period");
+    /// ```
+    pub fn from_table(mut p: Params) -> Result<Self, ParamError> {
         let key = K::registry().key();
         let name = match (p.remove(key), K::default_name()) {
             (Some(serde_json::Value::String(s)), _) => s,
             (None, Some(default)) => default.to_owned(),
             (None, None) => {
-                return Err(serde::de::Error::custom(ParamError::new(
+                return Err(ParamError::new(
                     key,
                     format!(
                         "missing: name the {} ({})",
                         K::registry().what(),
                         K::registry().names().join(", ")
                     ),
-                )))
+                ))
             }
             (Some(other), _) => {
-                return Err(serde::de::Error::custom(ParamError::new(
+                return Err(ParamError::new(
                     key,
                     format!(
                         "{other} must be a string naming the {}",
                         K::registry().what()
                     ),
-                )))
+                ))
             }
         };
-        Self::build(&name, &p).map_err(serde::de::Error::custom)
+        Self::build(&name, &p)
+    }
+}
+
+impl<'de, K: Kind> Deserialize<'de> for Named<K> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        Self::from_table(Params::deserialize(d)?).map_err(serde::de::Error::custom)
     }
 }
 

@@ -320,8 +320,16 @@ impl Default for DivisionConfig {
 
 /// A division setting out of range: the key inside `division` and what is wrong.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("invalid `division.{}`{}", .0.key, .0.detail())]
 pub struct DivisionError(pub ParamError);
+
+impl std::fmt::Display for DivisionError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.0.key.as_str() {
+            "" => write!(f, "invalid `division`{}", self.0.detail()),
+            key => write!(f, "invalid `division.{key}`{}", self.0.detail()),
+        }
+    }
+}
 
 impl DivisionError {
     /// The key inside the `division` table (`ratio`, `period`, `max_cells`, …).
@@ -331,6 +339,43 @@ impl DivisionError {
 }
 
 impl DivisionConfig {
+    /// Reads a scenario's `division` table with a typed error naming the key inside it (the
+    /// rule's name or parameter, or `max_cells`) — the same result as deserializing.
+    ///
+    /// ```
+    /// use celltissue::events::DivisionConfig;
+    /// let v: toml::Value = toml::from_str("rule = \"area\"\nratio = 0.5").unwrap();
+    /// let e = DivisionConfig::from_value(v).unwrap_err();
+    /// assert_eq!(e.key(), "ratio");
+    /// let v: toml::Value = toml::from_str("max_cells = -3").unwrap();
+    /// assert_eq!(DivisionConfig::from_value(v).unwrap_err().key(), "max_cells");
+    /// ```
+    pub fn from_value(v: toml::Value) -> Result<Self, DivisionError> {
+        let mut table = match serde_json::to_value(&v) {
+            Ok(serde_json::Value::Object(t)) => t,
+            _ => {
+                return Err(DivisionError(ParamError::new(
+                    "",
+                    format!("{v} must be a table such as {{ rule = \"area\", ratio = 2 }}"),
+                )))
+            }
+        };
+        let max_cells = match table.remove("max_cells") {
+            None => default_max_cells(),
+            Some(m) => Some(
+                m.as_u64()
+                    .and_then(|m| usize::try_from(m).ok())
+                    .ok_or_else(|| {
+                        DivisionError(ParamError::range("max_cells", &m, "an integer >= 1"))
+                    })?,
+            ),
+        };
+        let rule = RuleSpec::from_table(table).map_err(DivisionError)?;
+        let cfg = Self { rule, max_cells };
+        cfg.validate()?;
+        Ok(cfg)
+    }
+
     /// Checks what parsing does not: `max_cells ≥ 1` (the rule's parameters are checked when
     /// it is built).
     pub fn validate(&self) -> Result<(), DivisionError> {

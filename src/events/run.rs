@@ -20,9 +20,6 @@ use std::time::Instant;
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum ProliferationError {
-    /// The `division` table does not parse.
-    #[error("invalid `division`: {0}")]
-    DivisionTable(toml::de::Error),
     /// The line's keys do not parse.
     #[error("invalid line configuration: {0}")]
     LineTable(toml::de::Error),
@@ -53,19 +50,9 @@ impl ProliferationError {
     /// ```
     pub fn key(&self) -> Option<String> {
         match self {
-            ProliferationError::DivisionTable(e) => {
-                // A rule's parameter error reads "`key` …" ([`crate::registry::ParamError`]).
-                let inner = e
-                    .message()
-                    .strip_prefix('`')
-                    .and_then(|r| r.split_once('`'));
-                Some(match inner {
-                    Some((key, _)) => format!("division.{key}"),
-                    None => "division".into(),
-                })
-            }
             ProliferationError::LineTable(_) => None,
             ProliferationError::Line(e) => e.key().map(str::to_string),
+            ProliferationError::Division(e) if e.key().is_empty() => Some("division".into()),
             ProliferationError::Division(e) => Some(format!("division.{}", e.key())),
             ProliferationError::NoGrowth => Some("growth".into()),
             ProliferationError::Ring => Some("right_end".into()),
@@ -104,9 +91,7 @@ impl ProliferationConfig {
         let mut rest = table.clone();
         let division = match rest.remove("division") {
             None => DivisionConfig::default(),
-            Some(v) => v
-                .try_into::<DivisionConfig>()
-                .map_err(ProliferationError::DivisionTable)?,
+            Some(v) => DivisionConfig::from_value(v)?,
         };
         let line: LineConfig = toml::Value::Table(rest)
             .try_into()
