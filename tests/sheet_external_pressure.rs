@@ -143,7 +143,9 @@ fn field_steady(pes: &[f64], length: f64) -> Vec<f64> {
 fn pressure_field_drives_the_sheet_to_its_exact_discrete_steady_state() {
     let field = Field::gaussian_bump(0.0, 0.8, 0.5, 0.15);
     let (nx, ny) = (8, 3);
-    let pes: Vec<f64> = (0..nx).map(|j| field.eval(j as f64 + 0.5, nx as f64)).collect();
+    let pes: Vec<f64> = (0..nx)
+        .map(|j| field.eval(j as f64 + 0.5, nx as f64))
+        .collect();
     let exact = field_steady(&pes, nx as f64 * 0.9);
     let rec = run(&sheet(nx, ny, TopBoundary::Free, field), &[1.0, 600.0]);
     let (early, last) = (&rec.profiles[0], &rec.profiles[1]);
@@ -155,7 +157,8 @@ fn pressure_field_drives_the_sheet_to_its_exact_discrete_steady_state() {
             .max((column(last, "stretch_y")[i] - lateral(exact[j], pes[j])).abs());
     }
     // the load is not uniform: the columns differ (the loaded middle spreads in y)
-    let spread = exact.iter().cloned().fold(0.0, f64::max) - exact.iter().cloned().fold(9.0, f64::min);
+    let spread =
+        exact.iter().cloned().fold(0.0, f64::max) - exact.iter().cloned().fold(9.0, f64::min);
     let early_y = column(early, "stretch_y");
     println!(
         "Gaussian p_e: exact λ₁ from {:.5} to {:.5}, worst deviation at t = 600 {worst:.2e}; \

@@ -129,7 +129,9 @@ fn ramp_and_hold_error(k1: f64, standard: bool) -> f64 {
             let s11 = column(p, "sigma11");
             let spread = s11.iter().map(|v| (v - s11[0]).abs()).fold(0.0, f64::max);
             assert!(spread <= spread_bound, "t = {}: spread {spread:e}", p.t);
-            let s22 = column(p, "sigma22").iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let s22 = column(p, "sigma22")
+                .iter()
+                .fold(0.0f64, |m, v| m.max(v.abs()));
             assert!(s22 <= spread_bound, "t = {}: σ₂₂ {s22:e}", p.t);
             (s11[0] - l).abs() / peak
         })
@@ -145,7 +147,10 @@ fn small_strain_ramp_and_hold_matches_the_linear_solution() {
         assert!(e4 < 1e-4, "sls={standard}: {e4}");
         // the discrepancy is the nonlinearity of the finite-strain law: O(k₁)
         let ratio = e3 / e4;
-        assert!((7.0..14.0).contains(&ratio), "sls={standard}: ratio {ratio}");
+        assert!(
+            (7.0..14.0).contains(&ratio),
+            "sls={standard}: ratio {ratio}"
+        );
     }
 }
 
@@ -159,7 +164,10 @@ fn relaxation_time_is_the_branch_viscosity_over_four_mu_m() {
         let s = [0, 1].map(|i| column(&rec.profiles[i], "sigma11")[0]);
         let fit = (t2 - t1) / (s[0] / s[1]).ln();
         println!("η_m = {eta_m}: τ fitted {fit:.6}, η_m/(4μ_m) = {tau}");
-        assert!((fit / tau - 1.0).abs() < 1e-3, "η_m = {eta_m}: {fit} vs {tau}");
+        assert!(
+            (fit / tau - 1.0).abs() < 1e-3,
+            "η_m = {eta_m}: {fit} vs {tau}"
+        );
     }
 }
 
@@ -244,8 +252,15 @@ fn continuum_with_a_branch_converges_under_refinement() {
     let vals: Vec<f64> = [5, 10, 20, 40]
         .iter()
         .map(|&n| {
-            let r = run_sheet(&cfg, &nh(), ModelKind::Continuum, Some((n, n)), &tight(), &out)
-                .unwrap();
+            let r = run_sheet(
+                &cfg,
+                &nh(),
+                ModelKind::Continuum,
+                Some((n, n)),
+                &tight(),
+                &out,
+            )
+            .unwrap();
             assert!(r.error.is_none(), "{:?}", r.error);
             r.series.extra["mean_height"][0]
         })

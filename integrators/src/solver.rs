@@ -52,6 +52,9 @@ use crate::problem::{EventAction, Problem, ResidualError};
 use crate::stats::Stats;
 use crate::system::{System, SystemCache};
 
+mod events;
+use events::{eval_events, fires, locate, mask_fired, Located};
+
 /// One handled event.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EventRecord {
@@ -199,11 +202,6 @@ impl Solver {
     }
 }
 
-/// Sign-change test: `a` nonzero and `b` zero or of the other sign.
-fn fires(a: f64, b: f64) -> bool {
-    a != 0.0 && (b == 0.0 || (a > 0.0) != (b > 0.0))
-}
-
 /// The state of one run, bundled so that failures can return everything computed so far.
 struct Run<'o, O> {
     t_out: &'o [f64],
@@ -316,148 +314,6 @@ impl<O> Run<'_, O> {
             let to = self.t_out[self.next_out];
             self.push(p, to, y, yp);
             self.next_out += 1;
-        }
-    }
-}
-
-/// Evaluates the event functions, checking their number and finiteness.
-fn eval_events<P: Problem>(
-    p: &mut P,
-    t: f64,
-    y: &[f64],
-    g: &mut Vec<f64>,
-) -> Result<(), ErrorKind> {
-    let ne = p.num_events();
-    g.clear();
-    g.resize(ne, 0.0);
-    if ne == 0 {
-        return Ok(());
-    }
-    p.events(t, y, g);
-    if let Some(i) = g.iter().position(|v| !v.is_finite()) {
-        return Err(ErrorKind::Residual(format!(
-            "event function {i} is not finite at t = {t}"
-        )));
-    }
-    Ok(())
-}
-
-/// A located event.
-struct Located {
-    /// Event time (right end of the final bracket).
-    t: f64,
-    /// Functions that changed sign in the final bracket.
-    fired: Vec<usize>,
-    /// Event-function values at `t`.
-    g: Vec<f64>,
-    /// Sign of each function just after its crossing.
-    post: Vec<f64>,
-}
-
-/// Locates the earliest sign change in `(a, b]` on the dense output.
-#[allow(clippy::too_many_arguments)]
-fn locate<P: Problem>(
-    p: &mut P,
-    m: &dyn Method,
-    tol: f64,
-    mut a: f64,
-    mut ga: Vec<f64>,
-    mut b: f64,
-    mut gb: Vec<f64>,
-    ybuf: &mut Vec<f64>,
-    ypbuf: &mut Vec<f64>,
-) -> Result<Located, ErrorKind> {
-    let n = m.y().len();
-    ybuf.resize(n, 0.0);
-    ypbuf.resize(n, 0.0);
-    let mut gm = Vec::new();
-    // Illinois weights on the retained endpoint values
-    let (mut wa, mut wb) = (1.0f64, 1.0f64);
-    let mut last_side = 0i8; // -1: a retained last time, +1: b retained
-    for _ in 0..200 {
-        let width = b - a;
-        let tol_eff = tol.max(4.0 * f64::EPSILON * a.abs().max(b.abs()));
-        if width <= tol_eff {
-            break;
-        }
-        // earliest secant root among the functions changing sign in [a, b]
-        let mut tm = b;
-        for i in 0..ga.len() {
-            if fires(ga[i], gb[i]) {
-                let fa = ga[i] * wa;
-                let fb = gb[i] * wb;
-                let s = if fa != fb {
-                    a + width * fa / (fa - fb)
-                } else {
-                    a + 0.5 * width
-                };
-                if s.is_finite() {
-                    tm = tm.min(s);
-                }
-            }
-        }
-        // keep the point strictly inside, at least tol/2 from either end
-        let margin = (0.5 * tol_eff).min(0.25 * width);
-        tm = tm.clamp(a + margin, b - margin);
-        if !(tm > a && tm < b) {
-            tm = a + 0.5 * width;
-            if !(tm > a && tm < b) {
-                break;
-            }
-        }
-        m.interpolate(tm, ybuf, ypbuf);
-        eval_events(p, tm, ybuf, &mut gm)?;
-        if gm.len() != ga.len() {
-            return Err(ErrorKind::Residual(
-                "number of event functions changed during root finding".into(),
-            ));
-        }
-        let left = (0..ga.len()).any(|i| fires(ga[i], gm[i]));
-        if left {
-            b = tm;
-            std::mem::swap(&mut gb, &mut gm);
-            wb = 1.0;
-            if last_side == -1 {
-                wa *= 0.5;
-            } else {
-                wa = 1.0;
-            }
-            last_side = -1;
-        } else {
-            a = tm;
-            std::mem::swap(&mut ga, &mut gm);
-            wa = 1.0;
-            if last_side == 1 {
-                wb *= 0.5;
-            } else {
-                wb = 1.0;
-            }
-            last_side = 1;
-        }
-    }
-    let fired: Vec<usize> = (0..ga.len()).filter(|&i| fires(ga[i], gb[i])).collect();
-    let post: Vec<f64> = (0..ga.len())
-        .map(|i| {
-            if gb[i] != 0.0 {
-                gb[i].signum()
-            } else {
-                -ga[i].signum()
-            }
-        })
-        .collect();
-    Ok(Located {
-        t: b,
-        fired,
-        g: gb,
-        post,
-    })
-}
-
-/// Masks fired functions that sit at zero or on their post-crossing side after an event.
-fn mask_fired(g: &mut [f64], fired: &[usize], post: &[f64]) {
-    for &i in fired {
-        if i < g.len() && i < post.len() && (g[i] == 0.0 || g[i].signum() == post[i]) {
-            g[i] = 0.0;
         }
     }
 }

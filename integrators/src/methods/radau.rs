@@ -53,6 +53,9 @@ use crate::methods::one_step::{self, Attempt};
 use crate::options::ErrorNorm;
 use crate::system::{StepFailure, System};
 
+mod constants;
+use constants::Consts;
+
 /// Safety factor of the step-size controller (RADAU5 `SAFE`).
 const SAFE: f64 = 0.9;
 /// `h_new/h ≥ 1/FACL` (RADAU5 `WORK(8)`).
@@ -155,124 +158,6 @@ pub(crate) fn newton_iters(opt: usize, fixed: bool) -> usize {
         opt.max(30)
     } else {
         opt.max(7)
-    }
-}
-
-/// Method constants (Hairer & Wanner II, Table IV.5.6 and RADAU5's `CONSTANTS`).
-#[derive(Clone, Debug)]
-struct Consts {
-    c: [f64; 3],
-    a_inv: [[f64; 3]; 3],
-    t: [[f64; 3]; 3],
-    ti: [[f64; 3]; 3],
-    gamma: f64,
-    alpha: f64,
-    beta: f64,
-    dd: [f64; 3],
-}
-
-/// The Radau IIA (order 5) Butcher matrix, from its exact formulas (Hairer & Wanner II,
-/// Table IV.5.6).
-fn radau_a() -> [[f64; 3]; 3] {
-    let s6 = 6f64.sqrt();
-    [
-        [
-            (88.0 - 7.0 * s6) / 360.0,
-            (296.0 - 169.0 * s6) / 1800.0,
-            (-2.0 + 3.0 * s6) / 225.0,
-        ],
-        [
-            (296.0 + 169.0 * s6) / 1800.0,
-            (88.0 + 7.0 * s6) / 360.0,
-            (-2.0 - 3.0 * s6) / 225.0,
-        ],
-        [(16.0 - s6) / 36.0, (16.0 + s6) / 36.0, 1.0 / 9.0],
-    ]
-}
-
-/// Inverse of a 3×3 matrix (cofactors).
-fn inv3(m: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
-    let [[a, b, c], [d, e, f], [g, h, i]] = *m;
-    let det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
-    [
-        [
-            (e * i - f * h) / det,
-            (c * h - b * i) / det,
-            (b * f - c * e) / det,
-        ],
-        [
-            (f * g - d * i) / det,
-            (a * i - c * g) / det,
-            (c * d - a * f) / det,
-        ],
-        [
-            (d * h - e * g) / det,
-            (b * g - a * h) / det,
-            (a * e - b * d) / det,
-        ],
-    ]
-}
-
-impl Consts {
-    fn new() -> Self {
-        let s6 = 6f64.sqrt();
-        let c1 = (4.0 - s6) / 10.0;
-        let c2 = (4.0 + s6) / 10.0;
-        // Eigenvalues of A⁻¹ (RADAU5): real γ̂ = 1/u1 ... and the pair α̂ ± iβ̂.
-        let cbrt81 = 81f64.cbrt();
-        let cbrt9 = 9f64.cbrt();
-        let gamma = 30.0 / (6.0 + cbrt81 - cbrt9);
-        let a0 = (12.0 - cbrt81 + cbrt9) / 60.0;
-        let b0 = (cbrt81 + cbrt9) * 3f64.sqrt() / 60.0;
-        let cno = a0 * a0 + b0 * b0;
-        // Eigenvectors T and T⁻¹ as published in RADAU5 (normalised with last row (·, 1, 0));
-        // verified against the exact A in the unit tests (T⁻¹ A⁻¹ T = diag(γ̂, [[α̂,−β̂],[β̂,α̂]])).
-        #[allow(clippy::excessive_precision)]
-        let t = [
-            [
-                9.123_239_487_089_294_279_2e-2,
-                -0.141_255_295_020_954_208_43,
-                -3.002_919_410_514_742_449_2e-2,
-            ],
-            [
-                0.241_717_932_707_107_018_96,
-                0.204_129_352_293_799_931_99,
-                0.382_942_112_757_261_937_79,
-            ],
-            [0.966_048_182_615_092_936_19, 1.0, 0.0],
-        ];
-        #[allow(clippy::excessive_precision)]
-        let ti = [
-            [
-                4.325_579_890_063_155_351,
-                0.339_199_251_815_809_869_54,
-                0.541_770_539_935_874_871_19,
-            ],
-            [
-                -4.178_718_591_551_904_727_3,
-                -0.327_682_820_761_062_387_08,
-                0.476_623_554_500_550_451_96,
-            ],
-            [
-                -0.502_872_634_945_786_875_95,
-                2.571_926_949_855_605_429_2,
-                -0.596_039_204_828_224_924_97,
-            ],
-        ];
-        Self {
-            c: [c1, c2, 1.0],
-            a_inv: inv3(&radau_a()),
-            t,
-            ti,
-            gamma,
-            alpha: a0 / cno,
-            beta: b0 / cno,
-            dd: [
-                -(13.0 + 7.0 * s6) / 3.0,
-                (-13.0 + 7.0 * s6) / 3.0,
-                -1.0 / 3.0,
-            ],
-        }
     }
 }
 
@@ -866,68 +751,4 @@ impl Method for Radau5 {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn eigen_decomposition_of_a_inverse_matches_published_constants() {
-        let k = Consts::new();
-        // T⁻¹ · A⁻¹ · T = [[γ̂, 0, 0], [0, α̂, −β̂], [0, β̂, α̂]]
-        let mut m = [[0.0; 3]; 3];
-        for (i, row) in m.iter_mut().enumerate() {
-            for (j, v) in row.iter_mut().enumerate() {
-                for p in 0..3 {
-                    for q in 0..3 {
-                        *v += k.ti[i][p] * k.a_inv[p][q] * k.t[q][j];
-                    }
-                }
-            }
-        }
-        let expect = [
-            [k.gamma, 0.0, 0.0],
-            [0.0, k.alpha, -k.beta],
-            [0.0, k.beta, k.alpha],
-        ];
-        for i in 0..3 {
-            for j in 0..3 {
-                assert!(
-                    (m[i][j] - expect[i][j]).abs() < 1e-12,
-                    "({i},{j}): {} vs {}",
-                    m[i][j],
-                    expect[i][j]
-                );
-            }
-        }
-        // T·T⁻¹ = I
-        for i in 0..3 {
-            for j in 0..3 {
-                let v: f64 = (0..3).map(|p| k.t[i][p] * k.ti[p][j]).sum();
-                assert!((v - if i == j { 1.0 } else { 0.0 }).abs() < 1e-14);
-            }
-        }
-    }
-
-    #[test]
-    fn butcher_matrix_satisfies_simplifying_assumptions() {
-        // C(3): Σ_j a_ij c_j^(q−1) = c_i^q / q for q = 1, 2, 3 (stage order 3).
-        let a = radau_a();
-        let c = Consts::new().c;
-        for q in 1..=3 {
-            for i in 0..3 {
-                let lhs: f64 = (0..3).map(|j| a[i][j] * c[j].powi(q - 1)).sum();
-                assert!((lhs - c[i].powi(q) / q as f64).abs() < 1e-14);
-            }
-        }
-    }
-
-    #[test]
-    fn error_weights_helpers() {
-        use crate::options::ErrorNorm;
-        assert_eq!(ErrorNorm::Rms.of(&[], &[]), 0.0);
-        assert_eq!(ErrorNorm::Max.of(&[], &[]), 0.0);
-        assert!(ErrorNorm::Max.of(&[1.0, f64::NAN], &[1.0, 1.0]).is_nan());
-        assert_eq!(worst(&[1.0, -5.0, 2.0], &[1.0, 1.0, 1.0]), Some(1));
-        assert!(step_too_small(0.0, 1.0, 0.0));
-        assert!(!step_too_small(1e-3, 1.0, 0.0));
-    }
-}
+mod tests;

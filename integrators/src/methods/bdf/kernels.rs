@@ -1,0 +1,364 @@
+//! The BDF method's vector kernels: the interpolation coefficients of its history, the blocked
+//! passes that evaluate the predictor and the error norms (split in two halves when the
+//! solve runs in parallel), the Newton update's fused solution map and the norm accumulators.
+
+use super::*;
+
+/// Newton-form interpolation through the nodes `z` (newest first; two equal adjacent nodes mean
+/// the second carries the derivative item, index `z.len()`): coefficients over the items of
+/// `p(t)` and `p'(t)`.
+pub(super) fn interp_coeffs(z: &[f64], t: f64, p: &mut [f64; NC], dp: &mut [f64; NC]) {
+    let m = z.len();
+    debug_assert!((1..NC).contains(&m));
+    let mut table = [[0.0; NC]; NC];
+    for (i, row) in table.iter_mut().enumerate().take(m) {
+        row[i] = 1.0;
+    }
+    *p = [0.0; NC];
+    *dp = [0.0; NC];
+    let mut w = 1.0;
+    let mut dw = 0.0;
+    for level in 0..m {
+        for q in 0..=m {
+            p[q] += table[0][q] * w;
+            dp[q] += table[0][q] * dw;
+        }
+        if level + 1 == m {
+            break;
+        }
+        dw = dw * (t - z[level]) + w;
+        w *= t - z[level];
+        for i in 0..m - level - 1 {
+            let den = z[i + level + 1] - z[i];
+            if den == 0.0 {
+                let mut e = [0.0; NC];
+                e[m] = 1.0;
+                table[i] = e;
+            } else {
+                let next = table[i + 1];
+                for (cur, nxt) in table[i].iter_mut().zip(next).take(m + 1) {
+                    *cur = (nxt - *cur) / den;
+                }
+            }
+        }
+    }
+}
+
+/// Where a vector pass of length `n` is split in two halves (run by [`rayon::join`]): a
+/// block boundary near the middle, or 0 (no split) when `parallel` does not split `n`.
+pub(super) fn split_point(n: usize, parallel: crate::Parallelism) -> usize {
+    if !parallel.splits(n) || n < 2 * BLK {
+        return 0;
+    }
+    (n / 2) / BLK * BLK
+}
+
+/// The predictor (and optionally the weights) for components `lo..lo + y.len()`: `y`, `yp`
+/// and the weights' outputs are that range's slices, the history vectors, `y0` (the newest,
+/// for the weights) and the weights' inputs are whole vectors.
+pub(super) fn poly_blocks(
+    items: &[(&[f64], f64, f64)],
+    y0: &[f64],
+    lo: usize,
+    y: &mut [f64],
+    yp: &mut [f64],
+    mut weights: Option<Weights<'_>>,
+) {
+    let n = y.len();
+    let mut s = 0;
+    while s < n {
+        let e = (s + BLK).min(n);
+        let (yb, ypb) = (&mut y[s..e], &mut yp[s..e]);
+        yb.fill(0.0);
+        ypb.fill(0.0);
+        for &(v, a, b) in items {
+            let vb = &v[lo + s..lo + e];
+            for ((yi, ypi), &x) in yb.iter_mut().zip(ypb.iter_mut()).zip(vb) {
+                *yi += a * x;
+                *ypi += b * x;
+            }
+        }
+        if let Some(w) = weights.as_mut() {
+            // the Newton weights are the error weights without the suppression of algebraic
+            // components, as in `System::error_weights`
+            let rtol = w.rtol;
+            if w.map.is_empty() {
+                let (yb0, atol) = (&y0[lo + s..lo + e], &w.atol[lo + s..lo + e]);
+                for ((nw, yi), a) in w.nwt[s..e].iter_mut().zip(yb0).zip(atol) {
+                    *nw = 1.0 / (rtol * yi.abs() + a);
+                }
+            } else {
+                // cell-level weights (differences with the partner, read from the whole y0)
+                w.map.weights(y0, w.atol, rtol, lo + s, &mut w.nwt[s..e]);
+            }
+            if let Some(ew) = w.ewt.as_mut() {
+                let alg = &w.algebraic[lo + s..lo + e];
+                for ((ewi, &nw), &is_alg) in ew[s..e].iter_mut().zip(&w.nwt[s..e]).zip(alg) {
+                    *ewi = if is_alg { 0.0 } else { nw };
+                }
+            }
+        }
+        s = e;
+    }
+}
+
+/// The error-norm sweep of [`Bdf::error_norms`] over components `lo..hi`: one accumulator
+/// per order in `items` (the norm of `y_new − predictor_m`).
+pub(super) fn norm_blocks(
+    items: &[Items<'_>],
+    ycur: &[f64],
+    ewt: &[f64],
+    norm: ErrorNorm,
+    map: &ErrorMap,
+    lo: usize,
+    hi: usize,
+) -> [NormAcc; MAX_NORMS] {
+    let mut buf = [0.0; BLK];
+    let mut acc = [NormAcc::new(norm); MAX_NORMS];
+    if !map.is_empty() {
+        // cell-level quantities: the difference of a component's error with its partner's,
+        // taken from the block's buffer or (a partner outside the block) recomputed
+        let mut s = lo;
+        while s < hi {
+            let e = (s + BLK).min(hi);
+            for (it, a) in items.iter().zip(acc.iter_mut()) {
+                let b = &mut buf[..e - s];
+                b.fill(0.0);
+                for &(v, c, _) in it.as_slice() {
+                    for (bi, &x) in b.iter_mut().zip(&v[s..e]) {
+                        *bi += c * x;
+                    }
+                }
+                let b = &buf[..e - s];
+                let err = |p: usize| -> f64 {
+                    if (s..e).contains(&p) {
+                        ycur[p] - b[p - s]
+                    } else {
+                        ycur[p] - it.as_slice().iter().map(|&(v, c, _)| c * v[p]).sum::<f64>()
+                    }
+                };
+                for i in s..e {
+                    let q = map.quantity_with(i, ycur[i] - b[i - s], err);
+                    a.push(q * ewt[i]);
+                }
+                map.for_each_end(s, e, ewt, |i, we| a.push(err(i) * we));
+            }
+            s = e;
+        }
+        return acc;
+    }
+    let mut s = lo;
+    while s < hi {
+        let e = (s + BLK).min(hi);
+        let (yb, wb) = (&ycur[s..e], &ewt[s..e]);
+        for (it, a) in items.iter().zip(acc.iter_mut()) {
+            let b = &mut buf[..e - s];
+            b.fill(0.0);
+            for &(v, c, _) in it.as_slice() {
+                for (bi, &x) in b.iter_mut().zip(&v[s..e]) {
+                    *bi += c * x;
+                }
+            }
+            for ((bi, yi), wi) in b.iter().zip(yb).zip(wb) {
+                a.push((yi - bi) * wi);
+            }
+        }
+        s = e;
+    }
+    acc
+}
+
+/// The Newton norm of `v` (weights `w`) through a non-empty error map, on two threads for a
+/// large state (the halves' partial norms are merged, as [`Bdf::error_norms`] does). The end
+/// rows ([`ErrorMap::with_end`]) are tested as in the error test: without them a Newton
+/// correction that moves the boundary next to a driven end together with its neighbours (a
+/// smooth profile, small in every difference) passes while the end cell's stretch is far from
+/// converged — measured on fig2_6's continuum (n = 2000, K = 1e-5, rtol 1e-6), an accepted
+/// first step left that cell at λ = 0.48 against 0.999.
+pub(super) fn map_norm(
+    map: &ErrorMap,
+    v: &[f64],
+    w: &[f64],
+    norm: ErrorNorm,
+    parallel: crate::Parallelism,
+) -> f64 {
+    let n = v.len();
+    let mid = split_point(n, parallel);
+    let sum = if mid == 0 {
+        map.norm_range(v, w, norm, 0, n)
+    } else {
+        let (mut first, second): (NormSum, NormSum) = rayon::join(
+            || map.norm_range(v, w, norm, 0, mid),
+            || map.norm_range(v, w, norm, mid, n),
+        );
+        first.merge(&second);
+        first
+    };
+    sum.finish(norm, n)
+}
+
+/// Index of the largest `|v_i w_i|`.
+pub(super) fn worst(v: &[f64], w: &[f64]) -> Option<usize> {
+    worst_of(v.iter().zip(w).map(|(a, b)| a * b))
+}
+
+/// Index of the largest `|x_i|`, or of the first NaN.
+pub(super) fn worst_of(xs: impl Iterator<Item = f64>) -> Option<usize> {
+    let mut best = None;
+    let mut bv = -1.0;
+    for (i, x) in xs.enumerate() {
+        let x = x.abs();
+        if x > bv || x.is_nan() {
+            bv = x;
+            best = Some(i);
+            if x.is_nan() {
+                break;
+            }
+        }
+    }
+    best
+}
+
+/// The per-component Newton update, applied by the linear solve as each component of
+/// `J⁻¹F` is found ([`System::solve_map`]).
+pub(super) struct NewtonUpdate<'a> {
+    /// Global index of `y[0]` (non-zero for the second half of a split).
+    pub(super) off: usize,
+    pub(super) y: &'a mut [f64],
+    pub(super) yp: &'a mut [f64],
+    pub(super) w: &'a [f64],
+    pub(super) scale: f64,
+    pub(super) alpha: f64,
+    pub(super) acc: NormAcc,
+}
+
+impl SolutionMap for NewtonUpdate<'_> {
+    /// `δ_i = −scale·d_i`; updates `y`, `ẏ` and the norm; returns `δ_i`.
+    #[inline(always)]
+    fn map(&mut self, i: usize, d: f64) -> f64 {
+        let i = i - self.off;
+        let di = if self.scale != 1.0 {
+            -(d * self.scale)
+        } else {
+            -d
+        };
+        self.y[i] += di;
+        self.yp[i] += self.alpha * di;
+        self.acc.push(di * self.w[i]);
+        di
+    }
+
+    fn split(self, mid: usize) -> Result<(Self, Self), Self> {
+        let at = mid - self.off;
+        let (y1, y2) = self.y.split_at_mut(at);
+        let (yp1, yp2) = self.yp.split_at_mut(at);
+        let (w1, w2) = self.w.split_at(at);
+        let half = |off, y, yp, w| NewtonUpdate {
+            off,
+            y,
+            yp,
+            w,
+            scale: self.scale,
+            alpha: self.alpha,
+            acc: NormAcc::new(ErrorNorm::Rms),
+        };
+        let mut a = half(self.off, y1, yp1, w1);
+        let mut b = half(mid, y2, yp2, w2);
+        (a.acc, b.acc) = (
+            self.acc,
+            NormAcc {
+                sum: 0.0,
+                max: 0.0,
+                nan: false,
+                ..self.acc
+            },
+        );
+        Ok((a, b))
+    }
+
+    fn merge(&mut self, other: Self) {
+        self.acc.merge(&other.acc);
+    }
+}
+
+/// Outputs and inputs of the weights pass fused into the predictor ([`Bdf::predict`]).
+pub(super) struct Weights<'a> {
+    pub(super) nwt: &'a mut [f64],
+    /// Separate error weights (suppressed algebraic components), if any.
+    pub(super) ewt: Option<&'a mut [f64]>,
+    /// [`System::weight_atol`].
+    pub(super) atol: &'a [f64],
+    pub(super) algebraic: &'a [bool],
+    pub(super) rtol: f64,
+    /// The problem's error map (empty: the identity).
+    pub(super) map: &'a ErrorMap,
+}
+
+/// Up to `NC` history vectors with their coefficients (see `Bdf::items`).
+#[derive(Clone, Copy)]
+pub(super) struct Items<'s> {
+    pub(super) list: [(&'s [f64], f64, f64); NC],
+    pub(super) len: usize,
+}
+
+impl<'s> Items<'s> {
+    pub(super) fn as_slice(&self) -> &[(&'s [f64], f64, f64)] {
+        &self.list[..self.len]
+    }
+}
+
+/// Running weighted norm of one kind, bitwise equal to [`ErrorNorm::of`] over the same
+/// products: RMS sums the squares in index order; max keeps a NaN flag beside the running
+/// maximum instead of a NaN-sticky fold, which takes the NaN test off the dependency chain.
+#[derive(Clone, Copy)]
+pub(super) struct NormAcc {
+    pub(super) rms: bool,
+    pub(super) sum: f64,
+    pub(super) max: f64,
+    pub(super) nan: bool,
+}
+
+impl NormAcc {
+    pub(super) fn new(norm: ErrorNorm) -> Self {
+        Self {
+            rms: matches!(norm, ErrorNorm::Rms),
+            sum: 0.0,
+            max: 0.0,
+            nan: false,
+        }
+    }
+
+    #[inline(always)]
+    pub(super) fn push(&mut self, x: f64) {
+        if self.rms {
+            self.sum += x * x;
+        } else {
+            let a = x.abs();
+            self.nan |= a.is_nan();
+            self.max = if a > self.max { a } else { self.max };
+        }
+    }
+
+    /// Adds the products another accumulator (of the same kind) has seen.
+    pub(super) fn merge(&mut self, other: &NormAcc) {
+        self.sum += other.sum;
+        self.nan |= other.nan;
+        self.max = if other.max > self.max {
+            other.max
+        } else {
+            self.max
+        };
+    }
+
+    pub(super) fn finish(&self, n: usize) -> f64 {
+        if n == 0 {
+            0.0
+        } else if self.rms {
+            (self.sum / n as f64).sqrt()
+        } else if self.nan {
+            f64::NAN
+        } else {
+            self.max
+        }
+    }
+}

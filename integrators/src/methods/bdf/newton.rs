@@ -1,0 +1,144 @@
+//! The BDF step's simplified Newton iteration: Jacobian and factorisation when they are due,
+//! then iterations from the predictor with the convergence-rate test `ss·‖δ‖ ≤ 0.33` (IDA's).
+
+use super::*;
+
+impl Bdf {
+    /// Jacobian (if needed) and factorisation for `α`, then simplified Newton from the predictor
+    /// (which [`Bdf::predict`] has written into `ycur`/`ẏcur`).
+    pub(super) fn newton(
+        &mut self,
+        sys: &mut System<'_>,
+        t_new: f64,
+        alpha: f64,
+    ) -> Result<(), NewtonFail> {
+        let n = self.n;
+        self.ensure_linalg(sys);
+        let mut new_fact = false;
+        if !self.jac_valid || self.steps_since_jac >= MAX_JAC_AGE {
+            let jy = self.jy.as_mut().expect("allocated");
+            let jyp = self.jyp.as_mut().expect("allocated");
+            let r = sys
+                .jacobian(t_new, &self.ycur, &self.ypcur, 0.0, jy)
+                .and_then(|_| sys.jacobian(t_new, &self.ycur, &self.ypcur, 1.0, jyp));
+            match r {
+                Ok(()) => {}
+                Err(StepFailure::Recoverable { reason, component }) => {
+                    self.jac_valid = false;
+                    return Err(NewtonFail::Recoverable(reason, component));
+                }
+                Err(StepFailure::Fatal(e)) => return Err(NewtonFail::Fatal(e)),
+            }
+            // jyp = J(1) - J(0) = ∂F/∂ẏ
+            jyp.axpby(1.0, -1.0, jy);
+            self.jac_valid = true;
+            self.jac_current = true;
+            self.steps_since_jac = 0;
+            new_fact = true;
+        }
+        if new_fact || self.c_fact == 0.0 || (alpha / self.c_fact - 1.0).abs() > 0.25 {
+            // J(0) + α·∂F/∂ẏ, combined straight into the factor storage for banded patterns
+            match sys.factor_combination(
+                self.lin.as_mut().expect("allocated"),
+                self.jy.as_ref().expect("allocated"),
+                alpha,
+                self.jyp.as_ref().expect("allocated"),
+                self.iter.as_mut().expect("allocated"),
+            ) {
+                Ok(()) => {}
+                Err(StepFailure::Recoverable { reason, component }) => {
+                    self.c_fact = 0.0;
+                    return Err(NewtonFail::Recoverable(reason, component));
+                }
+                Err(StepFailure::Fatal(e)) => {
+                    self.c_fact = 0.0;
+                    return Err(NewtonFail::Fatal(e));
+                }
+            }
+            self.c_fact = alpha;
+            self.ss = 20.0;
+        }
+        let scale = if alpha == self.c_fact {
+            1.0
+        } else {
+            2.0 / (1.0 + alpha / self.c_fact)
+        };
+
+        let mut oldnrm = 0.0;
+        let maxit = sys.opts.max_newton_iters;
+        let first_step = self.steps_since_start == 0;
+        for m in 0..maxit {
+            match sys.residual(t_new, &self.ycur, &self.ypcur, &mut self.res) {
+                Ok(()) => {}
+                Err(StepFailure::Recoverable { reason, component }) => {
+                    return Err(NewtonFail::Recoverable(reason, component))
+                }
+                Err(StepFailure::Fatal(e)) => return Err(NewtonFail::Fatal(e)),
+            }
+            sys.stats.newton_iterations += 1;
+            // δ = −scale·J⁻¹F: solving for F and negating afterwards is bitwise the same as
+            // solving for −F (every rounding is sign-symmetric). The solve hands each
+            // component to one fused update that stores δ in `res`, updates the iterate and
+            // accumulates ‖δ‖; the tridiagonal solver runs it inside its backward sweep. (The
+            // total correction `y_new − predictor` is not accumulated here: the error test
+            // recomputes it from the history in its own sweep, one stream fewer per iteration.)
+            let upd = NewtonUpdate {
+                off: 0,
+                y: &mut self.ycur[..n],
+                yp: &mut self.ypcur[..n],
+                w: &self.nwt[..n],
+                scale,
+                alpha,
+                acc: NormAcc::new(sys.opts.norm),
+            };
+            // an iterative solver stops once its error is a small fraction of EPS_NEWT in the
+            // Newton norm (inexact Newton, as IDA; see `IterativeSettings`)
+            let tol = LinearTolerance {
+                weights: &self.nwt,
+                norm: sys.opts.norm,
+                target: EPS_NEWT,
+            };
+            let lin = self.lin.as_ref().expect("allocated");
+            let upd = sys.solve_map(lin, &mut self.res, Some(&tol), upd);
+            let delnrm = if sys.error_map().is_empty() {
+                upd.acc.finish(n)
+            } else {
+                // cell-level quantities need the partner's δ: one pass over δ (now in `res`)
+                map_norm(
+                    sys.error_map(),
+                    &self.res,
+                    &self.nwt,
+                    sys.opts.norm,
+                    self.parallel,
+                )
+            };
+            if !delnrm.is_finite() {
+                return Err(NewtonFail::NoConvergence(worst(&self.res, &self.nwt)));
+            }
+            if m == 0 {
+                oldnrm = delnrm;
+                if delnrm <= 1e-4 * EPS_NEWT {
+                    return Ok(());
+                }
+                if first_step {
+                    // No rate information yet and the predictor is only `y₀ + h·ẏ₀`: the
+                    // first step of a (re)start is accepted only once a second iterate shows
+                    // the iteration contracting. Without this, a strongly nonlinear component
+                    // (a cell driven to collapse by a moving end) can make a tiny first
+                    // correction that passes the test far from the solution.
+                    continue;
+                }
+            } else {
+                let rate = (delnrm / oldnrm).powf(1.0 / m as f64);
+                if rate > 0.9 {
+                    return Err(NewtonFail::NoConvergence(worst(&self.res, &self.nwt)));
+                }
+                self.ss = rate / (1.0 - rate);
+            }
+            if self.ss * delnrm <= EPS_NEWT {
+                return Ok(());
+            }
+        }
+        Err(NewtonFail::NoConvergence(worst(&self.res, &self.nwt)))
+    }
+}
