@@ -4,13 +4,14 @@
 //! the unknown, and the cell-centre form is the edge form in other variables.
 
 use celltissue::array::{ArrayProblem, CellArray};
-use celltissue::cell::{Field, MaxwellBranch};
+use celltissue::cell::{Field, MaxwellBranch, TanhGrowth};
 use celltissue::sheet::exact::{sheet_free_steady, sheet_periodic_steady};
 use celltissue::sheet::shear::{ShearCellCentre, ShearColumn, ShearParams};
-use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
-use celltissue::sheet::TopBoundary;
+use celltissue::sheet::uniaxial::{SheetGrowth, SheetParams, UniaxialSheet};
+use celltissue::sheet::{GrowthDirections, RightEdge, TopBoundary};
 use celltissue::{MooneyRivlin, NeoHookean, StrainEnergy};
 use integrators::{Pattern, Problem, ResidualError};
+use std::sync::Arc;
 
 fn nh() -> NeoHookean {
     NeoHookean::new(1.0).unwrap()
@@ -135,6 +136,16 @@ fn declared_sparse_pattern_contains_ad_jacobian_which_matches_finite_differences
                 } else {
                     Field::Constant(0.0)
                 },
+                // growing cells with a free side x = l, with and without a branch
+                right: if m_exp == 1.0 {
+                    RightEdge::Free
+                } else {
+                    RightEdge::Prescribed
+                },
+                growth: (m_exp == 1.0).then(|| SheetGrowth {
+                    law: Arc::new(TanhGrowth::default()),
+                    directions: GrowthDirections::Both,
+                }),
                 ..Default::default()
             };
             let sheet = UniaxialSheet::discrete(nh(), &p).unwrap();

@@ -102,6 +102,7 @@ pub fn write_figures(
         ("cells", "N", "number of cells"),
         ("mean_pressure", "mean p", "mean pressure"),
         ("mean_height", "mean H", "mean height"),
+        ("mean_width", "w (mean top position)", "width"),
         (
             "mean_stretch_z_over_y",
             "mean λ3 / mean λ2",

@@ -17,7 +17,8 @@
 
 use super::ramp::Ramp;
 use super::shear::ShearParams;
-use super::uniaxial::SheetParams;
+use super::uniaxial::{SheetGrowth, SheetParams};
+use crate::cell::growth_laws::GrowthSpec;
 use crate::cell::{Field, ViscosityModel};
 use crate::energy::{AnyEnergy, NeoHookean};
 use integrators::{MethodChoice, MethodKind, Options};
@@ -32,6 +33,40 @@ pub enum TopBoundary {
     Free,
     /// Periodic in y, `y_b(j,M) = y_b(j,0) + w₀` ((4.38)).
     Periodic,
+}
+
+/// The side `x = l` of the sheet.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RightEdge {
+    /// `x_b(N, k) = l(t)`, the ramp of `k1` and `ramp` (the thesis's Chapter 4).
+    #[default]
+    Prescribed,
+    /// Zero traction, `K κ ẋ_b(N,k) = −H W σ₁₁` (a growing sheet; `k1` and `ramp` unused).
+    Free,
+}
+
+/// The in-plane directions in which a growing sheet's cells grow.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum GrowthDirections {
+    /// `ġ₁ = G(σ₁₁)` and `ġ₂ = G(σ₂₂)`.
+    #[default]
+    Both,
+    /// Along x only (`g₂ = 1`): with a periodic side the rows are lines of cells.
+    X,
+    /// Along y only (`g₁ = 1`).
+    Y,
+}
+
+impl GrowthDirections {
+    /// Whether direction `i` (0 = x, 1 = y) grows.
+    pub fn grows(self, i: usize) -> bool {
+        matches!(
+            (self, i),
+            (GrowthDirections::Both, _) | (GrowthDirections::X, 0) | (GrowthDirections::Y, 1)
+        )
+    }
 }
 
 /// Which form of the shear column to integrate.
@@ -139,6 +174,13 @@ pub struct SheetConfig {
     /// External pressure `p_e(X)` on the cells' upper faces (any finite number or field of `X`,
     /// constant along `Y`; docs/external_pressure.md).
     pub external_pressure: Field,
+    /// `"prescribed"` (default: the ramp) or `"free"` side `x = l`.
+    pub right: RightEdge,
+    /// Growth law `{ law = "tanh", sigma0, gm }` of each cell's in-plane reference lengths
+    /// (absent = no growth; docs/sheet_growth.md).
+    pub growth: Option<GrowthSpec>,
+    /// Which in-plane directions grow: `"both"` (default), `"x"` or `"y"`.
+    pub growth_directions: GrowthDirections,
 }
 
 fn default_law() -> AnyEnergy {
@@ -161,6 +203,9 @@ impl Default for SheetConfig {
             law: default_law(),
             viscosity: None,
             external_pressure: Field::Constant(0.0),
+            right: RightEdge::Prescribed,
+            growth: None,
+            growth_directions: GrowthDirections::Both,
         }
     }
 }
@@ -216,6 +261,18 @@ impl SheetConfig {
                 expected: format!("must be {}", e.range),
             })?;
         }
+        need(
+            self.growth.is_some() || self.growth_directions == GrowthDirections::Both,
+            "growth_directions",
+            format!("{:?}", self.growth_directions).to_lowercase(),
+            "needs growth (add growth = { law = \"tanh\", sigma0 = 0.1 })",
+        )?;
+        need(
+            self.growth.is_some() || self.right == RightEdge::Prescribed,
+            "right",
+            "\"free\"",
+            "without growth nothing drives a free sheet; add growth = { law = \"tanh\" } or use \"prescribed\"",
+        )?;
         let centres: Vec<f64> = (0..self.cells_x).map(|j| j as f64 + 0.5).collect();
         let p_ext = self.external_pressure.sample(&centres, self.cells_x as f64);
         if let Some(bad) = p_ext.iter().find(|v| !v.is_finite()) {
@@ -242,6 +299,11 @@ impl SheetConfig {
             top: self.top,
             branch: self.viscosity.and_then(|v| v.branch().ok().flatten()),
             external_pressure: self.external_pressure.clone(),
+            right: self.right,
+            growth: self.growth.as_ref().map(|g| SheetGrowth {
+                law: g.law().clone(),
+                directions: self.growth_directions,
+            }),
         }
     }
 }

@@ -35,7 +35,10 @@ pub mod shear;
 pub mod uniaxial;
 pub mod vtk;
 
-pub use config::{ConfigError, ShearConfig, ShearForm, SheetConfig, SolverSettings, TopBoundary};
+pub use config::{
+    ConfigError, GrowthDirections, RightEdge, ShearConfig, ShearForm, SheetConfig, SolverSettings,
+    TopBoundary,
+};
 pub use ramp::Ramp;
 pub use run::{run_shear, run_sheet, RunError};
 pub use shear::{ShearCellCentre, ShearColumn};

@@ -32,14 +32,18 @@ pub const MEAN_SHEAR_ANGLE: &str = "mean_shear_angle";
 pub const MAX_STRETCH_Y: &str = "max_stretch_y";
 /// Series key: min over cells of the transverse stretch λ₂.
 pub const MIN_STRETCH_Y: &str = "min_stretch_y";
+/// Series key: mean position of the side `y = w` (growing sheets only).
+pub const MEAN_WIDTH: &str = "mean_width";
 
 /// Scalar observables of one sheet snapshot.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SheetObservables {
     /// Time.
     pub t: f64,
-    /// Prescribed length `l(t)`.
+    /// Length: the mean position of the side `x = l` (`l(t)` when prescribed).
     pub length: f64,
+    /// Width: the mean position of the side `y = w`, for a growing sheet.
+    pub width: Option<f64>,
     /// Max / min / mean pressure.
     pub pressure: [f64; 3],
     /// Max / min `λ₁`.
@@ -87,7 +91,11 @@ pub fn sheet_observables<E: StrainEnergy>(
     let nc = cells.len() as f64;
     let mut o = SheetObservables {
         t,
-        length: sheet.length(t),
+        length: sheet.right_edge(t, y),
+        width: sheet.growth().map(|_| {
+            let (n, m) = sheet.grid();
+            (1..=n).map(|j| sheet.yb(y, j, m)).sum::<f64>() / n as f64
+        }),
         pressure: [f64::NEG_INFINITY, f64::INFINITY, 0.0],
         stretch_x: [f64::NEG_INFINITY, f64::INFINITY],
         stretch_y: [f64::NEG_INFINITY, f64::INFINITY],
@@ -127,13 +135,36 @@ pub fn push_sheet_series(s: &mut Series, o: &SheetObservables) {
     put(BOUNDARY_MISMATCH_MAX, o.mismatch[1]);
     put(MAX_STRETCH_Y, o.stretch_y[0]);
     put(MIN_STRETCH_Y, o.stretch_y[1]);
+    if let Some(w) = o.width {
+        put(MEAN_WIDTH, w);
+    }
+}
+
+/// The optional per-cell columns of a sheet profile.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SheetColumns {
+    /// `viscous_x`, `viscous_y`: the Maxwell branch's viscous stretches.
+    pub viscous: bool,
+    /// `growth_x`, `growth_y`: the growth stretches.
+    pub growth: bool,
+}
+
+impl SheetColumns {
+    /// The columns a sheet has.
+    pub fn of<E: StrainEnergy>(sheet: &UniaxialSheet<E>) -> Self {
+        Self {
+            viscous: sheet.branch().is_some(),
+            growth: sheet.growth().is_some(),
+        }
+    }
 }
 
 /// A per-cell sheet [`Profile`]: `X`/`x` are reference/current centre x, `stretch` is `λ₁`;
 /// `extra` holds `Y`, `y`, `stretch_y` (λ₂), `stretch_z` (λ₃), `height`, `sigma11`, `sigma22`,
-/// `kappa`, `column` (j), `row` (k), and with a Maxwell branch (`branch`) the viscous
-/// stretches `viscous_x` (a₁) and `viscous_y` (a₂). Cells are listed column by column.
-pub fn sheet_profile(t: f64, cells: &[SheetCell], branch: bool) -> Profile {
+/// `kappa`, `column` (j), `row` (k), and the optional [`SheetColumns`]: the viscous stretches
+/// `viscous_x` (a₁), `viscous_y` (a₂) and the growth stretches `growth_x` (g₁), `growth_y`
+/// (g₂). Cells are listed column by column.
+pub fn sheet_profile(t: f64, cells: &[SheetCell], columns: SheetColumns) -> Profile {
     let mut p = Profile {
         t,
         ..Default::default()
@@ -175,9 +206,15 @@ pub fn sheet_profile(t: f64, cells: &[SheetCell], branch: bool) -> Profile {
     for (k, col) in keys.iter().zip(cols) {
         p.extra.insert(k.to_string(), col);
     }
-    if branch {
+    if columns.viscous {
         for (i, key) in ["viscous_x", "viscous_y"].into_iter().enumerate() {
             let col = cells.iter().map(|c| c.viscous[i]).collect();
+            p.extra.insert(key.to_string(), col);
+        }
+    }
+    if columns.growth {
+        for (i, key) in ["growth_x", "growth_y"].into_iter().enumerate() {
+            let col = cells.iter().map(|c| c.growth[i]).collect();
             p.extra.insert(key.to_string(), col);
         }
     }

@@ -16,7 +16,7 @@
 use super::config::{ConfigError, ShearConfig, ShearForm, SheetConfig, SolverSettings};
 use super::observe::{
     push_shear_series, push_sheet_series, shear_observables, shear_profile, sheet_observables,
-    sheet_profile,
+    sheet_profile, SheetColumns,
 };
 #[cfg(feature = "plots")]
 use super::plot;
@@ -251,7 +251,7 @@ pub fn run_sheet<E: StrainEnergy>(
             push_sheet_series(&mut series, &sheet_observables(sheet, *t, y, &cells));
         }
         if contains(&out.profile_times, *t) {
-            profiles.push(sheet_profile(*t, &cells, sheet.branch().is_some()));
+            profiles.push(sheet_profile(*t, &cells, SheetColumns::of(sheet)));
             if let Some(d) = &out.dir {
                 let i = pvd.len();
                 let name = format!("{prefix}_{i:04}.vtu");

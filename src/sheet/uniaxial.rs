@@ -19,11 +19,11 @@
 //! external pressure `p_e(X)` on its upper face; each viscous stretch has the row
 //! `ȧᵢ − aᵢ·2 dev(σ_m)ᵢᵢ/η_m = 0` (docs/viscoelasticity.md, "The sheet"; docs/external_pressure.md).
 
-use super::config::TopBoundary;
+use super::config::{GrowthDirections, RightEdge, TopBoundary};
 use super::lift2;
 use super::ramp::Ramp;
 use crate::array::CellArray;
-use crate::cell::{Field, MaxwellBranch, ViscousBranch};
+use crate::cell::{Field, GrowthLaw, MaxwellBranch, ViscousBranch};
 use crate::energy::{SheetResponse, StrainEnergy};
 use crate::scalar::Scalar;
 use crate::substrate::{Dissipation, PowerLawDrag};
@@ -60,6 +60,26 @@ pub struct SheetParams {
     /// External pressure `p_e(X)` on each cell's upper face `z = H`, a field of the reference
     /// position `X` sampled at the cell (segment) centres; constant along `Y`.
     pub external_pressure: Field,
+    /// Prescribed (the ramp) or free side `x = l`.
+    pub right: RightEdge,
+    /// Growth of the cells' in-plane reference lengths, if any.
+    pub growth: Option<SheetGrowth>,
+}
+
+/// Stress-dependent growth of a sheet's cells (docs/sheet_growth.md): growth stretches `g₁`,
+/// `g₂` with `ġᵢ = G(σᵢᵢ)` in the growing directions; the law sees `λᵢ/gᵢ`.
+#[derive(Clone)]
+pub struct SheetGrowth {
+    /// The growth law `G`.
+    pub law: Arc<dyn GrowthLaw>,
+    /// The directions that grow.
+    pub directions: GrowthDirections,
+}
+
+impl std::fmt::Debug for SheetGrowth {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "SheetGrowth {{ directions: {:?} }}", self.directions)
+    }
 }
 
 impl Default for SheetParams {
@@ -78,6 +98,8 @@ impl Default for SheetParams {
             top: TopBoundary::Free,
             branch: None,
             external_pressure: Field::Constant(0.0),
+            right: RightEdge::Prescribed,
+            growth: None,
         }
     }
 }
@@ -109,6 +131,8 @@ pub struct SheetCell {
     pub kappa: f64,
     /// Viscous stretches `(a₁, a₂)` of the Maxwell branch (`(1, 1)` without one).
     pub viscous: [f64; 2],
+    /// Growth stretches `(g₁, g₂)` (`(1, 1)` without growth).
+    pub growth: [f64; 2],
 }
 
 /// The state of one cell inside a residual evaluation.
@@ -152,9 +176,11 @@ pub struct UniaxialSheet<E: StrainEnergy> {
     branch_cache: RefCell<Vec<(f64, f64, SheetResponse)>>,
     /// `p_e` of each column `j = 1..n` (index `j − 1`).
     p_ext: Vec<f64>,
-    /// Unknowns per column block: `2m`, or `4m` with a branch.
+    /// Unknowns per column block: `2m`, plus `2m` with a branch and `2m` with growth.
     block: usize,
-    /// Offset of the face unknowns in a block: 0, or `2m` with a branch.
+    /// Offset of the growth stretches in a block: 0, or `2m` with a branch.
+    growth_at: usize,
+    /// Offset of the face unknowns in a block: `2m` per branch and growth.
     faces: usize,
     atol_cell: Option<f64>,
 }
@@ -231,6 +257,12 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
             "finite",
         )?;
         check(p.k1 < 1.0 && p.k1 > -1.0, "k1", p.k1, "(-1, 1)")?;
+        check(
+            p.growth.is_some() || p.right == RightEdge::Prescribed,
+            "right",
+            f64::NAN,
+            "prescribed unless the sheet grows (nothing drives a free sheet)",
+        )?;
         check(p.ramp.t_ramp() > 0.0, "t_ramp", p.ramp.t_ramp(), "> 0")?;
         check(
             !(p.top == TopBoundary::Periodic && p.drag == 0.0),
@@ -249,7 +281,8 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
                 expected: "finite at every cell",
             });
         }
-        let faces = if p.branch.is_some() { 2 * m } else { 0 };
+        let growth_at = if p.branch.is_some() { 2 * m } else { 0 };
+        let faces = growth_at + if p.growth.is_some() { 2 * m } else { 0 };
         let mut s = Self {
             law,
             params: p.clone(),
@@ -263,6 +296,7 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
             branch_cache: RefCell::new(Vec::new()),
             p_ext,
             block: faces + 2 * m,
+            growth_at,
             faces,
             atol_cell: None,
         };
@@ -305,7 +339,7 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
     pub fn w0(&self) -> f64 {
         self.params.cells_y as f64 * self.params.gamma0
     }
-    /// The prescribed length `l(t)`.
+    /// The prescribed length `l(t)` (the ramp; see [`Self::right_edge`] for a free edge).
     pub fn length(&self, t: f64) -> f64 {
         self.params.ramp.length(self.l0(), self.params.k1, t)
     }
@@ -318,7 +352,8 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
             TopBoundary::Periodic => base + k,
         }
     }
-    /// Index of the unknown `x_b(j, k)` (`j = 1..n−1`, `k = 1..m`).
+    /// Index of the unknown `x_b(j, k)` (`j = 1..n−1`, and `j = n` with a free right edge;
+    /// `k = 1..m`).
     pub fn ix(&self, j: usize, k: usize) -> usize {
         (j - 1) * self.block + self.faces + self.m + k - 1
     }
@@ -326,6 +361,31 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
     /// Maxwell branch (`j = 1..n`, `k = 1..m`).
     pub fn iq(&self, j: usize, k: usize) -> usize {
         (j - 1) * self.block + 2 * (k - 1)
+    }
+    /// Index of cell `(j, k)`'s growth stretch `g₁` (`g₂` is the next unknown), when the
+    /// sheet grows.
+    pub fn ig(&self, j: usize, k: usize) -> usize {
+        (j - 1) * self.block + self.growth_at + 2 * (k - 1)
+    }
+    /// Whether the side `x = l` is free (its face positions are unknowns).
+    fn free_right(&self) -> bool {
+        self.params.right == RightEdge::Free
+    }
+    /// Whether `x_b(j, k)` is an unknown (`j ≥ 1`; the last column's only on a free edge).
+    fn x_is_unknown(&self, j: usize) -> bool {
+        j >= 1 && (j < self.n || self.free_right())
+    }
+    /// The growth, if any.
+    pub fn growth(&self) -> Option<&SheetGrowth> {
+        self.params.growth.as_ref()
+    }
+    /// Mean position of the side `x = l` over the rows: `l(t)` when prescribed.
+    pub fn right_edge(&self, t: f64, y: &[f64]) -> f64 {
+        let lt = self.length(t);
+        (1..=self.m)
+            .map(|k| self.xb_s(y, lt, self.n, k))
+            .sum::<f64>()
+            / self.m as f64
     }
     /// The Maxwell branch, if any.
     pub fn branch(&self) -> Option<&MaxwellBranch> {
@@ -348,11 +408,15 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
     pub fn initial_state(&self) -> Vec<f64> {
         let mut y = vec![0.0; self.dim()];
         for j in 1..=self.n {
-            if let Some(b) = &self.params.branch {
-                for k in 1..=self.m {
+            for k in 1..=self.m {
+                if let Some(b) = &self.params.branch {
                     let q = self.iq(j, k);
                     y[q] = b.initial();
                     y[q + 1] = b.initial();
+                }
+                if self.params.growth.is_some() {
+                    y[self.ig(j, k)] = 1.0;
+                    y[self.ig(j, k) + 1] = 1.0;
                 }
             }
             for k in 0..=self.m {
@@ -360,7 +424,7 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
                     y[self.iy(j, k)] = k as f64 * self.hy;
                 }
             }
-            if j < self.n {
+            if self.x_is_unknown(j) {
                 for k in 1..=self.m {
                     y[self.ix(j, k)] = j as f64 * self.hx;
                 }
@@ -382,7 +446,7 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
     fn xb_s<S: Scalar>(&self, y: &[S], lt: f64, j: usize, k: usize) -> S {
         if j == 0 {
             S::from(0.0)
-        } else if j == self.n {
+        } else if j == self.n && !self.free_right() {
             S::from(lt)
         } else {
             y[self.ix(j, k)]
@@ -414,8 +478,11 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
         if self.params.branch.is_some() {
             out.extend([self.iq(j, k), self.iq(j, k) + 1]);
         }
+        if self.params.growth.is_some() {
+            out.extend([self.ig(j, k), self.ig(j, k) + 1]);
+        }
         for jj in [j - 1, j] {
-            if jj >= 1 && jj < self.n {
+            if self.x_is_unknown(jj) {
                 out.push(self.ix(jj, k));
             }
         }
@@ -441,11 +508,16 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
             }
         };
         for j in 1..=self.n {
-            if self.params.branch.is_some() {
-                for k in 1..=self.m {
-                    let q = self.iq(j, k);
-                    add(q, &[(j, k)], &mut entries);
-                    add(q + 1, &[(j, k)], &mut entries);
+            for k in 1..=self.m {
+                let mut internal = Vec::with_capacity(4);
+                if self.params.branch.is_some() {
+                    internal.extend([self.iq(j, k), self.iq(j, k) + 1]);
+                }
+                if self.params.growth.is_some() {
+                    internal.extend([self.ig(j, k), self.ig(j, k) + 1]);
+                }
+                for row in internal {
+                    add(row, &[(j, k)], &mut entries);
                 }
             }
             for k in 0..=self.m {
@@ -462,6 +534,10 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
             if j < self.n {
                 for k in 1..=self.m {
                     add(self.ix(j, k), &[(j, k), (j + 1, k)], &mut entries);
+                }
+            } else if self.free_right() {
+                for k in 1..=self.m {
+                    add(self.ix(j, k), &[(j, k)], &mut entries);
                 }
             }
         }
@@ -509,7 +585,7 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
         let l2 = (self.yb_s(y, j, k) - self.yb_s(y, j, k - 1)) * (1.0 / self.hy);
         let (a, b) = (l1.re(), l2.re());
         if !(a > 0.0 && a.is_finite()) {
-            let comp = if j < self.n {
+            let comp = if self.x_is_unknown(j) {
                 Some(self.ix(j, k))
             } else if j > 1 {
                 Some(self.ix(j - 1, k))
@@ -528,23 +604,38 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
                 component: Some(self.iy(j, kk)),
             });
         }
+        // a growing cell's laws see its stretch relative to the grown cell, α = λ/g
+        let (al1, al2) = match &self.params.growth {
+            Some(_) => {
+                let gi = self.ig(j, k);
+                let ok = |v: f64| v > 0.0 && v.is_finite();
+                let (u, v) = (y[gi].re(), y[gi + 1].re());
+                if !(ok(u) && ok(v)) {
+                    return Err(ResidualError::Recoverable {
+                        reason: format!(
+                            "growth stretches (g₁, g₂) = ({u}, {v}) of sheet cell (j={j}, k={k}) must be finite and > 0"
+                        ),
+                        component: Some(if ok(u) { gi + 1 } else { gi }),
+                    });
+                }
+                (l1 / y[gi], l2 / y[gi + 1])
+            }
+            None => (l1, l2),
+        };
+        let (a, b) = (al1.re(), al2.re());
         let c = (j - 1) * self.m + (k - 1);
         let branch = self.params.branch.as_ref();
         let (mut s11, mut s22) = if branch.is_none_or(|br| br.keeps_elastic()) {
             if let Err(e) = self.law.admissible([a, b, 1.0 / (a * b)]) {
                 return Err(ResidualError::Recoverable {
                     reason: format!("sheet cell (j={j}, k={k}): {e}"),
-                    component: if j < self.n {
-                        Some(self.ix(j, k))
-                    } else {
-                        None
-                    },
+                    component: self.x_is_unknown(j).then(|| self.ix(j, k)),
                 });
             }
             let r = self.response(&self.cache, c, a, b);
             (
-                lift2(l1, l2, r.s11, r.tangent[0][0], r.tangent[0][1]),
-                lift2(l1, l2, r.s22, r.tangent[1][0], r.tangent[1][1]),
+                lift2(al1, al2, r.s11, r.tangent[0][0], r.tangent[0][1]),
+                lift2(al1, al2, r.s22, r.tangent[1][0], r.tangent[1][1]),
             )
         } else {
             (S::from(0.0), S::from(0.0))
@@ -563,7 +654,7 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
                     component: Some(if br.admissible(q1) { q + 1 } else { q }),
                 });
             }
-            let (e1, e2) = (l1 / av[0], l2 / av[1]);
+            let (e1, e2) = (al1 / av[0], al2 / av[1]);
             let (x1, x2) = (e1.re(), e2.re());
             if let Err(e) = self.law.admissible([x1, x2, 1.0 / (x1 * x2)]) {
                 return Err(ResidualError::Recoverable {
@@ -586,12 +677,12 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
             s11 -= S::from(pe);
             s22 -= S::from(pe);
         }
-        let area = l1 * l2;
-        let kappa = self.dissipation().kappa(area);
+        let kappa = self.dissipation().kappa(l1 * l2);
         Ok(CellS {
             l1,
             l2,
-            h: area.recip() * self.params.beta0,
+            // the height of an incompressible cell grown in plane: H = β₀ λ₃, λ₃ = 1/(α₁α₂)
+            h: (al1 * al2).recip() * self.params.beta0,
             kappa,
             s11,
             s22,
@@ -612,7 +703,7 @@ fn zero_response() -> SheetResponse {
 
 impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
     fn dim(&self) -> usize {
-        self.n * self.block - self.m
+        self.n * self.block - if self.free_right() { 0 } else { self.m }
     }
 
     fn pattern(&self) -> Pattern {
@@ -643,6 +734,20 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
                     let rate = br.sheet_rate(c.a, c.branch);
                     r[q] = yp[q] - rate[0];
                     r[q + 1] = yp[q + 1] - rate[1];
+                }
+            }
+            // growth stretches of column j: ġᵢ = G(σᵢᵢ) in the growing directions
+            if let Some(g) = &self.params.growth {
+                for (k, c) in (1..=m).zip(&cur) {
+                    let gi = self.ig(j, k);
+                    for (i, sigma) in [c.s11, c.s22].into_iter().enumerate() {
+                        r[gi + i] = if g.directions.grows(i) {
+                            let (rate, slope) = g.law.rate(sigma.re());
+                            yp[gi + i] - sigma.lift(rate, slope)
+                        } else {
+                            yp[gi + i]
+                        };
+                    }
                 }
             }
             // y-faces of column j
@@ -681,6 +786,13 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
                     r[row] = yp[row] * (kap * d) - h * w * (b.s11 - a.s11);
                 }
                 std::mem::swap(&mut cur, &mut next);
+            } else if self.free_right() {
+                // free side x = l: the last cell's own H, W
+                for (k, c) in (1..=m).zip(&cur) {
+                    let row = self.ix(n, k);
+                    let w = c.l2 * self.hy;
+                    r[row] = yp[row] * (c.kappa * d) + c.h * w * c.s11;
+                }
             }
         }
         Ok(())
@@ -691,13 +803,17 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
         let mut v = vec![a * self.hy; self.dim()];
         for j in 1..=self.n {
             for k in 1..=self.m {
-                if j < self.n {
+                if self.x_is_unknown(j) {
                     v[self.ix(j, k)] = a * self.hx;
                 }
+                // viscous and growth stretches are in cell units already
                 if self.params.branch.is_some() {
-                    // viscous stretches are in cell units already
                     v[self.iq(j, k)] = a;
                     v[self.iq(j, k) + 1] = a;
+                }
+                if self.params.growth.is_some() {
+                    v[self.ig(j, k)] = a;
+                    v[self.ig(j, k) + 1] = a;
                 }
             }
         }
@@ -727,7 +843,7 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
                 };
             }
         }
-        for j in 1..self.n {
+        for j in (1..=self.n).filter(|&j| self.x_is_unknown(j)) {
             for k in 1..=self.m {
                 rows[self.ix(j, k)] = if j == 1 {
                     Row::Anchor { size: self.hx }
@@ -741,7 +857,7 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
         let mut map = integrators::ErrorMap::from_rows(rows).ok()?;
         // the faces next to the prescribed edge x_b(n, k): that column's stretch error
         for k in 1..=self.m {
-            if self.n >= 2 {
+            if self.n >= 2 && !self.free_right() {
                 map = map.with_end(self.ix(self.n - 1, k), self.hx).ok()?;
             }
         }
@@ -750,11 +866,15 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
 
     fn algebraic(&self) -> Vec<bool> {
         let mut v = vec![self.params.drag == 0.0; self.dim()];
-        if self.params.branch.is_some() {
-            for j in 1..=self.n {
-                for k in 1..=self.m {
+        for j in 1..=self.n {
+            for k in 1..=self.m {
+                if self.params.branch.is_some() {
                     v[self.iq(j, k)] = false;
                     v[self.iq(j, k) + 1] = false;
+                }
+                if self.params.growth.is_some() {
+                    v[self.ig(j, k)] = false;
+                    v[self.ig(j, k) + 1] = false;
                 }
             }
         }

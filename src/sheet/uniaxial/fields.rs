@@ -33,9 +33,15 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
                 let yy = [self.yb_s(y, j, k - 1), self.yb_s(y, j, k)];
                 let l1 = (x[1] - x[0]) / self.hx;
                 let l2 = (yy[1] - yy[0]) / self.hy;
-                let l3 = 1.0 / (l1 * l2);
+                let growth = match self.growth() {
+                    Some(_) => [y[self.ig(j, k)], y[self.ig(j, k) + 1]],
+                    None => [1.0, 1.0],
+                };
+                // stretches relative to the grown cell
+                let (a1, a2) = (l1 / growth[0], l2 / growth[1]);
+                let l3 = 1.0 / (a1 * a2);
                 let mut r = if branch.is_none_or(|br| br.keeps_elastic()) {
-                    respond(l1, l2)
+                    respond(a1, a2)
                 } else {
                     zero_response()
                 };
@@ -43,7 +49,7 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
                 if let Some(br) = branch {
                     let q = self.iq(j, k);
                     viscous = [y[q], y[q + 1]];
-                    let rb = respond(l1 / viscous[0], l2 / viscous[1]);
+                    let rb = respond(a1 / viscous[0], a2 / viscous[1]);
                     let f = br.modulus_ratio(&self.law);
                     r.s11 += f * rb.s11;
                     r.s22 += f * rb.s22;
@@ -62,6 +68,7 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
                     s22: r.s22 - pe,
                     kappa: self.dissipation().kappa(l1 * l2),
                     viscous,
+                    growth,
                 });
             }
         }

@@ -1,0 +1,193 @@
+//! Growth of the sheet's cells in both in-plane directions (docs/sheet_growth.md): growth
+//! stretches `g₁, g₂` per cell with `ġᵢ = G(σᵢᵢ)`, the cell law at `λᵢ/gᵢ`, a free side `x = l`.
+//!
+//! * uniform unconstrained growth (no drag, free sides) is exact: `λᵢ = gᵢ = 1 + G(0) t`, no
+//!   stress, the height unchanged — discrete and continuum;
+//! * with a periodic side and growth along x only the rows decouple, and each row is the
+//!   line of cells with a free end (the same plane-strain law, width and drag): the sheet's
+//!   face positions equal the line's boundary positions;
+//! * discrete and continuum converge as the continuum grid is refined;
+//! * keys that cannot act are refused by name.
+
+use celltissue::array::ArrayProblem;
+use celltissue::boundary::RightEnd;
+use celltissue::cell::growth_laws::tanh;
+use celltissue::cell::TanhGrowth;
+use celltissue::line::build::{discrete, LineParams};
+use celltissue::line::run::{integrate as integrate_line, SolveSettings};
+use celltissue::observe::{ModelKind, RunRecord};
+use celltissue::sheet::run::{integrate, Outputs};
+use celltissue::sheet::uniaxial::UniaxialSheet;
+use celltissue::sheet::{
+    run_sheet, GrowthDirections, RightEdge, SheetConfig, SolverSettings, TopBoundary,
+};
+use celltissue::NeoHookean;
+use std::sync::Arc;
+
+fn nh() -> NeoHookean {
+    NeoHookean::new(1.0).unwrap()
+}
+
+fn tight() -> SolverSettings {
+    let mut s = SolverSettings::default();
+    s.options.rtol = 1e-10;
+    s.options.atol = 1e-12;
+    s
+}
+
+/// A growing sheet with a free side `x = l` and the thesis's tanh law (σ₀ = 0.1, G_m = 1).
+fn growing(cells_x: usize, cells_y: usize, drag: f64, top: TopBoundary) -> SheetConfig {
+    SheetConfig {
+        cells_x,
+        cells_y,
+        drag: Some(drag),
+        top,
+        right: RightEdge::Free,
+        growth: Some(tanh(TanhGrowth::default()).unwrap()),
+        ..Default::default()
+    }
+}
+
+fn run(cfg: &SheetConfig, model: ModelKind, grid: Option<(usize, usize)>, t: &[f64]) -> RunRecord {
+    let out = Outputs {
+        times: t.to_vec(),
+        profile_times: t.to_vec(),
+        ..Default::default()
+    };
+    let rec = run_sheet(cfg, &nh(), model, grid, &tight(), &out).unwrap();
+    assert!(rec.error.is_none(), "{:?}", rec.error);
+    rec
+}
+
+#[test]
+fn uniform_unconstrained_growth_is_exact() {
+    let cfg = growing(4, 3, 0.0, TopBoundary::Free);
+    let times = [1.0, 4.0];
+    for (model, grid) in [
+        (ModelKind::Discrete, None),
+        (ModelKind::Continuum, Some((8, 5))),
+    ] {
+        let rec = run(&cfg, model, grid, &times);
+        let mut worst = 0.0f64;
+        for (i, p) in rec.profiles.iter().enumerate() {
+            let g = 1.0 + 0.5 * times[i]; // G(0) = G_m/2
+            for c in 0..p.stretch.len() {
+                for v in [
+                    p.stretch[c] - g,
+                    p.extra["stretch_y"][c] - g,
+                    p.extra["growth_x"][c] - g,
+                    p.extra["growth_y"][c] - g,
+                    p.extra["height"][c] - 1.0,
+                    p.extra["sigma11"][c],
+                    p.extra["sigma22"][c],
+                ] {
+                    worst = worst.max(v.abs());
+                }
+            }
+            worst = worst
+                .max((rec.series.length[i] - 4.0 * g).abs())
+                .max((rec.series.extra["mean_width"][i] - 3.0 * g).abs());
+        }
+        println!("{model:?}: largest departure from g = 1 + t/2 at t = 1, 4: {worst:.2e}");
+        assert!(worst < 1e-9, "{model:?}: {worst}");
+    }
+}
+
+#[test]
+fn rows_of_a_periodic_sheet_growing_along_x_are_lines_of_cells() {
+    let (n, k_drag, t_end) = (20, 1e-2, 10.0);
+    let mut cfg = growing(n, 3, k_drag, TopBoundary::Periodic);
+    cfg.growth_directions = GrowthDirections::X;
+    let sheet = UniaxialSheet::discrete(nh(), &cfg.params())
+        .unwrap()
+        .with_cell_atol(1e-12);
+    let y0 = sheet.initial_state();
+    let mut problem = ArrayProblem::new(sheet);
+    let (states, _, error) = integrate(&mut problem, &y0, &[2.0, t_end], &tight());
+    assert!(error.is_none(), "{error:?}");
+    let sheet = &problem.array;
+
+    let mut p = LineParams::unit_cells(n);
+    p.right = RightEnd::Free(None);
+    p.k = k_drag.into();
+    p.growth = Some(Arc::new(TanhGrowth::default()));
+    p.atol_cell = 1e-12;
+    let line = discrete(nh(), &p).unwrap();
+    let settings = SolveSettings {
+        rtol: 1e-10,
+        atol: 1e-12,
+        ..Default::default()
+    };
+    let traj = integrate_line(&mut ArrayProblem::new(line), &settings, &[2.0, t_end]);
+    assert!(traj.error.is_none(), "{:?}", traj.error);
+
+    let mut worst = 0.0f64;
+    let mut y_motion = 0.0f64;
+    for ((t, y), snap) in states.iter().zip(&traj.snapshots) {
+        for k in 1..=3 {
+            for j in 0..=n {
+                worst = worst.max((sheet.xb(y, *t, j, k) - snap.x[j]).abs());
+            }
+        }
+        for j in 1..=n {
+            for k in 0..3 {
+                y_motion = y_motion.max((sheet.yb(y, j, k) - k as f64).abs());
+            }
+        }
+    }
+    let l = traj.snapshots[1].x[n];
+    println!(
+        "periodic sheet, growth along x, K = {k_drag}: l({t_end}) = {l:.6} (line); \
+         largest face-position difference {worst:.2e}, largest y motion {y_motion:.2e}"
+    );
+    assert!(l > 2.0 * n as f64, "the line grows: {l}");
+    assert!(worst < 1e-7 * l, "{worst}");
+    assert!(y_motion < 1e-10, "{y_motion}");
+}
+
+#[test]
+fn continuum_converges_under_refinement() {
+    let cfg = growing(6, 4, 0.05, TopBoundary::Free);
+    let vals: Vec<[f64; 2]> = [(6, 4), (12, 8), (24, 16), (48, 32)]
+        .into_iter()
+        .map(|g| {
+            let rec = run(&cfg, ModelKind::Continuum, Some(g), &[3.0]);
+            [rec.series.length[0], rec.series.extra["mean_width"][0]]
+        })
+        .collect();
+    let d: Vec<f64> = vals
+        .windows(2)
+        .map(|w| (w[1][0] - w[0][0]).abs().max((w[1][1] - w[0][1]).abs()))
+        .collect();
+    println!("growing sheet, (length, width) at t = 3 on 6x4 … 48x32: {vals:?}; differences {d:?}");
+    // the sheet is not growing freely: drag holds it back from g = 1 + t/2 = 2.5
+    assert!(vals[0][0] < 6.0 * 2.5 && vals[0][1] < 4.0 * 2.5);
+    assert!(d[1] < 0.6 * d[0] && d[2] < 0.6 * d[1], "{d:?}");
+}
+
+#[test]
+fn keys_that_cannot_act_are_refused_by_name() {
+    let free_without_growth = SheetConfig {
+        right: RightEdge::Free,
+        ..Default::default()
+    };
+    assert_eq!(free_without_growth.validate().unwrap_err().key, "right");
+    let directions_without_growth = SheetConfig {
+        growth_directions: GrowthDirections::X,
+        ..Default::default()
+    };
+    assert_eq!(
+        directions_without_growth.validate().unwrap_err().key,
+        "growth_directions"
+    );
+    let cfg: SheetConfig = toml::from_str(
+        "right = \"free\"\ngrowth = { law = \"tanh\", sigma0 = 0.1 }\ngrowth_directions = \"x\"",
+    )
+    .unwrap();
+    assert!(cfg.validate().is_ok());
+    let both: SheetConfig =
+        toml::from_str("right = \"free\"\ngrowth = { law = \"tanh\", sigma0 = 0.1 }").unwrap();
+    assert!(both.validate().is_ok());
+    assert_eq!(both.growth_directions, GrowthDirections::Both);
+    assert!(toml::from_str::<SheetConfig>("growth_directions = \"z\"").is_err());
+}
