@@ -44,7 +44,6 @@ fn profiles(cfg: &ShearConfig, model: ModelKind, grid: Option<usize>, times: &[f
     let outputs = Outputs {
         times: vec![],
         profile_times: times.to_vec(),
-        ..Default::default()
     };
     let rec = run_shear(cfg, &nh(1.0), model, grid, &solver(1e-11), &outputs).unwrap();
     assert!(rec.error.is_none(), "{:?}", rec.error);

@@ -29,7 +29,6 @@ fn run(cfg: &SheetConfig, times: &[f64]) -> RunRecord {
     let out = Outputs {
         times: times.to_vec(),
         profile_times: times.to_vec(),
-        ..Default::default()
     };
     let rec = run_sheet(cfg, &nh(), ModelKind::Discrete, None, &tight(), &out).unwrap();
     assert!(rec.error.is_none(), "{:?}", rec.error);

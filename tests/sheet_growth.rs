@@ -52,7 +52,6 @@ fn run(cfg: &SheetConfig, model: ModelKind, grid: Option<(usize, usize)>, t: &[f
     let out = Outputs {
         times: t.to_vec(),
         profile_times: t.to_vec(),
-        ..Default::default()
     };
     let rec = run_sheet(cfg, &nh(), model, grid, &tight(), &out).unwrap();
     assert!(rec.error.is_none(), "{:?}", rec.error);

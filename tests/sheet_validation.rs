@@ -314,7 +314,6 @@ fn linear_solution_error(k1: f64) -> (f64, f64) {
         &Outputs {
             times: vec![400.0],
             profile_times: vec![400.0],
-            ..Default::default()
         },
     )
     .unwrap();

@@ -113,7 +113,7 @@ pub fn run(source: &Source, out: &Path, sets: &[String], opts: RunOptions) -> i3
             Arc::clone(&stop),
             pb.clone(),
         );
-        let (dir, jobs) = (out.to_path_buf(), opts.jobs);
+        let jobs = opts.jobs;
         std::thread::Builder::new()
             .name("runs".into())
             .stack_size(64 << 20)
@@ -130,7 +130,7 @@ pub fn run(source: &Source, out: &Path, sets: &[String], opts: RunOptions) -> i3
                     jobs,
                     |spec| {
                         log::info!("run: {}", spec.label);
-                        let mut rec = execute::run_spec_in(spec, Some(&dir));
+                        let mut rec = execute::run_spec(spec);
                         finite::sanitize(&mut rec);
                         if let (Some(p), Ok(mut d)) = (position(&rec.label), done.lock()) {
                             d[p] = Some(rec.clone());

@@ -18,13 +18,16 @@
 //! * with `plots.histories`: `histories_stretch[_<value>].png` — every cell's `λ` (`tan θ`)
 //!   against `t` through the profile times (Fig 4.6c);
 //! * with `plots.rectangles`: `cells_<label>.png` — cell rectangles coloured by pressure, one
-//!   row per profile time (Fig 2.10e).
+//!   row per profile time (Fig 2.10e);
+//! * sheets: `<label>_pressure_NNNN.png` — the array of cells coloured by pressure at each
+//!   profile time (Figs 4.3a, 4.4a).
 
 use super::files::slug;
 use super::plot::{plot_chart, plot_rectangles, Axis, Chart, Curve, PlotError, Style};
 use crate::line::{analytic, LineConfig};
 use crate::observe::{ModelKind, Profile, RunRecord, Summary};
 use crate::scenario::{format_number, ModelConfig, ProfileAxis, RunSpec, Scale, Scenario};
+use crate::sheet::observe::sheet_cells;
 use std::path::{Path, PathBuf};
 
 fn axis(s: Scale) -> Axis {
@@ -365,8 +368,27 @@ pub fn write_figures(
         }
     }
 
-    // cell rectangles: lines and rings only (sheets draw their own cells, see
-    // `crate::sheet::plot`; rows of a line's rectangle plot would overlap on a sheet)
+    // sheets: each profile as the array of cells coloured by pressure (Figs 4.3a, 4.4a)
+    let slugs = super::files::unique_slugs(summary.runs.iter().map(|r| r.label.as_str()));
+    for ((rec, spec), slug) in summary.runs.iter().zip(&scenario.runs).zip(&slugs) {
+        if !matches!(spec.config, ModelConfig::Sheet(..)) {
+            continue;
+        }
+        for (k, p) in rec.profiles.iter().enumerate() {
+            let rects: Vec<_> = sheet_cells(p)
+                .iter()
+                .map(|c| (c.x[0], c.y[0], c.x[1], c.y[1], c.pressure))
+                .collect();
+            let t = format!("{}: pressure, t = {}", rec.label, format_number(p.t));
+            let file = format!("{slug}_pressure_{k:04}.png");
+            emit(
+                file.clone(),
+                plot_rectangles(&dir.join(&file), &t, &rects, "pressure p"),
+            );
+        }
+    }
+    // cell rectangles: lines and rings only (a sheet's rows would overlap in a line's
+    // rectangle plot; sheets are drawn above)
     if scenario.plots.rectangles {
         for (rec, _) in summary.runs.iter().zip(&scenario.runs).filter(|(r, s)| {
             r.model == ModelKind::Discrete

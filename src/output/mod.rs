@@ -138,8 +138,7 @@ pub fn write_all_with(
     w.data
         .extend(ensemble::write_ensemble(dir, scenario, summary)?);
     stage("VTU/PVD");
-    w.data
-        .extend(vtu::write_line_snapshots(dir, scenario, summary)?);
+    w.data.extend(vtu::write_snapshots(dir, scenario, summary)?);
     w.data.push(files::write_scenario(dir, &scenario.table)?);
     #[cfg(feature = "plots")]
     if !opts.no_plots {

@@ -3,15 +3,16 @@
 //! UInt64 headers), about 10–30× smaller than ASCII; and `.pvd` collections that index the
 //! snapshots of a run by time.
 //!
-//! [`write_line_snapshots`] writes the lines and rings of a scenario (one `.vtu` per profile
-//! time, `<label>_NNNN.vtu`, and `<label>.pvd`): each cell is a VTK line segment from
+//! [`write_snapshots`] writes the lines, rings and sheets of a scenario (one `.vtu` per profile
+//! time, `<label>_NNNN.vtu`, and `<label>.pvd`). A line's cell is a VTK line segment from
 //! `x − λΔX/2` to `x + λΔX/2` on the x axis — for a ring, the chord of its arc on a circle of
-//! the ring's current length — carrying `stretch`, `pressure` and every other per-cell field.
-//! Sheets use the same writer through [`crate::sheet::vtk`].
+//! the ring's current length — carrying `stretch`, `pressure` and every other per-cell field;
+//! a sheet's cell is a hexahedron rebuilt from its profile ([`crate::sheet::vtk`]).
 
 use super::OutputError;
 use crate::observe::{Profile, Summary};
 use crate::scenario::{ModelConfig, Scenario};
+use crate::sheet::observe::sheet_cells;
 use base64::Engine as _;
 use std::fmt::Write as _;
 use std::io::{self, Write};
@@ -22,10 +23,10 @@ pub const VTK_LINE: u8 = 3;
 /// VTK cell type: hexahedron.
 pub const VTK_HEXAHEDRON: u8 = 12;
 
-/// Lines whose profiles hold more cells than this in total get no `.vtu` snapshots (their
+/// Runs whose profiles hold more cells than this in total get no `.vtu` snapshots (their
 /// `.npz` holds the same data): compressing ~100 MB per snapshot at 10⁶ cells would cost more
 /// than the solve.
-pub const LINE_VTU_MAX_CELLS: usize = 400_000;
+pub const VTU_MAX_CELLS: usize = 400_000;
 
 /// An unstructured grid: points, cells by connectivity, per-cell data.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -228,10 +229,9 @@ pub fn line_grid(p: &Profile, ring: bool) -> Grid {
     g
 }
 
-/// Writes `.vtu` snapshots and a `.pvd` per line or ring run (not sheets, which write their
-/// own; not runs whose profiles exceed [`LINE_VTU_MAX_CELLS`] cells in total); returns the
-/// paths.
-pub fn write_line_snapshots(
+/// Writes `.vtu` snapshots and a `.pvd` per line, ring or sheet run (not shear columns, nor
+/// runs whose profiles exceed [`VTU_MAX_CELLS`] cells in total); returns the paths.
+pub fn write_snapshots(
     dir: &Path,
     scenario: &Scenario,
     summary: &Summary,
@@ -243,22 +243,25 @@ pub fn write_line_snapshots(
         move |source| OutputError::Write { path, source }
     };
     for (i, (rec, slug)) in summary.runs.iter().zip(&slugs).enumerate() {
-        let ring = match scenario.runs.get(i).map(|s| &s.config) {
-            Some(ModelConfig::Line(cfg)) => {
-                cfg.right_end == crate::line::config::RightEndKind::Periodic
+        let grid: fn(&Profile) -> Grid = match scenario.runs.get(i).map(|s| &s.config) {
+            Some(ModelConfig::Line(cfg))
+                if cfg.right_end == crate::line::config::RightEndKind::Periodic =>
+            {
+                |p| line_grid(p, true)
             }
-            Some(ModelConfig::Proliferating(_)) => false,
+            Some(ModelConfig::Line(_) | ModelConfig::Proliferating(_)) => |p| line_grid(p, false),
+            Some(ModelConfig::Sheet(..)) => |p| crate::sheet::vtk::grid(&sheet_cells(p)),
             _ => continue,
         };
         let total: usize = rec.profiles.iter().map(|p| p.x_ref.len()).sum();
-        if rec.profiles.is_empty() || total > LINE_VTU_MAX_CELLS {
+        if rec.profiles.is_empty() || total > VTU_MAX_CELLS {
             continue;
         }
         let mut entries = Vec::new();
         for (k, p) in rec.profiles.iter().enumerate() {
             let name = format!("{slug}_{k:04}.vtu");
             let path = dir.join(&name);
-            write_vtu(&path, p.t, &line_grid(p, ring)).map_err(err(&path))?;
+            write_vtu(&path, p.t, &grid(p)).map_err(err(&path))?;
             out.push(path);
             entries.push((p.t, name));
         }

@@ -7,16 +7,10 @@ use super::model::ModelConfig;
 use crate::line::{run_line, OutputTimes, SolveSettings};
 use crate::observe::{RunRecord, RunStats, Series, Summary};
 use crate::sheet::{run::Outputs, run_shear, run_sheet, SolverSettings};
-use std::path::Path;
 
-/// Runs one spec with the real model code (no files written).
+/// Runs one spec with the real model code (no files written: the writers of
+/// [`crate::output`] draw every file from the returned record).
 pub fn run_spec(spec: &RunSpec) -> RunRecord {
-    run_spec_in(spec, None)
-}
-
-/// Runs one spec; sheet runs also write their VTK and PNG snapshots into `dir` (created if
-/// needed; file prefix = the run's label as a file name).
-pub fn run_spec_in(spec: &RunSpec, dir: Option<&Path>) -> RunRecord {
     let sheet_solver = || SolverSettings {
         method: spec.solver.method,
         options: integrators::Options {
@@ -33,8 +27,6 @@ pub fn run_spec_in(spec: &RunSpec, dir: Option<&Path>) -> RunRecord {
     let outputs = || Outputs {
         times: spec.times.series.clone(),
         profile_times: spec.times.profiles.clone(),
-        dir: dir.map(Path::to_path_buf),
-        prefix: Some(crate::output::files::slug(&spec.label)),
     };
     // grid sizes apply to the continuum only
     let is_continuum = spec.model == crate::observe::ModelKind::Continuum;
@@ -42,9 +34,6 @@ pub fn run_spec_in(spec: &RunSpec, dir: Option<&Path>) -> RunRecord {
     let nodes = spec.nodes.filter(|_| is_continuum);
     let mut rec = match &spec.config {
         ModelConfig::Sheet(cfg, law) => {
-            if let Some(d) = dir {
-                let _ = std::fs::create_dir_all(d);
-            }
             run_sheet(cfg, law, spec.model, grid, &sheet_solver(), &outputs())
                 .unwrap_or_else(|e| failed(spec, e.to_string()))
         }

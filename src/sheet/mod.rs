@@ -14,8 +14,9 @@
 //!   exact discrete solutions of the shear column (§4.6).
 //! * [`observe`] — the Chapter 4 observables (§6): pressures, mean height, `mean λ₃/mean λ₂`, the
 //!   shared-boundary mismatch `W_err` (4.76)–(4.77), shear angles and their spread.
-//! * [`vtk`] — `.vtu` files of the sheet (one hexahedron per cell) for ParaView; [`plot`] — the
-//!   sheet as coloured rectangles (geometry as data, and a PNG writer).
+//! * [`vtk`] — the sheet as a VTK grid (one hexahedron per cell) for ParaView; the writers of
+//!   [`crate::output`] draw it, and the PNG snapshots, from the run's profiles
+//!   ([`observe::sheet_cells`]).
 //! * [`config`] and [`run`] — serde configurations with range-checked validation and the
 //!   `run_sheet` / `run_shear` entry points that return a [`crate::observe::RunRecord`].
 //!
@@ -27,8 +28,6 @@ use crate::scalar::Scalar;
 pub mod config;
 pub mod exact;
 pub mod observe;
-#[cfg(feature = "plots")]
-pub mod plot;
 pub mod ramp;
 pub mod run;
 pub mod shear;

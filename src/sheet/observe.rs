@@ -161,7 +161,8 @@ impl SheetColumns {
 
 /// A per-cell sheet [`Profile`]: `X`/`x` are reference/current centre x, `stretch` is `λ₁`;
 /// `extra` holds `Y`, `y`, `stretch_y` (λ₂), `stretch_z` (λ₃), `height`, `sigma11`, `sigma22`,
-/// `kappa`, `column` (j), `row` (k), and the optional [`SheetColumns`]: the viscous stretches
+/// `kappa`, `column` (j), `row` (k), the cell's extent `x_left`, `x_right`, `y_bottom`, `y_top`
+/// (what [`sheet_cells`] rebuilds the cells from), and the optional [`SheetColumns`]: the viscous stretches
 /// `viscous_x` (a₁), `viscous_y` (a₂) and the growth stretches `growth_x` (g₁), `growth_y`
 /// (g₂). Cells are listed column by column.
 pub fn sheet_profile(t: f64, cells: &[SheetCell], columns: SheetColumns) -> Profile {
@@ -180,6 +181,10 @@ pub fn sheet_profile(t: f64, cells: &[SheetCell], columns: SheetColumns) -> Prof
         "kappa",
         "column",
         "row",
+        "x_left",
+        "x_right",
+        "y_bottom",
+        "y_top",
     ];
     let mut cols: Vec<Vec<f64>> = vec![Vec::with_capacity(cells.len()); keys.len()];
     for c in cells {
@@ -198,6 +203,10 @@ pub fn sheet_profile(t: f64, cells: &[SheetCell], columns: SheetColumns) -> Prof
             c.kappa,
             c.j as f64,
             c.k as f64,
+            c.x[0],
+            c.x[1],
+            c.y[0],
+            c.y[1],
         ];
         for (col, x) in cols.iter_mut().zip(v) {
             col.push(x);
@@ -219,6 +228,69 @@ pub fn sheet_profile(t: f64, cells: &[SheetCell], columns: SheetColumns) -> Prof
         }
     }
     p
+}
+
+/// The cells of a sheet profile ([`sheet_profile`]), for writers that draw them (VTK, PNG):
+/// extents, stretches, height, pressure, stresses, `κ` and indices. Empty if the profile is
+/// not a sheet's.
+///
+/// ```
+/// use celltissue::observe::ModelKind;
+/// use celltissue::sheet::observe::sheet_cells;
+/// use celltissue::sheet::{run::Outputs, run_sheet, SheetConfig, SolverSettings};
+/// let cfg = SheetConfig { cells_x: 3, cells_y: 2, ..Default::default() };
+/// let out = Outputs { times: vec![1.0], profile_times: vec![1.0] };
+/// let rec = run_sheet(&cfg, &cfg.law, ModelKind::Discrete, None, &SolverSettings::default(), &out)?;
+/// let cells = sheet_cells(&rec.profiles[0]);
+/// assert_eq!(cells.len(), 6);
+/// assert!(cells.iter().all(|c| c.x[1] > c.x[0] && c.y[1] > c.y[0]));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn sheet_cells(p: &Profile) -> Vec<SheetCell> {
+    let col = |k: &str| p.extra.get(k).map(Vec::as_slice).unwrap_or(&[]);
+    let keys = [
+        "x_left",
+        "x_right",
+        "y_bottom",
+        "y_top",
+        "stretch_y",
+        "stretch_z",
+        "height",
+        "sigma11",
+        "sigma22",
+        "kappa",
+        "column",
+        "row",
+        "Y",
+    ];
+    let n = keys
+        .iter()
+        .map(|k| col(k).len())
+        .chain([p.x_ref.len(), p.stretch.len(), p.pressure.len()])
+        .min()
+        .unwrap_or(0);
+    (0..n)
+        .map(|i| {
+            let at = |k: &str| col(k)[i];
+            SheetCell {
+                j: at("column") as usize,
+                k: at("row") as usize,
+                x: [at("x_left"), at("x_right")],
+                y: [at("y_bottom"), at("y_top")],
+                reference: [p.x_ref[i], at("Y")],
+                stretch: [p.stretch[i], at("stretch_y"), at("stretch_z")],
+                height: at("height"),
+                pressure: p.pressure[i],
+                s11: at("sigma11"),
+                s22: at("sigma22"),
+                kappa: at("kappa"),
+                viscous: [col("viscous_x"), col("viscous_y")]
+                    .map(|c| c.get(i).copied().unwrap_or(1.0)),
+                growth: [col("growth_x"), col("growth_y")]
+                    .map(|c| c.get(i).copied().unwrap_or(1.0)),
+            }
+        })
+        .collect()
 }
 
 /// Scalar observables of one shear snapshot.

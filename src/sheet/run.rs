@@ -1,7 +1,7 @@
 //! Entry points for the scenario layer: [`run_sheet`] and [`run_shear`] build the model
 //! (discrete, or continuum on a grid), integrate it, and return a [`RunRecord`] with the Chapter 4
-//! series and profiles (keys in [`super::observe`]); optionally they write VTK (`.vtu` + `.pvd`)
-//! and PNG snapshots of the sheet.
+//! series and profiles (keys in [`super::observe`]). They write no files: [`crate::output`] draws
+//! the VTK and PNG snapshots from the profiles.
 //!
 //! ```
 //! use celltissue::observe::ModelKind;
@@ -18,30 +18,21 @@ use super::observe::{
     push_shear_series, push_sheet_series, shear_observables, shear_profile, sheet_observables,
     sheet_profile, SheetColumns,
 };
-#[cfg(feature = "plots")]
-use super::plot;
 use super::shear::{ShearCellCentre, ShearColumn, ShearFields};
 use super::uniaxial::UniaxialSheet;
-use super::vtk;
 use crate::array::{ArrayProblem, CellArray};
 use crate::energy::StrainEnergy;
 use crate::observe::{ModelKind, RunRecord, RunStats, Series};
 use integrators::{Solution, SolveFailure, Solver, Stats};
-use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-/// What to record and write.
+/// What to record (the runners write no files: `crate::output` does, from the record).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Outputs {
     /// Times of the scalar series (increasing, `>= 0`; `t = 0` is the initial state).
     pub times: Vec<f64>,
-    /// Times of the per-cell profiles (and of VTK/PNG snapshots).
+    /// Times of the per-cell profiles (from which the writers draw VTK and PNG snapshots).
     pub profile_times: Vec<f64>,
-    /// If set, VTK (`<prefix>_NNNN.vtu` + `<prefix>.pvd`) and PNG (`<prefix>_pressure_NNNN.png`)
-    /// snapshots of the sheet at `profile_times` are written here (sheet runs only).
-    pub dir: Option<PathBuf>,
-    /// File-name prefix for written files (default `"sheet"`).
-    pub prefix: Option<String>,
 }
 
 impl Outputs {
@@ -64,14 +55,6 @@ pub enum RunError {
     /// Invalid output request.
     #[error("invalid output request: {0}")]
     Outputs(String),
-    /// Writing output files failed.
-    #[error("writing {path}: {source}")]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The error.
-        source: std::io::Error,
-    },
 }
 
 fn cfg_err(key: &str, value: impl ToString, expected: &str) -> RunError {
@@ -181,23 +164,17 @@ pub(crate) fn run_stats(s: &Stats, wall: f64) -> RunStats {
     r
 }
 
-fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RunError + '_ {
-    move |source| RunError::Io {
-        path: path.to_path_buf(),
-        source,
-    }
-}
-
 /// Runs the uniaxial sheet (docs/model.md §4.1–4.3).
 ///
 /// * `model`: [`ModelKind::Discrete`] (`N × M` cells) or [`ModelKind::Continuum`] (conservative
 ///   scheme on `grid = (n, m)`; default `(2N, 2M)`). `grid` with a discrete model must be `None`
 ///   or `(N, M)`.
 /// * `solver`: method and tolerances (`atol` in cell units, scaled by `h_X`, `h_Y`).
-/// * `out`: series/profile times and an optional directory for `.vtu`/`.pvd`/`.png` files.
+/// * `out`: series and profile times.
 ///
 /// Series extra keys: `mean_pressure`, `mean_height`, `mean_stretch_z_over_y`,
-/// `boundary_mismatch_mean`, `boundary_mismatch_max`, `max_stretch_y`, `min_stretch_y`.
+/// `boundary_mismatch_mean`, `boundary_mismatch_max`, `max_stretch_y`, `min_stretch_y`, and
+/// `mean_width` for a growing sheet.
 pub fn run_sheet<E: StrainEnergy>(
     cfg: &SheetConfig,
     law: &E,
@@ -240,11 +217,6 @@ pub fn run_sheet<E: StrainEnergy>(
 
     let mut series = Series::default();
     let mut profiles = Vec::new();
-    let prefix = out.prefix.clone().unwrap_or_else(|| "sheet".into());
-    let mut pvd = Vec::new();
-    if let Some(d) = &out.dir {
-        std::fs::create_dir_all(d).map_err(io_err(d))?;
-    }
     for (t, y) in &states {
         let cells = sheet.cells(*t, y);
         if contains(&out.times, *t) {
@@ -252,30 +224,6 @@ pub fn run_sheet<E: StrainEnergy>(
         }
         if contains(&out.profile_times, *t) {
             profiles.push(sheet_profile(*t, &cells, SheetColumns::of(sheet)));
-            if let Some(d) = &out.dir {
-                let i = pvd.len();
-                let name = format!("{prefix}_{i:04}.vtu");
-                let path = d.join(&name);
-                vtk::write_vtu(&path, *t, &cells).map_err(io_err(&path))?;
-                pvd.push((*t, name));
-                #[cfg(feature = "plots")]
-                {
-                    let png = d.join(format!("{prefix}_pressure_{i:04}.png"));
-                    let title = format!("pressure, t = {t}");
-                    plot::write_sheet_png(&png, &cells, &title, None).map_err(|e| {
-                        RunError::Io {
-                            path: png.clone(),
-                            source: std::io::Error::other(e.to_string()),
-                        }
-                    })?;
-                }
-            }
-        }
-    }
-    if let Some(d) = &out.dir {
-        if !pvd.is_empty() {
-            let path = d.join(format!("{prefix}.pvd"));
-            vtk::write_pvd(&path, &pvd).map_err(io_err(&path))?;
         }
     }
     let parameters = serde_json::json!({
