@@ -113,16 +113,11 @@ pub struct Dividing<E: StrainEnergy> {
 }
 
 impl<E: StrainEnergy> Dividing<E> {
-    /// Wraps a growing, non-periodic line; `seed` seeds the rule's random thresholds.
+    /// Wraps a growing line or ring; `seed` seeds the rule's random thresholds.
     pub fn new(line: Line<E>, rule: Box<dyn DivisionRule>, seed: u64) -> Result<Self, EventError> {
         if !line.is_growing() {
             return Err(EventError::Unsupported(
                 "division without growth: add a growth law".into(),
-            ));
-        }
-        if line.right.is_periodic() {
-            return Err(EventError::Unsupported(
-                "division on a periodic line (the ring period would change)".into(),
             ));
         }
         let n = line.n_cells();
@@ -220,12 +215,13 @@ impl<E: StrainEnergy> Dividing<E> {
         self.threshold = threshold;
         self.dx_ref = dx_ref;
         let l = self.length(t, y);
+        let x0 = self.line.boundary(0, t, y, y).0;
         for (m, (&j, s)) in asc.iter().zip(&splits).enumerate().rev() {
             self.log.push(DivisionRecord {
                 t,
                 parent: j,
                 x: s.x_new,
-                x_over_length: s.x_new / l,
+                x_over_length: (s.x_new - x0) / l,
                 cells_after: n_old + k - m,
             });
         }
@@ -245,13 +241,24 @@ impl<E: StrainEnergy> Dividing<E> {
         };
         let free = self.line.right.is_free();
         let n_old = m.n_old;
-        // the growing, non-periodic layout: (g₁, x₁, …, g_N, [x_N])
-        let dim_old = 2 * n_old - usize::from(!free);
+        // the growing layout: a ring's x₀ (without a gauge), then (g₁, x₁, …, g_N, [x_N])
+        let seam = usize::from(self.line.layout.xi[0] != NONE);
+        let dim_old = seam + 2 * n_old - usize::from(!free);
         if old.len() != dim_old || new.len() != self.line.layout.dim {
             return false;
         }
         let n_new = self.line.n_cells();
+        // the fixed wall (x = 0, ẋ = 0), or the ring's seam x₀ (ẋ₀ in a derivative)
+        let x0 = if seam == 1 { old[0] } else { 0.0 };
         let right = |t: f64| {
+            if self.line.right.is_periodic() {
+                // x_N = x₀ + period, ẋ_N = ẋ₀
+                return if derivative {
+                    x0
+                } else {
+                    x0 + self.line.period
+                };
+            }
             let (x, v) = self.line.boundary::<f64>(n_new, t, &[], &[]);
             if derivative {
                 v
@@ -260,14 +267,17 @@ impl<E: StrainEnergy> Dividing<E> {
             }
         };
         let mut w = 0;
+        if seam == 1 {
+            new[0] = old[0];
+            w = 1;
+        }
         let mut f = m.cells.iter().zip(&m.g_parent).peekable();
         for j in 1..=n_old {
-            let gk = 2 * (j - 1);
+            let gk = seam + 2 * (j - 1);
             let has_x = j < n_old || free;
             let g = old[gk];
             if let Some((_, &gs)) = f.next_if(|(&c, _)| c == j) {
-                // the wall x₀ = 0 does not move
-                let xl = if j == 1 { 0.0 } else { old[gk - 1] };
+                let xl = if j == 1 { x0 } else { old[gk - 1] };
                 let xr = if has_x { old[gk + 1] } else { right(t) };
                 // a daughter grows at its parent's rate ġ = G(σ) from g = 1
                 let gd = if derivative { g } else { g - gs + 1.0 };

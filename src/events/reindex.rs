@@ -36,7 +36,8 @@ impl<E: StrainEnergy> Line<E> {
     /// Divides cell `j` (1-based) of the state `y` (positions and growth stretches in this
     /// line's layout): the line gains one cell and `y` one boundary and one `g` (O(N)).
     ///
-    /// Requires growth (`g` in the state) and a non-periodic right end.
+    /// Requires growth (`g` in the state). On a ring the circumference ([`Line::period`]) does
+    /// not change.
     ///
     /// ```
     /// use celltissue::line::build::{discrete, LineParams};
@@ -61,11 +62,6 @@ impl<E: StrainEnergy> Line<E> {
         let n = self.n_cells();
         if j == 0 || j > n {
             return Err(EventError::NoSuchCell { cell: j, cells: n });
-        }
-        if self.right.is_periodic() {
-            return Err(EventError::Unsupported(
-                "division on a periodic line (the ring period would change)".into(),
-            ));
         }
         if self.maxwell.is_some() {
             return Err(EventError::Unsupported(
@@ -159,11 +155,6 @@ impl<E: StrainEnergy> Line<E> {
         y: &mut Vec<f64>,
     ) -> Result<Vec<Split>, EventError> {
         let n = self.n_cells();
-        if self.right.is_periodic() {
-            return Err(EventError::Unsupported(
-                "division on a periodic line (the ring period would change)".into(),
-            ));
-        }
         if self.maxwell.is_some() {
             return Err(EventError::Unsupported(
                 "division of cells with a Maxwell branch (the viscous stretch is not split)".into(),
@@ -243,8 +234,11 @@ impl<E: StrainEnergy> Line<E> {
             kf.push(kb);
         }
         self.k_face = kf;
-        // state: (.., g_j, x_j, ..) -> (.., 1, x_new, 1, x_j, ..)
+        // state: (.., g_j, x_j, ..) -> (.., 1, x_new, 1, x_j, ..), after a ring's x₀
         let mut out = Vec::with_capacity(y.len() + 2 * k);
+        if self.layout.xi[0] != NONE {
+            out.push(y[self.layout.xi[0]]);
+        }
         let mut f = cells.iter().zip(&splits).peekable();
         for j in 1..=n {
             let gk = self.layout.gi[j - 1];

@@ -32,8 +32,8 @@ pub enum ProliferationError {
     /// Division without growth.
     #[error("invalid `growth`: division needs a growth law (add growth = {{ sigma0 = 0.1 }})")]
     NoGrowth,
-    /// Division on a ring.
-    #[error("invalid `right_end` = \"periodic\": division is not supported on a ring")]
+    /// The proliferating continuum on a ring.
+    #[error("invalid `right_end` = \"periodic\": the proliferating continuum has no ring; run models = [\"discrete\"]")]
     Ring,
 }
 
@@ -99,13 +99,18 @@ impl ProliferationConfig {
         Ok(Self { line, division })
     }
 
-    /// Validates the line and the rule; division needs growth and a non-periodic right end.
+    /// Validates the line and the rule; division needs growth.
     pub fn validate(&self) -> Result<(), ProliferationError> {
         self.line.validate()?;
         self.division.validate()?;
         if self.line.growth.is_none() {
             return Err(ProliferationError::NoGrowth);
         }
+        Ok(())
+    }
+
+    /// What the proliferating continuum needs besides [`Self::validate`]: a line, not a ring.
+    pub fn validate_continuum(&self) -> Result<(), ProliferationError> {
         if self.line.right_end == RightEndKind::Periodic {
             return Err(ProliferationError::Ring);
         }
@@ -197,6 +202,10 @@ fn with_law<E: StrainEnergy + Clone>(
             }
         }
         ModelKind::Continuum => {
+            if let Err(e) = cfg.validate_continuum() {
+                rec.error = Some(e.to_string());
+                return;
+            }
             let Some(ratio) = cfg.division.area_ratio() else {
                 rec.error = Some(
                     "invalid `division.rule`: the proliferating continuum supports only \"area\""

@@ -356,8 +356,12 @@ pub struct Line<E: StrainEnergy> {
     /// it). The line's own Jacobian is then not provided: the integrators' coloured AD
     /// Jacobian is used.
     pub(crate) maxwell: Option<MaxwellBranch>,
-    /// Reference length `l₀ = Σ L₀,j` (ring period; read it with [`Line::l0_total`]).
+    /// Reference length `l₀ = Σ L₀,j` (read it with [`Line::l0_total`]).
     pub(crate) l0_total: f64,
+    /// A ring's circumference `x_N − x₀` (read it with [`Line::period`]): `Σ L₀,j` when the
+    /// line is built or its fields are set, and unchanged by division, which splits cells
+    /// inside the same ring.
+    pub(crate) period: f64,
     /// Absolute tolerance in cell units (positions: times the local reference cell length).
     pub atol_cell: f64,
     /// Unknown layout (read it with [`Line::layout`]; derived from `cells`, `right` and
@@ -413,9 +417,14 @@ impl<E: StrainEnergy> Line<E> {
         self.maxwell.as_ref()
     }
 
-    /// Reference length `l₀ = Σ L₀,j` (the ring period).
+    /// Reference length `l₀ = Σ L₀,j`.
     pub fn l0_total(&self) -> f64 {
         self.l0_total
+    }
+
+    /// A ring's circumference `x_N − x₀` (the initial `Σ L₀,j`; division does not change it).
+    pub fn period(&self) -> f64 {
+        self.period
     }
 
     /// Changes per-cell fields and the face drag in place, then checks them and re-derives
@@ -472,6 +481,7 @@ impl<E: StrainEnergy> Line<E> {
             }
         }
         self.l0_total = cells.l0.iter().sum();
+        self.period = self.l0_total;
         self.cells = cells;
         self.k_face = k_face;
         self.refresh_uniform_fields();
@@ -598,7 +608,7 @@ impl<E: StrainEnergy> Line<E> {
             }
             RightEnd::Periodic { .. } => {
                 let (x0, v0) = self.boundary(0, t, y, yp);
-                (x0 + self.l0_total, v0)
+                (x0 + self.period, v0)
             }
             RightEnd::Free(_) => unreachable!("free end is an unknown"),
         }

@@ -244,6 +244,7 @@ fn assemble<E: StrainEnergy>(
         growth: p.growth.clone(),
         maxwell: p.maxwell,
         l0_total,
+        period: l0_total,
         atol_cell: p.atol_cell,
         threads: 1,
         layout: Layout::default(),

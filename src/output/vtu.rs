@@ -243,10 +243,10 @@ pub fn write_snapshots(
         move |source| OutputError::Write { path, source }
     };
     for (i, (rec, slug)) in summary.runs.iter().zip(&slugs).enumerate() {
+        use crate::line::config::RightEndKind::Periodic;
         let grid: fn(&Profile) -> Grid = match scenario.runs.get(i).map(|s| &s.config) {
-            Some(ModelConfig::Line(cfg))
-                if cfg.right_end == crate::line::config::RightEndKind::Periodic =>
-            {
+            Some(ModelConfig::Line(cfg)) if cfg.right_end == Periodic => |p| line_grid(p, true),
+            Some(ModelConfig::Proliferating(cfg)) if cfg.line.right_end == Periodic => {
                 |p| line_grid(p, true)
             }
             Some(ModelConfig::Line(_) | ModelConfig::Proliferating(_)) => |p| line_grid(p, false),

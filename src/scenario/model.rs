@@ -190,10 +190,21 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
                 }
             }
             let cfg = crate::events::ProliferationConfig { line, division };
-            cfg.validate().map_err(|e| match e {
-                crate::events::ProliferationError::Line(e) => line_error(e),
-                other => ScenarioError::key(model_key(other.key().as_deref()), other.to_string()),
-            })?;
+            let continuum = models.contains(&ModelKind::Continuum);
+            cfg.validate()
+                .and_then(|()| {
+                    if continuum {
+                        cfg.validate_continuum()
+                    } else {
+                        Ok(())
+                    }
+                })
+                .map_err(|e| match e {
+                    crate::events::ProliferationError::Line(e) => line_error(e),
+                    other => {
+                        ScenarioError::key(model_key(other.key().as_deref()), other.to_string())
+                    }
+                })?;
             ModelConfig::Proliferating(Box::new(cfg))
         }
         "line" => {
