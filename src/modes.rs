@@ -13,10 +13,11 @@
 //! scenario loads, errors naming `model.<key>`.
 
 use crate::array::{ArrayProblem, CellArray};
+use crate::observe::RunStats;
 use crate::observe::{ModelKind, Profile, RunRecord, Series};
 use crate::registry::{checked, Constructor, Kind, Named, ParamError, Registry, RegistryError};
 use crate::sheet::config::SolverSettings;
-use crate::sheet::run::{all_times, integrate, run_stats, Outputs};
+use crate::sheet::run::{all_times, integrate, Outputs};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 use std::fmt::Debug;
@@ -180,7 +181,7 @@ pub fn run_mode<M: Mode>(
     let start = Instant::now();
     let mut problem = ArrayProblem::new(array);
     let (states, stats, error) = integrate(&mut problem, &y0, &times, solver);
-    rec.stats = run_stats(&stats, start.elapsed().as_secs_f64());
+    rec.stats = RunStats::from_stats(&stats, start.elapsed().as_secs_f64());
     rec.error = error;
     let array = &problem.array;
     let extreme = |v: &[f64], max: bool| {

@@ -73,6 +73,32 @@ pub struct RunStats {
     pub extra: BTreeMap<String, u64>,
 }
 
+impl RunStats {
+    /// The record of a solve's work: `steps`, `residual_calls`, `jacobians` and every other
+    /// counter of [`integrators::Stats`] under its own name (one mapping for every model).
+    ///
+    /// ```
+    /// let s = integrators::Stats { steps: 4, jacobian_evals: 2, events: 1, ..Default::default() };
+    /// let r = celltissue::observe::RunStats::from_stats(&s, 0.5);
+    /// assert_eq!((r.steps, r.jacobians, r.extra["events"]), (4, 2, 1));
+    /// assert_eq!(r.extra.len(), 12);
+    /// ```
+    pub fn from_stats(s: &integrators::Stats, wall_seconds: f64) -> Self {
+        Self {
+            steps: s.steps,
+            residual_calls: s.residual_calls,
+            jacobians: s.jacobian_evals,
+            wall_seconds,
+            extra: s
+                .counters()
+                .into_iter()
+                .filter(|(k, _)| !matches!(*k, "steps" | "residual_calls" | "jacobian_evals"))
+                .map(|(k, v)| (k.to_string(), v as u64))
+                .collect(),
+        }
+    }
+}
+
 /// One division event (issue #4 schema).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct DivisionRecord {

@@ -39,3 +39,79 @@ pub struct Stats {
     /// Resizes performed.
     pub resizes: usize,
 }
+
+impl Stats {
+    /// Every counter by name, in declaration order: what a record of the run lists (one
+    /// mapping for every caller, so no counter is dropped).
+    ///
+    /// ```
+    /// let s = integrators::Stats { steps: 3, krylov_iterations: 7, ..Default::default() };
+    /// let c = s.counters();
+    /// assert_eq!(c.len(), 15);
+    /// assert!(c.contains(&("steps", 3)) && c.contains(&("krylov_iterations", 7)));
+    /// ```
+    pub fn counters(&self) -> [(&'static str, usize); 15] {
+        [
+            ("steps", self.steps),
+            ("rejected_steps", self.rejected_steps),
+            ("error_test_failures", self.error_test_failures),
+            ("newton_failures", self.newton_failures),
+            ("residual_calls", self.residual_calls),
+            ("directional_calls", self.directional_calls),
+            ("jacobian_evals", self.jacobian_evals),
+            ("factorizations", self.factorizations),
+            ("symbolic_factorizations", self.symbolic_factorizations),
+            ("linear_solves", self.linear_solves),
+            ("newton_iterations", self.newton_iterations),
+            ("krylov_iterations", self.krylov_iterations),
+            ("krylov_failures", self.krylov_failures),
+            ("events", self.events),
+            ("resizes", self.resizes),
+        ]
+    }
+}
+
+/// Sums the counters of two solves (e.g. the pieces of a run restarted at breakpoints).
+///
+/// ```
+/// let mut a = integrators::Stats { steps: 2, krylov_failures: 1, ..Default::default() };
+/// a += &integrators::Stats { steps: 3, krylov_failures: 4, ..Default::default() };
+/// assert_eq!((a.steps, a.krylov_failures), (5, 5));
+/// ```
+impl std::ops::AddAssign<&Stats> for Stats {
+    fn add_assign(&mut self, b: &Stats) {
+        // destructured, so that a new counter cannot be forgotten here
+        let Stats {
+            steps,
+            rejected_steps,
+            error_test_failures,
+            newton_failures,
+            residual_calls,
+            directional_calls,
+            jacobian_evals,
+            factorizations,
+            symbolic_factorizations,
+            linear_solves,
+            newton_iterations,
+            krylov_iterations,
+            krylov_failures,
+            events,
+            resizes,
+        } = *b;
+        self.steps += steps;
+        self.rejected_steps += rejected_steps;
+        self.error_test_failures += error_test_failures;
+        self.newton_failures += newton_failures;
+        self.residual_calls += residual_calls;
+        self.directional_calls += directional_calls;
+        self.jacobian_evals += jacobian_evals;
+        self.factorizations += factorizations;
+        self.symbolic_factorizations += symbolic_factorizations;
+        self.linear_solves += linear_solves;
+        self.newton_iterations += newton_iterations;
+        self.krylov_iterations += krylov_iterations;
+        self.krylov_failures += krylov_failures;
+        self.events += events;
+        self.resizes += resizes;
+    }
+}

@@ -248,24 +248,7 @@ fn solve<A: LineModel>(
 }
 
 fn finish(rec: &mut RunRecord, traj: &Trajectory, times: &OutputTimes, wall: f64) {
-    let s = &traj.stats;
-    rec.stats = RunStats {
-        steps: s.steps,
-        residual_calls: s.residual_calls,
-        jacobians: s.jacobian_evals,
-        wall_seconds: wall,
-        extra: [
-            ("rejected_steps", s.rejected_steps),
-            ("directional_calls", s.directional_calls),
-            ("factorizations", s.factorizations),
-            ("newton_iterations", s.newton_iterations),
-            ("events", s.events),
-            ("resizes", s.resizes),
-        ]
-        .into_iter()
-        .map(|(k, v)| (k.to_string(), v as u64))
-        .collect(),
-    };
+    rec.stats = RunStats::from_stats(&traj.stats, wall);
     rec.error = traj.error.clone();
     record(traj, times, rec);
 }

@@ -328,12 +328,12 @@ pub fn integrate<A: LineModel>(
         });
         match result {
             Ok(sol) => {
-                add_stats(&mut traj.stats, &sol.stats);
+                traj.stats += &sol.stats;
                 y = sol.y_last;
                 t0 = sol.t_last;
             }
             Err(f) => {
-                add_stats(&mut traj.stats, &f.partial.stats);
+                traj.stats += &f.partial.stats;
                 traj.error = Some(failure_message(&problem.array, &f));
                 traj.y_last = f.partial.y_last.clone();
                 return traj;
@@ -387,24 +387,6 @@ fn failure_message<A: LineModel>(model: &A, f: &SolveFailure) -> String {
         }
     }
     parts.join("; ")
-}
-
-fn add_stats(a: &mut Stats, b: &Stats) {
-    a.steps += b.steps;
-    a.rejected_steps += b.rejected_steps;
-    a.error_test_failures += b.error_test_failures;
-    a.newton_failures += b.newton_failures;
-    a.residual_calls += b.residual_calls;
-    a.directional_calls += b.directional_calls;
-    a.jacobian_evals += b.jacobian_evals;
-    a.factorizations += b.factorizations;
-    a.symbolic_factorizations += b.symbolic_factorizations;
-    a.linear_solves += b.linear_solves;
-    a.newton_iterations += b.newton_iterations;
-    a.krylov_iterations += b.krylov_iterations;
-    a.krylov_failures += b.krylov_failures;
-    a.events += b.events;
-    a.resizes += b.resizes;
 }
 
 fn reason(e: &ResidualError) -> String {
@@ -516,21 +498,7 @@ pub fn run_model<A: LineModel>(
     let t_out = times.merged();
     let mut problem = ArrayProblem::new(Watched::new(array));
     let traj = integrate(&mut problem, solver, &t_out);
-    rec.stats = RunStats {
-        steps: traj.stats.steps,
-        residual_calls: traj.stats.residual_calls,
-        jacobians: traj.stats.jacobian_evals,
-        wall_seconds: start.elapsed().as_secs_f64(),
-        extra: [
-            ("rejected_steps", traj.stats.rejected_steps),
-            ("directional_calls", traj.stats.directional_calls),
-            ("factorizations", traj.stats.factorizations),
-            ("newton_iterations", traj.stats.newton_iterations),
-        ]
-        .into_iter()
-        .map(|(k, v)| (k.to_string(), v as u64))
-        .collect(),
-    };
+    rec.stats = RunStats::from_stats(&traj.stats, start.elapsed().as_secs_f64());
     rec.error = traj.error.clone();
     record(&traj, times, rec);
 }

@@ -134,36 +134,6 @@ fn solve<A: CellArray>(
     Solver::new(solver.method, solver.options.clone()).solve(problem, 0.0, y0, t_out)
 }
 
-pub(crate) fn run_stats(s: &Stats, wall: f64) -> RunStats {
-    let mut r = RunStats {
-        steps: s.steps,
-        residual_calls: s.residual_calls,
-        jacobians: s.jacobian_evals,
-        wall_seconds: wall,
-        ..Default::default()
-    };
-    for (k, v) in [
-        ("rejected_steps", s.rejected_steps),
-        ("error_test_failures", s.error_test_failures),
-        ("newton_failures", s.newton_failures),
-        ("directional_calls", s.directional_calls),
-        ("factorizations", s.factorizations),
-        ("symbolic_factorizations", s.symbolic_factorizations),
-        ("linear_solves", s.linear_solves),
-        ("newton_iterations", s.newton_iterations),
-    ] {
-        r.extra.insert(k.into(), v as u64);
-    }
-    // iterative linear solver only (keeps the direct runs' records unchanged)
-    if s.krylov_iterations > 0 || s.krylov_failures > 0 {
-        r.extra
-            .insert("krylov_iterations".into(), s.krylov_iterations as u64);
-        r.extra
-            .insert("krylov_failures".into(), s.krylov_failures as u64);
-    }
-    r
-}
-
 /// Runs the uniaxial sheet (docs/model.md §4.1–4.3).
 ///
 /// * `model`: [`ModelKind::Discrete`] (`N × M` cells) or [`ModelKind::Continuum`] (conservative
@@ -255,7 +225,7 @@ pub fn run_sheet<E: StrainEnergy>(
         parameters,
         series,
         profiles,
-        stats: run_stats(&stats, wall),
+        stats: RunStats::from_stats(&stats, wall),
         divisions: Vec::new(),
         error,
     })
@@ -360,7 +330,7 @@ pub fn run_shear<E: StrainEnergy>(
         parameters,
         series,
         profiles,
-        stats: run_stats(&stats, wall),
+        stats: RunStats::from_stats(&stats, wall),
         divisions: Vec::new(),
         error,
     })
