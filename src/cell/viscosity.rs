@@ -68,6 +68,13 @@ pub struct MaxwellBranch {
 }
 
 /// An invalid viscosity parameter.
+///
+/// ```
+/// use celltissue::cell::MaxwellBranch;
+/// let e = MaxwellBranch::maxwell(0.0, 1.0).unwrap_err();
+/// assert_eq!(e.key, "mu_m");
+/// assert_eq!(e.to_string(), "viscosity.mu_m = 0 must be finite and > 0");
+/// ```
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error("viscosity.{key} = {value} must be {range}")]
 pub struct ViscosityError {

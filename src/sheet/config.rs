@@ -25,6 +25,13 @@ use integrators::{MethodChoice, MethodKind, Options};
 use serde::{Deserialize, Serialize};
 
 /// The side `y = w₀` of the sheet.
+///
+/// ```
+/// use celltissue::sheet::{SheetConfig, TopBoundary};
+/// let cfg: SheetConfig = toml::from_str("top = \"periodic\"")?;
+/// assert_eq!(cfg.top, TopBoundary::Periodic);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum TopBoundary {
@@ -36,6 +43,14 @@ pub enum TopBoundary {
 }
 
 /// The side `x = l` of the sheet.
+///
+/// ```
+/// use celltissue::sheet::{RightEdge, SheetConfig};
+/// let cfg: SheetConfig = toml::from_str("right = \"free\"\ngrowth = { law = \"tanh\" }")?;
+/// assert_eq!(cfg.right, RightEdge::Free);
+/// assert!(cfg.validate().is_ok());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum RightEdge {
@@ -47,6 +62,12 @@ pub enum RightEdge {
 }
 
 /// The in-plane directions in which a growing sheet's cells grow.
+///
+/// ```
+/// use celltissue::sheet::GrowthDirections;
+/// assert!(GrowthDirections::Both.grows(0) && GrowthDirections::Both.grows(1));
+/// assert!(GrowthDirections::X.grows(0) && !GrowthDirections::X.grows(1));
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum GrowthDirections {
@@ -81,6 +102,13 @@ pub enum ShearForm {
 }
 
 /// A configuration value outside its valid range.
+///
+/// ```
+/// use celltissue::sheet::SheetConfig;
+/// let e = SheetConfig { k1: 1.5, ..Default::default() }.validate().unwrap_err();
+/// assert_eq!((e.key.as_str(), e.value.as_str()), ("k1", "1.5"));
+/// assert_eq!(e.to_string(), "k1 = 1.5: must be in (-1, 1)");
+/// ```
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error("{key} = {value}: {expected}")]
 pub struct ConfigError {
@@ -309,6 +337,14 @@ impl SheetConfig {
 }
 
 /// Configuration of a shear-column run (docs/model.md §4.4–4.6).
+///
+/// ```
+/// use celltissue::sheet::ShearConfig;
+/// let cfg: ShearConfig = toml::from_str("cells = 20\nforce = 0.5")?;
+/// assert!(cfg.validate().is_ok());
+/// assert!(toml::from_str::<ShearConfig>("cels = 20").is_err());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ShearConfig {
@@ -379,6 +415,13 @@ impl ShearConfig {
 }
 
 /// Integrator choice for a run: method and options (tolerances etc.).
+///
+/// ```
+/// use celltissue::sheet::SolverSettings;
+/// let mut s = SolverSettings::default();
+/// s.options.rtol = 1e-8;
+/// assert!(s.options.validate().is_ok());
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct SolverSettings {
     /// Time-stepping method (built-in or registered).

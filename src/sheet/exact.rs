@@ -82,6 +82,14 @@ pub fn sheet_free_steady(law: &impl StrainEnergy, k1: f64) -> Result<SheetSteady
 }
 
 /// Steady state of the sheet with a periodic side: `λ₁ = 1 − k₁`, `λ₂ = 1`.
+///
+/// ```
+/// use celltissue::sheet::exact::sheet_periodic_steady;
+/// let s = sheet_periodic_steady(&celltissue::NeoHookean::new(1.0)?, 0.5);
+/// assert_eq!(s.stretch[0], 0.5);
+/// assert!((s.stretch[2] - 2.0).abs() < 1e-12 && (s.pressure - 4.0).abs() < 1e-12); // λ₃ = 2, p = 4
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn sheet_periodic_steady(law: &impl StrainEnergy, k1: f64) -> SheetSteady {
     steady(law, 1.0 - k1, 1.0)
 }

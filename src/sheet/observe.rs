@@ -59,6 +59,17 @@ pub struct SheetObservables {
 }
 
 /// `W_err` (mean, max) over the interior x-faces of the sheet at state `y`.
+///
+/// ```
+/// use celltissue::sheet::observe::boundary_mismatch;
+/// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+/// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &SheetParams::default())?;
+/// let mut y = sheet.initial_state();
+/// assert_eq!(boundary_mismatch(&sheet, &y), [0.0, 0.0]);
+/// y[sheet.iy(1, 1)] += 0.1; // raise one face of column 1: its cells no longer match column 2's
+/// assert!(boundary_mismatch(&sheet, &y)[1] > 0.0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn boundary_mismatch<E: StrainEnergy>(sheet: &UniaxialSheet<E>, y: &[f64]) -> [f64; 2] {
     let (n, m) = sheet.grid();
     let (mut sum, mut max, mut count) = (0.0, 0.0f64, 0usize);
@@ -82,6 +93,18 @@ pub fn boundary_mismatch<E: StrainEnergy>(sheet: &UniaxialSheet<E>, y: &[f64]) -
 }
 
 /// Observables from the per-cell fields (and the state, for `W_err`).
+///
+/// ```
+/// use celltissue::sheet::observe::sheet_observables;
+/// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+/// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &SheetParams::default())?;
+/// let y = sheet.initial_state();
+/// let o = sheet_observables(&sheet, 0.0, &y, &sheet.cells(0.0, &y));
+/// // at rest: unit stretches, p = μ, no mismatch
+/// assert_eq!((o.length, o.stretch_x, o.mismatch), (10.0, [1.0, 1.0], [0.0, 0.0]));
+/// assert!((o.pressure[2] - 1.0).abs() < 1e-15);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn sheet_observables<E: StrainEnergy>(
     sheet: &UniaxialSheet<E>,
     t: f64,
@@ -120,6 +143,15 @@ pub fn sheet_observables<E: StrainEnergy>(
 }
 
 /// Appends one snapshot's observables to a sheet [`Series`].
+///
+/// ```
+/// use celltissue::observe::Series;
+/// use celltissue::sheet::observe::{push_sheet_series, SheetObservables, MEAN_HEIGHT};
+/// let mut s = Series::default();
+/// push_sheet_series(&mut s, &SheetObservables { t: 1.0, mean_height: 0.9, ..Default::default() });
+/// assert_eq!((s.t[0], s.extra[MEAN_HEIGHT][0]), (1.0, 0.9));
+/// assert!(!s.extra.contains_key("mean_width")); // only a growing sheet has a width series
+/// ```
 pub fn push_sheet_series(s: &mut Series, o: &SheetObservables) {
     s.t.push(o.t);
     s.length.push(o.length);
@@ -165,6 +197,18 @@ impl SheetColumns {
 /// (what [`sheet_cells`] rebuilds the cells from), and the optional [`SheetColumns`]: the viscous stretches
 /// `viscous_x` (a₁), `viscous_y` (a₂) and the growth stretches `growth_x` (g₁), `growth_y`
 /// (g₂). Cells are listed column by column.
+///
+/// ```
+/// use celltissue::sheet::observe::{sheet_profile, SheetColumns};
+/// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+/// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &SheetParams::default())?;
+/// let y = sheet.initial_state();
+/// let p = sheet_profile(0.0, &sheet.cells(0.0, &y), SheetColumns::of(&sheet));
+/// assert_eq!(p.stretch.len(), 100);
+/// assert_eq!(p.extra["x_right"][0], 1.0);
+/// assert!(!p.extra.contains_key("growth_x"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn sheet_profile(t: f64, cells: &[SheetCell], columns: SheetColumns) -> Profile {
     let mut p = Profile {
         t,
@@ -311,6 +355,15 @@ pub struct ShearObservables {
 }
 
 /// Shear observables from the per-cell fields.
+///
+/// ```
+/// use celltissue::sheet::observe::shear_observables;
+/// use celltissue::sheet::shear::ShearFields;
+/// let f = ShearFields { tan_theta: vec![0.5, 1.0], theta: vec![0.4, 0.8], x_edge: vec![0.0, 0.5, 1.5],
+///                       pressure: vec![1.0, 1.0], ..Default::default() };
+/// let o = shear_observables(2.0, &f);
+/// assert_eq!((o.top, o.spread, o.tan_theta), (1.5, 0.5, [1.0, 0.5]));
+/// ```
 pub fn shear_observables(t: f64, f: &ShearFields) -> ShearObservables {
     let mx = f
         .tan_theta

@@ -35,6 +35,14 @@ use std::sync::Arc;
 
 /// Physical parameters of a sheet (docs/model.md §0.3, §4.1). The grid is chosen separately
 /// ([`UniaxialSheet::discrete`] or [`UniaxialSheet::continuum`]).
+///
+/// ```
+/// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+/// let p = SheetParams { cells_x: 4, cells_y: 2, drag_exponent: 1.0, ..Default::default() };
+/// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &p)?;
+/// assert_eq!((sheet.grid(), sheet.l0(), sheet.w0()), ((4, 2), 4.0, 2.0));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug)]
 pub struct SheetParams {
     /// Number of cells in x, `N` (so `l₀ = N`).
@@ -68,6 +76,22 @@ pub struct SheetParams {
 
 /// Stress-dependent growth of a sheet's cells (docs/sheet_growth.md): growth stretches `g₁`,
 /// `g₂` with `ġᵢ = G(σᵢᵢ)` in the growing directions; the law sees `λᵢ/gᵢ`.
+///
+/// ```
+/// use celltissue::cell::TanhGrowth;
+/// use celltissue::sheet::uniaxial::{SheetGrowth, SheetParams, UniaxialSheet};
+/// use celltissue::sheet::{GrowthDirections, RightEdge};
+/// use std::sync::Arc;
+/// let p = SheetParams {
+///     right: RightEdge::Free,
+///     growth: Some(SheetGrowth { law: Arc::new(TanhGrowth::default()), directions: GrowthDirections::Both }),
+///     ..Default::default()
+/// };
+/// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &p)?;
+/// let y = sheet.initial_state();
+/// assert_eq!((y[sheet.ig(1, 1)], y[sheet.ig(1, 1) + 1]), (1.0, 1.0)); // g₁, g₂ at rest
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone)]
 pub struct SheetGrowth {
     /// The growth law `G`.
@@ -105,6 +129,16 @@ impl Default for SheetParams {
 }
 
 /// Per-cell quantities in `f64`, for observers and writers.
+///
+/// ```
+/// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+/// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &SheetParams::default())?;
+/// let y = sheet.initial_state();
+/// let c = sheet.cells(0.0, &y)[0]; // column 1, row 1
+/// assert_eq!((c.j, c.k, c.x, c.stretch), (1, 1, [0.0, 1.0], [1.0, 1.0, 1.0]));
+/// assert_eq!((c.growth, c.viscous), ([1.0, 1.0], [1.0, 1.0]));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SheetCell {
     /// Column index `j = 1..n`.
@@ -186,6 +220,14 @@ pub struct UniaxialSheet<E: StrainEnergy> {
 }
 
 /// Why a sheet could not be built.
+///
+/// ```
+/// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+/// let p = SheetParams { gamma0: -1.0, ..Default::default() };
+/// let e = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &p).err().unwrap();
+/// assert_eq!(e.to_string(), "gamma0 = -1 is out of range: > 0");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum SheetBuildError {
     /// A parameter is out of range.

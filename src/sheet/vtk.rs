@@ -12,6 +12,14 @@ use std::io;
 use std::path::Path;
 
 /// The sheet's cells as a grid of hexahedra.
+///
+/// ```
+/// use celltissue::sheet::uniaxial::SheetCell;
+/// let c = SheetCell { x: [0.0, 2.0], y: [0.0, 1.0], height: 0.5, ..Default::default() };
+/// let g = celltissue::sheet::vtk::grid(&[c]);
+/// assert_eq!((g.points.len(), g.types.len()), (8, 1));
+/// assert_eq!(g.points[6], [2.0, 1.0, 0.5]); // the top face at z = H
+/// ```
 pub fn grid(cells: &[SheetCell]) -> Grid {
     let nc = cells.len();
     let mut points = Vec::with_capacity(8 * nc);
