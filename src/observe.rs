@@ -6,6 +6,12 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// Which model produced a run.
+///
+/// ```
+/// use celltissue::observe::ModelKind;
+/// assert_eq!(serde_json::to_string(&ModelKind::Continuum)?, "\"continuum\"");
+/// # Ok::<(), serde_json::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ModelKind {
@@ -18,6 +24,16 @@ pub enum ModelKind {
 /// Scalar time series, one entry per output time. Standard keys are fields; model-specific
 /// series (e.g. `"cells"`, `"mean_pressure"`, `"top_displacement"`) go in `extra` and are
 /// flattened into the same JSON object.
+///
+/// ```
+/// use celltissue::observe::Series;
+/// let mut s = Series::default();
+/// s.t.push(1.0);
+/// s.extra.insert("cells".into(), vec![120.0]);
+/// // model-specific series sit next to the standard ones in JSON
+/// assert!(serde_json::to_string(&s)?.contains("\"cells\":[120.0]"));
+/// # Ok::<(), serde_json::Error>(())
+/// ```
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Series {
     /// Output times.
@@ -38,6 +54,15 @@ pub struct Series {
 }
 
 /// A per-cell (discrete) or per-node (continuum) snapshot at one time.
+///
+/// ```
+/// use celltissue::observe::Profile;
+/// let p = Profile { t: 1.0, x_ref: vec![0.5], x: vec![0.45], stretch: vec![0.9], pressure: vec![1.2],
+///                   ..Default::default() };
+/// let json = serde_json::to_string(&p)?;
+/// assert!(json.contains("\"X\":[0.5]")); // the reference position is written `X`
+/// # Ok::<(), serde_json::Error>(())
+/// ```
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Profile {
     /// Time.
@@ -100,6 +125,13 @@ impl RunStats {
 }
 
 /// One division event (issue #4 schema).
+///
+/// ```
+/// use celltissue::observe::DivisionRecord;
+/// let d = DivisionRecord { t: 2.0, parent: 3, x: 2.5, x_over_length: 0.5, cells_after: 6 };
+/// assert_eq!(serde_json::to_value(&d)?["cells_after"], 6);
+/// # Ok::<(), serde_json::Error>(())
+/// ```
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct DivisionRecord {
     /// Time of division.
@@ -115,6 +147,17 @@ pub struct DivisionRecord {
 }
 
 /// Everything one run (one model at one parameter set) produced.
+///
+/// ```
+/// use celltissue::observe::{ModelKind, RunRecord};
+/// use celltissue::sheet::{run::Outputs, run_sheet, SheetConfig, SolverSettings};
+/// let cfg = SheetConfig { cells_x: 3, cells_y: 3, ..Default::default() };
+/// let rec: RunRecord = run_sheet(&cfg, &cfg.law, ModelKind::Discrete, None,
+///                                &SolverSettings::default(), &Outputs::at(&[1.0]))?;
+/// assert!(rec.error.is_none() && rec.stats.steps > 0);
+/// assert_eq!(rec.series.t, [1.0]);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RunRecord {
     /// Label shown in legends, e.g. `"discrete K=0.01"`.
@@ -138,6 +181,13 @@ pub struct RunRecord {
 }
 
 /// The whole `summary.json`.
+///
+/// ```
+/// use celltissue::observe::Summary;
+/// let s = Summary { scenario: "demo".into(), runs: vec![] };
+/// assert_eq!(serde_json::to_value(&s)?["scenario"], "demo");
+/// # Ok::<(), serde_json::Error>(())
+/// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Summary {
     /// Scenario name.

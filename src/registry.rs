@@ -46,6 +46,12 @@ pub type Constructor<T> = Arc<dyn Fn(&Params) -> Result<(T, Params), ParamError>
 /// A parameter that does not build a law: the key inside the law's table and what is wrong.
 /// Displayed as "`key` = value: must be range" or "`key`: message", the form the scenario
 /// layer turns into a full key path (`model.division.ratio`).
+///
+/// ```
+/// use celltissue::registry::ParamError;
+/// let e = ParamError::range("ratio", 0.5, "finite and > 1");
+/// assert_eq!((e.key.as_str(), e.to_string().as_str()), ("ratio", "`ratio` = 0.5: must be finite and > 1"));
+/// ```
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 #[error("`{key}`{detail}")]
 pub struct ParamError {
@@ -163,6 +169,12 @@ fn quoted_after<'a>(message: &'a str, prefix: &str) -> Option<&'a str> {
 }
 
 /// A registration that cannot be taken.
+///
+/// ```
+/// use celltissue::events::rules;
+/// let e = rules::register::<celltissue::events::AgeRule>("area").unwrap_err();
+/// assert!(e.to_string().contains("already registered"), "{e}");
+/// ```
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum RegistryError {
@@ -278,6 +290,14 @@ pub trait Kind: 'static {
 /// A law picked by name in a scenario: the name, its resolved parameters and the law built from
 /// them. It deserializes from the law's table (the name key plus parameters, built and
 /// validated on the spot) and serializes back to the same table with defaults filled in.
+///
+/// ```
+/// use celltissue::cell::growth_laws::GrowthSpec;
+/// let g: GrowthSpec = toml::from_str("sigma0 = 0.2")?; // `law` defaults to "tanh"
+/// assert_eq!((g.name(), g.params()["gm"].as_f64()), ("tanh", Some(1.0)));
+/// assert_eq!(g.law().rate(0.0).0, 0.5);
+/// # Ok::<(), toml::de::Error>(())
+/// ```
 pub struct Named<K: Kind> {
     name: String,
     params: Params,
