@@ -178,9 +178,6 @@ struct CellS<S> {
     kappa: S,
     s11: S,
     s22: S,
-    /// Viscous stretches and the branch's in-plane stresses (unused without a branch).
-    a: [S; 2],
-    branch: [S; 2],
 }
 
 /// A uniaxial sheet of `n × m` cells (or continuum segments) as a [`CellArray`].
@@ -210,12 +207,16 @@ pub struct UniaxialSheet<E: StrainEnergy> {
     branch_cache: RefCell<Vec<(f64, f64, SheetResponse)>>,
     /// `p_e` of each column `j = 1..n` (index `j − 1`).
     p_ext: Vec<f64>,
+    /// Whether any `p_e` is non-zero (the residual skips it otherwise).
+    pressure: bool,
     /// Unknowns per column block: `2m`, plus `2m` with a branch and `2m` with growth.
     block: usize,
     /// Offset of the growth stretches in a block: 0, or `2m` with a branch.
     growth_at: usize,
     /// Offset of the face unknowns in a block: `2m` per branch and growth.
     faces: usize,
+    /// Offset of the x-face unknowns in a block, `faces + m`.
+    x_faces: usize,
     atol_cell: Option<f64>,
 }
 
@@ -336,10 +337,12 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
             pattern: Pattern::Dense,
             cache: RefCell::new(Vec::new()),
             branch_cache: RefCell::new(Vec::new()),
+            pressure: p_ext.iter().any(|&v| v != 0.0),
             p_ext,
             block: faces + 2 * m,
             growth_at,
             faces,
+            x_faces: faces + m,
             atol_cell: None,
         };
         s.pattern = Pattern::Sparse(Arc::new(s.build_pattern()));
@@ -397,7 +400,7 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
     /// Index of the unknown `x_b(j, k)` (`j = 1..n−1`, and `j = n` with a free right edge;
     /// `k = 1..m`).
     pub fn ix(&self, j: usize, k: usize) -> usize {
-        (j - 1) * self.block + self.faces + self.m + k - 1
+        (j - 1) * self.block + self.x_faces + k - 1
     }
     /// Index of cell `(j, k)`'s viscous stretch `a₁` (`a₂` is the next unknown), with a
     /// Maxwell branch (`j = 1..n`, `k = 1..m`).
@@ -614,7 +617,9 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
         }
     }
 
-    /// State of cell `(j, k)` inside a residual; errors on a non-positive stretch.
+    /// State of cell `(j, k)` inside a residual; errors on a non-positive stretch. With a
+    /// Maxwell branch the rates `(ȧ₁, ȧ₂)` of its viscous stretches are pushed onto `rates`
+    /// (kept apart, so that the common cell state stays small).
     #[inline]
     fn cell_s<S: Scalar>(
         &self,
@@ -622,6 +627,7 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
         lt: f64,
         j: usize,
         k: usize,
+        rates: &mut Vec<[S; 2]>,
     ) -> Result<CellS<S>, ResidualError> {
         let l1 = (self.xb_s(y, lt, j, k) - self.xb_s(y, lt, j - 1, k)) * (1.0 / self.hx);
         let l2 = (self.yb_s(y, j, k) - self.yb_s(y, j, k - 1)) * (1.0 / self.hy);
@@ -682,11 +688,9 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
         } else {
             (S::from(0.0), S::from(0.0))
         };
-        let mut av = [S::from(1.0); 2];
-        let mut sb = [S::from(0.0); 2];
         if let Some(br) = branch {
             let q = self.iq(j, k);
-            av = [y[q], y[q + 1]];
+            let av = [y[q], y[q + 1]];
             let (q1, q2) = (av[0].re(), av[1].re());
             if !(br.admissible(q1) && br.admissible(q2)) {
                 return Err(ResidualError::Recoverable {
@@ -707,29 +711,34 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
             let r = self.response(&self.branch_cache, c, x1, x2);
             let f = br.modulus_ratio(&self.law);
             let t = r.tangent;
-            sb = [
+            let sb = [
                 lift2(e1, e2, f * r.s11, f * t[0][0], f * t[0][1]),
                 lift2(e1, e2, f * r.s22, f * t[1][0], f * t[1][1]),
             ];
             s11 += sb[0];
             s22 += sb[1];
+            rates.push(br.sheet_rate(av, sb));
         }
-        let pe = self.p_ext[j - 1];
-        if pe != 0.0 {
+        if self.pressure {
+            let pe = self.p_ext[j - 1];
             s11 -= S::from(pe);
             s22 -= S::from(pe);
         }
-        let kappa = self.dissipation().kappa(l1 * l2);
+        let area = l1 * l2;
+        let kappa = self.dissipation().kappa(area);
+        // the height of an incompressible cell grown in plane: H = β₀ λ₃, λ₃ = 1/(α₁α₂)
+        let h = if self.params.growth.is_some() {
+            (al1 * al2).recip() * self.params.beta0
+        } else {
+            area.recip() * self.params.beta0
+        };
         Ok(CellS {
             l1,
             l2,
-            // the height of an incompressible cell grown in plane: H = β₀ λ₃, λ₃ = 1/(α₁α₂)
-            h: (al1 * al2).recip() * self.params.beta0,
+            h,
             kappa,
             s11,
             s22,
-            a: av,
-            branch: sb,
         })
     }
 }
@@ -765,18 +774,17 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
         let periodic = self.params.top == TopBoundary::Periodic;
         let mut cur: Vec<CellS<S>> = Vec::with_capacity(m);
         let mut next: Vec<CellS<S>> = Vec::with_capacity(m);
+        // the viscous stretches' rates of the current and next column (with a branch)
+        let (mut cur_rates, mut next_rates) = (Vec::new(), Vec::new());
         for k in 1..=m {
-            cur.push(self.cell_s(y, lt, 1, k)?);
+            cur.push(self.cell_s(y, lt, 1, k, &mut cur_rates)?);
         }
         for j in 1..=n {
             // viscous stretches of column j
-            if let Some(br) = &self.params.branch {
-                for (k, c) in (1..=m).zip(&cur) {
-                    let q = self.iq(j, k);
-                    let rate = br.sheet_rate(c.a, c.branch);
-                    r[q] = yp[q] - rate[0];
-                    r[q + 1] = yp[q + 1] - rate[1];
-                }
+            for (k, rate) in (1..=m).zip(&cur_rates) {
+                let q = self.iq(j, k);
+                r[q] = yp[q] - rate[0];
+                r[q + 1] = yp[q + 1] - rate[1];
             }
             // growth stretches of column j: ġᵢ = G(σᵢᵢ) in the growing directions
             if let Some(g) = &self.params.growth {
@@ -816,8 +824,9 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
             }
             if j < n {
                 next.clear();
+                next_rates.clear();
                 for k in 1..=m {
-                    next.push(self.cell_s(y, lt, j + 1, k)?);
+                    next.push(self.cell_s(y, lt, j + 1, k, &mut next_rates)?);
                 }
                 for k in 1..=m {
                     let (a, b) = (&cur[k - 1], &next[k - 1]);
@@ -828,6 +837,7 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
                     r[row] = yp[row] * (kap * d) - h * w * (b.s11 - a.s11);
                 }
                 std::mem::swap(&mut cur, &mut next);
+                std::mem::swap(&mut cur_rates, &mut next_rates);
             } else if self.free_right() {
                 // free side x = l: the last cell's own H, W
                 for (k, c) in (1..=m).zip(&cur) {
