@@ -12,6 +12,7 @@
 //! * the Jacobian pattern holds every dependence of the residual (the coloured AD Jacobian is
 //!   used with a branch), and the scenario keys are parsed and checked by name.
 
+mod common;
 use celltissue::boundary::{Ramp, RightEnd};
 use celltissue::cell::MaxwellBranch;
 use celltissue::line::build::{discrete, LineParams};
@@ -19,6 +20,7 @@ use celltissue::line::run::integrate;
 use celltissue::line::{run_line, Line, LineConfig, OutputTimes, SolveSettings};
 use celltissue::observe::ModelKind;
 use celltissue::{ArrayProblem, CellArray, NeoHookean};
+use common::{maxwell_ramp_stress, poly_strain};
 use std::collections::HashSet;
 
 fn nh() -> NeoHookean {
@@ -56,31 +58,6 @@ fn stress_series(line: Line<NeoHookean>, times: &[f64]) -> Vec<Vec<f64>> {
     traj.snapshots.iter().map(|s| s.sigma.clone()).collect()
 }
 
-/// Linear Maxwell-branch stress for `ε(t) = −k₁ s(t/t_r)`, `s(v) = 3v² − 2v³`:
-/// `4μ_m ∫₀^{min(t,t_r)} ε'(u) e^{−(t−u)/τ} du` by composite Simpson (4000 panels).
-fn linear_branch(t: f64, k1: f64, t_r: f64, mu_m: f64, tau: f64) -> f64 {
-    let top = t.min(t_r);
-    if top <= 0.0 {
-        return 0.0;
-    }
-    let f = |u: f64| {
-        let v = u / t_r;
-        -k1 * (6.0 * v - 6.0 * v * v) / t_r * (-(t - u) / tau).exp()
-    };
-    let m = 4000;
-    let h = top / m as f64;
-    let mut s = f(0.0) + f(top);
-    for i in 1..m {
-        s += f(i as f64 * h) * if i % 2 == 1 { 4.0 } else { 2.0 };
-    }
-    4.0 * mu_m * s * h / 3.0
-}
-
-fn poly_strain(t: f64, k1: f64, t_r: f64) -> f64 {
-    let v = (t / t_r).min(1.0);
-    -k1 * (3.0 * v * v - 2.0 * v * v * v)
-}
-
 /// Max over the output times of `|σ − σ_lin| / max|σ_lin|` for a ramp of `k1`.
 fn ramp_and_hold_error(k1: f64, sls: bool) -> f64 {
     let (mu_m, eta_m, t_r) = (0.5, 1.0, 1.0);
@@ -101,7 +78,7 @@ fn ramp_and_hold_error(k1: f64, sls: bool) -> f64 {
             } else {
                 0.0
             };
-            elastic + linear_branch(t, k1, t_r, mu_m, tau)
+            elastic + maxwell_ramp_stress(t, k1, t_r, 4.0 * mu_m, tau)
         })
         .collect();
     let peak = lin.iter().fold(0.0f64, |m, v| m.max(v.abs()));

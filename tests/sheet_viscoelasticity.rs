@@ -11,10 +11,12 @@
 //! * the continuum converges under grid refinement with a branch;
 //! * the scenario keys are parsed and checked by name.
 
+mod common;
 use celltissue::cell::ViscosityModel;
 use celltissue::observe::{ModelKind, Profile, RunRecord};
 use celltissue::sheet::{run::Outputs, run_sheet, Ramp, SheetConfig, SolverSettings};
 use celltissue::NeoHookean;
+use common::{maxwell_ramp_stress, poly_strain};
 use integrators::ErrorNorm;
 
 fn nh() -> NeoHookean {
@@ -67,30 +69,6 @@ fn column<'a>(p: &'a Profile, key: &str) -> &'a [f64] {
     &p.extra[key]
 }
 
-fn poly_strain(t: f64, k1: f64, t_r: f64) -> f64 {
-    let v = (t / t_r).min(1.0);
-    -k1 * (3.0 * v * v - 2.0 * v * v * v)
-}
-
-/// Linear branch stress `3μ_m ∫₀^{min(t,t_r)} ε'(u) e^{−(t−u)/τ} du` by composite Simpson.
-fn linear_branch(t: f64, k1: f64, t_r: f64, mu_m: f64, tau: f64) -> f64 {
-    let top = t.min(t_r);
-    if top <= 0.0 {
-        return 0.0;
-    }
-    let f = |u: f64| {
-        let v = u / t_r;
-        -k1 * (6.0 * v - 6.0 * v * v) / t_r * (-(t - u) / tau).exp()
-    };
-    let m = 4000;
-    let h = top / m as f64;
-    let mut s = f(0.0) + f(top);
-    for i in 1..m {
-        s += f(i as f64 * h) * if i % 2 == 1 { 4.0 } else { 2.0 };
-    }
-    3.0 * mu_m * s * h / 3.0
-}
-
 /// Max over the output times of `|σ₁₁ − σ_lin| / max|σ_lin|` for a ramp of `k1`; checks on
 /// the way that every cell carries the same stress and `σ₂₂` vanishes.
 fn ramp_and_hold_error(k1: f64, standard: bool) -> f64 {
@@ -111,7 +89,7 @@ fn ramp_and_hold_error(k1: f64, standard: bool) -> f64 {
             } else {
                 0.0
             };
-            elastic + linear_branch(t, k1, t_r, mu_m, tau)
+            elastic + maxwell_ramp_stress(t, k1, t_r, 3.0 * mu_m, tau)
         })
         .collect();
     let peak = lin.iter().fold(0.0f64, |m, v| m.max(v.abs()));

@@ -172,6 +172,25 @@ pub fn push_sheet_series(s: &mut Series, o: &SheetObservables) {
     }
 }
 
+/// The per-cell columns every sheet profile has besides `X`, `x`, `stretch` and `pressure`
+/// ([`sheet_profile`] writes them, [`sheet_cells`] reads them back).
+const PROFILE_KEYS: [&str; 14] = [
+    "Y",
+    "y",
+    "stretch_y",
+    "stretch_z",
+    "height",
+    "sigma11",
+    "sigma22",
+    "kappa",
+    "column",
+    "row",
+    "x_left",
+    "x_right",
+    "y_bottom",
+    "y_top",
+];
+
 /// The optional per-cell columns of a sheet profile.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct SheetColumns {
@@ -214,22 +233,7 @@ pub fn sheet_profile(t: f64, cells: &[SheetCell], columns: SheetColumns) -> Prof
         t,
         ..Default::default()
     };
-    let keys = [
-        "Y",
-        "y",
-        "stretch_y",
-        "stretch_z",
-        "height",
-        "sigma11",
-        "sigma22",
-        "kappa",
-        "column",
-        "row",
-        "x_left",
-        "x_right",
-        "y_bottom",
-        "y_top",
-    ];
+    let keys = PROFILE_KEYS;
     let mut cols: Vec<Vec<f64>> = vec![Vec::with_capacity(cells.len()); keys.len()];
     for c in cells {
         p.x_ref.push(c.reference[0]);
@@ -292,21 +296,7 @@ pub fn sheet_profile(t: f64, cells: &[SheetCell], columns: SheetColumns) -> Prof
 /// ```
 pub fn sheet_cells(p: &Profile) -> Vec<SheetCell> {
     let col = |k: &str| p.extra.get(k).map(Vec::as_slice).unwrap_or(&[]);
-    let keys = [
-        "x_left",
-        "x_right",
-        "y_bottom",
-        "y_top",
-        "stretch_y",
-        "stretch_z",
-        "height",
-        "sigma11",
-        "sigma22",
-        "kappa",
-        "column",
-        "row",
-        "Y",
-    ];
+    let keys = PROFILE_KEYS;
     let n = keys
         .iter()
         .map(|k| col(k).len())

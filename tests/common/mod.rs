@@ -1,0 +1,28 @@
+//! Helpers shared by integration tests (each test file that needs them declares `mod common;`).
+
+/// The polynomial ramp's strain `ε(t) = −k₁ s(t/t_r)`, `s(v) = 3v² − 2v³` (held after `t_r`).
+pub fn poly_strain(t: f64, k1: f64, t_r: f64) -> f64 {
+    let v = (t / t_r).min(1.0);
+    -k1 * (3.0 * v * v - 2.0 * v * v * v)
+}
+
+/// The linear Maxwell branch's stress under that ramp, `E_m ∫₀^{min(t,t_r)} ε'(u) e^{−(t−u)/τ} du`
+/// (`E_m` the branch's small-strain modulus: `4μ_m` on the line, `3μ_m` in the sheet's
+/// uniaxial stress), by composite Simpson on 4000 panels.
+pub fn maxwell_ramp_stress(t: f64, k1: f64, t_r: f64, modulus: f64, tau: f64) -> f64 {
+    let top = t.min(t_r);
+    if top <= 0.0 {
+        return 0.0;
+    }
+    let f = |u: f64| {
+        let v = u / t_r;
+        -k1 * (6.0 * v - 6.0 * v * v) / t_r * (-(t - u) / tau).exp()
+    };
+    let m = 4000;
+    let h = top / m as f64;
+    let mut s = f(0.0) + f(top);
+    for i in 1..m {
+        s += f(i as f64 * h) * if i % 2 == 1 { 4.0 } else { 2.0 };
+    }
+    modulus * s * h / 3.0
+}
