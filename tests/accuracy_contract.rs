@@ -7,7 +7,7 @@
 //! * at rtol 1e-6 the largest stretch error against a tight reference (rtol 1e-10, or 1e-8 and 1e-9 where positions reach 10⁶ and 10⁴ cell lengths) is at most
 //!   10·rtol on the macroscale family (`l₀ = N`, `K = 1/N`, ramp time `N`) and on the raw
 //!   Chapter 2 problem (`K = 1`, unit-time exponential ramp), at N = 10² and 10⁴. The
-//!   macroscale at 10⁶ is `#[ignore]`d (`cargo test --release --test accuracy_contract --
+//!   macroscale at 10⁶ is `#[ignore]`d (`cargo test --release --test integration accuracy_contract:: --
 //!   --ignored`; its reference runs at rtol 1e-8, see the test for why). The raw problem at
 //!   N = 10⁴ is checked through its first crushed cells (t ≤ 0.01) in CI and to t = 10 under
 //!   `--ignored`, against a reference at rtol 1e-9 (see `RAW_10K_REFERENCE_RTOL` for why not

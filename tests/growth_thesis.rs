@@ -1,7 +1,7 @@
 //! Growth without division (thesis Ch. 3, Figs 3.1–3.2; docs/model.md §5.4–5.5): N = 100
 //! neo-Hookean cells, σ₀ = 0.1, free right end, ġ = ½(1 + tanh(σ/σ₀)), residual form.
 //!
-//! Measured numbers are printed by each test (`cargo test --release --test growth_thesis --
+//! Measured numbers are printed by each test (`cargo test --release --test integration growth_thesis:: --
 //! --nocapture`) and listed in the report of issue 4.
 
 use celltissue::boundary::RightEnd;

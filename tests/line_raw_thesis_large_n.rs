@@ -9,7 +9,7 @@
 //!   of the integrators); N = 10³ also converges: its end pressure at rtol 1e-6 is within 1e-3
 //!   (relative) of an rtol 1e-10 run (measured 9.9e-8 at t = 1, 1.6e-5 at t = 10).
 //! * N = 10⁴ is solved too (≈ 10⁴ steps, 20–60 s one-shot on the shared 2-core machine), so it
-//!   is `#[ignore]`d: `cargo test --release --test line_raw_thesis_large_n -- --ignored`.
+//!   is `#[ignore]`d: `cargo test --release --test integration line_raw_thesis_large_n:: -- --ignored`.
 //! * A length driven through zero cannot be solved: the error names the collapsing cell and its
 //!   stretch, and the series up to the failure are kept.
 

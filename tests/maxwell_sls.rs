@@ -12,7 +12,7 @@
 //! * the Jacobian pattern holds every dependence of the residual (the coloured AD Jacobian is
 //!   used with a branch), and the scenario keys are parsed and checked by name.
 
-mod common;
+use crate::common::{maxwell_ramp_stress, poly_strain};
 use celltissue::boundary::{Ramp, RightEnd};
 use celltissue::cell::MaxwellBranch;
 use celltissue::line::build::{discrete, LineParams};
@@ -20,7 +20,6 @@ use celltissue::line::run::integrate;
 use celltissue::line::{run_line, Line, LineConfig, OutputTimes, SolveSettings};
 use celltissue::observe::ModelKind;
 use celltissue::{ArrayProblem, CellArray, NeoHookean};
-use common::{maxwell_ramp_stress, poly_strain};
 use std::collections::HashSet;
 
 fn nh() -> NeoHookean {

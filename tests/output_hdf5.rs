@@ -2,7 +2,6 @@
 //! library and compared, array by array, with the same run's `.npz` read by npyz; parameters,
 //! stats and provenance as attributes. (`python/tests/test_results_h5.py` reads the same kind of
 //! file with h5py, whose HDF5 is its own build, when CI points it at one.)
-#![cfg(feature = "hdf5")]
 
 use celltissue::output::{write_all_with, WriteOptions};
 use celltissue::scenario::{execute::run_spec, load};

@@ -6,7 +6,7 @@
 //! The default run (part of `cargo test`) is 3000 cases over three strategies. The long run:
 //!
 //! ```sh
-//! SCENARIO_FUZZ_CASES=40000 cargo test --release --test scenario_fuzz -- --nocapture
+//! SCENARIO_FUZZ_CASES=40000 cargo test --release --test integration scenario_fuzz:: -- --nocapture
 //! ```
 //!
 //! (`SCENARIO_FUZZ_CASES` cases per strategy; three strategies.)

@@ -11,12 +11,11 @@
 //! * the continuum converges under grid refinement with a branch;
 //! * the scenario keys are parsed and checked by name.
 
-mod common;
+use crate::common::{maxwell_ramp_stress, poly_strain};
 use celltissue::cell::ViscosityModel;
 use celltissue::observe::{ModelKind, Profile, RunRecord};
 use celltissue::sheet::{run::Outputs, run_sheet, Ramp, SheetConfig, SolverSettings};
 use celltissue::NeoHookean;
-use common::{maxwell_ramp_stress, poly_strain};
 use integrators::ErrorNorm;
 
 fn nh() -> NeoHookean {
