@@ -121,6 +121,20 @@ impl ProliferationConfig {
 /// Runs one proliferating line (`model`: discrete with division, or the proliferating
 /// continuum on `nodes` segments — area rule only) and records series, profiles and
 /// divisions. Invalid configuration: a record with `error` naming the key.
+///
+/// ```
+/// use celltissue::events::{run_proliferation, ProliferationConfig};
+/// use celltissue::line::{OutputTimes, SolveSettings};
+/// use celltissue::observe::ModelKind;
+/// let t: toml::Table = toml::from_str("cells = 10\nK = 1e-5\nright_end = \"free\"\n\
+///     growth = { sigma0 = 0.1 }\ndivision = { rule = \"area\" }").unwrap();
+/// let cfg = ProliferationConfig::from_table(&t)?;
+/// let times = OutputTimes { series: vec![1.0, 3.0], profiles: vec![] };
+/// let rec = run_proliferation(&cfg, ModelKind::Discrete, None, &SolveSettings::default(), &times);
+/// assert!(rec.error.is_none());
+/// assert!(rec.divisions.len() >= 10); // every cell doubles by t ≈ 2
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn run_proliferation(
     cfg: &ProliferationConfig,
     model: ModelKind,

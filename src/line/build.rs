@@ -262,12 +262,29 @@ fn assemble<E: StrainEnergy>(
 }
 
 /// The discrete model: one cell per entry of `p.ref_lengths`.
+///
+/// ```
+/// use celltissue::line::build::{discrete, LineParams};
+/// use celltissue::{CellArray, NeoHookean};
+/// let line = discrete(NeoHookean::new(1.0)?, &LineParams::unit_cells(5))?;
+/// assert_eq!((line.n_cells(), line.l0_total()), (5, 5.0));
+/// assert_eq!(line.dim(), 4); // x₁ … x₄ (x₀ = 0 and the prescribed x₅ are not unknowns)
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn discrete<E: StrainEnergy>(energy: E, p: &LineParams) -> Result<Line<E>, LineError> {
     p.check()?;
     assemble(energy, p, p.ref_lengths.clone(), 1.0)
 }
 
 /// The conservative continuum scheme with `n` segments of length `h = l₀/n` (docs/model.md §3.3a).
+///
+/// ```
+/// use celltissue::line::build::{continuum, LineParams};
+/// use celltissue::NeoHookean;
+/// let line = continuum(NeoHookean::new(1.0)?, &LineParams::unit_cells(100), 20)?;
+/// assert_eq!((line.n_cells(), line.l0_total()), (20, 100.0)); // 20 segments of h = 5
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn continuum<E: StrainEnergy>(
     energy: E,
     p: &LineParams,

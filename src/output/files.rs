@@ -168,6 +168,13 @@ pub fn slug(label: &str) -> String {
 }
 
 /// Unique slugs for a list of labels (a suffix `_2`, `_3`… on repeats).
+///
+/// ```
+/// use celltissue::output::files::unique_slugs;
+/// let s = unique_slugs(["discrete K=1", "discrete K=1", "continuum"].into_iter());
+/// assert_eq!(s.len(), 3);
+/// assert_ne!(s[0], s[1]); // a repeated label gets a distinct file name
+/// ```
 pub fn unique_slugs<'a>(labels: impl Iterator<Item = &'a str>) -> Vec<String> {
     let mut out: Vec<String> = Vec::new();
     for l in labels {
@@ -250,6 +257,18 @@ pub fn write_arrays(dir: &Path, summary: &Summary) -> Result<Vec<PathBuf>, Outpu
 
 /// The series of one run as CSV text: `t,length,max_pressure,min_pressure,max_stretch,
 /// min_stretch,<extra series in name order>` (shear columns: see [`series_columns`]).
+///
+/// ```
+/// use celltissue::observe::{ModelKind, RunRecord};
+/// use celltissue::sheet::{run::Outputs, run_sheet, SheetConfig, SolverSettings};
+/// let cfg = SheetConfig { cells_x: 2, cells_y: 2, ..Default::default() };
+/// let rec: RunRecord = run_sheet(&cfg, &cfg.law, ModelKind::Discrete, None,
+///                                &SolverSettings::default(), &Outputs::at(&[0.0, 1.0]))?;
+/// let csv = celltissue::output::files::series_csv(&rec);
+/// assert!(csv.starts_with("t,length,max_pressure"));
+/// assert_eq!(csv.lines().count(), 3); // header and two times
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn series_csv(rec: &RunRecord) -> String {
     let named = series_columns(rec);
     let cols: Vec<(&str, &Vec<f64>)> = named.iter().map(|(k, v)| (k.as_str(), *v)).collect();

@@ -88,6 +88,19 @@ pub struct WriteOptions {
 
 /// Creates `dir` and writes every output of a scenario run with default options (see
 /// [`write_all_with`]).
+///
+/// ```
+/// use celltissue::{output, scenario::{execute, load_str}};
+/// let text = "name = \"demo\"\n[output]\nseries = [1, 2]\n[model]\nkind = \"line\"\nmodels = [\"discrete\"]\ncells = 10";
+/// let s = load_str(text, "demo.toml".as_ref(), &[])?;
+/// let summary = execute::run_all(&s, execute::run_spec, |_| {});
+/// let dir = std::env::temp_dir().join(format!("celltissue_doc_write_all_{}", std::process::id()));
+/// let w = output::write_all(&dir, &s, &summary)?;
+/// assert!(dir.join("summary.json").exists() && dir.join("series_discrete.csv").exists());
+/// assert!(w.data.iter().any(|p| p.ends_with("run_discrete.npz")));
+/// std::fs::remove_dir_all(&dir)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn write_all(
     dir: &Path,
     scenario: &Scenario,

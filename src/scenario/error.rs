@@ -137,8 +137,8 @@ pub(crate) fn deserialize_at<T: serde::de::DeserializeOwned>(
             path = join(&path, &inner_key);
             inner = rest;
         }
-        // Name the unknown field itself, whether or not the path already ends in it.
-        if let Some(field) = unknown_field(&inner) {
+        // Name the unknown or missing field itself, whether or not the path already ends in it.
+        if let Some(field) = unknown_field(&inner).or_else(|| missing_field(&inner)) {
             if !(path == field || path.ends_with(&format!(".{field}"))) {
                 path = join(&path, &field);
             }
@@ -264,6 +264,12 @@ fn unknown_field(message: &str) -> Option<String> {
     Some(rest.split('`').next()?.to_string())
 }
 
+/// The field a "missing field `x`" message names.
+fn missing_field(message: &str) -> Option<String> {
+    let rest = message.strip_prefix("missing field `")?;
+    Some(rest.split('`').next()?.to_string())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -289,5 +295,19 @@ mod tests {
             Some("kay")
         );
         assert_eq!(unknown_field("invalid type"), None);
+    }
+
+    #[test]
+    fn a_missing_table_is_named() {
+        let v: toml::Value = toml::from_str("name = \"x\"").unwrap();
+        #[derive(Debug, serde::Deserialize)]
+        #[allow(dead_code)]
+        struct Top {
+            name: String,
+            output: toml::Table,
+        }
+        let e = deserialize_at::<Top>("", v).unwrap_err();
+        assert_eq!(e.key_name(), Some("output"));
+        assert!(e.to_string().contains("missing field `output`"), "{e}");
     }
 }

@@ -10,6 +10,15 @@ use crate::sheet::{run::Outputs, run_shear, run_sheet, SolverSettings};
 
 /// Runs one spec with the real model code (no files written: the writers of
 /// [`crate::output`] draw every file from the returned record).
+///
+/// ```
+/// use celltissue::scenario::{execute, load_str};
+/// let text = "name = \"demo\"\n[output]\nseries = [1]\n[model]\nkind = \"sheet\"\nmodels = [\"discrete\"]\ncells_x = 3\ncells_y = 3";
+/// let s = load_str(text, "demo.toml".as_ref(), &[])?;
+/// let rec = execute::run_spec(&s.runs[0]);
+/// assert_eq!(rec.series.t, [1.0]);
+/// # Ok::<(), celltissue::scenario::ScenarioError>(())
+/// ```
 pub fn run_spec(spec: &RunSpec) -> RunRecord {
     let sheet_solver = || SolverSettings {
         method: spec.solver.method,
@@ -143,6 +152,17 @@ pub fn finish(spec: &RunSpec, rec: &mut RunRecord) {
 }
 
 /// Runs every spec in order with `runner`, reporting each finished run to `progress`.
+///
+/// ```
+/// use celltissue::scenario::{execute, load_str};
+/// let text = "name = \"demo\"\n[output]\nseries = [1]\n[model]\nkind = \"line\"\nmodels = [\"discrete\"]\ncells = 10";
+/// let s = load_str(text, "demo.toml".as_ref(), &[])?;
+/// let mut seen = 0;
+/// let summary = execute::run_all(&s, execute::run_spec, |_| seen += 1);
+/// assert_eq!((summary.runs.len(), seen), (1, 1));
+/// assert!(summary.runs[0].error.is_none());
+/// # Ok::<(), celltissue::scenario::ScenarioError>(())
+/// ```
 pub fn run_all(
     scenario: &Scenario,
     mut runner: impl FnMut(&RunSpec) -> RunRecord,

@@ -92,6 +92,18 @@ pub fn load(path: impl AsRef<Path>, sets: &[String]) -> Result<Scenario, Scenari
 }
 
 /// As [`load`], from text (`origin` is used in messages).
+///
+/// ```
+/// use celltissue::scenario::load_str;
+/// let text = "name = \"demo\"\n[output]\nseries = [1, 10]\n[model]\nkind = \"line\"\ncells = 20\n\
+///             K = 0.1\n[sweep]\nparameter = \"K\"\nvalues = [0.1, 1.0]";
+/// let s = load_str(text, "demo.toml".as_ref(), &["model.cells=40".to_string()])?;
+/// assert_eq!((s.name.as_str(), s.runs.len()), ("demo", 4)); // 2 values × discrete, continuum
+/// let bad = "name = \"x\"\n[output]\nseries = [1]\n[model]\nkind = \"line\"\ncels = 3";
+/// let e = load_str(bad, "x.toml".as_ref(), &[]);
+/// assert!(e.unwrap_err().to_string().contains("model.cels"));
+/// # Ok::<(), celltissue::scenario::ScenarioError>(())
+/// ```
 pub fn load_str(text: &str, origin: &Path, sets: &[String]) -> Result<Scenario, ScenarioError> {
     let mut table: toml::Table =
         toml::from_str(text).map_err(|e| ScenarioError::syntax(origin, &e.to_string()))?;
