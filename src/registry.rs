@@ -1,6 +1,8 @@
 //! Name → constructor registries for the cell laws a scenario picks by name: the division rule
-//! (`division = { rule = "<name>", … }`, [`crate::events::rules`]) and the growth law
-//! (`growth = { law = "<name>", … }`, [`crate::cell::growth_laws`]). One mechanism for both: a
+//! (`division = { rule = "<name>", … }`, [`crate::events::rules`]), the growth law
+//! (`growth = { law = "<name>", … }`, [`crate::cell::growth_laws`]), the deformation mode
+//! ([`crate::modes`]) and the strain energy ([`crate::energy::registry`], with the energy
+//! layer's error type). One mechanism for all: a
 //! [`Registry`] maps a name to a [`Constructor`] that turns the table's other keys
 //! ([`Params`]) into the law, validating them; a [`Named`] value is what a configuration
 //! holds — the name, the resolved parameters (echoed in `scenario.toml` and `summary.json`)
@@ -40,8 +42,40 @@ use std::sync::{Arc, OnceLock, RwLock};
 pub type Params = serde_json::Map<String, serde_json::Value>;
 
 /// Builds a law from its parameters and returns it with the parameters it resolved (defaults
-/// filled in), which is what the configuration echoes.
-pub type Constructor<T> = Arc<dyn Fn(&Params) -> Result<(T, Params), ParamError> + Send + Sync>;
+/// filled in), which is what the configuration echoes. `E` is the layer's error type
+/// ([`ParamError`] for rules, growth laws and modes; `EnergyError` for strain energies).
+pub type Constructor<T, E = ParamError> =
+    Arc<dyn Fn(&Params) -> Result<(T, Params), E> + Send + Sync>;
+
+/// The built-in laws a [`Registry`] starts with: `(name, constructor)` pairs.
+pub type Builtins<T, E = ParamError> = fn() -> Vec<(&'static str, Constructor<T, E>)>;
+
+/// A name that no law in a registry has: what a registry's error type is built from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct UnknownName {
+    /// The key that names the law in a table (`rule`, `law`).
+    pub key: &'static str,
+    /// What the registry holds ("division rule").
+    pub what: &'static str,
+    /// The name asked for.
+    pub name: String,
+    /// The registered names, sorted.
+    pub names: Vec<String>,
+}
+
+impl From<UnknownName> for ParamError {
+    fn from(u: UnknownName) -> Self {
+        ParamError {
+            key: u.key.to_owned(),
+            detail: format!(
+                " = \"{}\": not a registered {} ({})",
+                u.name,
+                u.what,
+                u.names.join(", ")
+            ),
+        }
+    }
+}
 
 /// A parameter that does not build a law: the key inside the law's table and what is wrong.
 /// Displayed as "`key` = value: must be range" or "`key`: message", the form the scenario
@@ -188,21 +222,17 @@ pub enum RegistryError {
 
 /// A process-wide map from names to [`Constructor`]s of `T`, seeded with built-ins on first
 /// use (`static` with [`Registry::new`]).
-pub struct Registry<T: 'static> {
+pub struct Registry<T: 'static, E: 'static = ParamError> {
     what: &'static str,
     key: &'static str,
-    builtins: fn() -> Vec<(&'static str, Constructor<T>)>,
-    map: OnceLock<RwLock<BTreeMap<String, Constructor<T>>>>,
+    builtins: Builtins<T, E>,
+    map: OnceLock<RwLock<BTreeMap<String, Constructor<T, E>>>>,
 }
 
-impl<T: 'static> Registry<T> {
+impl<T: 'static, E: From<UnknownName> + 'static> Registry<T, E> {
     /// A registry of `what` (for messages: "division rule"), selected in a table by the key
     /// `key` (`rule`, `law`), holding `builtins` from the start.
-    pub const fn new(
-        what: &'static str,
-        key: &'static str,
-        builtins: fn() -> Vec<(&'static str, Constructor<T>)>,
-    ) -> Self {
+    pub const fn new(what: &'static str, key: &'static str, builtins: Builtins<T, E>) -> Self {
         Self {
             what,
             key,
@@ -221,7 +251,7 @@ impl<T: 'static> Registry<T> {
         self.key
     }
 
-    fn lock(&self) -> &RwLock<BTreeMap<String, Constructor<T>>> {
+    fn lock(&self) -> &RwLock<BTreeMap<String, Constructor<T, E>>> {
         self.map.get_or_init(|| {
             let m = (self.builtins)()
                 .into_iter()
@@ -231,7 +261,7 @@ impl<T: 'static> Registry<T> {
         })
     }
 
-    fn read(&self) -> std::sync::RwLockReadGuard<'_, BTreeMap<String, Constructor<T>>> {
+    fn read(&self) -> std::sync::RwLockReadGuard<'_, BTreeMap<String, Constructor<T, E>>> {
         // Inserts are atomic, so a lock poisoned by a panic elsewhere still holds a whole map.
         self.lock().read().unwrap_or_else(|e| e.into_inner())
     }
@@ -242,23 +272,21 @@ impl<T: 'static> Registry<T> {
     }
 
     /// Builds the law `name` from its parameters; an unknown name lists the registered ones.
-    pub fn build(&self, name: &str, params: &Params) -> Result<(T, Params), ParamError> {
+    pub fn build(&self, name: &str, params: &Params) -> Result<(T, Params), E> {
         let ctor = self.read().get(name).cloned();
         match ctor {
             Some(c) => c(params),
-            None => Err(ParamError {
-                key: self.key.to_owned(),
-                detail: format!(
-                    " = \"{name}\": not a registered {} ({})",
-                    self.what,
-                    self.names().join(", ")
-                ),
-            }),
+            None => Err(E::from(UnknownName {
+                key: self.key,
+                what: self.what,
+                name: name.to_owned(),
+                names: self.names(),
+            })),
         }
     }
 
     /// Registers `ctor` under `name` (`[a-z0-9_]+`, not already taken).
-    pub fn register(&self, name: &str, ctor: Constructor<T>) -> Result<(), RegistryError> {
+    pub fn register(&self, name: &str, ctor: Constructor<T, E>) -> Result<(), RegistryError> {
         let valid = !name.is_empty()
             && name
                 .chars()

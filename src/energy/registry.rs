@@ -5,8 +5,9 @@
 //! [`super::Expression`]). A program that links `celltissue` adds its own law with
 //! [`register`] (any [`StrainEnergy`] that deserializes from its parameters); from then on every
 //! scenario it loads can name that law, with the same validation and error messages as the
-//! built-in ones. The registry is process-wide (scenarios are deserialized by serde, which
-//! carries no context), read-mostly, and behind an `RwLock`.
+//! built-in ones. It is a [`crate::registry::Registry`] like the division rules' and growth
+//! laws' (process-wide, read-mostly, behind an `RwLock`), with the energy layer's own error
+//! type [`EnergyError`].
 //!
 //! ```
 //! use celltissue::energy::registry;
@@ -37,13 +38,13 @@ use super::{
     AnyEnergy, EnergyError, Expression, Gent, Hgo, LineResponse, MooneyRivlin, NeoHookean, Ogden,
     ShearResponse, SheetResponse, StrainEnergy,
 };
+use crate::registry::{Registry, RegistryError, UnknownName};
 use num_dual::{Dual2, Dual2SVec64, Dual2_64, Dual64, DualNum, HyperDual64};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 use std::any::Any;
-use std::collections::BTreeMap;
 use std::fmt;
-use std::sync::{Arc, LazyLock, RwLock};
+use std::sync::Arc;
 
 /// A law's parameters: the scenario table without its `law` key.
 pub type Params = serde_json::Map<String, serde_json::Value>;
@@ -51,26 +52,39 @@ pub type Params = serde_json::Map<String, serde_json::Value>;
 /// Builds a law from its parameters (errors name the offending parameter).
 pub type Constructor = Arc<dyn Fn(&Params) -> Result<AnyEnergy, EnergyError> + Send + Sync>;
 
-static REGISTRY: LazyLock<RwLock<BTreeMap<String, Constructor>>> = LazyLock::new(|| {
-    let mut m: BTreeMap<String, Constructor> = BTreeMap::new();
-    m.insert("neo_hookean".into(), typed::<NeoHookean>("neo_hookean"));
-    m.insert(
-        "mooney_rivlin".into(),
-        typed::<MooneyRivlin>("mooney_rivlin"),
-    );
-    m.insert("ogden".into(), typed::<Ogden>("ogden"));
-    m.insert("hgo".into(), typed::<Hgo>("hgo"));
-    m.insert("gent".into(), typed::<Gent>("gent"));
-    m.insert("expression".into(), Arc::new(expression));
-    RwLock::new(m)
+static LAWS: Registry<AnyEnergy, EnergyError> = Registry::new("strain energy", "law", || {
+    vec![
+        ("neo_hookean", typed::<NeoHookean>("neo_hookean")),
+        ("mooney_rivlin", typed::<MooneyRivlin>("mooney_rivlin")),
+        ("ogden", typed::<Ogden>("ogden")),
+        ("hgo", typed::<Hgo>("hgo")),
+        ("gent", typed::<Gent>("gent")),
+        ("expression", stored(Arc::new(expression))),
+    ]
 });
 
+impl From<UnknownName> for EnergyError {
+    fn from(u: UnknownName) -> Self {
+        EnergyError::UnknownLaw {
+            name: u.name,
+            valid: u.names.join(", "),
+        }
+    }
+}
+
+/// A law constructor as the registry stores it: the parameters echoed as given.
+fn stored(ctor: Constructor) -> crate::registry::Constructor<AnyEnergy, EnergyError> {
+    Arc::new(move |p: &Params| Ok((ctor(p)?, p.clone())))
+}
+
 /// A constructor for a built-in law that deserializes (and so validates) its parameters.
-fn typed<L>(name: &'static str) -> Constructor
+fn typed<L>(name: &'static str) -> crate::registry::Constructor<AnyEnergy, EnergyError>
 where
     L: DeserializeOwned + Into<AnyEnergy>,
 {
-    Arc::new(move |p: &Params| Ok(parse_params::<L>(name, p)?.into()))
+    stored(Arc::new(move |p: &Params| {
+        Ok(parse_params::<L>(name, p)?.into())
+    }))
 }
 
 fn parse_params<L: DeserializeOwned>(name: &str, p: &Params) -> Result<L, EnergyError> {
@@ -117,13 +131,7 @@ fn expression(p: &Params) -> Result<AnyEnergy, EnergyError> {
 /// assert!(names.contains(&"expression".to_string()) && names.contains(&"hgo".to_string()));
 /// ```
 pub fn names() -> Vec<String> {
-    read().keys().cloned().collect()
-}
-
-fn read() -> std::sync::RwLockReadGuard<'static, BTreeMap<String, Constructor>> {
-    // A panic while holding the lock cannot leave the map half-written (inserts are atomic),
-    // so a poisoned lock is still safe to read.
-    REGISTRY.read().unwrap_or_else(|e| e.into_inner())
+    LAWS.names()
 }
 
 /// Builds the law `name` from its parameters.
@@ -137,14 +145,7 @@ fn read() -> std::sync::RwLockReadGuard<'static, BTreeMap<String, Constructor>> 
 /// # Ok::<(), celltissue::EnergyError>(())
 /// ```
 pub fn build(name: &str, params: &Params) -> Result<AnyEnergy, EnergyError> {
-    let ctor = read().get(name).cloned();
-    match ctor {
-        Some(c) => c(params),
-        None => Err(EnergyError::UnknownLaw {
-            name: name.to_owned(),
-            valid: names().join(", "),
-        }),
-    }
+    LAWS.build(name, params).map(|(law, _)| law)
 }
 
 /// Registers a user law under `name`: scenarios may then write
@@ -178,19 +179,10 @@ where
 /// Registers a constructor under `name` (for laws built some other way than by deserializing a
 /// type, e.g. a fixed formula: `Arc::new(|p| …)`). Same naming rules as [`register`].
 pub fn register_with(name: &str, ctor: Constructor) -> Result<(), EnergyError> {
-    if name.is_empty()
-        || !name
-            .chars()
-            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
-    {
-        return Err(EnergyError::BadLawName(name.to_owned()));
-    }
-    let mut m = REGISTRY.write().unwrap_or_else(|e| e.into_inner());
-    if m.contains_key(name) {
-        return Err(EnergyError::DuplicateLaw(name.to_owned()));
-    }
-    m.insert(name.to_owned(), ctor);
-    Ok(())
+    LAWS.register(name, stored(ctor)).map_err(|e| match e {
+        RegistryError::Duplicate(name, _) => EnergyError::DuplicateLaw(name),
+        RegistryError::BadName(name, _) => EnergyError::BadLawName(name),
+    })
 }
 
 /// The object-safe face of a user law (the [`StrainEnergy`] trait itself is generic over the
