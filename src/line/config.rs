@@ -53,6 +53,16 @@ pub enum ContinuumScheme {
 pub type GrowthConfig = crate::cell::GrowthSpec;
 
 /// The line of cells as configured in a scenario. Every key has the thesis default.
+///
+/// ```
+/// use celltissue::line::LineConfig;
+/// let cfg: LineConfig = toml::from_str("cells = 50\nK = 0.1\nright_end = \"free\"\ngrowth = { sigma0 = 0.1 }")?;
+/// assert!(cfg.validate().is_ok());
+/// assert_eq!(cfg.n_cells(), 50);
+/// let bad: LineConfig = toml::from_str("cells = 50\nK = -1")?;
+/// assert!(bad.validate().unwrap_err().to_string().contains("K"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct LineConfig {

@@ -28,6 +28,12 @@ use std::time::Instant;
 /// Integrator choice and tolerances. `atol` is in cell units: positions get `atol × L₀`
 /// (local reference cell length), growth stretches `atol` (DESIGN.md "Tolerances in cell
 /// units").
+///
+/// ```
+/// use celltissue::line::SolveSettings;
+/// let s = SolveSettings { rtol: 1e-8, atol: 1e-10, ..Default::default() };
+/// assert_eq!((s.threads, s.norm), (1, integrators::ErrorNorm::Max));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SolveSettings {
     /// Method (built-in or registered).
@@ -59,6 +65,12 @@ impl Default for SolveSettings {
 }
 
 /// Requested output times (each list increasing, `t ≥ 0`; the run starts at `t = 0`).
+///
+/// ```
+/// use celltissue::line::OutputTimes;
+/// let t = OutputTimes { series: vec![0.0, 1.0, 2.0], profiles: vec![1.0, 5.0] };
+/// assert_eq!(t.merged(), [0.0, 1.0, 2.0, 5.0]); // the integrator's output times
+/// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct OutputTimes {
     /// Times of the scalar series.
@@ -243,6 +255,19 @@ impl<E: StrainEnergy> LineModel for Line<E> {
 }
 
 /// What an integration produced at its output times (possibly partial).
+///
+/// ```
+/// use celltissue::line::build::{discrete, LineParams};
+/// use celltissue::line::run::{integrate, SolveSettings};
+/// use celltissue::{ArrayProblem, NeoHookean};
+/// let line = discrete(NeoHookean::new(1.0)?, &LineParams::unit_cells(10))?;
+/// let traj = integrate(&mut ArrayProblem::new(line), &SolveSettings::default(), &[1.0, 10.0]);
+/// assert!(traj.error.is_none());
+/// assert_eq!(traj.snapshots.len(), 2);
+/// assert_eq!(traj.snapshots[1].x.len(), 11); // boundaries x₀ … x₁₀
+/// assert!(traj.stats.steps > 0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, Default)]
 pub struct Trajectory {
     /// Observations at the output times reached (taken inside the solver's observer, so they
@@ -549,6 +574,11 @@ pub fn record(traj: &Trajectory, times: &OutputTimes, rec: &mut RunRecord) {
 }
 
 /// Runs with the thesis parameters for a quick check (used by docs and tests).
+///
+/// ```
+/// let t = celltissue::line::run::default_times(10.0, 5);
+/// assert_eq!((t.series, t.profiles), (vec![0.0, 2.0, 4.0, 6.0, 8.0, 10.0], vec![10.0]));
+/// ```
 pub fn default_times(t_end: f64, n: usize) -> OutputTimes {
     let series = (0..=n).map(|k| t_end * k as f64 / n as f64).collect();
     OutputTimes {

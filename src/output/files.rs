@@ -136,6 +136,16 @@ pub fn clean_parameters(p: &serde_json::Value) -> serde_json::Value {
 }
 
 /// The `.npz` file name of each run, in order.
+///
+/// ```
+/// use celltissue::observe::{ModelKind, RunRecord, Summary};
+/// let run = |label: &str| RunRecord {
+///     label: label.into(), model: ModelKind::Discrete, parameters: serde_json::Value::Null,
+///     series: Default::default(), profiles: vec![], stats: Default::default(), divisions: vec![], error: None,
+/// };
+/// let s = Summary { scenario: "demo".into(), runs: vec![run("discrete"), run("continuum")] };
+/// assert_eq!(celltissue::output::files::npz_names(&s), ["run_discrete.npz", "run_continuum.npz"]);
+/// ```
 pub fn npz_names(summary: &Summary) -> Vec<String> {
     unique_slugs(summary.runs.iter().map(|r| r.label.as_str()))
         .into_iter()
@@ -316,6 +326,17 @@ pub fn profiles_csv(rec: &RunRecord) -> String {
 }
 
 /// Division events as CSV: `t,parent,x,x_over_length,cells_after`.
+///
+/// ```
+/// use celltissue::observe::{DivisionRecord, ModelKind, RunRecord};
+/// let mut rec = RunRecord {
+///     label: "discrete".into(), model: ModelKind::Discrete, parameters: serde_json::Value::Null,
+///     series: Default::default(), profiles: vec![], stats: Default::default(), divisions: vec![], error: None,
+/// };
+/// rec.divisions.push(DivisionRecord { t: 2.5, parent: 7, x: 6.5, x_over_length: 0.5, cells_after: 11 });
+/// let csv = celltissue::output::files::divisions_csv(&rec);
+/// assert_eq!(csv.lines().nth(1), Some("2.5,7,6.5,0.5,11"));
+/// ```
 pub fn divisions_csv(rec: &RunRecord) -> String {
     let mut out = String::from("t,parent,x,x_over_length,cells_after\n");
     for d in &rec.divisions {
@@ -386,6 +407,16 @@ pub fn write_csvs(dir: &Path, summary: &Summary) -> Result<Vec<PathBuf>, OutputE
 }
 
 /// Writes the scenario table as run (after `--set`) to `scenario.toml`.
+///
+/// ```
+/// let dir = std::env::temp_dir().join(format!("celltissue_doc_scenario_{}", std::process::id()));
+/// std::fs::create_dir_all(&dir)?;
+/// let table: toml::Table = toml::from_str("name = \"demo\"")?;
+/// let path = celltissue::output::files::write_scenario(&dir, &table)?;
+/// assert!(std::fs::read_to_string(&path)?.contains("name = \"demo\""));
+/// std::fs::remove_dir_all(&dir)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn write_scenario(dir: &Path, table: &toml::Table) -> Result<PathBuf, OutputError> {
     let text = toml::to_string_pretty(table).map_err(|e| OutputError::Serialize(e.to_string()))?;
     write(
