@@ -114,6 +114,20 @@ impl SolverError {
 }
 
 /// A failed solve: the error and the partial solution up to the failure.
+///
+/// ```
+/// use integrators::{MethodKind, Options, Problem, ResidualError, Solver};
+/// struct Decay;
+/// impl Problem for Decay {
+///     fn dim(&self) -> usize { 1 }
+///     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64])
+///         -> Result<(), ResidualError> { r[0] = yp[0] + y[0]; Ok(()) }
+/// }
+/// let opts = Options { max_steps: 3, ..Options::default() };
+/// let f = Solver::new(MethodKind::Bdf, opts).solve(&mut Decay, 0.0, &[1.0], &[100.0]).unwrap_err();
+/// assert_eq!(f.partial.stats.steps, 3); // the work done before the failure is kept
+/// assert!(f.to_string().contains("3"), "{f}");
+/// ```
 #[derive(Clone, Debug, thiserror::Error)]
 #[error("{error}")]
 pub struct SolveFailure {

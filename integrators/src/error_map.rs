@@ -71,6 +71,16 @@ const ANCHOR: i32 = i32::MIN;
 /// Per-component description of the quantities the error tests measure (see the
 /// [module](self) docs). Built by a [`crate::Problem`] through
 /// [`crate::Problem::error_map`]; an empty map (the default) is the identity.
+///
+/// ```
+/// use integrators::{ErrorMap, Row};
+/// // three boundaries of a line: the first measured in cells of size 1, the others by the
+/// // stretch of the cell to their left
+/// let map = ErrorMap::from_rows(vec![Row::Anchor { size: 1.0 }, Row::Difference { partner: 0 },
+///                                    Row::Difference { partner: 1 }]).unwrap();
+/// assert!(ErrorMap::from_rows(vec![Row::Difference { partner: 5 }]).is_err()); // no such row
+/// let _ = map;
+/// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ErrorMap {
     /// Per row: [`OWN`], [`ANCHOR`], or `i − partner` (non-zero) of a difference row.

@@ -13,6 +13,25 @@ pub type JacobianSink = Matrix;
 /// `Recoverable` makes the integrator reject the current step (or Newton iterate) and retry with
 /// a smaller step — use it for states outside the model's domain (e.g. a non-positive cell
 /// length). `Fatal` aborts the solve with the message.
+///
+/// ```
+/// use integrators::{MethodKind, Options, Problem, ResidualError, Solver};
+/// /// ẏ = 1 with y > 2 outside the domain: the solve stops there, naming the component.
+/// struct Wall;
+/// impl Problem for Wall {
+///     fn dim(&self) -> usize { 1 }
+///     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+///         if y[0] > 2.0 {
+///             return Err(ResidualError::Recoverable { reason: "past the wall".into(), component: Some(0) });
+///         }
+///         r[0] = yp[0] - 1.0;
+///         Ok(())
+///     }
+/// }
+/// let e = Solver::new(MethodKind::Bdf, Options::default()).solve(&mut Wall, 0.0, &[0.0], &[5.0]).unwrap_err();
+/// assert!(e.to_string().contains("past the wall"), "{e}");
+/// assert!(e.partial.t_last < 2.0 + 1e-9); // what it had computed is kept
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub enum ResidualError {
     /// The state is outside the domain; a smaller step may avoid it.

@@ -69,6 +69,21 @@ pub struct EventRecord {
 }
 
 /// Output of a solve.
+///
+/// ```
+/// use integrators::{MethodKind, Options, Problem, ResidualError, Solver};
+/// struct Decay;
+/// impl Problem for Decay {
+///     fn dim(&self) -> usize { 1 }
+///     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64])
+///         -> Result<(), ResidualError> { r[0] = yp[0] + y[0]; Ok(()) }
+/// }
+/// let sol = Solver::new(MethodKind::Bdf, Options::default()).solve(&mut Decay, 0.0, &[1.0], &[0.5, 1.0])?;
+/// assert_eq!(sol.t, [0.5, 1.0]);
+/// assert_eq!((sol.t_last, sol.y_last.len()), (1.0, 1));
+/// assert!(sol.events.is_empty() && sol.stats.steps > 0);
+/// # Ok::<(), integrators::SolveFailure>(())
+/// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Solution {
     /// Output times reached (the requested ones, plus the stop time of a `Stop` event).
