@@ -8,20 +8,14 @@
 //!   (each column solves `σ₂₂ = 0` and every row carries one `σ₁₁`; found by bisection here);
 //! * a non-finite pressure is refused naming the key.
 
+use crate::common::sheet_solver;
 use celltissue::cell::Field;
 use celltissue::observe::{ModelKind, Profile, RunRecord};
-use celltissue::sheet::{run::Outputs, run_sheet, SheetConfig, SolverSettings, TopBoundary};
+use celltissue::sheet::{run::Outputs, run_sheet, SheetConfig, TopBoundary};
 use celltissue::NeoHookean;
 
 fn nh() -> NeoHookean {
     NeoHookean::new(1.0).unwrap()
-}
-
-fn tight() -> SolverSettings {
-    let mut s = SolverSettings::default();
-    s.options.rtol = 1e-10;
-    s.options.atol = 1e-12;
-    s
 }
 
 /// Discrete run with profiles at `times`.
@@ -30,7 +24,15 @@ fn run(cfg: &SheetConfig, times: &[f64]) -> RunRecord {
         times: times.to_vec(),
         profile_times: times.to_vec(),
     };
-    let rec = run_sheet(cfg, &nh(), ModelKind::Discrete, None, &tight(), &out).unwrap();
+    let rec = run_sheet(
+        cfg,
+        &nh(),
+        ModelKind::Discrete,
+        None,
+        &sheet_solver(1e-10, 1e-12),
+        &out,
+    )
+    .unwrap();
     assert!(rec.error.is_none(), "{:?}", rec.error);
     rec
 }

@@ -9,6 +9,7 @@
 //! * discrete and continuum converge as the continuum grid is refined;
 //! * keys that cannot act are refused by name.
 
+use crate::common::sheet_solver;
 use celltissue::array::ArrayProblem;
 use celltissue::boundary::RightEnd;
 use celltissue::cell::growth_laws::tanh;
@@ -18,21 +19,12 @@ use celltissue::line::run::{integrate as integrate_line, SolveSettings};
 use celltissue::observe::{ModelKind, RunRecord};
 use celltissue::sheet::run::{integrate, Outputs};
 use celltissue::sheet::uniaxial::UniaxialSheet;
-use celltissue::sheet::{
-    run_sheet, GrowthDirections, RightEdge, SheetConfig, SolverSettings, TopBoundary,
-};
+use celltissue::sheet::{run_sheet, GrowthDirections, RightEdge, SheetConfig, TopBoundary};
 use celltissue::NeoHookean;
 use std::sync::Arc;
 
 fn nh() -> NeoHookean {
     NeoHookean::new(1.0).unwrap()
-}
-
-fn tight() -> SolverSettings {
-    let mut s = SolverSettings::default();
-    s.options.rtol = 1e-10;
-    s.options.atol = 1e-12;
-    s
 }
 
 /// A growing sheet with a free side `x = l` and the thesis's tanh law (σ₀ = 0.1, G_m = 1).
@@ -53,7 +45,7 @@ fn run(cfg: &SheetConfig, model: ModelKind, grid: Option<(usize, usize)>, t: &[f
         times: t.to_vec(),
         profile_times: t.to_vec(),
     };
-    let rec = run_sheet(cfg, &nh(), model, grid, &tight(), &out).unwrap();
+    let rec = run_sheet(cfg, &nh(), model, grid, &sheet_solver(1e-10, 1e-12), &out).unwrap();
     assert!(rec.error.is_none(), "{:?}", rec.error);
     rec
 }
@@ -102,7 +94,12 @@ fn rows_of_a_periodic_sheet_growing_along_x_are_lines_of_cells() {
         .with_cell_atol(1e-12);
     let y0 = sheet.initial_state();
     let mut problem = ArrayProblem::new(sheet);
-    let (states, _, error) = integrate(&mut problem, &y0, &[2.0, t_end], &tight());
+    let (states, _, error) = integrate(
+        &mut problem,
+        &y0,
+        &[2.0, t_end],
+        &sheet_solver(1e-10, 1e-12),
+    );
     assert!(error.is_none(), "{error:?}");
     let sheet = &problem.array;
 

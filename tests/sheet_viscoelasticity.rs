@@ -11,24 +11,14 @@
 //! * the continuum converges under grid refinement with a branch;
 //! * the scenario keys are parsed and checked by name.
 
-use crate::common::{maxwell_ramp_stress, poly_strain};
+use crate::common::{maxwell_ramp_stress, poly_strain, sheet_solver};
 use celltissue::cell::ViscosityModel;
 use celltissue::observe::{ModelKind, Profile, RunRecord};
-use celltissue::sheet::{run::Outputs, run_sheet, Ramp, SheetConfig, SolverSettings};
+use celltissue::sheet::{run::Outputs, run_sheet, Ramp, SheetConfig};
 use celltissue::NeoHookean;
-use integrators::ErrorNorm;
 
 fn nh() -> NeoHookean {
     NeoHookean::new(1.0).unwrap()
-}
-
-/// Tight tolerances under the max norm (every cell's stretch error tested on its own).
-fn tight() -> SolverSettings {
-    let mut s = SolverSettings::default();
-    s.options.rtol = 1e-10;
-    s.options.atol = 1e-13;
-    s.options.norm = ErrorNorm::Max;
-    s
 }
 
 fn sls(mu_m: f64, eta_m: f64) -> Option<ViscosityModel> {
@@ -58,7 +48,15 @@ fn run(cfg: &SheetConfig, times: &[f64]) -> RunRecord {
         times: times.to_vec(),
         profile_times: times.to_vec(),
     };
-    let rec = run_sheet(cfg, &nh(), ModelKind::Discrete, None, &tight(), &out).unwrap();
+    let rec = run_sheet(
+        cfg,
+        &nh(),
+        ModelKind::Discrete,
+        None,
+        &sheet_solver(1e-10, 1e-13),
+        &out,
+    )
+    .unwrap();
     assert!(rec.error.is_none(), "{:?}", rec.error);
     assert_eq!(rec.profiles.len(), times.len());
     rec
@@ -233,7 +231,7 @@ fn continuum_with_a_branch_converges_under_refinement() {
                 &nh(),
                 ModelKind::Continuum,
                 Some((n, n)),
-                &tight(),
+                &sheet_solver(1e-10, 1e-13),
                 &out,
             )
             .unwrap();

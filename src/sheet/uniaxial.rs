@@ -518,14 +518,18 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
         }
     }
 
+    /// Indices of cell `(j, k)`'s internal variables: its viscous stretches `a₁, a₂` (with a
+    /// branch) and growth stretches `g₁, g₂` (when growing). Stretches in cell units, each
+    /// with a differential row of its own.
+    fn internal(&self, j: usize, k: usize) -> impl Iterator<Item = usize> {
+        let q = self.params.branch.is_some().then(|| self.iq(j, k));
+        let g = self.params.growth.is_some().then(|| self.ig(j, k));
+        q.into_iter().chain(g).flat_map(|i| [i, i + 1])
+    }
+
     /// Unknown indices a cell's state depends on.
     fn cell_deps(&self, j: usize, k: usize, out: &mut Vec<usize>) {
-        if self.params.branch.is_some() {
-            out.extend([self.iq(j, k), self.iq(j, k) + 1]);
-        }
-        if self.params.growth.is_some() {
-            out.extend([self.ig(j, k), self.ig(j, k) + 1]);
-        }
+        out.extend(self.internal(j, k));
         for jj in [j - 1, j] {
             if self.x_is_unknown(jj) {
                 out.push(self.ix(jj, k));
@@ -554,14 +558,7 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
         };
         for j in 1..=self.n {
             for k in 1..=self.m {
-                let mut internal = Vec::with_capacity(4);
-                if self.params.branch.is_some() {
-                    internal.extend([self.iq(j, k), self.iq(j, k) + 1]);
-                }
-                if self.params.growth.is_some() {
-                    internal.extend([self.ig(j, k), self.ig(j, k) + 1]);
-                }
-                for row in internal {
+                for row in self.internal(j, k) {
                     add(row, &[(j, k)], &mut entries);
                 }
             }
@@ -859,13 +856,8 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
                     v[self.ix(j, k)] = a * self.hx;
                 }
                 // viscous and growth stretches are in cell units already
-                if self.params.branch.is_some() {
-                    v[self.iq(j, k)] = a;
-                    v[self.iq(j, k) + 1] = a;
-                }
-                if self.params.growth.is_some() {
-                    v[self.ig(j, k)] = a;
-                    v[self.ig(j, k) + 1] = a;
+                for i in self.internal(j, k) {
+                    v[i] = a;
                 }
             }
         }
@@ -920,13 +912,8 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
         let mut v = vec![self.params.drag == 0.0; self.dim()];
         for j in 1..=self.n {
             for k in 1..=self.m {
-                if self.params.branch.is_some() {
-                    v[self.iq(j, k)] = false;
-                    v[self.iq(j, k) + 1] = false;
-                }
-                if self.params.growth.is_some() {
-                    v[self.ig(j, k)] = false;
-                    v[self.ig(j, k) + 1] = false;
+                for i in self.internal(j, k) {
+                    v[i] = false;
                 }
             }
         }
