@@ -267,9 +267,10 @@ impl<O> Run<'_, O> {
 
     /// Emits outputs with `t_out < limit` (or `≤` if `inclusive`) from the method's dense output.
     ///
-    /// For problems with algebraic components the interpolated state is projected back onto the
-    /// constraints: [`System::consistent_init`] at the output time recomputes the algebraic
-    /// components (and a consistent `ẏ`) from the interpolated differential ones. Without this,
+    /// For problems with algebraic components the state (interpolated, or the step's own at a
+    /// step's end) is projected back onto the constraints: [`System::consistent_init`] at the
+    /// output time recomputes the algebraic components (and a consistent `ẏ`) from the
+    /// differential ones. Without this,
     /// algebraic outputs carry the interpolation error of a component that is not error-controlled
     /// when [`Options::suppress_algebraic`] is set. (Counted in the statistics; if the projection
     /// fails the interpolated values are kept.)
@@ -294,16 +295,19 @@ impl<O> Run<'_, O> {
                     self.ypbuf.copy_from_slice(m.yp());
                 } else {
                     m.interpolate(to, &mut self.ybuf, &mut self.ypbuf);
-                    if self.cache.algebraic.iter().any(|&a| a) {
-                        let (y0, yp0) = (self.ybuf.clone(), self.ypbuf.clone());
-                        let mut sys = System::new(p, opts, &mut self.stats, &mut self.cache);
-                        if sys
-                            .consistent_init(to, &mut self.ybuf, &mut self.ypbuf)
-                            .is_err()
-                        {
-                            self.ybuf = y0;
-                            self.ypbuf = yp0;
-                        }
+                }
+                // also at a step's own end: its algebraic components are a Newton iterate,
+                // accepted by a convergence test and not error-controlled, so they can sit
+                // farther from the constraints than the differential ones' accuracy
+                if self.cache.algebraic.iter().any(|&a| a) {
+                    let (y0, yp0) = (self.ybuf.clone(), self.ypbuf.clone());
+                    let mut sys = System::new(p, opts, &mut self.stats, &mut self.cache);
+                    if sys
+                        .consistent_init(to, &mut self.ybuf, &mut self.ypbuf)
+                        .is_err()
+                    {
+                        self.ybuf = y0;
+                        self.ypbuf = yp0;
                     }
                 }
                 let (yb, ypb) = (
