@@ -97,16 +97,21 @@ impl Default for TanhGrowth {
     }
 }
 
-/// Written by hand rather than through [`GrowthRate`]'s AD: the dual number's `tanh` costs a
-/// `sinh` and a `cosh`, while `G' = ½ G_m (1 − tanh²)/σ₀` reuses the one `tanh`. It is called for
-/// every growing cell in every residual and Jacobian, and was a third of a dividing line's
-/// instructions (the test below checks it against AD).
+/// Written by hand rather than through [`GrowthRate`]'s AD: it is called for every growing cell
+/// in every residual and Jacobian of a dividing line. In logistic form, `½ (1 + tanh s) =
+/// 1/(1 + e^{−2s})`, with `e = e^{−2|s|} ≤ 1` (so nothing overflows) the rate is `G_m q` or
+/// `G_m e q` with `q = 1/(1 + e)`, and the slope `2 G_m e q²/σ₀` has no cancellation: one `exp`
+/// instead of `tanh` (an `expm1` and a division in the C library). The test below checks it
+/// against AD of the tanh form.
 impl GrowthLaw for TanhGrowth {
     #[inline]
     fn rate(&self, sigma: f64) -> (f64, f64) {
-        let th = (sigma / self.sigma0).tanh();
-        let half = 0.5 * self.gm;
-        (half * (1.0 + th), half * (1.0 - th * th) / self.sigma0)
+        let s = sigma / self.sigma0;
+        let e = (-2.0 * s.abs()).exp();
+        let q = 1.0 / (1.0 + e);
+        // (NaN takes the second branch and stays NaN)
+        let g = if s >= 0.0 { q } else { e * q };
+        (self.gm * g, 2.0 * self.gm * e * q * q / self.sigma0)
     }
     fn check(&self) -> Result<(), ParamError> {
         positive("sigma0", self.sigma0)?;
@@ -144,5 +149,10 @@ mod tests {
             let th = (s / 0.3f64).tanh();
             assert!((g - 0.85 * (1.0 + th)).abs() < 1e-15);
         }
+        // far out it saturates without overflow, and NaN stays NaN
+        assert_eq!(law.rate(-1e300), (0.0, 0.0));
+        assert_eq!(law.rate(1e300), (1.7, 0.0));
+        let (g, dg) = law.rate(f64::NAN);
+        assert!(g.is_nan() && dg.is_nan());
     }
 }
