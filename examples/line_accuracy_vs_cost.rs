@@ -45,6 +45,7 @@ fn run(n_cells: usize, nodes: Option<usize>) -> (Vec<f64>, f64, integrators::Sta
             .map(|v| ErrorNorm::parse(&v).expect("NORM = max | rms"))
             .unwrap_or(ErrorNorm::Max),
         threads: env("THREADS").and_then(|v| v.parse().ok()).unwrap_or(1),
+        ..Default::default()
     };
     let start = Instant::now();
     let mut prob = ArrayProblem::new(line);

@@ -23,6 +23,7 @@ pub mod proliferation;
 pub mod registry;
 pub mod scalar;
 pub mod scenario;
+pub mod settings;
 pub mod sheet;
 pub mod substrate;
 
@@ -32,6 +33,7 @@ pub use energy::{
     ShearResponse, SheetResponse, StrainEnergy,
 };
 pub use scalar::Scalar;
+pub use settings::SolveSettings;
 
 /// The time integrators (crate `celltissue-integrators`), so an outside crate needs only
 /// `celltissue` in its `Cargo.toml`.

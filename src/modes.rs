@@ -16,7 +16,7 @@ use crate::array::{ArrayProblem, CellArray};
 use crate::observe::RunStats;
 use crate::observe::{ModelKind, Profile, RunRecord, Series};
 use crate::registry::{checked, Constructor, Kind, Named, ParamError, Registry, RegistryError};
-use crate::sheet::config::SolverSettings;
+use crate::settings::SolveSettings;
 use crate::sheet::run::{all_times, integrate, Outputs};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
@@ -71,7 +71,7 @@ pub trait ModeRun: Send + Sync + Debug {
         &self,
         model: ModelKind,
         nodes: Option<usize>,
-        solver: &SolverSettings,
+        solver: &SolveSettings,
         out: &Outputs,
     ) -> RunRecord;
 }
@@ -90,7 +90,7 @@ impl<M: Mode> ModeRun for Configured<M> {
         &self,
         model: ModelKind,
         nodes: Option<usize>,
-        solver: &SolverSettings,
+        solver: &SolveSettings,
         out: &Outputs,
     ) -> RunRecord {
         run_mode::<M>(&self.0, model, nodes, solver, out)
@@ -151,7 +151,7 @@ pub fn run_mode<M: Mode>(
     config: &M::Config,
     model: ModelKind,
     nodes: Option<usize>,
-    solver: &SolverSettings,
+    solver: &SolveSettings,
     out: &Outputs,
 ) -> RunRecord {
     let mut rec = RunRecord {

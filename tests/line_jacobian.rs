@@ -14,7 +14,7 @@ use celltissue::substrate::{DragForm, WidthRule};
 use celltissue::{ArrayProblem, CellArray, MooneyRivlin, NeoHookean, Scalar, StrainEnergy};
 use integrators::linalg::Matrix;
 use integrators::system::SystemCache;
-use integrators::{ErrorNorm, MethodKind, Options, ResidualError, Stats, System};
+use integrators::{Options, ResidualError, Stats, System};
 use std::sync::Arc;
 
 /// A line that does not provide its Jacobian: the integrators colour its AD residual.
@@ -267,13 +267,8 @@ fn macroscale_family_steps_unchanged() {
         ..Default::default()
     };
     let line = discrete(law(), &cfg.params(1e-8)).unwrap();
-    let settings = SolveSettings {
-        rtol: 1e-6,
-        atol: 1e-8,
-        method: MethodKind::Bdf.into(),
-        norm: ErrorNorm::Max,
-        threads: 1,
-    };
+    // BDF, rtol 1e-6, atol 1e-8, max norm, one thread
+    let settings = SolveSettings::default();
     let own = integrate(&mut ArrayProblem::new(line.clone()), &settings, &[nf]);
     let ad = integrate(&mut ArrayProblem::new(NoJac(line)), &settings, &[nf]);
     assert!(own.error.is_none() && ad.error.is_none());

@@ -7,22 +7,19 @@ use celltissue::array::ArrayProblem;
 use celltissue::observe::{ModelKind, Profile, RunRecord};
 use celltissue::sheet::exact::{shear_series, ShearDiscreteExact};
 use celltissue::sheet::shear::{ShearColumn, ShearParams};
-use celltissue::sheet::{run::Outputs, run_shear, ShearConfig, ShearForm, SolverSettings};
-use celltissue::{NeoHookean, Ogden, StrainEnergy};
+use celltissue::sheet::{run::Outputs, run_shear, ShearConfig, ShearForm};
+use celltissue::{NeoHookean, Ogden, SolveSettings, StrainEnergy};
 use integrators::{MethodKind, Options, Solver};
 
 fn nh(mu: f64) -> NeoHookean {
     NeoHookean::new(mu).unwrap()
 }
 
-fn solver(rtol: f64) -> SolverSettings {
-    SolverSettings {
-        method: MethodKind::Bdf.into(),
-        options: Options {
-            rtol,
-            atol: rtol * 1e-2,
-            ..Options::default()
-        },
+fn solver(rtol: f64) -> SolveSettings {
+    SolveSettings {
+        rtol,
+        atol: rtol * 1e-2,
+        ..Default::default()
     }
 }
 

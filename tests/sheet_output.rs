@@ -6,7 +6,8 @@ use celltissue::observe::ModelKind;
 use celltissue::output;
 use celltissue::scenario::{execute, load_str};
 use celltissue::sheet::observe::sheet_cells;
-use celltissue::sheet::{run::Outputs, run_sheet, SheetConfig, SolverSettings, TopBoundary};
+use celltissue::sheet::{run::Outputs, run_sheet, SheetConfig, TopBoundary};
+use celltissue::SolveSettings;
 
 #[test]
 fn sheet_run_returns_profiles_and_writes_nothing() {
@@ -24,7 +25,7 @@ fn sheet_run_returns_profiles_and_writes_nothing() {
         &cfg.law,
         ModelKind::Discrete,
         None,
-        &SolverSettings::default(),
+        &SolveSettings::default(),
         &out,
     )
     .unwrap();

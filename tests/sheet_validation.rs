@@ -4,19 +4,20 @@
 
 use celltissue::observe::{ModelKind, RunRecord};
 use celltissue::sheet::exact::sheet_free_steady;
-use celltissue::sheet::{run::Outputs, run_sheet, Ramp, SheetConfig, SolverSettings, TopBoundary};
-use celltissue::{MooneyRivlin, NeoHookean, StrainEnergy};
+use celltissue::sheet::{run::Outputs, run_sheet, Ramp, SheetConfig, TopBoundary};
+use celltissue::{MooneyRivlin, NeoHookean, SolveSettings, StrainEnergy};
 use integrators::{IterativeSettings, LinearSolverChoice};
 
 fn nh() -> NeoHookean {
     NeoHookean::new(1.0).unwrap()
 }
 
-fn solver(rtol: f64) -> SolverSettings {
-    let mut s = SolverSettings::default();
-    s.options.rtol = rtol;
-    s.options.atol = rtol * 1e-2;
-    s
+fn solver(rtol: f64) -> SolveSettings {
+    SolveSettings {
+        rtol,
+        atol: rtol * 1e-2,
+        ..Default::default()
+    }
 }
 
 /// Output grid fine enough to catch the pressure peak (`Δt = 0.01` on `[0, 10]`) plus the
@@ -35,7 +36,7 @@ fn run_with(
     cfg: &SheetConfig,
     law: &impl StrainEnergy,
     out: &Outputs,
-    settings: &SolverSettings,
+    settings: &SolveSettings,
 ) -> RunRecord {
     let rec = run_sheet(cfg, law, ModelKind::Discrete, None, settings, out).unwrap();
     assert!(rec.error.is_none(), "{:?}", rec.error);
@@ -43,9 +44,9 @@ fn run_with(
 }
 
 /// [`solver`] with the iterative linear solver (ILU(0) + BiCGStab, default settings).
-fn iterative_solver(rtol: f64) -> SolverSettings {
+fn iterative_solver(rtol: f64) -> SolveSettings {
     let mut s = solver(rtol);
-    s.options.linear_solver = LinearSolverChoice::Iterative(IterativeSettings::default());
+    s.linear_solver = LinearSolverChoice::Iterative(IterativeSettings::default());
     s
 }
 
@@ -94,7 +95,7 @@ fn check_ref(c: &RefCase) {
     check_ref_with(c, &solver(1e-9));
 }
 
-fn check_ref_with(c: &RefCase, settings: &SolverSettings) {
+fn check_ref_with(c: &RefCase, settings: &SolveSettings) {
     let cfg = SheetConfig {
         top: c.top,
         drag_exponent: c.m,

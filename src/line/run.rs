@@ -19,50 +19,12 @@ use crate::array::{ArrayProblem, CellArray};
 use crate::energy::StrainEnergy;
 use crate::observe::{ModelKind, RunRecord, RunStats, Series};
 use crate::scalar::Scalar;
-use integrators::{
-    ErrorNorm, MethodChoice, MethodKind, Options, ResidualError, SolveFailure, Solver, Stats,
-};
+use integrators::{ResidualError, SolveFailure, Solver, Stats};
 use std::cell::RefCell;
 use std::time::Instant;
 
-/// Integrator choice and tolerances. `atol` is in cell units: positions get `atol × L₀`
-/// (local reference cell length), growth stretches `atol` (DESIGN.md "Tolerances in cell
-/// units").
-///
-/// ```
-/// use celltissue::line::SolveSettings;
-/// let s = SolveSettings { rtol: 1e-8, atol: 1e-10, ..Default::default() };
-/// assert_eq!((s.threads, s.norm), (1, integrators::ErrorNorm::Max));
-/// ```
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SolveSettings {
-    /// Method (built-in or registered).
-    pub method: MethodChoice,
-    /// Relative tolerance.
-    pub rtol: f64,
-    /// Absolute tolerance in cell units.
-    pub atol: f64,
-    /// Error norm (default [`ErrorNorm::Max`]: a line's dynamics concentrate at its ends,
-    /// where the RMS norm would dilute the local error by `√N`; see [`ErrorNorm`]).
-    pub norm: ErrorNorm,
-    /// Threads the solve may use, 1 or 2 (default 1; anything else fails the run with a named
-    /// error, see [`integrators::Parallelism::from_threads`]). With 2, lines of at least
-    /// [`crate::line::array::PAR_MIN_CELLS`] cells split their residual sweep and the
-    /// integrator's vector passes and tridiagonal solve in two halves.
-    pub threads: usize,
-}
-
-impl Default for SolveSettings {
-    fn default() -> Self {
-        Self {
-            method: MethodKind::Bdf.into(),
-            rtol: 1e-6,
-            atol: 1e-8,
-            norm: ErrorNorm::Max,
-            threads: 1,
-        }
-    }
-}
+/// The run settings (one type for every model; see [`crate::settings`]).
+pub use crate::settings::SolveSettings;
 
 /// Requested output times (each list increasing, `t ≥ 0`; the run starts at `t = 0`).
 ///
@@ -299,21 +261,14 @@ pub fn integrate<A: LineModel>(
     settings: &SolveSettings,
     t_out: &[f64],
 ) -> Trajectory {
-    let parallel = match integrators::Parallelism::from_threads(settings.threads) {
-        Ok(p) => p,
+    let opts = match settings.options() {
+        Ok(o) => o,
         Err(e) => {
             return Trajectory {
-                error: Some(e.to_string()),
+                error: Some(format!("solver.{e}")),
                 ..Default::default()
             }
         }
-    };
-    let opts = Options {
-        rtol: settings.rtol,
-        atol: settings.atol,
-        norm: settings.norm,
-        parallel,
-        ..Default::default()
     };
     let solver = Solver::new(settings.method, opts);
     let t_end = t_out.last().copied().unwrap_or(0.0);

@@ -4,9 +4,9 @@
 
 use super::load::{RunSpec, Scenario};
 use super::model::ModelConfig;
-use crate::line::{run_line, OutputTimes, SolveSettings};
+use crate::line::{run_line, OutputTimes};
 use crate::observe::{RunRecord, RunStats, Series, Summary};
-use crate::sheet::{run::Outputs, run_shear, run_sheet, SolverSettings};
+use crate::sheet::{run::Outputs, run_shear, run_sheet};
 
 /// Runs one spec with the real model code (no files written: the writers of
 /// [`crate::output`] draw every file from the returned record).
@@ -20,19 +20,6 @@ use crate::sheet::{run::Outputs, run_shear, run_sheet, SolverSettings};
 /// # Ok::<(), celltissue::scenario::ScenarioError>(())
 /// ```
 pub fn run_spec(spec: &RunSpec) -> RunRecord {
-    let sheet_solver = || SolverSettings {
-        method: spec.solver.method,
-        options: integrators::Options {
-            rtol: spec.solver.rtol,
-            atol: spec.solver.atol,
-            norm: spec.solver.norm,
-            linear_solver: spec.solver.linear_solver,
-            // validated to 1 or 2 by `SolverSection::validate`
-            parallel: integrators::Parallelism::from_threads(spec.solver.threads)
-                .unwrap_or_default(),
-            ..Default::default()
-        },
-    };
     let outputs = || Outputs {
         times: spec.times.series.clone(),
         profile_times: spec.times.profiles.clone(),
@@ -43,43 +30,27 @@ pub fn run_spec(spec: &RunSpec) -> RunRecord {
     let nodes = spec.nodes.filter(|_| is_continuum);
     let mut rec = match &spec.config {
         ModelConfig::Sheet(cfg, law) => {
-            run_sheet(cfg, law, spec.model, grid, &sheet_solver(), &outputs())
+            run_sheet(cfg, law, spec.model, grid, &spec.solver, &outputs())
                 .unwrap_or_else(|e| failed(spec, e.to_string()))
         }
         ModelConfig::Shear(cfg, law) => {
-            run_shear(cfg, law, spec.model, nodes, &sheet_solver(), &outputs())
+            run_shear(cfg, law, spec.model, nodes, &spec.solver, &outputs())
                 .unwrap_or_else(|e| failed(spec, e.to_string()))
         }
-        ModelConfig::Mode(mode) => mode
-            .law()
-            .run(spec.model, nodes, &sheet_solver(), &outputs()),
+        ModelConfig::Mode(mode) => mode.law().run(spec.model, nodes, &spec.solver, &outputs()),
         ModelConfig::Line(cfg) => {
-            let solver = SolveSettings {
-                method: spec.solver.method,
-                rtol: spec.solver.rtol,
-                atol: spec.solver.atol,
-                norm: spec.solver.norm,
-                threads: spec.solver.threads,
-            };
             let times = OutputTimes {
                 series: spec.times.series.clone(),
                 profiles: spec.times.profiles.clone(),
             };
-            run_line(cfg, spec.model, spec.nodes, &solver, &times)
+            run_line(cfg, spec.model, spec.nodes, &spec.solver, &times)
         }
         ModelConfig::Proliferating(cfg) => {
-            let solver = SolveSettings {
-                method: spec.solver.method,
-                rtol: spec.solver.rtol,
-                atol: spec.solver.atol,
-                norm: spec.solver.norm,
-                threads: spec.solver.threads,
-            };
             let times = OutputTimes {
                 series: spec.times.series.clone(),
                 profiles: spec.times.profiles.clone(),
             };
-            crate::events::run_proliferation(cfg, spec.model, spec.nodes, &solver, &times)
+            crate::events::run_proliferation(cfg, spec.model, spec.nodes, &spec.solver, &times)
         }
     };
     finish(spec, &mut rec);

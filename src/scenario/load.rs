@@ -5,11 +5,12 @@
 use super::error::{deserialize_at, ScenarioError};
 use super::model::{parse_model, ModelConfig};
 use super::overrides::{apply, parse_set};
-use super::schema::{PlotSettings, RawScenario, SolverChoice};
+use super::schema::{PlotSettings, RawScenario};
 pub use super::sweep::SweepPoint;
 use super::sweep::{expand, swept_keys, SweepSection};
 use super::times::parse_times;
 use crate::observe::ModelKind;
+use crate::settings::SolveSettings;
 use integrators::LinearSolverChoice;
 use std::path::Path;
 
@@ -36,7 +37,7 @@ pub struct RunSpec {
     /// The model configuration (validated).
     pub config: ModelConfig,
     /// Integrator and tolerances.
-    pub solver: SolverChoice,
+    pub solver: SolveSettings,
     /// Output times.
     pub times: Times,
     /// The sweep point, if the scenario sweeps.

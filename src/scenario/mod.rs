@@ -43,4 +43,4 @@ pub use load::{
     format_number, load, load_str, resolve, RunSpec, Scenario, SweepInfo, SweepPoint, Times,
 };
 pub use model::ModelConfig;
-pub use schema::{PlotSettings, ProfileAxis, Scale, SolverChoice};
+pub use schema::{PlotSettings, ProfileAxis, Scale};

@@ -3,6 +3,7 @@
 //! (see [`super::model`]), which owns and validates the rest of the keys.
 
 use super::error::ScenarioError;
+use crate::settings::SolveSettings;
 use integrators::{ErrorNorm, IterativeSettings, LinearSolverChoice, MethodChoice};
 use serde::{Deserialize, Serialize};
 
@@ -75,58 +76,9 @@ impl Default for SolverSection {
     }
 }
 
-/// The validated solver choice.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct SolverChoice {
-    /// Method.
-    #[serde(serialize_with = "method_name")]
-    pub method: MethodChoice,
-    /// Relative tolerance.
-    pub rtol: f64,
-    /// Absolute tolerance (cell units).
-    pub atol: f64,
-    /// Error norm of the local error and Newton tests.
-    #[serde(serialize_with = "norm_name")]
-    pub norm: ErrorNorm,
-    /// Linear solver of the Newton iterations.
-    #[serde(serialize_with = "linear_solver_fields")]
-    pub linear_solver: LinearSolverChoice,
-    /// Threads a run may use.
-    pub threads: usize,
-}
-
-fn linear_solver_fields<S: serde::Serializer>(
-    c: &LinearSolverChoice,
-    s: S,
-) -> Result<S::Ok, S::Error> {
-    use serde::ser::SerializeMap;
-    match c {
-        LinearSolverChoice::Direct => s.serialize_str("direct"),
-        LinearSolverChoice::Iterative(it) => {
-            let mut m = s.serialize_map(Some(4))?;
-            m.serialize_entry("kind", "iterative")?;
-            m.serialize_entry("krylov_rtol", &it.rtol)?;
-            m.serialize_entry("krylov_max_iters", &it.max_iters)?;
-            m.serialize_entry("newton_factor", &it.newton_factor)?;
-            m.end()
-        }
-    }
-}
-
-fn norm_name<S: serde::Serializer>(n: &ErrorNorm, s: S) -> Result<S::Ok, S::Error> {
-    s.serialize_str(match n {
-        ErrorNorm::Rms => "rms",
-        ErrorNorm::Max => "max",
-    })
-}
-
-fn method_name<S: serde::Serializer>(m: &MethodChoice, s: S) -> Result<S::Ok, S::Error> {
-    s.serialize_str(m.name())
-}
-
 impl SolverSection {
     /// Checks the method name and tolerance ranges.
-    pub fn validate(&self) -> Result<SolverChoice, ScenarioError> {
+    pub fn validate(&self) -> Result<SolveSettings, ScenarioError> {
         // built-in names and the methods registered with `integrators::method::register`
         let method: MethodChoice =
             self.method
@@ -191,7 +143,7 @@ impl SolverSection {
                 ),
             ));
         }
-        Ok(SolverChoice {
+        Ok(SolveSettings {
             method,
             rtol: self.rtol,
             atol: self.atol,

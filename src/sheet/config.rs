@@ -21,7 +21,6 @@ use super::uniaxial::{SheetGrowth, SheetParams};
 use crate::cell::growth_laws::GrowthSpec;
 use crate::cell::{Field, ViscosityModel};
 use crate::energy::{AnyEnergy, NeoHookean};
-use integrators::{MethodChoice, MethodKind, Options};
 use serde::{Deserialize, Serialize};
 
 /// The side `y = w₀` of the sheet.
@@ -410,37 +409,6 @@ impl ShearConfig {
             beta0: self.beta0,
             drag: self.drag(),
             force: self.force,
-        }
-    }
-}
-
-/// Integrator choice for a run: method and options (tolerances etc.).
-///
-/// ```
-/// use celltissue::sheet::SolverSettings;
-/// let mut s = SolverSettings::default();
-/// s.options.rtol = 1e-8;
-/// assert!(s.options.validate().is_ok());
-/// ```
-#[derive(Clone, Debug, PartialEq)]
-pub struct SolverSettings {
-    /// Time-stepping method (built-in or registered).
-    pub method: MethodChoice,
-    /// Tolerances and limits. For the sheet, `atol` is applied in cell units (× `h_X`, `h_Y`).
-    pub options: Options,
-}
-
-impl Default for SolverSettings {
-    /// BDF with `rtol = 1e-8`, `atol = 1e-10`, max norm.
-    fn default() -> Self {
-        Self {
-            method: MethodKind::Bdf.into(),
-            options: Options {
-                rtol: 1e-8,
-                atol: 1e-10,
-                norm: integrators::ErrorNorm::Max,
-                ..Options::default()
-            },
         }
     }
 }

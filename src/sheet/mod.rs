@@ -35,8 +35,7 @@ pub mod uniaxial;
 pub mod vtk;
 
 pub use config::{
-    ConfigError, GrowthDirections, RightEdge, ShearConfig, ShearForm, SheetConfig, SolverSettings,
-    TopBoundary,
+    ConfigError, GrowthDirections, RightEdge, ShearConfig, ShearForm, SheetConfig, TopBoundary,
 };
 pub use ramp::Ramp;
 pub use run::{run_shear, run_sheet, RunError};

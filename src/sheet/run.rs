@@ -5,15 +5,16 @@
 //!
 //! ```
 //! use celltissue::observe::ModelKind;
-//! use celltissue::sheet::{run::Outputs, run_sheet, SheetConfig, SolverSettings};
+//! use celltissue::sheet::{run::Outputs, run_sheet, SheetConfig};
+//! use celltissue::SolveSettings;
 //! let law = celltissue::NeoHookean::new(1.0)?;
 //! let rec = run_sheet(&SheetConfig::default(), &law, ModelKind::Discrete, None,
-//!                     &SolverSettings::default(), &Outputs::at(&[1.0, 2.0, 5.0, 10.0]))?;
+//!                     &SolveSettings::default(), &Outputs::at(&[1.0, 2.0, 5.0, 10.0]))?;
 //! assert_eq!(rec.series.t, [1.0, 2.0, 5.0, 10.0]);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-use super::config::{ConfigError, ShearConfig, ShearForm, SheetConfig, SolverSettings};
+use super::config::{ConfigError, ShearConfig, ShearForm, SheetConfig};
 use super::observe::{
     push_shear_series, push_sheet_series, shear_observables, shear_profile, sheet_observables,
     sheet_profile, SheetColumns,
@@ -23,6 +24,7 @@ use super::uniaxial::UniaxialSheet;
 use crate::array::{ArrayProblem, CellArray};
 use crate::energy::StrainEnergy;
 use crate::observe::{ModelKind, RunRecord, RunStats, Series};
+use crate::settings::SolveSettings;
 use integrators::{Solution, SolveFailure, Solver, Stats};
 use std::time::Instant;
 
@@ -100,7 +102,7 @@ pub fn integrate<A: CellArray>(
     problem: &mut ArrayProblem<A>,
     y0: &[f64],
     times: &[f64],
-    solver: &SolverSettings,
+    solver: &SolveSettings,
 ) -> Integrated {
     let mut states = Vec::new();
     if contains(times, 0.0) {
@@ -129,9 +131,17 @@ fn solve<A: CellArray>(
     problem: &mut ArrayProblem<A>,
     y0: &[f64],
     t_out: &[f64],
-    solver: &SolverSettings,
+    solver: &SolveSettings,
 ) -> Result<Solution, SolveFailure> {
-    Solver::new(solver.method, solver.options.clone()).solve(problem, 0.0, y0, t_out)
+    let opts = solver.options().map_err(|e| SolveFailure {
+        error: integrators::SolverError::new(
+            integrators::ErrorKind::InvalidInput(format!("solver.{e}")),
+            0.0,
+            None,
+        ),
+        partial: Box::default(),
+    })?;
+    Solver::new(solver.method, opts).solve(problem, 0.0, y0, t_out)
 }
 
 /// Runs the uniaxial sheet (docs/model.md §4.1–4.3).
@@ -150,13 +160,12 @@ pub fn run_sheet<E: StrainEnergy>(
     law: &E,
     model: ModelKind,
     grid: Option<(usize, usize)>,
-    solver: &SolverSettings,
+    solver: &SolveSettings,
     out: &Outputs,
 ) -> Result<RunRecord, RunError> {
     cfg.validate()?;
     solver
-        .options
-        .validate()
+        .options()
         .map_err(|e| cfg_err("solver", "options", &e.to_string()))?;
     let (n, m) = match (model, grid) {
         (ModelKind::Discrete, None) => (cfg.cells_x, cfg.cells_y),
@@ -177,7 +186,7 @@ pub fn run_sheet<E: StrainEnergy>(
     let times = all_times(out)?;
     let sheet = UniaxialSheet::continuum(law, &cfg.params(), n, m)
         .map_err(|e| cfg_err("sheet", "", &e.to_string()))?
-        .with_cell_atol(solver.options.atol);
+        .with_cell_atol(solver.atol);
     let y0 = sheet.initial_state();
     let mut problem = ArrayProblem::new(sheet);
     let start = Instant::now();
@@ -203,8 +212,8 @@ pub fn run_sheet<E: StrainEnergy>(
         "spacing": [sheet.spacing().0, sheet.spacing().1],
         "shear_modulus": law.shear_modulus(),
         "method": solver.method.name(),
-        "rtol": solver.options.rtol,
-        "atol": solver.options.atol,
+        "rtol": solver.rtol,
+        "atol": solver.atol,
     });
     let label = format!(
         "{} sheet {}x{} {:?} m={} K={}",
@@ -245,13 +254,12 @@ pub fn run_shear<E: StrainEnergy>(
     law: &E,
     model: ModelKind,
     grid: Option<usize>,
-    solver: &SolverSettings,
+    solver: &SolveSettings,
     out: &Outputs,
 ) -> Result<RunRecord, RunError> {
     cfg.validate()?;
     solver
-        .options
-        .validate()
+        .options()
         .map_err(|e| cfg_err("solver", "options", &e.to_string()))?;
     let times = all_times(out)?;
     let params = cfg.params();
@@ -310,8 +318,8 @@ pub fn run_shear<E: StrainEnergy>(
         "grid": m,
         "shear_modulus": law.shear_modulus(),
         "method": solver.method.name(),
-        "rtol": solver.options.rtol,
-        "atol": solver.options.atol,
+        "rtol": solver.rtol,
+        "atol": solver.atol,
     });
     let label = format!(
         "{} shear M={} m={} {:?}",

@@ -28,11 +28,12 @@ pub fn maxwell_ramp_stress(t: f64, k1: f64, t_r: f64, modulus: f64, tau: f64) ->
 }
 
 /// Sheet and shear solver settings: BDF with the given tolerances (atol in cell units) under
-/// the max norm, every cell's stretch error tested on its own (`SolverSettings::default`'s
+/// the max norm, every cell's stretch error tested on its own (`SolveSettings::default`'s
 /// norm).
-pub fn sheet_solver(rtol: f64, atol: f64) -> celltissue::sheet::SolverSettings {
-    let mut s = celltissue::sheet::SolverSettings::default();
-    s.options.rtol = rtol;
-    s.options.atol = atol;
-    s
+pub fn sheet_solver(rtol: f64, atol: f64) -> celltissue::SolveSettings {
+    celltissue::SolveSettings {
+        rtol,
+        atol,
+        ..Default::default()
+    }
 }
