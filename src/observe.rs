@@ -106,7 +106,7 @@ impl RunStats {
     /// let s = integrators::Stats { steps: 4, jacobian_evals: 2, events: 1, ..Default::default() };
     /// let r = celltissue::observe::RunStats::from_stats(&s, 0.5);
     /// assert_eq!((r.steps, r.jacobians, r.extra["events"]), (4, 2, 1));
-    /// assert_eq!(r.extra.len(), 12);
+    /// assert_eq!(r.extra.len(), 13);
     /// ```
     pub fn from_stats(s: &integrators::Stats, wall_seconds: f64) -> Self {
         Self {

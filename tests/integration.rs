@@ -9,6 +9,7 @@ mod array_data;
 mod cli_catalogue;
 mod cli_errors;
 mod cli_run;
+mod division_jacobian_map;
 mod division_restart;
 mod division_thesis;
 mod docs_snippets_parse;

@@ -147,6 +147,18 @@ macro_rules! forward_problem {
             self.$f.map_history(t, old, derivative, new)
         }
     };
+    (@one $f:tt map_jacobian) => {
+        fn map_jacobian(
+            &self,
+            t: f64,
+            y: &[f64],
+            yp: &[f64],
+            jy: &mut $crate::linalg::Matrix,
+            jyp: &mut $crate::linalg::Matrix,
+        ) -> Result<bool, $crate::ResidualError> {
+            self.$f.map_jacobian(t, y, yp, jy, jyp)
+        }
+    };
     (@one $f:tt set_threads) => {
         fn set_threads(&mut self, threads: usize) {
             self.$f.set_threads(threads)

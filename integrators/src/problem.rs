@@ -195,6 +195,25 @@ pub trait Problem {
         false
     }
 
+    /// After a resize that [`map_history`](Problem::map_history) mapped: rewrites the Newton
+    /// matrices a method kept from before the event — `jy = ∂F/∂y` and `jyp = ∂F/∂ẏ` in the
+    /// old layout, their storage already grown to the new size — onto the new layout, with
+    /// every row the event changed evaluated afresh at `(t, y, ẏ)` (see [`Matrix::remap`]).
+    /// The rest stay as old as they were: a simplified Newton iteration needs only an
+    /// approximate matrix, and a local event (a cell dividing) then costs no Jacobian of the
+    /// whole problem. `Ok(false)` (default) when there is no such map: the method evaluates
+    /// fresh matrices.
+    fn map_jacobian(
+        &self,
+        _t: f64,
+        _y: &[f64],
+        _yp: &[f64],
+        _jy: &mut Matrix,
+        _jyp: &mut Matrix,
+    ) -> Result<bool, ResidualError> {
+        Ok(false)
+    }
+
     /// Called by the solver before it integrates, with [`crate::Parallelism::threads`] of [`crate::Options::parallel`]: the most
     /// threads the problem's own evaluations (residual, directional derivatives) may use.
     /// Default: ignore it (evaluate on the calling thread).

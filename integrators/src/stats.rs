@@ -22,6 +22,9 @@ pub struct Stats {
     pub directional_calls: usize,
     /// Jacobian evaluations (any source).
     pub jacobian_evals: usize,
+    /// Newton matrices carried across a resize by the problem's map
+    /// ([`crate::Problem::map_jacobian`]) instead of evaluated afresh.
+    pub jacobians_mapped: usize,
     /// Numeric LU factorisations.
     pub factorizations: usize,
     /// Symbolic factorisations (sparse only; reused until the pattern changes).
@@ -47,10 +50,10 @@ impl Stats {
     /// ```
     /// let s = integrators::Stats { steps: 3, krylov_iterations: 7, ..Default::default() };
     /// let c = s.counters();
-    /// assert_eq!(c.len(), 15);
+    /// assert_eq!(c.len(), 16);
     /// assert!(c.contains(&("steps", 3)) && c.contains(&("krylov_iterations", 7)));
     /// ```
-    pub fn counters(&self) -> [(&'static str, usize); 15] {
+    pub fn counters(&self) -> [(&'static str, usize); 16] {
         [
             ("steps", self.steps),
             ("rejected_steps", self.rejected_steps),
@@ -59,6 +62,7 @@ impl Stats {
             ("residual_calls", self.residual_calls),
             ("directional_calls", self.directional_calls),
             ("jacobian_evals", self.jacobian_evals),
+            ("jacobians_mapped", self.jacobians_mapped),
             ("factorizations", self.factorizations),
             ("symbolic_factorizations", self.symbolic_factorizations),
             ("linear_solves", self.linear_solves),
@@ -89,6 +93,7 @@ impl std::ops::AddAssign<&Stats> for Stats {
             residual_calls,
             directional_calls,
             jacobian_evals,
+            jacobians_mapped,
             factorizations,
             symbolic_factorizations,
             linear_solves,
@@ -105,6 +110,7 @@ impl std::ops::AddAssign<&Stats> for Stats {
         self.residual_calls += residual_calls;
         self.directional_calls += directional_calls;
         self.jacobian_evals += jacobian_evals;
+        self.jacobians_mapped += jacobians_mapped;
         self.factorizations += factorizations;
         self.symbolic_factorizations += symbolic_factorizations;
         self.linear_solves += linear_solves;

@@ -140,6 +140,19 @@ pub trait CellArray {
         false
     }
 
+    /// Maps the Newton matrices across the last resizing event, re-evaluating the rows it
+    /// changed (see [`integrators::Problem::map_jacobian`]); default: no map (fresh ones).
+    fn map_jacobian(
+        &self,
+        _t: f64,
+        _y: &[f64],
+        _yp: &[f64],
+        _jy: &mut integrators::linalg::Matrix,
+        _jyp: &mut integrators::linalg::Matrix,
+    ) -> Result<bool, ResidualError> {
+        Ok(false)
+    }
+
     /// Threads the residual sweep may use, passed in by the solver from
     /// [`integrators::Options::parallel`] (see [`integrators::Problem::set_threads`]); default:
     /// ignore it.
@@ -171,7 +184,7 @@ impl<A: CellArray> ArrayProblem<A> {
 
 impl<A: CellArray> Problem for ArrayProblem<A> {
     integrators::forward_problem!(array: dim, residual, pattern, atol, algebraic, num_events,
-        events, handle_event, restart_derivative, map_history, set_threads);
+        events, handle_event, restart_derivative, map_history, map_jacobian, set_threads);
 
     fn jacobian(
         &mut self,

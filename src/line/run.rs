@@ -157,7 +157,7 @@ impl<A> Watched<A> {
 
 impl<A: LineModel> CellArray for Watched<A> {
     integrators::forward_problem!(inner: dim, pattern, atol, algebraic, num_events, events,
-        handle_event, restart_derivative, map_history, set_threads);
+        handle_event, restart_derivative, map_history, map_jacobian, set_threads);
     fn residual<S: Scalar>(
         &self,
         t: f64,

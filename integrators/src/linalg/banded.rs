@@ -34,6 +34,45 @@ fn clamped(n: usize, lower: usize, upper: usize) -> (usize, usize) {
 }
 
 impl BandMatrix {
+    /// See [`Matrix::remap`]. Entries of the band keep their offset `i − j` in the storage, so
+    /// an entry whose row and column moved by the same amount moves with its column; new
+    /// columns are written from the last down, which never overwrites a column still to be
+    /// read (`src[j] ≤ j`).
+    pub(crate) fn remap(&mut self, src: &[usize], fresh_rows: &[bool]) -> bool {
+        let n = self.n;
+        if src.len() != n || fresh_rows.len() != n {
+            return false;
+        }
+        // sources must increase and never lie ahead (insertions only)
+        let mut prev = None;
+        for (j, &s) in src.iter().enumerate() {
+            if s == usize::MAX {
+                continue;
+            }
+            if s > j || prev.is_some_and(|p| s <= p) {
+                return false;
+            }
+            prev = Some(s);
+        }
+        let ld = self.ld();
+        let diag = self.lower + self.upper;
+        for j in (0..n).rev() {
+            let sj = src[j];
+            let lo = j.saturating_sub(self.upper);
+            let hi = (j + self.lower).min(n - 1);
+            for i in lo..=hi {
+                // slot of (i, j) in column j, and of the same offset in the source column
+                let off = diag + i - j;
+                let moved = sj != usize::MAX
+                    && !fresh_rows[i]
+                    && src[i] != usize::MAX
+                    && src[i] + j == sj + i;
+                self.data[j * ld + off] = if moved { self.data[sj * ld + off] } else { 0.0 };
+            }
+        }
+        true
+    }
+
     /// A zero `n × n` band matrix; `lower`/`upper` are clamped to `n − 1`.
     pub fn zeros(n: usize, lower: usize, upper: usize) -> Self {
         let (lower, upper) = clamped(n, lower, upper);

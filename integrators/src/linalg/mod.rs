@@ -212,6 +212,36 @@ impl Matrix {
             _ => n == self.n(),
         }
     }
+    /// Moves the entries onto a new index layout in place, for a problem that grew by
+    /// insertions (see [`crate::Problem::map_jacobian`]): `src[i]` is the old index of new
+    /// index `i` (`usize::MAX` for an inserted one; sources increase and `src[i] ≤ i`), and
+    /// entry `(i, j)` takes the old `(src[i], src[j])` when both exist, the two moved by the
+    /// same amount, and row `i` is not marked in `fresh_rows`; every other entry of the band
+    /// becomes zero, ready for fresh rows to be added. The matrix must already have the new
+    /// size (its old entries where [`Matrix`]'s growth left them). Banded matrices only:
+    /// `false` (nothing changed) for the others or for a map that is not a growth.
+    ///
+    /// ```
+    /// use integrators::{linalg::Matrix, Pattern};
+    /// // tridiagonal 3 × 3 grown to 4 × 4 by inserting index 1
+    /// let pattern = Pattern::Banded { lower: 1, upper: 1 };
+    /// let mut m = Matrix::zeros(4, &pattern);
+    /// for (i, j, v) in [(0, 0, 1.0), (0, 1, 2.0), (1, 0, 3.0), (1, 1, 4.0), (1, 2, 5.0), (2, 1, 6.0), (2, 2, 7.0)] {
+    ///     m.set(i, j, v);
+    /// }
+    /// let none = usize::MAX;
+    /// assert!(m.remap(&[0, none, 1, 2], &[false, true, false, false]));
+    /// assert_eq!((m.get(0, 0), m.get(2, 2), m.get(2, 3), m.get(3, 2), m.get(3, 3)), (1.0, 4.0, 5.0, 6.0, 7.0));
+    /// // entries across the insertion and the fresh row are zero
+    /// assert_eq!((m.get(0, 1), m.get(1, 1), m.get(2, 1)), (0.0, 0.0, 0.0));
+    /// ```
+    pub fn remap(&mut self, src: &[usize], fresh_rows: &[bool]) -> bool {
+        match self {
+            Matrix::Banded(m) => m.remap(src, fresh_rows),
+            _ => false,
+        }
+    }
+
     /// Sets every stored value to zero (keeps the pattern).
     pub fn set_zero(&mut self) {
         let d = match self {

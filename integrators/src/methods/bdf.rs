@@ -627,7 +627,19 @@ impl Method for Bdf {
         if !(self.started && h > 0.0 && h.is_finite()) {
             return Ok(false);
         }
+        let (had_jacobian, age) = (self.jac_valid, self.steps_since_jac);
         self.start(sys, t, y, yp, Some(h))?;
+        // the Newton matrices grew in place (same band): the problem may map them onto the
+        // new layout, re-evaluating only the rows the event changed
+        if had_jacobian {
+            if let (Some(jy), Some(jyp)) = (self.jy.as_mut(), self.jyp.as_mut()) {
+                if jy.n() == y.len() && sys.problem.map_jacobian(t, y, yp, jy, jyp) == Ok(true) {
+                    sys.stats.jacobians_mapped += 1;
+                    self.jac_valid = true;
+                    self.steps_since_jac = age;
+                }
+            }
+        }
         self.doubling = true;
         Ok(true)
     }

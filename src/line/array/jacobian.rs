@@ -47,16 +47,57 @@ impl<E: StrainEnergy> Line<E> {
         c: f64,
         jac: &mut JacobianSink,
     ) -> Result<bool, ResidualError> {
+        self.jacobian_rows_into(t, y, yp, c, jac, 0..=self.n_cells())
+    }
+
+    /// The rows of [`jacobian_into`](Line::jacobian_into) that belong to the cells `cells` (a
+    /// cell's rows: its `g` and its right boundary `x`), added into `jac`, whose other rows are
+    /// left alone: the same sweep over those cells and their neighbours only, O(k) for k
+    /// cells. A division re-evaluates this way the rows around the daughters
+    /// ([`crate::events::Dividing`]'s Jacobian map). `Ok(false)` where `jacobian_into` has
+    /// none (a ring, the extensions).
+    ///
+    /// ```
+    /// use celltissue::line::build::{discrete, LineParams};
+    /// use celltissue::{CellArray, NeoHookean};
+    /// use integrators::linalg::Matrix;
+    /// let line = discrete(NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(6)).unwrap();
+    /// let (y, yp) = (line.initial_state(), vec![0.0; line.dim()]);
+    /// let mut all = Matrix::zeros(line.dim(), &line.pattern());
+    /// line.jacobian_into(0.0, &y, &yp, 1.0, &mut all).unwrap();
+    /// let mut some = Matrix::zeros(line.dim(), &line.pattern());
+    /// assert!(line.jacobian_rows_into(0.0, &y, &yp, 1.0, &mut some, 2..=3).unwrap());
+    /// // boundaries 2 and 3 (unknowns 1 and 2) have their rows, boundary 1 has none
+    /// assert_eq!((some.get(1, 0), some.get(2, 2)), (all.get(1, 0), all.get(2, 2)));
+    /// assert_eq!(some.get(0, 0), 0.0);
+    /// ```
+    pub fn jacobian_rows_into(
+        &self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        c: f64,
+        jac: &mut JacobianSink,
+        cells: std::ops::RangeInclusive<usize>,
+    ) -> Result<bool, ResidualError> {
         if self.right.is_periodic() || self.uniform.extended {
             return Ok(false);
         }
         let n = self.n_cells();
+        let (lo, hi) = (*cells.start(), (*cells.end()).min(n));
+        if n == 0 || lo > hi {
+            return Ok(true);
+        }
+        let mine = |cell: usize| (lo..=hi).contains(&cell);
         let lay = &self.layout;
         let d = Dual64::new;
-        let mut left = self.boundary(0, t, y, yp);
+        // a boundary row needs the cells on both sides (and one more with the centre form)
+        let first = lo.saturating_sub(1).max(1);
+        let last = (hi + 1).min(n);
+        let mut left = self.boundary(first - 1, t, y, yp);
         // the last three cells in a ring (cell j at j mod 3: moving them would copy 1 KB per cell)
         let mut win: [LocalCell; 3] = [LocalCell::default(); 3];
-        for cell in 1..=n {
+        for cell in first..=last {
             let right = self.boundary(cell, t, y, yp);
             let gk = lay.gi[cell - 1];
             let (g, gd) = match gk {
@@ -85,7 +126,7 @@ impl<E: StrainEnergy> Line<E> {
             left = right;
             let (w0, w1, w2) = ((cell + 1) % 3, (cell + 2) % 3, cell % 3);
             win[w2] = LocalCell { s, g: ge };
-            if gk != NONE {
+            if gk != NONE && mine(cell) {
                 if let Some(law) = &self.growth {
                     let ypg = yp[gk];
                     self.emit(jac, gk, cell, [&win[w2]], c, |e| {
@@ -99,7 +140,7 @@ impl<E: StrainEnergy> Line<E> {
             }
             let b = cell - 1;
             let row = lay.xi[b];
-            if row == NONE {
+            if row == NONE || !mine(b) {
                 continue;
             }
             match self.form {
@@ -119,7 +160,7 @@ impl<E: StrainEnergy> Line<E> {
                 }),
             }
         }
-        if self.right.is_free() {
+        if self.right.is_free() && mine(n) {
             let row = lay.xi[n];
             let (w1, w2) = ((n + 2) % 3, n % 3);
             match self.form {
