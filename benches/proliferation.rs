@@ -10,7 +10,9 @@
 //! comparison), `PROLIF_CARRY=0` makes each division a restart instead of the default mapped
 //! resize with BDF's step-doubled first step (`Dividing::carry_history = false`),
 //! `PROLIF_GROWTH_N` the size of the η comparison (default 1e5; 0 skips it),
-//! `PROLIF_LARGE=0` skips the criterion group to 10⁴ cells.
+//! `PROLIF_LARGE=0` skips the criterion group to 10⁴ cells, `PROLIF_RTOL` tightens the
+//! proliferating run's tolerance (atol = rtol/100; default 1e-6 and 1e-8) to measure the
+//! default run's accuracy by its final length.
 //!
 //! Measured numbers and their commands: `BENCHMARKS.md`, section Proliferation.
 
@@ -41,7 +43,14 @@ fn proliferate(k: f64, t_end: f64, cap: Option<usize>, smooth: bool) -> (usize, 
     div.smooth_restart = smooth;
     div.carry_history = std::env::var("PROLIF_CARRY").as_deref() != Ok("0");
     let mut prob = ArrayProblem::new(div);
-    let traj = integrate(&mut prob, &SolveSettings::default(), &[0.0, t_end]);
+    // PROLIF_RTOL: a tighter run (atol = rtol/100) to measure the default run's accuracy
+    let rtol = env("PROLIF_RTOL", 1e-6);
+    let settings = SolveSettings {
+        rtol,
+        atol: rtol / 100.0,
+        ..Default::default()
+    };
+    let traj = integrate(&mut prob, &settings, &[0.0, t_end]);
     if let Some(e) = &traj.error {
         println!("REPORT proliferation K={k:e} failed: {e}");
     }
@@ -76,7 +85,7 @@ fn report() {
     let wall = start.elapsed().as_secs_f64();
     let s = traj.stats;
     println!(
-        "REPORT proliferation K={k:e} t=[0,{t_end}] cap={cap:?} smooth_restart={smooth}: N 100 -> {cells}, {divs} divisions in {} events, {wall:.2} s, {:.0} divisions/s, {} steps ({:.2} steps/division), {} rejected ({:.3}/division; {} error-test, {} Newton), {} Jacobian pairs ({:.3}/division), {} factorizations",
+        "REPORT proliferation K={k:e} t=[0,{t_end}] cap={cap:?} smooth_restart={smooth}: N 100 -> {cells}, {divs} divisions in {} events, {wall:.2} s, {:.0} divisions/s, {} steps ({:.2} steps/division), {} rejected ({:.3}/division; {} error-test, {} Newton), {} Jacobian pairs ({:.3}/division; {} mapped across divisions), {} factorizations, {} Newton iterations ({:.2}/division), l = {:.10}",
         s.events,
         divs as f64 / wall,
         s.steps,
@@ -87,7 +96,11 @@ fn report() {
         s.newton_failures,
         s.jacobian_evals / 2,
         s.jacobian_evals as f64 / 2.0 / divs as f64,
-        s.factorizations
+        s.jacobians_mapped,
+        s.factorizations,
+        s.newton_iterations,
+        s.newton_iterations as f64 / divs as f64,
+        traj.snapshots.last().map_or(f64::NAN, |s| s.length())
     );
     let n = env("PROLIF_GROWTH_N", 1e5) as usize;
     if n == 0 {

@@ -56,7 +56,9 @@ impl BandMatrix {
         }
         let ld = self.ld();
         let diag = self.lower + self.upper;
-        for j in (0..n).rev() {
+        // columns whose band lies before the first moved or fresh row are unchanged
+        let first = (0..n).find(|&i| src[i] != i || fresh_rows[i]).unwrap_or(n);
+        for j in (first.saturating_sub(self.lower)..n).rev() {
             let sj = src[j];
             let lo = j.saturating_sub(self.upper);
             let hi = (j + self.lower).min(n - 1);
