@@ -13,6 +13,7 @@ pub mod boundary;
 pub mod cell;
 #[cfg(feature = "cli")]
 pub mod cli;
+pub mod drive;
 pub mod energy;
 pub mod events;
 pub mod line;

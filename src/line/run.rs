@@ -16,10 +16,11 @@ use super::config::{ContinuumScheme, LineConfig};
 use super::observe::Snapshot;
 use super::thesis_scheme::ThesisLine;
 use crate::array::{ArrayProblem, CellArray};
+use crate::drive::{drive, DriveError};
 use crate::energy::StrainEnergy;
 use crate::observe::{ModelKind, RunRecord, RunStats, Series};
 use crate::scalar::Scalar;
-use integrators::{ResidualError, SolveFailure, Solver, Stats};
+use integrators::{ResidualError, SolveFailure, Stats};
 use std::cell::RefCell;
 use std::time::Instant;
 
@@ -261,71 +262,31 @@ pub fn integrate<A: LineModel>(
     settings: &SolveSettings,
     t_out: &[f64],
 ) -> Trajectory {
-    let opts = match settings.options() {
-        Ok(o) => o,
-        Err(e) => {
-            return Trajectory {
-                error: Some(format!("solver.{e}")),
-                ..Default::default()
-            }
-        }
-    };
-    let solver = Solver::new(settings.method, opts);
-    let t_end = t_out.last().copied().unwrap_or(0.0);
-    // integrate piecewise between the forcing's breakpoints (restart with a consistent ẏ)
-    let mut stops: Vec<f64> = problem
-        .array
-        .breakpoints()
-        .into_iter()
-        .filter(|&b| b > 0.0 && b < t_end)
-        .collect();
-    stops.push(t_end);
-    let mut traj = Trajectory::default();
-    let mut y = problem.array.initial_state();
-    let mut t0 = 0.0;
-    for (seg, &stop) in stops.iter().enumerate() {
-        let mut outs: Vec<f64> = t_out
-            .iter()
-            .copied()
-            .filter(|&t| (t > t0 || (seg == 0 && t >= t0)) && t <= stop)
-            .collect();
-        let requested_stop = outs.last() == Some(&stop);
-        if !requested_stop {
-            outs.push(stop);
-        }
-        let mut obs_error: Option<String> = None;
-        let snaps = &mut traj.snapshots;
-        let result = solver.solve_with(problem, t0, &y, &outs, |p, t, y, yp| {
-            if obs_error.is_some() || (t == stop && !requested_stop) {
-                return;
-            }
-            match p.array.observe(t, y, yp) {
-                Ok(s) => snaps.push(s),
-                Err(e) => {
-                    obs_error = Some(format!("observation at t = {t} failed: {}", reason(&e)))
-                }
-            }
-        });
-        match result {
-            Ok(sol) => {
-                traj.stats += &sol.stats;
-                y = sol.y_last;
-                t0 = sol.t_last;
-            }
-            Err(f) => {
-                traj.stats += &f.partial.stats;
-                traj.error = Some(failure_message(&problem.array, &f));
-                traj.y_last = f.partial.y_last.clone();
-                return traj;
-            }
-        }
-        if obs_error.is_some() {
-            traj.error = obs_error;
-            break;
-        }
+    let y0 = problem.array.initial_state();
+    let breakpoints = problem.array.breakpoints();
+    let mut snapshots = Vec::new();
+    let driven = drive(
+        problem,
+        settings,
+        &y0,
+        t_out,
+        &breakpoints,
+        |p, t, y, yp| {
+            p.array
+                .observe(t, y, yp)
+                .map(|s| snapshots.push(s))
+                .map_err(|e| format!("observation at t = {t} failed: {}", reason(&e)))
+        },
+    );
+    Trajectory {
+        snapshots,
+        error: driven.error.map(|e| match e {
+            DriveError::Solver(f) => failure_message(&problem.array, &f),
+            other => other.to_string(),
+        }),
+        y_last: driven.y_last,
+        stats: driven.stats,
     }
-    traj.y_last = y;
-    traj
 }
 
 /// Explains a solver failure in cell terms, most specific first:

@@ -22,10 +22,11 @@ use super::observe::{
 use super::shear::{ShearCellCentre, ShearColumn, ShearFields};
 use super::uniaxial::UniaxialSheet;
 use crate::array::{ArrayProblem, CellArray};
+use crate::drive::drive;
 use crate::energy::StrainEnergy;
 use crate::observe::{ModelKind, RunRecord, RunStats, Series};
 use crate::settings::SolveSettings;
-use integrators::{Solution, SolveFailure, Solver, Stats};
+use integrators::Stats;
 use std::time::Instant;
 
 /// What to record (the runners write no files: `crate::output` does, from the record).
@@ -96,8 +97,9 @@ pub type Integrated = (Vec<(f64, Vec<f64>)>, Stats, Option<String>);
 /// Per-cell shear fields from a state (edge or cell-centre form).
 type FieldsFn<'a> = Box<dyn Fn(&[f64]) -> ShearFields + 'a>;
 
-/// Integrates a cell array from `t = 0` and returns the states at `times` (`t = 0` answered from
-/// `y0` without integrating). On failure returns the partial solution and the error message.
+/// Integrates a cell array from `(0, y0)` with [`drive`] and returns the states at `times`
+/// (`t = 0` after the consistent initialisation). On failure returns the states reached and
+/// the error message.
 pub fn integrate<A: CellArray>(
     problem: &mut ArrayProblem<A>,
     y0: &[f64],
@@ -105,43 +107,11 @@ pub fn integrate<A: CellArray>(
     solver: &SolveSettings,
 ) -> Integrated {
     let mut states = Vec::new();
-    if contains(times, 0.0) {
-        states.push((0.0, y0.to_vec()));
-    }
-    let t_out: Vec<f64> = times.iter().copied().filter(|&t| t > 0.0).collect();
-    if t_out.is_empty() {
-        return (states, Stats::default(), None);
-    }
-    let result: Result<Solution, SolveFailure> = solve(problem, y0, &t_out, solver);
-    match result {
-        Ok(sol) => {
-            states.extend(sol.t.into_iter().zip(sol.y));
-            (states, sol.stats, None)
-        }
-        Err(fail) => {
-            let p = *fail.partial;
-            states.extend(p.t.into_iter().zip(p.y));
-            (states, p.stats, Some(fail.error.to_string()))
-        }
-    }
-}
-
-/// The integrator call.
-fn solve<A: CellArray>(
-    problem: &mut ArrayProblem<A>,
-    y0: &[f64],
-    t_out: &[f64],
-    solver: &SolveSettings,
-) -> Result<Solution, SolveFailure> {
-    let opts = solver.options().map_err(|e| SolveFailure {
-        error: integrators::SolverError::new(
-            integrators::ErrorKind::InvalidInput(format!("solver.{e}")),
-            0.0,
-            None,
-        ),
-        partial: Box::default(),
-    })?;
-    Solver::new(solver.method, opts).solve(problem, 0.0, y0, t_out)
+    let driven = drive(problem, solver, y0, times, &[], |_, t, y, _| {
+        states.push((t, y.to_vec()));
+        Ok(())
+    });
+    (states, driven.stats, driven.error.map(|e| e.to_string()))
 }
 
 /// Runs the uniaxial sheet (docs/model.md §4.1–4.3).

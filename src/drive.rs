@@ -1,0 +1,137 @@
+//! [`drive`]: the one integration loop every runner uses — line, ring, proliferating line,
+//! sheet, shear column and registered modes. It turns the [`SolveSettings`] into the
+//! integrators' options, integrates from `t = 0` piecewise between the model's breakpoints (a
+//! restart with a consistent `ẏ` at each, where the forcing is not smooth), hands every
+//! requested output to the caller's observer inside the solver (so observations follow an
+//! array through resizes), and sums the work counters over the pieces. The runners turn what
+//! it returns into their own records and messages.
+
+use crate::settings::SolveSettings;
+use integrators::{OptionsError, Problem, SolveFailure, Solver, Stats};
+
+/// Why [`drive`] stopped before the last output time.
+#[derive(Debug)]
+pub enum DriveError {
+    /// A setting out of range (nothing was integrated).
+    Settings(OptionsError),
+    /// The solver failed; the failure keeps the partial solution and the last accepted state.
+    Solver(SolveFailure),
+    /// The observer refused an output, with its message (the solve stopped at that output's
+    /// piece).
+    Observer(String),
+}
+
+impl std::fmt::Display for DriveError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            DriveError::Settings(e) => write!(f, "solver.{e}"),
+            DriveError::Solver(e) => write!(f, "{}", e.error),
+            DriveError::Observer(m) => f.write_str(m),
+        }
+    }
+}
+
+/// What [`drive`] did: the counters summed over its pieces, the last state reached and its
+/// time, and why it stopped early, if it did.
+#[derive(Debug)]
+pub struct Driven {
+    /// Work counters, summed over the pieces (and the failed one's partial work).
+    pub stats: Stats,
+    /// Time of `y_last`.
+    pub t_last: f64,
+    /// The last state reached (the initial state if nothing was integrated).
+    pub y_last: Vec<f64>,
+    /// Why the run stopped early.
+    pub error: Option<DriveError>,
+}
+
+/// Integrates `problem` from `(0, y0)` through the output times `t_out` (increasing, `≥ 0`;
+/// `t = 0` is observed after the consistent initialisation), restarting at each of
+/// `breakpoints` inside `(0, t_out.last())`; `observe(problem, t, y, ẏ)` is called at every
+/// output time reached, and an `Err` from it stops the run after that piece.
+///
+/// ```
+/// use celltissue::drive::drive;
+/// use celltissue::line::build::{discrete, LineParams};
+/// use celltissue::{ArrayProblem, NeoHookean, SolveSettings};
+/// let line = discrete(NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(10)).unwrap();
+/// let y0 = line.initial_state();
+/// let mut seen = Vec::new();
+/// let d = drive(&mut ArrayProblem::new(line), &SolveSettings::default(), &y0, &[0.0, 0.5, 2.0],
+///               &[1.0], |_, t, _, _| { seen.push(t); Ok(()) });
+/// assert!(d.error.is_none());
+/// assert_eq!(seen, [0.0, 0.5, 2.0]); // the restart at the breakpoint t = 1 is not an output
+/// assert_eq!(d.t_last, 2.0);
+/// ```
+pub fn drive<P: Problem>(
+    problem: &mut P,
+    settings: &SolveSettings,
+    y0: &[f64],
+    t_out: &[f64],
+    breakpoints: &[f64],
+    mut observe: impl FnMut(&P, f64, &[f64], &[f64]) -> Result<(), String>,
+) -> Driven {
+    let mut driven = Driven {
+        stats: Stats::default(),
+        t_last: 0.0,
+        y_last: y0.to_vec(),
+        error: None,
+    };
+    let opts = match settings.options() {
+        Ok(o) => o,
+        Err(e) => {
+            driven.error = Some(DriveError::Settings(e));
+            return driven;
+        }
+    };
+    let Some(&t_end) = t_out.last() else {
+        return driven;
+    };
+    let solver = Solver::new(settings.method, opts);
+    let mut stops: Vec<f64> = breakpoints
+        .iter()
+        .copied()
+        .filter(|&b| b > 0.0 && b < t_end)
+        .collect();
+    stops.push(t_end);
+    for (piece, &stop) in stops.iter().enumerate() {
+        let t0 = driven.t_last;
+        let mut outs: Vec<f64> = t_out
+            .iter()
+            .copied()
+            .filter(|&t| (t > t0 || (piece == 0 && t >= t0)) && t <= stop)
+            .collect();
+        let requested_stop = outs.last() == Some(&stop);
+        if !requested_stop {
+            outs.push(stop);
+        }
+        let mut refused: Option<String> = None;
+        let result = solver.solve_with(problem, t0, &driven.y_last, &outs, |p, t, y, yp| {
+            if refused.is_some() || (t == stop && !requested_stop) {
+                return;
+            }
+            if let Err(m) = observe(p, t, y, yp) {
+                refused = Some(m);
+            }
+        });
+        match result {
+            Ok(sol) => {
+                driven.stats += &sol.stats;
+                driven.y_last = sol.y_last;
+                driven.t_last = sol.t_last;
+            }
+            Err(f) => {
+                driven.stats += &f.partial.stats;
+                driven.t_last = f.partial.t_last;
+                driven.y_last = f.partial.y_last.clone();
+                driven.error = Some(DriveError::Solver(f));
+                return driven;
+            }
+        }
+        if let Some(m) = refused {
+            driven.error = Some(DriveError::Observer(m));
+            return driven;
+        }
+    }
+    driven
+}
