@@ -432,7 +432,8 @@ impl BandLu {
                 if p != j {
                     b.swap(j, p);
                 }
-                let bj = b[j];
+                let bj = tridiagonal::flush_subnormal(b[j]);
+                b[j] = bj;
                 if bj != 0.0 {
                     let base = j * ld + kv;
                     let mult = &ab[base + 1..=base + lm];
@@ -443,7 +444,8 @@ impl BandLu {
             }
         }
         for (j, (col, &dinv)) in ab.chunks_exact(ld).zip(&self.dinv).enumerate().rev() {
-            b[j] *= dinv;
+            // (a subnormal tail costs ~100 cycles per operation: see `flush_subnormal`)
+            b[j] = tridiagonal::flush_subnormal(b[j] * dinv);
             let bj = b[j];
             if bj != 0.0 {
                 // U(i, j) for i = j−kv..j lives at col[kv + i − j]

@@ -357,7 +357,7 @@ impl TriLu {
                     std::mem::swap(&mut tc, &mut nx);
                 }
                 b[j] = tc;
-                tc = nx - mult[j] * tc;
+                tc = flush_subnormal(nx - mult[j] * tc);
             }
             let j = n - 1 - i;
             let mut nx = b[j - 1];
@@ -365,7 +365,7 @@ impl TriLu {
                 std::mem::swap(&mut bc, &mut nx);
             }
             b[j] = bc;
-            bc = nx - mult[j] * bc;
+            bc = flush_subnormal(nx - mult[j] * bc);
         }
         // column k+1 (rows k+1 and k), then column k; backward: x_k, x_{k+1}, then outwards in
         // both directions at once
@@ -379,13 +379,13 @@ impl TriLu {
             if i < top_len {
                 let j = k - 1 - i;
                 let [v2, v1, inv] = urow[j];
-                let x = (b[j] * inv - v2 * t2) - v1 * t1;
+                let x = flush_subnormal((b[j] * inv - v2 * t2) - v1 * t1);
                 b[j] = map.map(j, x);
                 (t1, t2) = (x, t1);
             }
             let j = k + 2 + i;
             let [v2, v1, inv] = urow[j];
-            let x = (b[j] * inv - v2 * d2) - v1 * d1;
+            let x = flush_subnormal((b[j] * inv - v2 * d2) - v1 * d1);
             b[j] = map.map(j, x);
             (d1, d2) = (x, d1);
         }
@@ -416,7 +416,7 @@ impl TriLu {
                     std::mem::swap(&mut tc, &mut nx);
                 }
                 top[j] = tc;
-                tc = nx - mult[j] * tc;
+                tc = flush_subnormal(nx - mult[j] * tc);
             }
             tc
         };
@@ -430,7 +430,7 @@ impl TriLu {
                     std::mem::swap(&mut bc, &mut nx);
                 }
                 bot[i] = bc;
-                bc = nx - mult[j] * bc;
+                bc = flush_subnormal(nx - mult[j] * bc);
             }
             bc
         };
@@ -444,7 +444,7 @@ impl TriLu {
                 let (mut t1, mut t2) = (xk, xk1);
                 for j in (0..k).rev() {
                     let [v2, v1, inv] = urow[j];
-                    let x = (top[j] * inv - v2 * t2) - v1 * t1;
+                    let x = flush_subnormal((top[j] * inv - v2 * t2) - v1 * t1);
                     top[j] = first.map(j, x);
                     (t1, t2) = (x, t1);
                 }
@@ -453,7 +453,7 @@ impl TriLu {
                 let (mut d1, mut d2) = (xk1, xk);
                 for (j, &[v2, v1, inv]) in urow.iter().enumerate().skip(k + 2) {
                     let i = j - (k + 1);
-                    let x = (bot[i] * inv - v2 * d2) - v1 * d1;
+                    let x = flush_subnormal((bot[i] * inv - v2 * d2) - v1 * d1);
                     bot[i] = second.map(j, x);
                     (d1, d2) = (x, d1);
                 }
@@ -461,5 +461,21 @@ impl TriLu {
         );
         first.merge(second);
         first
+    }
+}
+
+/// `x`, or 0 if it is subnormal (|x| < `f64::MIN_POSITIVE` ≈ 2.2e-308). A Newton correction
+/// decays into the far field of a long line (the macroscale family's tail beyond the
+/// disturbance) and reaches the subnormal range there, where every operation on it costs about
+/// a hundred cycles on x86: measured on the macroscale line at N = 10⁶, rtol 1e-6, the solve
+/// took 2.3× as long per call as at rtol 1e-8, and the run 29 % longer than with the
+/// processor's flush-to-zero mode. Flushing here changes the solution by less than 2.2e-308
+/// per component: far below any tolerance.
+#[inline(always)]
+pub(crate) fn flush_subnormal(x: f64) -> f64 {
+    if x.abs() < f64::MIN_POSITIVE {
+        0.0
+    } else {
+        x
     }
 }
