@@ -270,10 +270,10 @@ impl<O> Run<'_, O> {
     /// For problems with algebraic components the state (interpolated, or the step's own at a
     /// step's end) is projected back onto the constraints: [`System::consistent_init`] at the
     /// output time recomputes the algebraic components (and a consistent `ẏ`) from the
-    /// differential ones. Without this,
-    /// algebraic outputs carry the interpolation error of a component that is not error-controlled
-    /// when [`Options::suppress_algebraic`] is set. (Counted in the statistics; if the projection
-    /// fails the interpolated values are kept.)
+    /// differential ones. Without this, algebraic outputs carry the interpolation error of a
+    /// component that is not error-controlled when [`Options::suppress_algebraic`] is set, and
+    /// a step's end the Newton iterate's distance from the constraints. (Counted in the
+    /// statistics; if the projection fails the unprojected values are kept.)
     fn emit_interp<P: Problem>(
         &mut self,
         p: &mut P,
