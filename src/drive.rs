@@ -10,6 +10,24 @@ use crate::settings::SolveSettings;
 use integrators::{OptionsError, Problem, SolveFailure, Solver, Stats};
 
 /// Why [`drive`] stopped before the last output time.
+///
+/// ```
+/// use celltissue::drive::{drive, DriveError};
+/// use celltissue::line::build::{discrete, LineParams};
+/// use celltissue::{ArrayProblem, NeoHookean, SolveSettings};
+/// let line = discrete(NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(4)).unwrap();
+/// let y0 = line.initial_state();
+/// let mut p = ArrayProblem::new(line);
+/// // a setting out of range: nothing is integrated, and the key is named
+/// let bad = SolveSettings { rtol: 2.0, ..Default::default() };
+/// let d = drive(&mut p, &bad, &y0, &[1.0], &[], |_, _, _, _| Ok(()));
+/// assert!(matches!(d.error, Some(DriveError::Settings(_))));
+/// assert!(d.error.unwrap().to_string().starts_with("solver.rtol"));
+/// // an observer that refuses stops the run at that output
+/// let d = drive(&mut p, &SolveSettings::default(), &y0, &[0.5, 1.0], &[],
+///               |_, t, _, _| if t > 0.7 { Err(format!("no output at {t}")) } else { Ok(()) });
+/// assert_eq!(d.error.unwrap().to_string(), "no output at 1");
+/// ```
 #[derive(Debug)]
 pub enum DriveError {
     /// A setting out of range (nothing was integrated).
@@ -33,6 +51,19 @@ impl std::fmt::Display for DriveError {
 
 /// What [`drive`] did: the counters summed over its pieces, the last state reached and its
 /// time, and why it stopped early, if it did.
+///
+/// ```
+/// use celltissue::drive::drive;
+/// use celltissue::line::build::{discrete, LineParams};
+/// use celltissue::{ArrayProblem, NeoHookean, SolveSettings};
+/// let line = discrete(NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(4)).unwrap();
+/// let y0 = line.initial_state();
+/// let d = drive(&mut ArrayProblem::new(line), &SolveSettings::default(), &y0, &[2.0], &[1.0],
+///               |_, _, _, _| Ok(()));
+/// // two pieces (restart at the breakpoint t = 1), their counters summed
+/// assert!(d.error.is_none() && d.t_last == 2.0 && d.stats.steps > 0);
+/// assert_eq!(d.y_last.len(), y0.len());
+/// ```
 #[derive(Debug)]
 pub struct Driven {
     /// Work counters, summed over the pieces (and the failed one's partial work).

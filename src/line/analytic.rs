@@ -217,6 +217,15 @@ pub fn quasi_static(cfg: &LineConfig, t: f64) -> Result<StaticSolution, LineErro
 /// Slowest linear relaxation time of the line, `τ = K l₀²/(π² 4γ₀ μ_min L₀) + η_max/(2μ_min)`
 /// (docs/model.md §3.4: diffusion `t_s l₀²/π²` of the longest mode plus the Kelvin–Voigt `t_k`),
 /// with the extreme values of the sampled fields.
+///
+/// ```
+/// use celltissue::line::analytic::relaxation_time;
+/// use celltissue::line::LineConfig;
+/// // 100 unit cells, K = 1, μ = 1, η = 0.5: 100²/(4π²) + 0.5/2
+/// let cfg = LineConfig { eta: 0.5.into(), ..Default::default() };
+/// let expected = 1e4 / (4.0 * std::f64::consts::PI.powi(2)) + 0.25;
+/// assert!((relaxation_time(&cfg) - expected).abs() < 1e-9);
+/// ```
 pub fn relaxation_time(cfg: &LineConfig) -> f64 {
     let lengths = cfg.lengths();
     let l0 = cfg.l0();
@@ -245,6 +254,18 @@ pub fn relaxation_time(cfg: &LineConfig) -> f64 {
 /// Whether the static equilibrium at `l(t)` describes the run at `t`: the line relaxes much
 /// faster than the ramp (`τ ≤ 0.05 t_ramp`), or the ramp is over and the line has relaxed
 /// (`t ≥ 5 t_ramp + 10 τ`); see [`relaxation_time`].
+///
+/// ```
+/// use celltissue::line::analytic::quasi_static_applies;
+/// use celltissue::line::LineConfig;
+/// // K = 1 on 100 cells relaxes in τ ≈ 253, far slower than the unit ramp
+/// let cfg = LineConfig::default();
+/// assert!(!quasi_static_applies(&cfg, 100.0));
+/// assert!(quasi_static_applies(&cfg, 3000.0)); // t ≥ 5 + 10τ
+/// // with K = 1e-4 the line follows the ramp
+/// let fast = LineConfig { k: 1e-4.into(), ..Default::default() };
+/// assert!(quasi_static_applies(&fast, 0.5));
+/// ```
 pub fn quasi_static_applies(cfg: &LineConfig, t: f64) -> bool {
     let tau = relaxation_time(cfg);
     tau <= 0.05 * cfg.t_ramp || t >= 5.0 * cfg.t_ramp + 10.0 * tau
@@ -254,6 +275,17 @@ pub fn quasi_static_applies(cfg: &LineConfig, t: f64) -> bool {
 /// discrete line — all of them for the static equilibrium, at most [`PROFILE_SAMPLES`] evenly
 /// spread ones (first and last included) for the closed forms — or `None` if none applies at
 /// `t` (the static equilibrium only where [`quasi_static_applies`]) or it cannot be evaluated.
+///
+/// ```
+/// use celltissue::line::analytic::profile;
+/// use celltissue::line::LineConfig;
+/// // K = 0, η = 1: the uniform solution; after the exponential ramp λ = 1 − k₁
+/// let cfg = LineConfig { k: 0.0.into(), eta: 1.0.into(), ..Default::default() };
+/// let p = profile(&cfg, 50.0).unwrap();
+/// assert!(p.iter().all(|&(_, l, _)| (l - 0.9).abs() < 1e-9));
+/// // K = 1 mid-ramp: no reference applies
+/// assert!(profile(&LineConfig::default(), 0.5).is_none());
+/// ```
 pub fn profile(cfg: &LineConfig, t: f64) -> Option<Vec<(f64, f64, f64)>> {
     let lengths = cfg.lengths();
     let all: Vec<f64> = lengths

@@ -30,6 +30,14 @@ use serde::Deserialize;
 pub const MAX_SWEEP_POINTS: usize = 100_000;
 
 /// The `[sweep]` table as written.
+///
+/// ```
+/// use celltissue::scenario::sweep::{expand, SweepSection};
+/// let s: SweepSection = toml::from_str("parameter = \"K\"\nvalues = [0.01, 1]").unwrap();
+/// let points = expand(&s).unwrap();
+/// assert_eq!(points.len(), 2);
+/// assert_eq!((points[0].name.as_str(), points[0].value), ("K", Some(0.01)));
+/// ```
 #[derive(Clone, Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SweepSection {
@@ -113,6 +121,17 @@ pub struct SweepPart {
 }
 
 /// One point of a sweep: one value of every swept parameter.
+///
+/// ```
+/// use celltissue::scenario::sweep::{expand, SweepSection};
+/// let s: SweepSection = toml::from_str(
+///     "zip = [{ parameter = \"k1\", values = [0.1, 0.2] }, { parameter = \"m\", values = [0, 1] }]",
+/// ).unwrap();
+/// let p = &expand(&s).unwrap()[1];
+/// assert_eq!(p.assignment(), "k1=0.2 m=1");
+/// assert_eq!(p.parts[0].key, "model.k1");
+/// assert_eq!(p.value, None); // several parameters: no single numeric value
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct SweepPoint {
     /// Short parameter name (`"K"`; several joined by commas: `"k1,drag_exponent"`).
@@ -140,6 +159,13 @@ impl SweepPoint {
 }
 
 /// The full key of a sweep parameter: relative to `[model]` unless it starts with a section.
+///
+/// ```
+/// use celltissue::scenario::sweep::sweep_key;
+/// assert_eq!(sweep_key("sweep.parameter", "K").unwrap(), ["model", "K"]);
+/// assert_eq!(sweep_key("sweep.parameter", "solver.rtol").unwrap(), ["solver", "rtol"]);
+/// assert!(sweep_key("sweep.parameter", "a..b").is_err());
+/// ```
 pub fn sweep_key(at: &str, parameter: &str) -> Result<Vec<String>, ScenarioError> {
     let parts = parse_path(parameter).ok_or_else(|| {
         ScenarioError::key(
@@ -164,6 +190,14 @@ pub fn ensemble_key(sw: &SweepSection) -> Result<Option<String>, ScenarioError> 
 }
 
 /// The full keys a sweep sets (empty without a sweep), e.g. `["model.K"]`.
+///
+/// ```
+/// use celltissue::scenario::sweep::{swept_keys, SweepSection};
+/// let s: SweepSection = toml::from_str("grid = [{ parameter = \"K\", values = [1] }, \
+///     { parameter = \"solver.rtol\", values = [1e-6] }]").unwrap();
+/// assert_eq!(swept_keys(&s).unwrap(), ["model.K", "solver.rtol"]);
+/// assert!(swept_keys(&SweepSection::default()).unwrap().is_empty());
+/// ```
 pub fn swept_keys(sw: &SweepSection) -> Result<Vec<String>, ScenarioError> {
     Ok(axes(sw)?
         .into_iter()
