@@ -67,6 +67,6 @@ pub use options::{
 };
 pub use pattern::{Pattern, SparsityPattern};
 pub use problem::{EventAction, JacobianSink, Problem, ResidualError};
-pub use solver::{EventRecord, Solution, Solver};
+pub use solver::{EventRecord, Rejection, Solution, Solver};
 pub use stats::Stats;
 pub use system::System;

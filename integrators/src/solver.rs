@@ -100,6 +100,44 @@ pub struct Solution {
     pub t_last: f64,
     /// Last accepted state.
     pub y_last: Vec<f64>,
+    /// Of a failed solve ([`SolveFailure::partial`](crate::SolveFailure)): the last state the
+    /// problem rejected as outside its domain ([`crate::ResidualError::Recoverable`] from its
+    /// residual or Jacobian), if any — the reason the integrator's own error (a step too small,
+    /// a Newton failure) does not say. `None` in a successful solution.
+    pub last_rejection: Option<Rejection>,
+}
+
+/// A state the problem rejected: when, why (the problem's own words) and which unknown.
+///
+/// ```
+/// use integrators::{MethodKind, Options, Problem, ResidualError, Solver};
+/// /// ẏ = 1, with y > 2 outside the domain
+/// struct Wall;
+/// impl Problem for Wall {
+///     fn dim(&self) -> usize { 1 }
+///     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+///         if y[0] > 2.0 {
+///             return Err(ResidualError::Recoverable { reason: "past the wall".into(), component: Some(0) });
+///         }
+///         r[0] = yp[0] - 1.0;
+///         Ok(())
+///     }
+/// }
+/// let fail = Solver::new(MethodKind::Bdf, Options::default())
+///     .solve(&mut Wall, 0.0, &[0.0], &[5.0])
+///     .unwrap_err();
+/// let r = fail.partial.last_rejection.unwrap();
+/// assert_eq!((r.reason.as_str(), r.component), ("past the wall", Some(0)));
+/// assert!(r.t >= 1.9 && r.t <= 2.1);
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rejection {
+    /// Time of the rejected state.
+    pub t: f64,
+    /// The problem's reason.
+    pub reason: String,
+    /// The unknown it named, if any.
+    pub component: Option<usize>,
 }
 
 /// Where the solver gets its method from.
@@ -247,6 +285,7 @@ impl<O> Run<'_, O> {
             self.stats.rejected_steps
         );
         self.sol.stats = self.stats;
+        self.sol.last_rejection = self.cache.last_rejection.take();
         SolveFailure {
             error,
             partial: Box::new(self.sol),

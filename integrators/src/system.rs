@@ -63,6 +63,9 @@ pub struct SystemCache {
     /// the zero fill of the matrix it would have written, a whole pass over a large band).
     /// Cleared by [`rebuild`](SystemCache::rebuild).
     pub(crate) no_user_jacobian: bool,
+    /// The last state the problem rejected as outside its domain, kept across resizes for
+    /// the failure report ([`crate::Solution::last_rejection`]).
+    pub(crate) last_rejection: Option<crate::Rejection>,
     /// The problem's [`ErrorMap`] (empty: the identity).
     pub(crate) map: ErrorMap,
     /// With a map: [`ErrorMap::effective_atol`] of `atol` (anchors include `rtol·size`);
@@ -320,13 +323,21 @@ impl<'a> System<'a> {
         Ok(())
     }
 
-    /// Maps a [`ResidualError`] at time `t` to a [`StepFailure`].
-    pub(crate) fn residual_failure(&self, e: ResidualError, t: f64) -> StepFailure {
+    /// Maps a [`ResidualError`] at time `t` to a [`StepFailure`], remembering a rejected state
+    /// for the failure report.
+    pub(crate) fn residual_failure(&mut self, e: ResidualError, t: f64) -> StepFailure {
         match e {
-            ResidualError::Recoverable { reason, component } => StepFailure::Recoverable {
-                reason: RecoverableCause::Rejected(reason),
-                component,
-            },
+            ResidualError::Recoverable { reason, component } => {
+                self.cache.last_rejection = Some(crate::Rejection {
+                    t,
+                    reason: reason.clone(),
+                    component,
+                });
+                StepFailure::Recoverable {
+                    reason: RecoverableCause::Rejected(reason),
+                    component,
+                }
+            }
             ResidualError::Fatal(msg) => {
                 StepFailure::Fatal(SolverError::new(ErrorKind::Residual(msg), t, None))
             }

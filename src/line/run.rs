@@ -3,12 +3,11 @@
 //! times. No I/O; the CLI writes the record, benches call [`integrate`] directly.
 //!
 //! On solver failure the record holds everything computed up to the failure and
-//! `error: Some(message)`; outputs never contain NaN. Models run inside [`Watched`], so the
-//! message names the cell whose stretch was rejected (and its λ), not only the integrator's
-//! failure kind and worst unknown.
+//! `error: Some(message)`; outputs never contain NaN. The message names the cell whose stretch
+//! the model last rejected (and its λ: the solver keeps it, [`integrators::Rejection`]), not
+//! only the integrator's failure kind and worst unknown.
 //!
 //! * [`LineModel`] — what a line model provides to be integrated and observed;
-//! * [`Watched`] — remembers the last rejected state, to explain failures;
 //! * [`integrate`], [`run_model`], [`run_line`], [`record`] — integration and recording.
 
 use super::array::Line;
@@ -19,9 +18,7 @@ use crate::array::{ArrayProblem, CellArray};
 use crate::drive::{drive, DriveError};
 use crate::energy::StrainEnergy;
 use crate::observe::{ModelKind, RunRecord, RunStats, Series};
-use crate::scalar::Scalar;
 use integrators::{ResidualError, SolveFailure, Stats};
-use std::cell::RefCell;
 use std::time::Instant;
 
 /// The run settings (one type for every model; see [`crate::settings`]).
@@ -74,13 +71,6 @@ pub trait LineModel: CellArray {
     fn breakpoints(&self) -> Vec<f64> {
         Vec::new()
     }
-    /// The last state the model rejected as outside its domain (e.g. "cell 4000 has
-    /// non-positive or non-finite stretch (λ = −1.2e-3, …)") with its time, if the model keeps
-    /// track ([`Watched`] does). Used to explain a solver failure: the integrators report only
-    /// the kind of failure and the worst unknown.
-    fn last_rejection(&self) -> Option<(f64, String)> {
-        None
-    }
 }
 
 /// Writes, inside an `impl LineModel for Wrapper` block, methods of [`LineModel`] that call
@@ -124,77 +114,6 @@ macro_rules! forward_line_model {
     };
 }
 pub(crate) use forward_line_model;
-
-/// A [`LineModel`] that remembers the last state its residual rejected (a non-positive
-/// stretch, typically), so that a solver failure can name the cell and its stretch instead of
-/// only the integrator's "non-finite value" or "Newton failure" and a boundary.
-///
-/// [`run_model`] wraps every model in it; the cost is one branch per residual call.
-///
-/// ```no_run
-/// use celltissue::line::build::{LineParams, discrete};
-/// use celltissue::line::run::{integrate, SolveSettings, Watched};
-/// use celltissue::{ArrayProblem, NeoHookean};
-/// let line = discrete(NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(10)).unwrap();
-/// let mut prob = ArrayProblem::new(Watched::new(line));
-/// let traj = integrate(&mut prob, &SolveSettings::default(), &[0.0, 1.0]);
-/// assert!(traj.error.is_none());
-/// ```
-pub struct Watched<A> {
-    /// The wrapped model.
-    pub inner: A,
-    last: RefCell<Option<(f64, String)>>,
-}
-
-impl<A> Watched<A> {
-    /// Wraps `inner`.
-    pub fn new(inner: A) -> Self {
-        Self {
-            inner,
-            last: RefCell::new(None),
-        }
-    }
-}
-
-impl<A: LineModel> CellArray for Watched<A> {
-    integrators::forward_problem!(inner: dim, pattern, atol, algebraic, num_events, events,
-        handle_event, restart_derivative, map_history, map_jacobian, set_threads);
-    fn residual<S: Scalar>(
-        &self,
-        t: f64,
-        y: &[S],
-        yp: &[S],
-        r: &mut [S],
-    ) -> Result<(), ResidualError> {
-        let out = self.inner.residual(t, y, yp, r);
-        if let Err(ResidualError::Recoverable { reason, .. }) = &out {
-            *self.last.borrow_mut() = Some((t, reason.clone()));
-        }
-        out
-    }
-    fn jacobian(
-        &self,
-        t: f64,
-        y: &[f64],
-        yp: &[f64],
-        c: f64,
-        jac: &mut integrators::JacobianSink,
-    ) -> Result<bool, ResidualError> {
-        let out = self.inner.jacobian(t, y, yp, c, jac);
-        if let Err(ResidualError::Recoverable { reason, .. }) = &out {
-            *self.last.borrow_mut() = Some((t, reason.clone()));
-        }
-        out
-    }
-}
-
-impl<A: LineModel> LineModel for Watched<A> {
-    forward_line_model!(inner: initial_state, initial_derivative_guess, observe, unknown_name,
-        breakpoints);
-    fn last_rejection(&self) -> Option<(f64, String)> {
-        self.last.borrow().clone()
-    }
-}
 
 impl<E: StrainEnergy> LineModel for Line<E> {
     fn initial_state(&self) -> Vec<f64> {
@@ -292,16 +211,17 @@ pub fn integrate<A: LineModel>(
 /// Explains a solver failure in cell terms, most specific first:
 ///
 /// 1. the last state the model rejected at or after the start of the failing step (e.g. "cell
-///    4000 has non-positive or non-finite stretch (λ = −1.2e-3, g = 1)") — the integrators map
-///    such rejections to "non-finite value" or "step size too small" and keep only the worst
-///    unknown, which for a collapsing cell is one of its boundaries;
+///    4000 has non-positive or non-finite stretch (λ = −1.2e-3, g = 1)"), which the solver
+///    keeps ([`integrators::Solution::last_rejection`]) while its own error says only "non-finite
+///    value" or "step size too small" and the worst unknown, for a collapsing cell one of its
+///    boundaries;
 /// 2. the solver's error with that unknown named (`x_j (boundary between cells j and j+1)`);
 /// 3. the most compressed cell of the last accepted state and its stretch.
 fn failure_message<A: LineModel>(model: &A, f: &SolveFailure) -> String {
     let mut parts = Vec::new();
-    if let Some((t, why)) = model.last_rejection() {
-        if t >= f.error.t {
-            parts.push(format!("{why} at t = {t}"));
+    if let Some(r) = &f.partial.last_rejection {
+        if r.t >= f.error.t {
+            parts.push(format!("{} at t = {}", r.reason, r.t));
         }
     }
     let mut solver = f.error.to_string();
@@ -437,7 +357,7 @@ pub fn run_model<A: LineModel>(
 ) {
     let start = Instant::now();
     let t_out = times.merged();
-    let mut problem = ArrayProblem::new(Watched::new(array));
+    let mut problem = ArrayProblem::new(array);
     let traj = integrate(&mut problem, solver, &t_out);
     rec.stats = RunStats::from_stats(&traj.stats, start.elapsed().as_secs_f64());
     rec.error = traj.error.clone();
