@@ -54,6 +54,35 @@ struct SplitMap {
     cells: Vec<usize>,
     /// Each divided cell's `g` at division.
     g_parent: Vec<f64>,
+    /// The old index of every unknown of the new layout (`usize::MAX` for a divided cell's
+    /// first `g`, new boundary and second `g`), or empty if the layout is not the growing
+    /// line's `[x₀,] (g₁, x₁, …, g_N, [x_N])`.
+    sources: Vec<usize>,
+}
+
+impl SplitMap {
+    /// [`SplitMap::sources`] for a layout with `seam` (a ring's `x₀`, 0 or 1) and a free or
+    /// fixed right end, `dim` unknowns after the split.
+    fn sources(&self, seam: usize, free: bool, dim: usize) -> Vec<usize> {
+        let mut src = Vec::with_capacity(dim);
+        src.extend((0..seam).map(|_| 0));
+        let mut divided = self.cells.iter().peekable();
+        for j in 1..=self.n_old {
+            let gk = seam + 2 * (j - 1);
+            if divided.next_if(|&&c| c == j).is_some() {
+                src.extend_from_slice(&[usize::MAX; 3]);
+            } else {
+                src.push(gk);
+            }
+            if j < self.n_old || free {
+                src.push(gk + 1);
+            }
+        }
+        if src.len() != dim {
+            src.clear();
+        }
+        src
+    }
 }
 
 /// A growing line with cell division (see the module docs).
@@ -226,41 +255,20 @@ impl<E: StrainEnergy> Dividing<E> {
                 cells_after: n_old + k - m,
             });
         }
-        self.last = Some(SplitMap {
+        let mut map = SplitMap {
             n_old,
             cells: asc.to_vec(),
             g_parent: splits.iter().map(|s| s.g_parent).collect(),
-        });
+            sources: Vec::new(),
+        };
+        let seam = usize::from(self.line.layout.xi[0] != NONE);
+        map.sources = map.sources(seam, self.line.right.is_free(), self.line.layout.dim);
+        self.last = Some(map);
         Ok(())
     }
 
     /// Maps a vector of the layout before the last event onto the current one (see
     /// [`CellArray::map_history`] on this type).
-    /// For [`Dividing`]'s Jacobian map: the old index of every unknown of the current layout
-    /// after the split `m` (`usize::MAX` for a divided cell's `g`, new boundary and second
-    /// `g`), or `None` if the layout is not the growing line's `(g₁, x₁, …, g_N, [x_N])`.
-    fn split_sources(&self, m: &SplitMap) -> Option<Vec<usize>> {
-        let free = self.line.right.is_free();
-        let dim = self.line.layout.dim;
-        let mut src = vec![usize::MAX; dim];
-        let mut w = 0;
-        let mut divided = m.cells.iter().peekable();
-        for j in 1..=m.n_old {
-            let gk = 2 * (j - 1);
-            if divided.next_if(|&&c| c == j).is_some() {
-                w += 3;
-            } else {
-                *src.get_mut(w)? = gk;
-                w += 1;
-            }
-            if j < m.n_old || free {
-                *src.get_mut(w)? = gk + 1;
-                w += 1;
-            }
-        }
-        (w == dim).then_some(src)
-    }
-
     fn map_split(&self, t: f64, old: &[f64], derivative: bool, new: &mut [f64]) -> bool {
         let Some(m) = &self.last else {
             return false;
@@ -292,33 +300,28 @@ impl<E: StrainEnergy> Dividing<E> {
                 x
             }
         };
-        let mut w = 0;
-        if seam == 1 {
-            new[0] = old[0];
-            w = 1;
+        if m.sources.len() != new.len() {
+            return false;
         }
-        let mut f = m.cells.iter().zip(&m.g_parent).peekable();
-        for j in 1..=n_old {
+        // every unknown the split left in place keeps its value
+        for (v, &k) in new.iter_mut().zip(&m.sources) {
+            if k != usize::MAX {
+                *v = old[k];
+            }
+        }
+        // the k-th divided cell j (in increasing order) had its g at old index seam + 2(j − 1),
+        // and the k earlier splits inserted two unknowns each before it
+        for (k, (&j, &gs)) in m.cells.iter().zip(&m.g_parent).enumerate() {
             let gk = seam + 2 * (j - 1);
             let has_x = j < n_old || free;
             let g = old[gk];
-            if let Some((_, &gs)) = f.next_if(|(&c, _)| c == j) {
-                let xl = if j == 1 { x0 } else { old[gk - 1] };
-                let xr = if has_x { old[gk + 1] } else { right(t) };
-                // a daughter grows at its parent's rate ġ = G(σ) from g = 1
-                let gd = if derivative { g } else { g - gs + 1.0 };
-                new[w..w + 3].copy_from_slice(&[gd, 0.5 * (xl + xr), gd]);
-                w += 3;
-            } else {
-                new[w] = g;
-                w += 1;
-            }
-            if has_x {
-                new[w] = old[gk + 1];
-                w += 1;
-            }
+            let xl = if j == 1 { x0 } else { old[gk - 1] };
+            let xr = if has_x { old[gk + 1] } else { right(t) };
+            // a daughter grows at its parent's rate ġ = G(σ) from g = 1
+            let gd = if derivative { g } else { g - gs + 1.0 };
+            let w = gk + 2 * k;
+            new[w..w + 3].copy_from_slice(&[gd, 0.5 * (xl + xr), gd]);
         }
-        debug_assert_eq!(w, new.len());
         true
     }
 
@@ -512,9 +515,10 @@ impl<E: StrainEnergy> CellArray for Dividing<E> {
         if lay.xi[0] != NONE || self.line.right.is_periodic() {
             return Ok(false);
         }
-        let Some(src) = self.split_sources(m) else {
+        let src = &m.sources;
+        if src.len() != lay.dim {
             return Ok(false);
-        };
+        }
         let (l, u) = match &*jy {
             Matrix::Banded(b) => (b.lower, b.upper),
             _ => return Ok(false),
@@ -537,7 +541,7 @@ impl<E: StrainEnergy> CellArray for Dividing<E> {
                 .filter(|&k| k != NONE)
         };
         runs.iter().flat_map(rows).for_each(|k| fresh[k] = true);
-        if !(jy.remap(&src, &fresh) && jyp.remap(&src, &fresh)) {
+        if !(jy.remap(src, &fresh) && jyp.remap(src, &fresh)) {
             return Ok(false);
         }
         for &(lo, hi) in &runs {
