@@ -377,3 +377,22 @@ fn grid_and_zip_sweeps_write_the_thesis_families() {
     let m = rejects(&clash, &[], "sweep.labels");
     assert!(m.contains("same files"), "{m}");
 }
+
+#[test]
+fn sweep_profiles_need_a_sweep_and_one_of_the_profile_times() {
+    let m = rejects(
+        &line("[plots]\nsweep_profiles = [1]"),
+        &[],
+        "plots.sweep_profiles",
+    );
+    assert!(m.contains("needs a [sweep]"), "{m}");
+    let swept =
+        line("[sweep]\nparameter = \"K\"\nvalues = [0.1, 1]\n[plots]\nsweep_profiles = [1, 0.5]");
+    let m = rejects(&swept, &[], "plots.sweep_profiles.1");
+    assert!(
+        m.contains("time 0.5 is not one of the profile times") && m.contains("[1]"),
+        "{m}"
+    );
+    let ok = load(&swept.replace("[1, 0.5]", "[1]"), &[]).unwrap();
+    assert_eq!(ok.plots.sweep_profiles, [1.0]);
+}

@@ -1,5 +1,5 @@
-//! The bundled panel scenarios (`models/fig3_2_overlay.toml`, `models/fig4_3bcd.toml`) run as
-//! a user runs them — loaded and expanded by the scenario layer, each run through `run_spec` —
+//! The bundled panel scenarios (`models/fig3_1.toml`, `models/fig3_2_overlay.toml`,
+//! `models/fig4_3bcd.toml`, `models/fig4_6c.toml`) run as a user runs them — loaded and expanded by the scenario layer, each run through `run_spec` —
 //! reproduce the Ref values of docs/model.md §5.5–§5.6.
 
 use celltissue::observe::RunRecord;
@@ -23,6 +23,73 @@ fn find<'a>(recs: &'a [RunRecord], label: &str) -> &'a RunRecord {
     recs.iter()
         .find(|r| r.label == label)
         .unwrap_or_else(|| panic!("no run {label}"))
+}
+
+/// Fig 3.1b and its inset, as §3.3.1 describes them: at t = 10 the cells at the fixed end
+/// are more compressed the larger K (up to a steady compression reached for K ≥ 0.1), the
+/// free end almost unstressed; for K = 1e-2 the
+/// compression at the fixed end builds up over t = 0, 1, 5, 10 towards a steady profile. The
+/// panel (every K's α at t = 10 on one plot) is written.
+#[test]
+fn fig3_1b_compression_at_the_fixed_end_grows_with_k_and_settles() {
+    let path = format!("{}/models/fig3_1.toml", env!("CARGO_MANIFEST_DIR"));
+    let scenario = load(&path, &[]).unwrap();
+    let recs = run_bundled("fig3_1");
+    let at = |rec: &RunRecord, t: f64| {
+        let p = rec.profiles.iter().find(|p| p.t == t).unwrap();
+        (p.stretch[0], *p.stretch.last().unwrap())
+    };
+    for model in ["discrete", "continuum"] {
+        let ends: Vec<(f64, f64)> = ["1e-5", "0.001", "0.01", "0.1", "1"]
+            .iter()
+            .map(|k| at(find(&recs, &format!("{model} K={k}")), 10.0))
+            .collect();
+        println!("{model}: (fixed, free) end stretch at t = 10 for each K: {ends:?}");
+        // grows with K up to K = 0.1; from K = 0.1 to 1 the fixed end has reached the same
+        // steady compression by t = 10 (measured 0.92096 for both, 8e-6 apart)
+        for w in ends[..4].windows(2) {
+            assert!(
+                w[1].0 < w[0].0 - 5e-3,
+                "{model}: fixed-end compression must grow with K"
+            );
+        }
+        assert!((ends[4].0 - ends[3].0).abs() < 1e-4, "{model}: {ends:?}");
+        for &(fixed, free) in &ends {
+            assert!(
+                free > fixed && free > 0.96,
+                "{model}: free end {free}, fixed {fixed}"
+            );
+        }
+        let rec = find(&recs, &format!("{model} K=0.01"));
+        let fixed: Vec<f64> = [0.0, 1.0, 5.0, 10.0]
+            .iter()
+            .map(|&t| at(rec, t).0)
+            .collect();
+        assert_eq!(fixed[0], 1.0, "{model}: unstressed at t = 0");
+        for w in fixed.windows(2) {
+            assert!(w[1] < w[0], "{model}: compression builds up: {fixed:?}");
+        }
+        // settling: the change from t = 5 to 10 is under a tenth of that from 0 to 1
+        assert!(
+            fixed[2] - fixed[3] < 0.1 * (fixed[0] - fixed[1]),
+            "{fixed:?}"
+        );
+    }
+    let summary = celltissue::observe::Summary {
+        scenario: scenario.name.clone(),
+        runs: recs,
+    };
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("fig3_1b");
+    let _ = std::fs::remove_dir_all(&dir);
+    let written = celltissue::output::write_all(&dir, &scenario, &summary).unwrap();
+    assert!(written.plot_errors.is_empty(), "{:?}", written.plot_errors);
+    for png in [
+        "sweep_profiles_stretch_t=10.png",
+        "profiles_stretch_K=0.01.png",
+    ] {
+        let b = std::fs::read(dir.join(png)).unwrap_or_else(|_| panic!("{png} missing"));
+        assert_eq!(&b[1..4], b"PNG", "{png}");
+    }
 }
 
 /// Fig 3.2a overlay: l(100) for κ = 1 (m = 0) and κ = A/A₀ (m = 1), form (B), every K.

@@ -10,6 +10,9 @@
 //! * `sweep_pressure.png`, `sweep_stretch.png` — `max p`/`min λ` at each profile time, and the
 //!   peaks and troughs over all series times, against the swept value (Figs 2.5c–d, 2.10c–d);
 //!   `sweep_length.png` — `l` at each profile time against the swept value (Fig 3.1a inset);
+//! * with `plots.sweep_profiles`: `sweep_profiles_pressure_t=<t>.png`,
+//!   `sweep_profiles_stretch_t=<t>.png` — every swept value's profile at one time on one plot,
+//!   colour = swept value (Fig 3.1b);
 //! * with `plots.position`: `profiles_position[_<value>].png` — `x` against `X` with the
 //!   uniform-strain line `x = (l/l₀)X` dashed (Fig 2.6), and `profiles_deviation[_<value>].png`
 //!   — `x − (l/l₀)X`, which makes a heterogeneous line's departure from it visible;
@@ -342,6 +345,15 @@ pub fn write_figures(
         }
     }
 
+    // every swept value's profile at chosen times on one plot (Fig 3.1b)
+    for (file, chart) in sweep_profile_charts(scenario, &groups, shear, xdesc) {
+        let chart = Chart {
+            title: title(&chart.title),
+            ..chart
+        };
+        emit(file.clone(), plot_chart(&dir.join(&file), &chart));
+    }
+
     // per-cell histories through the profile times (Fig 4.6c)
     if scenario.plots.histories {
         let ylabel = if shear { "tan θ" } else { "λ" };
@@ -417,6 +429,59 @@ pub fn write_figures(
         &title("proliferation"),
         summary,
     ));
+    out
+}
+
+/// `sweep_profiles_<quantity>_t=<t>.png` for each time of `plots.sweep_profiles`: pressure
+/// and stretch (`tan θ` on a shear column) against the profile axis, one colour per swept
+/// value, discrete runs as symbols and continuum runs as lines.
+fn sweep_profile_charts(
+    scenario: &Scenario,
+    groups: &[Group<'_>],
+    shear: bool,
+    xdesc: &str,
+) -> Vec<(String, Chart)> {
+    let name = scenario.sweep.as_ref().map_or("", |s| s.name.as_str());
+    let stretch = if shear { "tan θ" } else { "λ" };
+    let mut out = Vec::new();
+    for &t in &scenario.plots.sweep_profiles {
+        for (key, ylabel) in [("pressure", "p"), ("stretch", stretch)] {
+            let mut curves = Vec::new();
+            for (gi, g) in groups.iter().enumerate() {
+                for (rec, _) in &g.runs {
+                    let Some(p) = rec.profiles.iter().find(|p| close(p.t, t)) else {
+                        continue;
+                    };
+                    let xs = match scenario.plots.profile_axis {
+                        ProfileAxis::Reference => &p.x_ref,
+                        ProfileAxis::Current => &p.x,
+                    };
+                    let ys = if key == "pressure" {
+                        &p.pressure
+                    } else {
+                        &p.stretch
+                    };
+                    let label = format!(
+                        "{} {name}={}",
+                        model_word(rec.model),
+                        g.label.as_deref().unwrap_or("")
+                    );
+                    let pts = xs.iter().copied().zip(ys.iter().copied()).collect();
+                    curves.push(Curve::new(label, style(rec.model), gi, pts));
+                }
+            }
+            let t_text = format_number(t);
+            let chart = Chart {
+                title: format!("{ylabel} profiles at t = {t_text}, every {name}"),
+                x_label: xdesc.into(),
+                y_label: ylabel.into(),
+                x_axis: Axis::Linear,
+                y_axis: Axis::Linear,
+                curves,
+            };
+            out.push((slug(&format!("sweep_profiles_{key}_t={t_text}.png")), chart));
+        }
+    }
     out
 }
 

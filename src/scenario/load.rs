@@ -241,6 +241,7 @@ pub fn resolve(table: toml::Table) -> Result<Scenario, ScenarioError> {
             });
         }
     }
+    check_sweep_profiles(&raw.plots.sweep_profiles, sweep.is_some(), &runs)?;
     Ok(Scenario {
         name: raw.name,
         description: raw.description,
@@ -250,6 +251,45 @@ pub fn resolve(table: toml::Table) -> Result<Scenario, ScenarioError> {
         runs,
         table,
     })
+}
+
+/// `plots.sweep_profiles`: only with a sweep, each time finite and one of every run's profile
+/// times (a comparison across swept values needs every value's profile at that time).
+fn check_sweep_profiles(times: &[f64], swept: bool, runs: &[RunSpec]) -> Result<(), ScenarioError> {
+    if times.is_empty() {
+        return Ok(());
+    }
+    if !swept {
+        return Err(ScenarioError::key(
+            "plots.sweep_profiles",
+            "compares the profiles of swept values: it needs a [sweep]",
+        ));
+    }
+    for (i, &t) in times.iter().enumerate() {
+        let key = format!("plots.sweep_profiles.{i}");
+        if !t.is_finite() {
+            return Err(ScenarioError::key(key, format!("time {t} must be finite")));
+        }
+        if let Some(run) = runs.iter().find(|r| !r.times.profiles.contains(&t)) {
+            let valid = run
+                .times
+                .profiles
+                .iter()
+                .map(|v| format_number(*v))
+                .collect::<Vec<_>>()
+                .join(", ");
+            return Err(ScenarioError::key(
+                key,
+                format!(
+                    "time {} is not one of the profile times of run `{}` (output.profiles: \
+                     [{valid}])",
+                    format_number(t),
+                    run.label
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// `"discrete"` / `"continuum"`.

@@ -206,4 +206,9 @@ pub struct PlotSettings {
     /// profile times, one curve per cell or continuum segment (Fig 4.6c); at most
     /// [`crate::output::figures::MAX_HISTORIES`] curves per run (every k-th cell beyond).
     pub histories: bool,
+    /// Profile times (each one of `output.profiles`) at which the profiles of every swept
+    /// value are also drawn on one plot, colour = swept value (Fig 3.1b: `α` at `t = 10` for
+    /// several `K`); needs a `[sweep]`. Empty (default): none.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub sweep_profiles: Vec<f64>,
 }
