@@ -2,12 +2,111 @@
 //! sheet, shear column and registered modes. It turns the [`SolveSettings`] into the
 //! integrators' options, integrates from `t = 0` piecewise between the model's breakpoints (a
 //! restart with a consistent `ẏ` at each, where the forcing is not smooth), hands every
-//! requested output to the caller's observer inside the solver (so observations follow an
-//! array through resizes), and sums the work counters over the pieces. The runners turn what
-//! it returns into their own records and messages.
+//! requested output, accepted and rejected step and event to the caller's [`DriveObserver`]
+//! inside the solver (so observations follow an array through resizes), and sums the work
+//! counters over the pieces. The runners turn what it returns into their own records and
+//! messages.
 
 use crate::settings::SolveSettings;
-use integrators::{OptionsError, Problem, SolveFailure, Solver, Stats};
+use integrators::observer::{AcceptedStep, Observer, RejectedStep};
+use integrators::{EventRecord, OptionsError, Problem, SolveFailure, Solver, Stats};
+
+/// What [`drive`] reports while it integrates: every requested output (which the observer may
+/// refuse, stopping the run), and — if the observer wants them — each accepted step, each
+/// rejected attempt (with its cause and worst unknown) and each handled event, across the
+/// pieces between breakpoints. [`drive_observed`] takes one; [`drive`] takes a closure
+/// observing outputs only.
+///
+/// ```
+/// use celltissue::drive::{drive_observed, DriveObserver};
+/// use celltissue::line::build::{discrete, LineParams};
+/// use celltissue::{ArrayProblem, NeoHookean, SolveSettings};
+/// use integrators::observer::{AcceptedStep, RejectedStep};
+/// /// The smallest step taken and the rejected attempts.
+/// struct Steps { h_min: f64, rejected: Vec<RejectedStep> }
+/// impl<P> DriveObserver<P> for Steps {
+///     fn output(&mut self, _: &P, _: f64, _: &[f64], _: &[f64]) -> Result<(), String> { Ok(()) }
+///     fn accepted(&mut self, _: &P, s: &AcceptedStep, _: &[f64]) {
+///         self.h_min = self.h_min.min(s.t - s.t_prev);
+///     }
+///     fn rejected(&mut self, _: &P, s: &RejectedStep) { self.rejected.push(s.clone()); }
+/// }
+/// let mut p = LineParams::unit_cells(50);
+/// p.k = 1.0.into();
+/// let line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+/// let y0 = line.initial_state();
+/// let mut steps = Steps { h_min: f64::INFINITY, rejected: Vec::new() };
+/// let d = drive_observed(&mut ArrayProblem::new(line), &SolveSettings::default(), &y0,
+///                        &[10.0], &[], &mut steps);
+/// assert!(d.error.is_none() && steps.h_min < 1e-3);
+/// assert_eq!(steps.rejected.len(), d.stats.rejected_steps);
+/// ```
+pub trait DriveObserver<P> {
+    /// An output time reached; an `Err` stops the run after the current piece.
+    fn output(&mut self, problem: &P, t: f64, y: &[f64], yp: &[f64]) -> Result<(), String>;
+    /// A step accepted (default: ignored).
+    fn accepted(&mut self, _problem: &P, _step: &AcceptedStep, _y: &[f64]) {}
+    /// A step attempt rejected (default: ignored).
+    fn rejected(&mut self, _problem: &P, _step: &RejectedStep) {}
+    /// An event handled, with the state after it (default: ignored).
+    fn event(&mut self, _problem: &P, _event: &EventRecord, _y: &[f64]) {}
+}
+
+/// An observer of outputs only, from a closure (what [`drive`] wraps its closure in).
+struct OnOutput<F>(F);
+
+impl<P, F> DriveObserver<P> for OnOutput<F>
+where
+    F: FnMut(&P, f64, &[f64], &[f64]) -> Result<(), String>,
+{
+    fn output(&mut self, problem: &P, t: f64, y: &[f64], yp: &[f64]) -> Result<(), String> {
+        (self.0)(problem, t, y, yp)
+    }
+}
+
+impl<P, O: DriveObserver<P> + ?Sized> DriveObserver<P> for &mut O {
+    fn output(&mut self, problem: &P, t: f64, y: &[f64], yp: &[f64]) -> Result<(), String> {
+        (**self).output(problem, t, y, yp)
+    }
+    fn accepted(&mut self, problem: &P, step: &AcceptedStep, y: &[f64]) {
+        (**self).accepted(problem, step, y);
+    }
+    fn rejected(&mut self, problem: &P, step: &RejectedStep) {
+        (**self).rejected(problem, step);
+    }
+    fn event(&mut self, problem: &P, event: &EventRecord, y: &[f64]) {
+        (**self).event(problem, event, y);
+    }
+}
+
+/// One piece's view of the caller's observer: outputs after a refusal, and the piece's own
+/// stop when it is not a requested output, are not passed on.
+struct Piece<'o, O> {
+    observer: &'o mut O,
+    stop: f64,
+    requested_stop: bool,
+    refused: Option<String>,
+}
+
+impl<P, O: DriveObserver<P>> Observer<P> for Piece<'_, O> {
+    fn output(&mut self, problem: &P, t: f64, y: &[f64], yp: &[f64]) {
+        if self.refused.is_some() || (t == self.stop && !self.requested_stop) {
+            return;
+        }
+        if let Err(m) = self.observer.output(problem, t, y, yp) {
+            self.refused = Some(m);
+        }
+    }
+    fn accepted(&mut self, problem: &P, step: &AcceptedStep, y: &[f64]) {
+        self.observer.accepted(problem, step, y);
+    }
+    fn rejected(&mut self, problem: &P, step: &RejectedStep) {
+        self.observer.rejected(problem, step);
+    }
+    fn event(&mut self, problem: &P, event: &EventRecord, y: &[f64]) {
+        self.observer.event(problem, event, y);
+    }
+}
 
 /// Why [`drive`] stopped before the last output time.
 ///
@@ -78,8 +177,8 @@ pub struct Driven {
 
 /// Integrates `problem` from `(0, y0)` through the output times `t_out` (increasing, `≥ 0`;
 /// `t = 0` is observed after the consistent initialisation), restarting at each of
-/// `breakpoints` inside `(0, t_out.last())`; `observe(problem, t, y, ẏ)` is called at every
-/// output time reached, and an `Err` from it stops the run after that piece.
+/// `breakpoints` inside `(0, t_out.last())`; `observer` is told every output time reached
+/// (an `Err` from it stops the run after that piece), and every step, rejection and event.
 ///
 /// ```
 /// use celltissue::drive::drive;
@@ -100,7 +199,20 @@ pub fn drive<P: Problem>(
     y0: &[f64],
     t_out: &[f64],
     breakpoints: &[f64],
-    mut observe: impl FnMut(&P, f64, &[f64], &[f64]) -> Result<(), String>,
+    observe: impl FnMut(&P, f64, &[f64], &[f64]) -> Result<(), String>,
+) -> Driven {
+    drive_observed(problem, settings, y0, t_out, breakpoints, OnOutput(observe))
+}
+
+/// As [`drive`], reporting outputs, accepted and rejected steps and events to `observer` (see
+/// [`DriveObserver`] for an example).
+pub fn drive_observed<P: Problem>(
+    problem: &mut P,
+    settings: &SolveSettings,
+    y0: &[f64],
+    t_out: &[f64],
+    breakpoints: &[f64],
+    mut observer: impl DriveObserver<P>,
 ) -> Driven {
     let mut driven = Driven {
         stats: Stats::default(),
@@ -136,15 +248,14 @@ pub fn drive<P: Problem>(
         if !requested_stop {
             outs.push(stop);
         }
-        let mut refused: Option<String> = None;
-        let result = solver.solve_with(problem, t0, &driven.y_last, &outs, |p, t, y, yp| {
-            if refused.is_some() || (t == stop && !requested_stop) {
-                return;
-            }
-            if let Err(m) = observe(p, t, y, yp) {
-                refused = Some(m);
-            }
-        });
+        let mut piece = Piece {
+            observer: &mut observer,
+            stop,
+            requested_stop,
+            refused: None,
+        };
+        let result = solver.solve_observed(problem, t0, &driven.y_last, &outs, &mut piece);
+        let refused = piece.refused;
         match result {
             Ok(sol) => {
                 driven.stats += &sol.stats;

@@ -51,6 +51,7 @@ pub mod jacobian;
 pub mod linalg;
 pub mod method;
 pub mod methods;
+pub mod observer;
 pub mod options;
 pub mod pattern;
 pub mod problem;
@@ -61,12 +62,13 @@ pub mod system;
 pub use error::{ErrorKind, RecoverableCause, SolveFailure, SolverError};
 pub use error_map::{ErrorMap, ErrorMapError, Row};
 pub use method::{CustomMethod, Method, MethodChoice, MethodKind};
+pub use observer::Observer;
 pub use options::{
     BdfOptions, ErrorNorm, IterativeSettings, LinearSolverChoice, Options, OptionsError,
     Parallelism,
 };
 pub use pattern::{Pattern, SparsityPattern};
 pub use problem::{EventAction, JacobianSink, Problem, ResidualError};
-pub use solver::{EventRecord, Rejection, Solution, Solver};
+pub use solver::{EventRecord, Solution, Solver};
 pub use stats::Stats;
 pub use system::System;

@@ -44,8 +44,9 @@ pub trait Method {
     /// reached), and returns how many accepted steps that took: 1, or more for a method that
     /// takes internal sub-steps (BDF's restart takes two half steps). The driver counts steps
     /// from it (`Stats::steps`, `Options::max_steps`); a method does not touch `stats.steps`.
-    /// Rejected attempts are counted by the method (`Stats::rejected_steps`). On error the
-    /// method's state is the last accepted one.
+    /// The method reports each rejected attempt with [`System::reject_step`] (which counts it
+    /// in `Stats::rejected_steps` and passes it to the solve's observer). On error the method's
+    /// state is the last accepted one.
     fn step(&mut self, sys: &mut System<'_>, t_stop: f64) -> Result<usize, SolverError>;
 
     /// Time of the last accepted step.

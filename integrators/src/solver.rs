@@ -47,6 +47,7 @@ use std::cell::RefCell;
 
 use crate::error::{ErrorKind, SolveFailure, SolverError};
 use crate::method::{Method, MethodChoice};
+use crate::observer::{AcceptedStep, Observer, Outputs};
 use crate::options::Options;
 use crate::problem::{EventAction, Problem, ResidualError};
 use crate::stats::Stats;
@@ -100,44 +101,6 @@ pub struct Solution {
     pub t_last: f64,
     /// Last accepted state.
     pub y_last: Vec<f64>,
-    /// Of a failed solve ([`SolveFailure::partial`](crate::SolveFailure)): the last state the
-    /// problem rejected as outside its domain ([`crate::ResidualError::Recoverable`] from its
-    /// residual or Jacobian), if any — the reason the integrator's own error (a step too small,
-    /// a Newton failure) does not say. `None` in a successful solution.
-    pub last_rejection: Option<Rejection>,
-}
-
-/// A state the problem rejected: when, why (the problem's own words) and which unknown.
-///
-/// ```
-/// use integrators::{MethodKind, Options, Problem, ResidualError, Solver};
-/// /// ẏ = 1, with y > 2 outside the domain
-/// struct Wall;
-/// impl Problem for Wall {
-///     fn dim(&self) -> usize { 1 }
-///     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
-///         if y[0] > 2.0 {
-///             return Err(ResidualError::Recoverable { reason: "past the wall".into(), component: Some(0) });
-///         }
-///         r[0] = yp[0] - 1.0;
-///         Ok(())
-///     }
-/// }
-/// let fail = Solver::new(MethodKind::Bdf, Options::default())
-///     .solve(&mut Wall, 0.0, &[0.0], &[5.0])
-///     .unwrap_err();
-/// let r = fail.partial.last_rejection.unwrap();
-/// assert_eq!((r.reason.as_str(), r.component), ("past the wall", Some(0)));
-/// assert!(r.t >= 1.9 && r.t <= 2.1);
-/// ```
-#[derive(Clone, Debug, PartialEq)]
-pub struct Rejection {
-    /// Time of the rejected state.
-    pub t: f64,
-    /// The problem's reason.
-    pub reason: String,
-    /// The unknown it named, if any.
-    pub component: Option<usize>,
 }
 
 /// Where the solver gets its method from.
@@ -235,6 +198,23 @@ impl Solver {
         P: Problem,
         O: FnMut(&P, f64, &[f64], &[f64]),
     {
+        self.solve_observed(problem, t0, y0, t_out, Outputs(observer))
+    }
+
+    /// As [`solve`](Solver::solve), reporting outputs, accepted and rejected steps and events
+    /// to `observer` as they happen (see [`Observer`] for an example).
+    pub fn solve_observed<P, O>(
+        &self,
+        problem: &mut P,
+        t0: f64,
+        y0: &[f64],
+        t_out: &[f64],
+        observer: O,
+    ) -> Result<Solution, SolveFailure>
+    where
+        P: Problem,
+        O: Observer<P>,
+    {
         match &self.source {
             MethodSource::Kind(k) => {
                 let mut m = k.build();
@@ -285,7 +265,6 @@ impl<O> Run<'_, O> {
             self.stats.rejected_steps
         );
         self.sol.stats = self.stats;
-        self.sol.last_rejection = self.cache.last_rejection.take();
         SolveFailure {
             error,
             partial: Box::new(self.sol),
@@ -296,12 +275,22 @@ impl<O> Run<'_, O> {
 impl<O> Run<'_, O> {
     fn push<P: Problem>(&mut self, p: &P, t: f64, y: &[f64], yp: &[f64])
     where
-        O: FnMut(&P, f64, &[f64], &[f64]),
+        O: Observer<P>,
     {
         self.sol.t.push(t);
         self.sol.y.push(y.to_vec());
         self.sol.yp.push(yp.to_vec());
-        (self.observer)(p, t, y, yp);
+        self.observer.output(p, t, y, yp);
+    }
+
+    /// Passes the rejected attempts the method recorded to the observer.
+    fn report_rejections<P: Problem>(&mut self, p: &P)
+    where
+        O: Observer<P>,
+    {
+        for r in self.cache.rejected.drain(..) {
+            self.observer.rejected(p, &r);
+        }
     }
 
     /// Emits outputs with `t_out < limit` (or `≤` if `inclusive`) from the method's dense output.
@@ -321,7 +310,7 @@ impl<O> Run<'_, O> {
         limit: f64,
         inclusive: bool,
     ) where
-        O: FnMut(&P, f64, &[f64], &[f64]),
+        O: Observer<P>,
     {
         while self.next_out < self.t_out.len() {
             let to = self.t_out[self.next_out];
@@ -366,7 +355,7 @@ impl<O> Run<'_, O> {
     /// Emits outputs at exactly `t` (and any earlier ones) with the given state.
     fn emit_at<P: Problem>(&mut self, p: &P, t: f64, y: &[f64], yp: &[f64])
     where
-        O: FnMut(&P, f64, &[f64], &[f64]),
+        O: Observer<P>,
     {
         while self.next_out < self.t_out.len() && self.t_out[self.next_out] <= t {
             let to = self.t_out[self.next_out];
@@ -397,7 +386,7 @@ fn run<P, O>(
 ) -> Result<Solution, SolveFailure>
 where
     P: Problem,
-    O: FnMut(&P, f64, &[f64], &[f64]),
+    O: Observer<P>,
 {
     let mut run = Run {
         t_out,
@@ -503,9 +492,19 @@ where
         }
         {
             let mut sys = System::new(p, opts, &mut run.stats, &mut run.cache);
-            match method.step(&mut sys, t_end) {
+            let stepped = method.step(&mut sys, t_end);
+            run.report_rejections(p);
+            match stepped {
                 // the driver counts steps (a method reports how many it took)
-                Ok(accepted) => sys.stats.steps += accepted,
+                Ok(substeps) => {
+                    run.stats.steps += substeps;
+                    let step = AcceptedStep {
+                        t_prev: method.t_prev(),
+                        t: method.t(),
+                        substeps,
+                    };
+                    run.observer.accepted(p, &step, method.y());
+                }
                 Err(e) => {
                     run.sol.t_last = method.t();
                     run.sol.y_last = method.y().to_vec();
@@ -591,12 +590,14 @@ where
                      {dim_after}",
                     fired.len()
                 );
-                run.sol.events.push(EventRecord {
+                let record = EventRecord {
                     t: ts,
                     fired: fired.clone(),
                     action: action.clone(),
                     dim_after,
-                });
+                };
+                run.observer.event(p, &record, &ynew);
+                run.sol.events.push(record);
                 match action {
                     EventAction::Stop => {
                         // the stop entry (replaces a requested output at exactly ts)

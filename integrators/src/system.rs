@@ -63,9 +63,9 @@ pub struct SystemCache {
     /// the zero fill of the matrix it would have written, a whole pass over a large band).
     /// Cleared by [`rebuild`](SystemCache::rebuild).
     pub(crate) no_user_jacobian: bool,
-    /// The last state the problem rejected as outside its domain, kept across resizes for
-    /// the failure report ([`crate::Solution::last_rejection`]).
-    pub(crate) last_rejection: Option<crate::Rejection>,
+    /// Rejected step attempts not yet passed to the observer (drained by the driver after
+    /// every step; see [`System::reject_step`]).
+    pub(crate) rejected: Vec<crate::observer::RejectedStep>,
     /// The problem's [`ErrorMap`] (empty: the identity).
     pub(crate) map: ErrorMap,
     /// With a map: [`ErrorMap::effective_atol`] of `atol` (anchors include `rtol·size`);
@@ -323,25 +323,36 @@ impl<'a> System<'a> {
         Ok(())
     }
 
-    /// Maps a [`ResidualError`] at time `t` to a [`StepFailure`], remembering a rejected state
-    /// for the failure report.
-    pub(crate) fn residual_failure(&mut self, e: ResidualError, t: f64) -> StepFailure {
+    /// Maps a [`ResidualError`] at time `t` to a [`StepFailure`].
+    pub(crate) fn residual_failure(&self, e: ResidualError, t: f64) -> StepFailure {
         match e {
-            ResidualError::Recoverable { reason, component } => {
-                self.cache.last_rejection = Some(crate::Rejection {
-                    t,
-                    reason: reason.clone(),
-                    component,
-                });
-                StepFailure::Recoverable {
-                    reason: RecoverableCause::Rejected(reason),
-                    component,
-                }
-            }
+            ResidualError::Recoverable { reason, component } => StepFailure::Recoverable {
+                reason: RecoverableCause::Rejected(reason),
+                component,
+            },
             ResidualError::Fatal(msg) => {
                 StepFailure::Fatal(SolverError::new(ErrorKind::Residual(msg), t, None))
             }
         }
+    }
+
+    /// Counts a rejected step attempt (from `t` with size `h`) and hands it to the solve's
+    /// [`crate::observer::Observer`] once the method's step returns. A [`crate::Method`]
+    /// calls this for every attempt it retries.
+    pub fn reject_step(
+        &mut self,
+        t: f64,
+        h: f64,
+        cause: crate::observer::RejectCause,
+        component: Option<usize>,
+    ) {
+        self.stats.rejected_steps += 1;
+        self.cache.rejected.push(crate::observer::RejectedStep {
+            t,
+            h,
+            cause,
+            component,
+        });
     }
 
     /// A zeroed matrix shaped by the current pattern.

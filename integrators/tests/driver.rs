@@ -144,3 +144,93 @@ fn methods_by_name() {
         assert!((sol.y[0][0] - (-1f64).exp()).abs() < 1e-6, "{name}");
     }
 }
+
+/// Everything the driver reports, in order.
+#[derive(Default)]
+struct Log {
+    outputs: Vec<f64>,
+    accepted: Vec<integrators::observer::AcceptedStep>,
+    rejected: Vec<integrators::observer::RejectedStep>,
+    events: Vec<integrators::EventRecord>,
+}
+
+impl<P> integrators::Observer<P> for Log {
+    fn output(&mut self, _: &P, t: f64, _: &[f64], _: &[f64]) {
+        self.outputs.push(t);
+    }
+    fn accepted(&mut self, _: &P, step: &integrators::observer::AcceptedStep, _: &[f64]) {
+        self.accepted.push(*step);
+    }
+    fn rejected(&mut self, _: &P, step: &integrators::observer::RejectedStep) {
+        self.rejected.push(step.clone());
+    }
+    fn event(&mut self, _: &P, event: &integrators::EventRecord, _: &[f64]) {
+        self.events.push(event.clone());
+    }
+}
+
+/// The observer sees every accepted step (contiguous, covering `[t0, t_end]`, as many as
+/// `Stats::steps` counts), every rejected attempt (as many as `Stats::rejected_steps`), and
+/// every output, for each method.
+#[test]
+fn observer_sees_every_step_rejection_and_output() {
+    for kind in MethodKind::ALL {
+        let stiff = kind.is_stiff();
+        // stiff for the implicit methods (rejections at the start); a decay for DOPRI
+        let lambda = if stiff { 1e4 } else { 1.0 };
+        let mut p = residual_fn(1, move |t, y, yp, r| {
+            r[0] = yp[0] + lambda * (y[0] - t.cos());
+            Ok(())
+        });
+        let mut log = Log::default();
+        let opts = Options {
+            h0: Some(0.5),
+            ..Default::default()
+        };
+        let sol = Solver::new(kind, opts)
+            .solve_observed(&mut p, 0.0, &[3.0], &[0.5, 1.0], &mut log)
+            .unwrap();
+        let name = kind.name();
+        assert_eq!(log.outputs, [0.5, 1.0], "{name}");
+        let substeps: usize = log.accepted.iter().map(|s| s.substeps).sum();
+        assert_eq!(substeps, sol.stats.steps, "{name}");
+        assert_eq!(log.rejected.len(), sol.stats.rejected_steps, "{name}");
+        assert!(
+            !log.rejected.is_empty(),
+            "{name}: h0 = 0.5 must be rejected"
+        );
+        assert_eq!(log.accepted[0].t_prev, 0.0, "{name}");
+        assert_eq!(log.accepted.last().unwrap().t, 1.0, "{name}");
+        for w in log.accepted.windows(2) {
+            assert_eq!(w[0].t, w[1].t_prev, "{name}: steps must be contiguous");
+        }
+        for r in &log.rejected {
+            assert!(r.h > 0.0 && (0.0..1.0).contains(&r.t), "{name}: {r}");
+            assert_eq!(r.component, Some(0), "{name}: {r}");
+        }
+        assert!(log.events.is_empty());
+    }
+}
+
+/// A state the problem rejects reaches the observer with the problem's reason and unknown,
+/// before the solve fails.
+#[test]
+fn observer_sees_the_problems_rejection_with_its_reason() {
+    let mut log = Log::default();
+    let e = bdf()
+        .solve_observed(&mut domain(), 0.0, &[1.0], &[1.0, 5.0], &mut log)
+        .unwrap_err();
+    let last = log.rejected.last().expect("rejections before the failure");
+    assert_eq!(
+        last.cause,
+        integrators::observer::RejectCause::Recoverable(integrators::RecoverableCause::Rejected(
+            "negative length".into()
+        ))
+    );
+    assert_eq!(last.component, Some(0));
+    assert!(
+        last.t + last.h > e.error.t && last.t <= e.error.t + 1e-12,
+        "{last} vs {e}"
+    );
+    assert_eq!(log.rejected.len(), e.partial.stats.rejected_steps);
+}

@@ -203,6 +203,27 @@ fn bouncing_ball_modified_events_match_closed_form() {
         assert!((a - b).abs() < 1e-8, "{a} vs {b}");
     }
     assert_eq!(sol.stats.events, expected.len());
+    // an observer is handed each event as it is handled, with the state after it
+    struct Events(Vec<(f64, f64)>);
+    impl<P> integrators::Observer<P> for Events {
+        fn event(&mut self, _: &P, e: &integrators::EventRecord, y: &[f64]) {
+            self.0.push((e.t, y[1]));
+        }
+    }
+    let mut seen = Events(Vec::new());
+    let mut q = Ball { e, bounces: vec![] };
+    Solver::new(MethodKind::Bdf, tight())
+        .solve_observed(&mut q, 0.0, &[h0, 0.0], &[t_end], &mut seen)
+        .unwrap();
+    assert_eq!(seen.0.len(), expected.len());
+    for (k, ((t, v), b)) in seen.0.iter().zip(&expected).enumerate() {
+        // the upward speed after bounce k + 1 is e^(k+1) v1
+        let v_up = v1 * e.powi(k as i32 + 1);
+        assert!(
+            (t - b).abs() < 1e-8 && (v - v_up).abs() < 1e-6,
+            "{t} {v} vs {b} {v_up}"
+        );
+    }
     // state at t_end: free flight after the last bounce
     let tl = *expected.last().unwrap();
     let vl = v1 * e.powi(expected.len() as i32);

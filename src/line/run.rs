@@ -4,8 +4,8 @@
 //!
 //! On solver failure the record holds everything computed up to the failure and
 //! `error: Some(message)`; outputs never contain NaN. The message names the cell whose stretch
-//! the model last rejected (and its λ: the solver keeps it, [`integrators::Rejection`]), not
-//! only the integrator's failure kind and worst unknown.
+//! the model last rejected (and its λ: [`integrate`] observes the rejected steps), not only the
+//! integrator's failure kind and worst unknown.
 //!
 //! * [`LineModel`] — what a line model provides to be integrated and observed;
 //! * [`integrate`], [`run_model`], [`run_line`], [`record`] — integration and recording.
@@ -15,10 +15,11 @@ use super::config::{ContinuumScheme, LineConfig};
 use super::observe::Snapshot;
 use super::thesis_scheme::ThesisLine;
 use crate::array::{ArrayProblem, CellArray};
-use crate::drive::{drive, DriveError};
+use crate::drive::{drive_observed, DriveError, DriveObserver};
 use crate::energy::StrainEnergy;
 use crate::observe::{ModelKind, RunRecord, RunStats, Series};
-use integrators::{ResidualError, SolveFailure, Stats};
+use integrators::observer::{RejectCause, RejectedStep};
+use integrators::{RecoverableCause, ResidualError, SolveFailure, Stats};
 use std::time::Instant;
 
 /// The run settings (one type for every model; see [`crate::settings`]).
@@ -183,24 +184,12 @@ pub fn integrate<A: LineModel>(
 ) -> Trajectory {
     let y0 = problem.array.initial_state();
     let breakpoints = problem.array.breakpoints();
-    let mut snapshots = Vec::new();
-    let driven = drive(
-        problem,
-        settings,
-        &y0,
-        t_out,
-        &breakpoints,
-        |p, t, y, yp| {
-            p.array
-                .observe(t, y, yp)
-                .map(|s| snapshots.push(s))
-                .map_err(|e| format!("observation at t = {t} failed: {}", reason(&e)))
-        },
-    );
+    let mut watch = Watch::default();
+    let driven = drive_observed(problem, settings, &y0, t_out, &breakpoints, &mut watch);
     Trajectory {
-        snapshots,
+        snapshots: watch.snapshots,
         error: driven.error.map(|e| match e {
-            DriveError::Solver(f) => failure_message(&problem.array, &f),
+            DriveError::Solver(f) => failure_message(&problem.array, &f, watch.rejected.as_ref()),
             other => other.to_string(),
         }),
         y_last: driven.y_last,
@@ -208,23 +197,56 @@ pub fn integrate<A: LineModel>(
     }
 }
 
-/// Explains a solver failure in cell terms, most specific first:
-///
-/// 1. the last state the model rejected at or after the start of the failing step (e.g. "cell
-///    4000 has non-positive or non-finite stretch (λ = −1.2e-3, g = 1)"), which the solver
-///    keeps ([`integrators::Solution::last_rejection`]) while its own error says only "non-finite
-///    value" or "step size too small" and the worst unknown, for a collapsing cell one of its
-///    boundaries;
-/// 2. the solver's error with that unknown named (`x_j (boundary between cells j and j+1)`);
-/// 3. the most compressed cell of the last accepted state and its stretch.
-fn failure_message<A: LineModel>(model: &A, f: &SolveFailure) -> String {
-    let mut parts = Vec::new();
-    if let Some(r) = &f.partial.last_rejection {
-        if r.t >= f.error.t {
-            parts.push(format!("{} at t = {}", r.reason, r.t));
+/// What [`integrate`] observes: a snapshot at every output, and the last step the model
+/// rejected (for the failure message).
+#[derive(Default)]
+struct Watch {
+    snapshots: Vec<Snapshot>,
+    rejected: Option<RejectedStep>,
+}
+
+impl<A: LineModel> DriveObserver<ArrayProblem<A>> for Watch {
+    fn output(&mut self, p: &ArrayProblem<A>, t: f64, y: &[f64], yp: &[f64]) -> Result<(), String> {
+        p.array
+            .observe(t, y, yp)
+            .map(|s| self.snapshots.push(s))
+            .map_err(|e| format!("observation at t = {t} failed: {}", reason(&e)))
+    }
+
+    fn rejected(&mut self, _: &ArrayProblem<A>, step: &RejectedStep) {
+        if matches!(
+            step.cause,
+            RejectCause::Recoverable(RecoverableCause::Rejected(_))
+        ) {
+            self.rejected = Some(step.clone());
         }
     }
+}
+
+/// Explains a solver failure in cell terms, most specific first:
+///
+/// 1. the model's reason for rejecting the failing step (e.g. "cell 4000 has non-positive or
+///    non-finite stretch (λ = −1.2e-3, g = 1)"), the last rejected step the observer saw if
+///    it started at or after the failing step, while the solver's own error says only
+///    "non-finite value" or "step size too small" and the worst unknown, for a collapsing cell
+///    one of its boundaries;
+/// 2. the solver's error with that unknown named (`x_j (boundary between cells j and j+1)`);
+/// 3. the most compressed cell of the last accepted state and its stretch.
+fn failure_message<A: LineModel>(
+    model: &A,
+    f: &SolveFailure,
+    rejected: Option<&RejectedStep>,
+) -> String {
+    let mut parts = Vec::new();
     let mut solver = f.error.to_string();
+    // (not when the solver's own error already gives the model's reason)
+    let rejected = rejected.filter(|r| r.t >= f.error.t && !solver.contains(&r.cause.to_string()));
+    if let Some(r) = rejected {
+        parts.push(format!(
+            "{} in the step from t = {} (h = {:.1e})",
+            r.cause, r.t, r.h
+        ));
+    }
     if let Some(k) = f.error.component {
         if k < model.dim() {
             solver.push_str(&format!(" [{}]", model.unknown_name(k)));
@@ -420,5 +442,41 @@ pub fn default_times(t_end: f64, n: usize) -> OutputTimes {
     OutputTimes {
         series,
         profiles: vec![t_end],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::line::build::{discrete, LineParams};
+    use crate::NeoHookean;
+    use integrators::{ErrorKind, SolverError};
+
+    /// When the solver's error says only "step size too small", the model's reason from the
+    /// last rejected step is put first, with the step; the solver's worst unknown is named in
+    /// cell terms.
+    #[test]
+    fn failure_message_puts_the_models_reason_first() {
+        let line = discrete(NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(4)).unwrap();
+        let fail = SolveFailure {
+            error: SolverError::new(ErrorKind::StepSizeTooSmall { h: 1e-15 }, 2.0, Some(1)),
+            partial: Box::default(),
+        };
+        let rejected = RejectedStep {
+            t: 2.0,
+            h: 1e-3,
+            cause: RejectCause::Recoverable(RecoverableCause::Rejected("cell 2 collapsed".into())),
+            component: Some(1),
+        };
+        let m = failure_message(&line, &fail, Some(&rejected));
+        assert!(
+            m.starts_with("cell 2 collapsed in the step from t = 2 (h = 1.0e-3); solver: "),
+            "{m}"
+        );
+        assert!(m.contains("[x_2 (boundary between cells 2 and 3)]"), "{m}");
+        // a rejection from before the failing step is not the reason
+        let earlier = RejectedStep { t: 1.0, ..rejected };
+        let m = failure_message(&line, &fail, Some(&earlier));
+        assert!(!m.contains("collapsed"), "{m}");
     }
 }

@@ -118,6 +118,18 @@ enum LastFailure {
     Recoverable(RecoverableCause, Option<usize>),
 }
 
+impl LastFailure {
+    /// The cause and unknown reported to the observer for a rejected attempt.
+    fn cause(&self) -> (crate::observer::RejectCause, Option<usize>) {
+        use crate::observer::RejectCause;
+        match self {
+            LastFailure::ErrorTest(c) => (RejectCause::ErrorTest, *c),
+            LastFailure::Newton(c) => (RejectCause::Newton, *c),
+            LastFailure::Recoverable(r, c) => (RejectCause::Recoverable(r.clone()), *c),
+        }
+    }
+}
+
 /// Outcome of a failed Newton solve.
 enum NewtonFail {
     /// Did not converge (rate too large or iteration limit).

@@ -150,7 +150,8 @@ pub(crate) fn step<M: OneStep>(
                     "{} step rejected at t = {t:e}, h = {h:e}: {fail:?}; retrying with h = {h_new:e}",
                     std::any::type_name::<M>().rsplit("::").next().unwrap_or("one-step")
                 );
-                sys.stats.rejected_steps += 1;
+                let (cause, component) = fail.cause();
+                sys.reject_step(t, h, cause, component);
                 failures += 1;
                 if fixed.is_some() {
                     return Err(fail.into_error(t, h, false));

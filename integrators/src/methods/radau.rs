@@ -84,6 +84,24 @@ pub(crate) enum Fail {
 }
 
 impl Fail {
+    /// The cause and unknown reported to the observer for a rejected attempt.
+    pub(crate) fn cause(&self) -> (crate::observer::RejectCause, Option<usize>) {
+        use crate::observer::RejectCause;
+        match self {
+            Fail::ErrorTest { component } => (RejectCause::ErrorTest, *component),
+            Fail::Newton { component } => (RejectCause::Newton, *component),
+            Fail::Residual { reason, component } => {
+                (RejectCause::Recoverable(reason.clone()), *component)
+            }
+            Fail::Singular { column } => (
+                RejectCause::Recoverable(crate::RecoverableCause::SingularMatrix {
+                    column: *column,
+                }),
+                Some(*column),
+            ),
+        }
+    }
+
     /// The error to report when the step size can no longer be reduced.
     pub(crate) fn into_error(self, t: f64, h: f64, too_small: bool) -> SolverError {
         match self {

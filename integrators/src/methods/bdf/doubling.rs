@@ -55,12 +55,12 @@ impl Bdf {
                     e.t = t0;
                     return Err(e);
                 }
-                Err(NewtonFail::NoConvergence(_)) => {
+                Err(NewtonFail::NoConvergence(c)) => {
                     self.jac_valid = false;
                     sys.stats.newton_failures += 1;
-                    Some(0.25)
+                    Some((0.25, LastFailure::Newton(c)))
                 }
-                Err(NewtonFail::Recoverable(..)) => Some(0.25),
+                Err(NewtonFail::Recoverable(r, c)) => Some((0.25, LastFailure::Recoverable(r, c))),
             };
             let err = if fail.is_none() {
                 let w = self.ewt();
@@ -97,10 +97,10 @@ impl Bdf {
             } else {
                 f64::NAN
             };
-            let factor = match fail {
-                Some(f) => {
+            let factor = match &fail {
+                Some((f, _)) => {
                     ncf += 1;
-                    Some(f)
+                    Some(*f)
                 }
                 // (NaN fails)
                 None if err.is_nan() || err > 1.0 => {
@@ -125,7 +125,12 @@ impl Bdf {
                         format!("error estimate {err:.3e} (tolerance 1)")
                     }
                 );
-                sys.stats.rejected_steps += 1;
+                // (the error test compares two solutions; no single unknown is named)
+                let (cause, component) = match &fail {
+                    Some((_, last)) => last.cause(),
+                    None => LastFailure::ErrorTest(None).cause(),
+                };
+                sys.reject_step(t0, h_try, cause, component);
                 if half_pushed {
                     self.pop_accepted(sys, t0);
                 }

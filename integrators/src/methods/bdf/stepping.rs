@@ -99,7 +99,8 @@ impl Bdf {
                     "BDF step rejected at t = {:e}, h = {h_try:e}, order {k}: {last:?}",
                     self.t
                 );
-                sys.stats.rejected_steps += 1;
+                let (cause, component) = last.cause();
+                sys.reject_step(self.t, h_try, cause, component);
                 ncf += 1;
                 h = h_try * f;
                 if fixed.is_some() || ncf >= MAX_CONV_FAILS || h < h_floor {
@@ -171,8 +172,9 @@ impl Bdf {
                 );
                 nef += 1;
                 sys.stats.error_test_failures += 1;
-                sys.stats.rejected_steps += 1;
                 last = LastFailure::ErrorTest(self.worst_error(k, t_new));
+                let (cause, component) = last.cause();
+                sys.reject_step(self.t, h_try, cause, component);
                 let (r, kk) = if nef == 1 || self.steps_since_start == 0 {
                     // on the first step after a (re)start the step size is a guess (or the
                     // hint from before an event): trust the estimate for large reductions
