@@ -163,6 +163,7 @@ pub fn run_mode<M: Mode>(
         stats: Default::default(),
         divisions: Vec::new(),
         error: None,
+        reference: None,
     };
     let times = match all_times(out) {
         Ok(t) => t,

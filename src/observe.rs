@@ -179,6 +179,80 @@ pub struct RunRecord {
     /// If the solver failed: its message (the record holds what was computed before).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
+    /// The analytic solution of the run's own configuration, where one applies (lines with a
+    /// prescribed end; see [`crate::line::analytic`]), at the requested times.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reference: Option<AnalyticReference>,
+}
+
+/// An analytic solution beside a run, evaluated by the runner at the run's requested times
+/// where it applies (times where it does not are left out; nothing is NaN). The plots draw it
+/// dashed.
+///
+/// ```
+/// use celltissue::line::{run_line, LineConfig, OutputTimes, SolveSettings};
+/// use celltissue::observe::ModelKind;
+/// // K = 0, η = 1: the exact uniform solution applies at every time
+/// let cfg = LineConfig { k: 0.0.into(), eta: 1.0.into(), ..Default::default() };
+/// let times = OutputTimes { series: vec![0.0, 1.0], profiles: vec![1.0] };
+/// let rec = run_line(&cfg, ModelKind::Discrete, None, &SolveSettings::default(), &times);
+/// let r = rec.reference.unwrap();
+/// assert_eq!(r.label, "exact (K = 0, uniform)");
+/// assert_eq!(r.series.t, [0.0, 1.0]);
+/// let (exact, run) = (r.series.min_stretch[1], rec.series.min_stretch[1]);
+/// assert!((exact - run).abs() < 1e-5, "{exact} vs {run}");
+/// ```
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct AnalyticReference {
+    /// What the solution is (legend text), e.g. `exact (K = 0, uniform)`.
+    pub label: String,
+    /// Its `max_x p` and `min_x λ` at the series times where it applies.
+    pub series: ReferenceSeries,
+    /// Its `λ` and `p` against the reference position at the profile times where it applies.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub profiles: Vec<ReferenceProfile>,
+    /// The static equilibrium at `l(t)`: boundary positions `x` against `X`, at the profile
+    /// times where the quasi-static limit applies (Fig 2.6).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub equilibrium: Vec<ReferencePositions>,
+}
+
+/// [`AnalyticReference::series`]: extremes against time.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ReferenceSeries {
+    /// Times.
+    pub t: Vec<f64>,
+    /// `max_x p` at each time.
+    pub max_pressure: Vec<f64>,
+    /// `min_x λ` at each time.
+    pub min_stretch: Vec<f64>,
+}
+
+/// [`AnalyticReference::profiles`]: one profile (at cell centres, at most a few hundred of
+/// them for the closed forms).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ReferenceProfile {
+    /// Time.
+    pub t: f64,
+    /// Reference positions `X`.
+    #[serde(rename = "X")]
+    pub x_ref: Vec<f64>,
+    /// `λ` at each.
+    pub stretch: Vec<f64>,
+    /// `p` at each.
+    pub pressure: Vec<f64>,
+}
+
+/// [`AnalyticReference::equilibrium`]: boundary positions at one time.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ReferencePositions {
+    /// Time.
+    pub t: f64,
+    /// Reference boundary positions `X₀ … X_N`.
+    #[serde(rename = "X")]
+    pub x_ref: Vec<f64>,
+    /// Current positions `x₀ … x_N`.
+    pub x: Vec<f64>,
 }
 
 /// The whole `summary.json`.

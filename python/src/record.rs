@@ -171,6 +171,45 @@ impl Run {
         Ok(d)
     }
 
+    /// The analytic solution of the run's configuration where one applies (lines with a
+    /// prescribed end), else None: a dict with `"label"`, `"series"` (`"t"`, `"max_pressure"`,
+    /// `"min_stretch"`), `"profiles"` and `"equilibrium"` (each a list of dicts of numpy
+    /// arrays: `"t"`, `"X"`, `"stretch"`, `"pressure"`; `"t"`, `"X"`, `"x"`).
+    #[getter]
+    fn reference<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(r) = &self.rec.reference else {
+            return Ok(None);
+        };
+        let arr = |v: &[f64]| v.to_vec().into_pyarray(py);
+        let d = PyDict::new(py);
+        d.set_item("label", &r.label)?;
+        let series = PyDict::new(py);
+        series.set_item("t", arr(&r.series.t))?;
+        series.set_item("max_pressure", arr(&r.series.max_pressure))?;
+        series.set_item("min_stretch", arr(&r.series.min_stretch))?;
+        d.set_item("series", series)?;
+        let profiles = PyList::empty(py);
+        for p in &r.profiles {
+            let q = PyDict::new(py);
+            q.set_item("t", p.t)?;
+            q.set_item("X", arr(&p.x_ref))?;
+            q.set_item("stretch", arr(&p.stretch))?;
+            q.set_item("pressure", arr(&p.pressure))?;
+            profiles.append(q)?;
+        }
+        d.set_item("profiles", profiles)?;
+        let equilibrium = PyList::empty(py);
+        for e in &r.equilibrium {
+            let q = PyDict::new(py);
+            q.set_item("t", e.t)?;
+            q.set_item("X", arr(&e.x_ref))?;
+            q.set_item("x", arr(&e.x))?;
+            equilibrium.append(q)?;
+        }
+        d.set_item("equilibrium", equilibrium)?;
+        Ok(Some(d))
+    }
+
     /// The solver's message if the run failed (the record holds what was computed before),
     /// else None.
     #[getter]

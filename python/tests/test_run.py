@@ -112,3 +112,23 @@ def test_runs_pickle_exactly():
     assert np.array_equal(r2.series["length"], r.series["length"])
     assert "discrete" in repr(r2)
     assert math.isfinite(r2.stats["wall_seconds"])
+
+
+def test_a_run_carries_its_analytic_reference():
+    # K = 0, eta = 1: the exact uniform solution applies at every time
+    scenario = {
+        "name": "k0",
+        "output": {"series": [0.0, 0.5, 2.0], "profiles": [2.0]},
+        "model": {"kind": "line", "models": ["discrete"], "cells": 10, "K": 0.0, "eta": 1.0},
+    }
+    (run,) = celltissue.run(scenario)
+    ref = run.reference
+    assert ref["label"] == "exact (K = 0, uniform)"
+    assert list(ref["series"]["t"]) == [0.0, 0.5, 2.0]
+    assert np.max(np.abs(ref["series"]["min_stretch"] - run.series["min_stretch"])) < 1e-5
+    (profile,) = ref["profiles"]
+    assert profile["t"] == 2.0 and profile["stretch"].shape == profile["X"].shape
+    # a free end has no analytic solution
+    scenario["model"].update({"right_end": "free", "growth": {"sigma0": 0.1}})
+    (grown,) = celltissue.run(scenario)
+    assert grown.reference is None

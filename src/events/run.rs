@@ -160,6 +160,7 @@ pub fn run_proliferation(
         stats: RunStats::default(),
         divisions: Vec::new(),
         error: None,
+        reference: None,
     };
     if let Err(e) = cfg.validate() {
         rec.error = Some(e.to_string());

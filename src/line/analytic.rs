@@ -19,6 +19,7 @@ use super::LineError;
 use crate::boundary::RampKind;
 use crate::cell::Field;
 use crate::energy::StrainEnergy;
+use crate::observe::{AnalyticReference, ReferencePositions, ReferenceProfile};
 use std::f64::consts::PI;
 
 /// Which analytic solution applies to a configuration (see [`reference_for`]).
@@ -362,6 +363,60 @@ pub fn static_positions(cfg: &LineConfig, t: f64) -> Option<Vec<(f64, f64)>> {
         }))
         .collect();
     Some(xref.into_iter().zip(s.x).collect())
+}
+
+/// The applicable analytic solution of `cfg` at the series and profile times where it
+/// applies ([`crate::observe::AnalyticReference`]); `None` if none applies at any of them.
+pub fn reference(
+    cfg: &LineConfig,
+    series_times: &[f64],
+    profile_times: &[f64],
+) -> Option<AnalyticReference> {
+    let kind = reference_for(cfg)?;
+    let mut r = AnalyticReference {
+        label: kind.label().to_string(),
+        ..Default::default()
+    };
+    for &t in series_times {
+        if let Some((p, l)) = extremes(cfg, t) {
+            r.series.t.push(t);
+            r.series.max_pressure.push(p);
+            r.series.min_stretch.push(l);
+        }
+    }
+    for &t in profile_times {
+        if let Some(prof) = profile(cfg, t) {
+            r.profiles.push(ReferenceProfile {
+                t,
+                x_ref: prof.iter().map(|q| q.0).collect(),
+                stretch: prof.iter().map(|q| q.1).collect(),
+                pressure: prof.iter().map(|q| q.2).collect(),
+            });
+        }
+        if let Some(xs) = static_positions(cfg, t) {
+            r.equilibrium.push(ReferencePositions {
+                t,
+                x_ref: xs.iter().map(|q| q.0).collect(),
+                x: xs.iter().map(|q| q.1).collect(),
+            });
+        }
+    }
+    let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+    r.profiles
+        .retain(|p| finite(&p.x_ref) && finite(&p.stretch) && finite(&p.pressure));
+    r.equilibrium.retain(|p| finite(&p.x_ref) && finite(&p.x));
+    let keep: Vec<bool> = (0..r.series.t.len())
+        .map(|i| r.series.max_pressure[i].is_finite() && r.series.min_stretch[i].is_finite())
+        .collect();
+    let filter = |v: &mut Vec<f64>| {
+        let mut k = keep.iter();
+        v.retain(|_| *k.next().unwrap_or(&false));
+    };
+    filter(&mut r.series.t);
+    filter(&mut r.series.max_pressure);
+    filter(&mut r.series.min_stretch);
+    let empty = r.series.t.is_empty() && r.profiles.is_empty() && r.equilibrium.is_empty();
+    (!empty).then_some(r)
 }
 
 #[cfg(test)]

@@ -321,6 +321,7 @@ pub fn run_line(
         stats: RunStats::default(),
         divisions: Vec::new(),
         error: None,
+        reference: None,
     };
     if let Err(e) = cfg.validate() {
         rec.error = Some(e.to_string());
@@ -336,6 +337,7 @@ pub fn run_line(
         return rec;
     }
     run_with_law(cfg, cfg.law.clone(), model, nodes, solver, times, &mut rec);
+    rec.reference = super::analytic::reference(cfg, &times.series, &times.profiles);
     rec
 }
 

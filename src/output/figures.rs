@@ -27,8 +27,7 @@
 
 use super::files::slug;
 use super::plot::{plot_chart, plot_rectangles, Axis, Chart, Curve, PlotError, Style};
-use crate::line::{analytic, LineConfig};
-use crate::observe::{ModelKind, Profile, RunRecord, Summary};
+use crate::observe::{AnalyticReference, ModelKind, Profile, RunRecord, Summary};
 use crate::scenario::{format_number, ModelConfig, ProfileAxis, RunSpec, Scale, Scenario};
 use crate::sheet::observe::sheet_cells;
 use std::path::{Path, PathBuf};
@@ -265,8 +264,8 @@ pub fn write_figures(
                 }
             }
             let on_reference_axis = scenario.plots.profile_axis == ProfileAxis::Reference;
-            if let (Some(cfg), true) = (group_config(g), on_reference_axis) {
-                curves.extend(profile_references(cfg, key, &times));
+            if on_reference_axis {
+                curves.extend(profile_references(g, key, &times));
             }
             let chart = Chart {
                 title: title(&format!("{what} profiles{at}")),
@@ -321,7 +320,7 @@ pub fn write_figures(
                     curves: {
                         let mut c = sweep_curves(scenario, summary, key);
                         if key != "length" {
-                            c.extend(sweep_references(scenario, &groups, key));
+                            c.extend(sweep_references(&groups, key));
                         }
                         c
                     },
@@ -737,61 +736,71 @@ fn width(p: &Profile, j: usize) -> f64 {
         .unwrap_or_else(|| 1.0 / p.stretch[j])
 }
 
-/// The line configuration of a group's runs (`None` for other models).
-fn group_config<'a>(g: &Group<'a>) -> Option<&'a LineConfig> {
-    g.runs.iter().find_map(|(_, spec)| match &(*spec)?.config {
-        ModelConfig::Line(c) => Some(c.as_ref()),
-        _ => None,
-    })
+/// The analytic reference the group's runs carry (the runner's, for lines with a prescribed
+/// end; the same for every run of a group).
+fn group_reference<'a>(g: &Group<'a>) -> Option<&'a AnalyticReference> {
+    g.runs.iter().find_map(|(rec, _)| rec.reference.as_ref())
 }
 
 /// The analytic `max p` or `min λ` against the group's series times (dashed, group colour).
 fn series_reference(g: &Group<'_>, key: &str) -> Option<(String, Vec<(f64, f64)>)> {
-    let cfg = group_config(g)?;
-    let kind = analytic::reference_for(cfg)?;
+    let r = group_reference(g)?;
     let times = &g.runs.first()?.0.series.t;
+    let values = match key {
+        "max_pressure" => &r.series.max_pressure,
+        _ => &r.series.min_stretch,
+    };
     // where the reference does not apply the curve has a gap (NaN), not a bridging segment
     let pts: Vec<(f64, f64)> = times
         .iter()
-        .map(|&t| match analytic::extremes(cfg, t) {
-            Some((p, l)) => (t, if key == "max_pressure" { p } else { l }),
+        .map(|&t| match r.series.t.iter().position(|&s| close(s, t)) {
+            Some(i) => (t, values[i]),
             None => (t, f64::NAN),
         })
         .collect();
     pts.iter()
         .any(|q| q.1.is_finite())
-        .then_some((kind.label().to_string(), pts))
+        .then_some((r.label.clone(), pts))
 }
 
 /// Dashed analytic profiles at each profile time (colour = time, as the runs): `p` or `λ`
 /// against `X`, and for Fig 2.6's position plots the static equilibrium `x(X)` and its
-/// deviation from uniform strain.
-fn profile_references(cfg: &LineConfig, key: &str, times: &[f64]) -> Vec<Curve> {
+/// deviation from uniform strain (`x − (x_N/X_N)·X`).
+fn profile_references(g: &Group<'_>, key: &str, times: &[f64]) -> Vec<Curve> {
     let mut out = Vec::new();
-    let Some(kind) = analytic::reference_for(cfg) else {
+    let Some(r) = group_reference(g) else {
         return out;
     };
     for (ti, &t) in times.iter().enumerate() {
-        let pts: Option<Vec<(f64, f64)>> = match key {
-            "pressure" | "stretch" => analytic::profile(cfg, t).map(|p| {
-                p.into_iter()
-                    .map(|(x, l, pr)| (x, if key == "pressure" { pr } else { l }))
-                    .collect()
-            }),
-            "position" | "deviation" => analytic::static_positions(cfg, t).map(|xs| {
-                let l0 = cfg.l0();
-                let ratio = cfg.ramp().eval(t).0 / l0;
-                xs.into_iter()
-                    .map(|(xr, x)| (xr, if key == "position" { x } else { x - ratio * xr }))
-                    .collect()
-            }),
-            _ => None,
-        };
-        let Some(pts) = pts else { continue };
-        let what = if matches!(key, "position" | "deviation") {
-            analytic::Reference::QuasiStatic.label()
-        } else {
-            kind.label()
+        let (what, pts): (&str, Vec<(f64, f64)>) = match key {
+            "pressure" | "stretch" => {
+                let Some(p) = r.profiles.iter().find(|p| close(p.t, t)) else {
+                    continue;
+                };
+                let ys = if key == "pressure" {
+                    &p.pressure
+                } else {
+                    &p.stretch
+                };
+                (
+                    &r.label,
+                    p.x_ref.iter().copied().zip(ys.iter().copied()).collect(),
+                )
+            }
+            "position" | "deviation" => {
+                let Some(e) = r.equilibrium.iter().find(|e| close(e.t, t)) else {
+                    continue;
+                };
+                let ratio = match (e.x.last(), e.x_ref.last()) {
+                    (Some(x), Some(xr)) if *xr > 0.0 => x / xr,
+                    _ => continue,
+                };
+                let pts = e.x_ref.iter().zip(&e.x);
+                let pts =
+                    pts.map(|(&xr, &x)| (xr, if key == "position" { x } else { x - ratio * xr }));
+                ("static equilibrium at l(t)", pts.collect())
+            }
+            _ => continue,
         };
         // one legend entry for all times (the runs' colours give the time)
         let label = if out.is_empty() {
@@ -804,13 +813,13 @@ fn profile_references(cfg: &LineConfig, key: &str, times: &[f64]) -> Vec<Curve> 
     out
 }
 
-/// Analytic `max p` / `min λ` at each profile time against the swept value (dashed), from each
-/// swept value's own configuration.
-fn sweep_references(scenario: &Scenario, groups: &[Group<'_>], key: &str) -> Vec<Curve> {
-    let mut times: Vec<f64> = scenario
-        .runs
+/// Analytic `max p` / `min λ` at each profile time (`t > 0`) against the swept value (dashed),
+/// from each swept value's own reference.
+fn sweep_references(groups: &[Group<'_>], key: &str) -> Vec<Curve> {
+    let mut times: Vec<f64> = groups
         .iter()
-        .flat_map(|r| r.times.profiles.iter().copied())
+        .filter_map(group_reference)
+        .flat_map(|r| r.profiles.iter().map(|p| p.t))
         .filter(|t| *t > 0.0)
         .collect();
     times.sort_by(f64::total_cmp);
@@ -825,10 +834,15 @@ fn sweep_references(scenario: &Scenario, groups: &[Group<'_>], key: &str) -> Vec
                     .runs
                     .iter()
                     .find_map(|(_, s)| (*s)?.sweep.as_ref()?.value)?;
-                let cfg = group_config(g)?;
-                label.get_or_insert(analytic::reference_for(cfg)?.label());
-                let (p, l) = analytic::extremes(cfg, t)?;
-                Some((v, if key == "pressure" { p } else { l }))
+                let r = group_reference(g)?;
+                let p = r.profiles.iter().find(|p| close(p.t, t))?;
+                label.get_or_insert(r.label.as_str());
+                let y = if key == "pressure" {
+                    p.pressure.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+                } else {
+                    p.stretch.iter().copied().fold(f64::INFINITY, f64::min)
+                };
+                Some((v, y))
             })
             .collect();
         if let (Some(what), false) = (label, pts.is_empty()) {

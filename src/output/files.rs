@@ -32,6 +32,16 @@ struct RunEntry<'a> {
     divisions: &'a [DivisionRecord],
     #[serde(skip_serializing_if = "Option::is_none")]
     error: &'a Option<String>,
+    /// The analytic reference's label and series (its profiles are in the `.npz`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    reference: Option<ReferenceEntry<'a>>,
+}
+
+/// A run's analytic reference as written to `summary.json`.
+#[derive(Serialize)]
+struct ReferenceEntry<'a> {
+    label: &'a str,
+    series: &'a crate::observe::ReferenceSeries,
 }
 
 /// `summary.json`.
@@ -60,7 +70,8 @@ fn is_shear(rec: &RunRecord) -> bool {
 /// use celltissue::observe::*;
 /// let mut rec = RunRecord { label: "r".into(), model: ModelKind::Discrete,
 ///     parameters: serde_json::json!({"kind": "shear"}), series: Series::default(),
-///     profiles: vec![], stats: RunStats::default(), divisions: vec![], error: None };
+///     profiles: vec![], stats: RunStats::default(), divisions: vec![], error: None,
+///     reference: None };
 /// let names: Vec<String> = celltissue::output::files::series_columns(&rec)
 ///     .into_iter().map(|c| c.0).collect();
 /// assert_eq!(names, ["t", "max_pressure", "min_pressure", "max_tan_theta", "min_tan_theta"]);
@@ -142,6 +153,7 @@ pub fn clean_parameters(p: &serde_json::Value) -> serde_json::Value {
 /// let run = |label: &str| RunRecord {
 ///     label: label.into(), model: ModelKind::Discrete, parameters: serde_json::Value::Null,
 ///     series: Default::default(), profiles: vec![], stats: Default::default(), divisions: vec![], error: None,
+///     reference: None,
 /// };
 /// let s = Summary { scenario: "demo".into(), runs: vec![run("discrete"), run("continuum")] };
 /// assert_eq!(celltissue::output::files::npz_names(&s), ["run_discrete.npz", "run_continuum.npz"]);
@@ -243,6 +255,10 @@ pub fn write_summary_with(
                 stats: &r.stats,
                 divisions: &r.divisions,
                 error: &r.error,
+                reference: r.reference.as_ref().map(|x| ReferenceEntry {
+                    label: &x.label,
+                    series: &x.series,
+                }),
             })
             .collect(),
     };
@@ -333,6 +349,7 @@ pub fn profiles_csv(rec: &RunRecord) -> String {
 /// let mut rec = RunRecord {
 ///     label: "discrete".into(), model: ModelKind::Discrete, parameters: serde_json::Value::Null,
 ///     series: Default::default(), profiles: vec![], stats: Default::default(), divisions: vec![], error: None,
+///     reference: None,
 /// };
 /// rec.divisions.push(DivisionRecord { t: 2.5, parent: 7, x: 6.5, x_over_length: 0.5, cells_after: 11 });
 /// let csv = celltissue::output::files::divisions_csv(&rec);

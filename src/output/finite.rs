@@ -58,7 +58,8 @@ pub fn first_non_finite(rec: &RunRecord) -> Option<String> {
 /// use celltissue::observe::*;
 /// let mut rec = RunRecord { label: "r".into(), model: ModelKind::Discrete,
 ///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
-///     stats: RunStats::default(), divisions: vec![], error: None };
+///     stats: RunStats::default(), divisions: vec![], error: None,
+///     reference: None };
 /// rec.series.t = vec![0.0, 1.0];
 /// rec.series.length = vec![1.0, f64::NAN];
 /// rec.series.max_pressure = vec![1.0, 1.0];

@@ -9,7 +9,11 @@
 //!   with `numpy.split(a, numpy.cumsum(cells)[:-1])`, e.g. a proliferating line); a field a
 //!   profile lacks makes that member absent rather than padded;
 //! * `divisions/t`, `divisions/x`, `divisions/x_over_length`, `divisions/parent` and
-//!   `divisions/cells_after` (int64) — the division events, when there are any.
+//!   `divisions/cells_after` (int64) — the division events, when there are any;
+//! * `reference/series/t`, `reference/series/max_pressure`, `reference/series/min_stretch`,
+//!   `reference/profiles/{t, X, stretch, pressure}` and `reference/equilibrium/{t, X, x}` —
+//!   the analytic reference the run carries ([`crate::observe::AnalyticReference`]; its label
+//!   is in `summary.json`), profiles stacked times × points, each part only when present.
 //!
 //! `.npy` serialisation is npyz's; the zip container is the `zip` crate's (no compression, so
 //! no compression backend is built).
@@ -100,6 +104,60 @@ pub(crate) fn members(rec: &RunRecord) -> BTreeMap<String, Member> {
             Member::I64(n, d.iter().map(|r| r.cells_after as i64).collect()),
         );
     }
+    if let Some(r) = &rec.reference {
+        let vec = |v: &[f64]| Member::F64(vec![v.len() as u64], v.to_vec());
+        if !r.series.t.is_empty() {
+            m.insert("reference/series/t".into(), vec(&r.series.t));
+            m.insert(
+                "reference/series/max_pressure".into(),
+                vec(&r.series.max_pressure),
+            );
+            m.insert(
+                "reference/series/min_stretch".into(),
+                vec(&r.series.min_stretch),
+            );
+        }
+        // every profile of one reference has the same points (one configuration)
+        let stack = |rows: Vec<&Vec<f64>>| {
+            let data: Vec<f64> = rows.iter().flat_map(|c| c.iter().copied()).collect();
+            let width = rows.first().map_or(0, |c| c.len());
+            if rows.iter().all(|c| c.len() == width) {
+                Member::F64(vec![rows.len() as u64, width as u64], data)
+            } else {
+                Member::F64(vec![data.len() as u64], data)
+            }
+        };
+        let p = &r.profiles;
+        if !p.is_empty() {
+            let t: Vec<f64> = p.iter().map(|q| q.t).collect();
+            m.insert("reference/profiles/t".into(), vec(&t));
+            m.insert(
+                "reference/profiles/X".into(),
+                stack(p.iter().map(|q| &q.x_ref).collect()),
+            );
+            m.insert(
+                "reference/profiles/stretch".into(),
+                stack(p.iter().map(|q| &q.stretch).collect()),
+            );
+            m.insert(
+                "reference/profiles/pressure".into(),
+                stack(p.iter().map(|q| &q.pressure).collect()),
+            );
+        }
+        let e = &r.equilibrium;
+        if !e.is_empty() {
+            let t: Vec<f64> = e.iter().map(|q| q.t).collect();
+            m.insert("reference/equilibrium/t".into(), vec(&t));
+            m.insert(
+                "reference/equilibrium/X".into(),
+                stack(e.iter().map(|q| &q.x_ref).collect()),
+            );
+            m.insert(
+                "reference/equilibrium/x".into(),
+                stack(e.iter().map(|q| &q.x).collect()),
+            );
+        }
+    }
     m
 }
 
@@ -157,7 +215,8 @@ pub fn write_npz_file(path: &Path, rec: &RunRecord) -> io::Result<()> {
 /// use celltissue::observe::*;
 /// let mut rec = RunRecord { label: "r".into(), model: ModelKind::Discrete,
 ///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
-///     stats: RunStats::default(), divisions: vec![], error: None };
+///     stats: RunStats::default(), divisions: vec![], error: None,
+///     reference: None };
 /// rec.series.t = vec![0.0, 1.0];
 /// let names = celltissue::output::npz::member_names(&rec);
 /// assert!(names.contains(&"series/t".to_string()));

@@ -68,6 +68,7 @@ fn failed(spec: &RunSpec, error: String) -> RunRecord {
         stats: RunStats::default(),
         divisions: Vec::new(),
         error: Some(error),
+        reference: None,
     }
 }
 

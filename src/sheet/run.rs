@@ -207,6 +207,7 @@ pub fn run_sheet<E: StrainEnergy>(
         stats: RunStats::from_stats(&stats, wall),
         divisions: Vec::new(),
         error,
+        reference: None,
     })
 }
 
@@ -311,5 +312,6 @@ pub fn run_shear<E: StrainEnergy>(
         stats: RunStats::from_stats(&stats, wall),
         divisions: Vec::new(),
         error,
+        reference: None,
     })
 }
