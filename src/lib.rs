@@ -22,6 +22,7 @@ pub mod observe;
 pub mod output;
 pub mod proliferation;
 pub mod registry;
+pub mod runner;
 pub mod scalar;
 pub mod scenario;
 pub mod settings;

@@ -13,16 +13,16 @@
 //! scenario loads, errors naming `model.<key>`.
 
 use crate::array::{ArrayProblem, CellArray};
-use crate::observe::RunStats;
 use crate::observe::{ModelKind, Profile, RunRecord, Series};
 use crate::registry::{checked, Constructor, Kind, Named, ParamError, Registry, RegistryError};
+use crate::runner::{run_recorded, Recorder, SeriesRow};
 use crate::settings::SolveSettings;
-use crate::sheet::run::{all_times, integrate, Outputs};
+use crate::sheet::run::{all_times, Outputs};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 use std::fmt::Debug;
+use std::marker::PhantomData;
 use std::sync::Arc;
-use std::time::Instant;
 
 /// A deformation mode: how a scenario's parameters become a cell array, and what is recorded of
 /// its states.
@@ -144,8 +144,8 @@ pub fn names() -> Vec<String> {
     MODES.names()
 }
 
-/// Runs a mode: builds the array, integrates it over the union of the series and profile
-/// times, and records the series and profiles. A failed build or solve gives a record with
+/// Runs a mode: builds the array and records it with [`crate::runner::run_recorded`] (the
+/// loop every model uses) at the series and profile times. A failed build or solve gives a record with
 /// `error` (and whatever it had computed before the failure).
 pub fn run_mode<M: Mode>(
     config: &M::Config,
@@ -165,13 +165,10 @@ pub fn run_mode<M: Mode>(
         error: None,
         reference: None,
     };
-    let times = match all_times(out) {
-        Ok(t) => t,
-        Err(e) => {
-            rec.error = Some(e.to_string());
-            return rec;
-        }
-    };
+    if let Err(e) = all_times(out) {
+        rec.error = Some(e.to_string());
+        return rec;
+    }
     let (array, y0) = match M::build(config, model, nodes) {
         Ok(built) => built,
         Err(e) => {
@@ -179,35 +176,46 @@ pub fn run_mode<M: Mode>(
             return rec;
         }
     };
-    let start = Instant::now();
     let mut problem = ArrayProblem::new(array);
-    let (states, stats, error) = integrate(&mut problem, &y0, &times, solver);
-    rec.stats = RunStats::from_stats(&stats, start.elapsed().as_secs_f64());
-    rec.error = error;
-    let array = &problem.array;
-    let extreme = |v: &[f64], max: bool| {
-        v.iter()
-            .copied()
-            .reduce(if max { f64::max } else { f64::min })
-            .unwrap_or(f64::NAN)
-    };
-    for (t, y) in &states {
-        let profile = M::observe(array, *t, y);
-        if out.times.contains(t) {
-            let s = &mut rec.series;
-            s.t.push(*t);
-            s.length.push(M::length(array, *t, y));
-            s.max_pressure.push(extreme(&profile.pressure, true));
-            s.min_pressure.push(extreme(&profile.pressure, false));
-            s.max_stretch.push(extreme(&profile.stretch, true));
-            s.min_stretch.push(extreme(&profile.stretch, false));
-            for (k, v) in M::extra_series(array, *t, y) {
-                s.extra.entry(k).or_default().push(v);
-            }
-        }
-        if out.profile_times.contains(t) {
-            rec.profiles.push(profile);
-        }
-    }
+    let r = run_recorded(
+        &mut problem,
+        &y0,
+        &[],
+        solver,
+        &out.output_times(),
+        &mut ModeRecorder::<M>(PhantomData),
+    );
+    rec.series = r.series;
+    rec.profiles = r.profiles;
+    rec.stats = r.stats;
+    rec.error = r.error;
     rec
+}
+
+/// What a mode's run records: the mode's [`Mode::observe`] profile, its extremes with
+/// [`Mode::length`] and [`Mode::extra_series`] as the series.
+struct ModeRecorder<M>(PhantomData<M>);
+
+impl<M: Mode> Recorder<M::Array> for ModeRecorder<M> {
+    fn series_row(
+        &mut self,
+        array: &M::Array,
+        t: f64,
+        y: &[f64],
+        _: &[f64],
+    ) -> Result<SeriesRow, String> {
+        let mut row = SeriesRow::from_profile(&M::observe(array, t, y), M::length(array, t, y));
+        row.extra = M::extra_series(array, t, y);
+        Ok(row)
+    }
+
+    fn profile(
+        &mut self,
+        array: &M::Array,
+        t: f64,
+        y: &[f64],
+        _: &[f64],
+    ) -> Result<Profile, String> {
+        Ok(M::observe(array, t, y))
+    }
 }

@@ -53,6 +53,22 @@ pub struct Series {
     pub extra: BTreeMap<String, Vec<f64>>,
 }
 
+impl Series {
+    /// Appends the values of one series time (see [`crate::runner::SeriesRow`] for an
+    /// example); an extra series first seen here starts at this row.
+    pub fn push_row(&mut self, t: f64, row: &crate::runner::SeriesRow) {
+        self.t.push(t);
+        self.length.push(row.length);
+        self.max_pressure.push(row.max_pressure);
+        self.min_pressure.push(row.min_pressure);
+        self.max_stretch.push(row.max_stretch);
+        self.min_stretch.push(row.min_stretch);
+        for (k, v) in &row.extra {
+            self.extra.entry(k.clone()).or_default().push(*v);
+        }
+    }
+}
+
 /// A per-cell (discrete) or per-node (continuum) snapshot at one time.
 ///
 /// ```

@@ -14,10 +14,11 @@ use celltissue::array::ArrayProblem;
 use celltissue::boundary::RightEnd;
 use celltissue::cell::growth_laws::tanh;
 use celltissue::cell::TanhGrowth;
+use celltissue::drive::drive;
 use celltissue::line::build::{discrete, LineParams};
 use celltissue::line::run::{integrate as integrate_line, SolveSettings};
 use celltissue::observe::{ModelKind, RunRecord};
-use celltissue::sheet::run::{integrate, Outputs};
+use celltissue::sheet::run::Outputs;
 use celltissue::sheet::uniaxial::UniaxialSheet;
 use celltissue::sheet::{run_sheet, GrowthDirections, RightEdge, SheetConfig, TopBoundary};
 use celltissue::NeoHookean;
@@ -94,13 +95,19 @@ fn rows_of_a_periodic_sheet_growing_along_x_are_lines_of_cells() {
         .with_cell_atol(1e-12);
     let y0 = sheet.initial_state();
     let mut problem = ArrayProblem::new(sheet);
-    let (states, _, error) = integrate(
+    let mut states = Vec::new();
+    let driven = drive(
         &mut problem,
+        &sheet_solver(1e-10, 1e-12),
         &y0,
         &[2.0, t_end],
-        &sheet_solver(1e-10, 1e-12),
+        &[],
+        |_, t, y, _| {
+            states.push((t, y.to_vec()));
+            Ok(())
+        },
     );
-    assert!(error.is_none(), "{error:?}");
+    assert!(driven.error.is_none(), "{:?}", driven.error);
     let sheet = &problem.array;
 
     let mut p = LineParams::unit_cells(n);

@@ -5,15 +5,13 @@
 
 use super::dividing::Dividing;
 use super::division::DivisionConfig;
-use crate::array::ArrayProblem;
 use crate::energy::StrainEnergy;
 use crate::line::config::RightEndKind;
-use crate::line::run::{integrate, record, LineModel, Trajectory};
+use crate::line::run::run_model;
 use crate::line::{LineConfig, OutputTimes, SolveSettings};
 use crate::observe::{DivisionRecord, ModelKind, RunRecord, RunStats, Series};
 use crate::proliferation::DensityContinuum;
 use serde::Serialize;
-use std::time::Instant;
 
 /// An invalid proliferating line; [`ProliferationError::key`] is the innermost scenario key
 /// (under `model`).
@@ -209,8 +207,7 @@ fn with_law<E: StrainEnergy + Clone>(
             match built {
                 Ok(mut d) => {
                     d.max_cells = cfg.division.max_cells;
-                    let (traj, prob, wall) = solve(d, solver, times);
-                    finish(rec, &traj, times, wall);
+                    let prob = run_model(d, solver, times, rec);
                     rec.divisions = prob.array.log.records;
                 }
                 Err(e) => rec.error = Some(e),
@@ -235,8 +232,7 @@ fn with_law<E: StrainEnergy + Clone>(
             match built {
                 Ok(mut d) => {
                     d.max_cells = cfg.division.max_cells.map(|m| m as f64);
-                    let (traj, prob, wall) = solve(d, solver, times);
-                    finish(rec, &traj, times, wall);
+                    let prob = run_model(d, solver, times, rec);
                     // N(t) = ∫ρ dX, not the number of segments
                     if let Some(cells) = rec.series.extra.get_mut("cells") {
                         for (c, &t) in cells.iter_mut().zip(&rec.series.t) {
@@ -249,23 +245,6 @@ fn with_law<E: StrainEnergy + Clone>(
             }
         }
     }
-}
-
-fn solve<A: LineModel>(
-    array: A,
-    solver: &SolveSettings,
-    times: &OutputTimes,
-) -> (Trajectory, ArrayProblem<A>, f64) {
-    let start = Instant::now();
-    let mut problem = ArrayProblem::new(array);
-    let traj = integrate(&mut problem, solver, &times.merged());
-    (traj, problem, start.elapsed().as_secs_f64())
-}
-
-fn finish(rec: &mut RunRecord, traj: &Trajectory, times: &OutputTimes, wall: f64) {
-    rec.stats = RunStats::from_stats(&traj.stats, wall);
-    rec.error = traj.error.clone();
-    record(traj, times, rec);
 }
 
 /// The divisions of a record as CSV (`t,parent,x,x_over_length,cells_after`).

@@ -17,10 +17,10 @@ use super::thesis_scheme::ThesisLine;
 use crate::array::{ArrayProblem, CellArray};
 use crate::drive::{drive_observed, DriveError, DriveObserver};
 use crate::energy::StrainEnergy;
-use crate::observe::{ModelKind, RunRecord, RunStats, Series};
-use integrators::observer::{RejectCause, RejectedStep};
-use integrators::{RecoverableCause, ResidualError, SolveFailure, Stats};
-use std::time::Instant;
+use crate::observe::{ModelKind, Profile, RunRecord, RunStats, Series};
+use crate::runner::{run_recorded, Recorder, SeriesRow};
+use integrators::observer::RejectedStep;
+use integrators::{ResidualError, SolveFailure, Stats};
 
 /// The run settings (one type for every model; see [`crate::settings`]).
 pub use crate::settings::SolveSettings;
@@ -214,10 +214,7 @@ impl<A: LineModel> DriveObserver<ArrayProblem<A>> for Watch {
     }
 
     fn rejected(&mut self, _: &ArrayProblem<A>, step: &RejectedStep) {
-        if matches!(
-            step.cause,
-            RejectCause::Recoverable(RecoverableCause::Rejected(_))
-        ) {
+        if crate::runner::rejected_by_the_model(step) {
             self.rejected = Some(step.clone());
         }
     }
@@ -237,16 +234,10 @@ fn failure_message<A: LineModel>(
     f: &SolveFailure,
     rejected: Option<&RejectedStep>,
 ) -> String {
-    let mut parts = Vec::new();
+    let mut parts: Vec<String> = crate::runner::model_reason(f, rejected)
+        .into_iter()
+        .collect();
     let mut solver = f.error.to_string();
-    // (not when the solver's own error already gives the model's reason)
-    let rejected = rejected.filter(|r| r.t >= f.error.t && !solver.contains(&r.cause.to_string()));
-    if let Some(r) = rejected {
-        parts.push(format!(
-            "{} in the step from t = {} (h = {:.1e})",
-            r.cause, r.t, r.h
-        ));
-    }
     if let Some(k) = f.error.component {
         if k < model.dim() {
             solver.push_str(&format!(" [{}]", model.unknown_name(k)));
@@ -354,82 +345,119 @@ fn run_with_law<E: StrainEnergy + Clone>(
     let n = nodes.unwrap_or(cfg.n_cells());
     match (model, cfg.continuum_scheme) {
         (ModelKind::Discrete, _) => match super::build::discrete(energy, &params) {
-            Ok(line) => run_model(line, solver, times, rec),
+            Ok(line) => {
+                run_model(line, solver, times, rec);
+            }
             Err(e) => rec.error = Some(e.to_string()),
         },
         (ModelKind::Continuum, ContinuumScheme::Conservative) => {
             match super::build::continuum(energy, &params, n) {
-                Ok(line) => run_model(line, solver, times, rec),
+                Ok(line) => {
+                    run_model(line, solver, times, rec);
+                }
                 Err(e) => rec.error = Some(e.to_string()),
             }
         }
         (ModelKind::Continuum, ContinuumScheme::Thesis) => {
             match ThesisLine::new(energy, &params, n) {
-                Ok(line) => run_model(line, solver, times, rec),
+                Ok(line) => {
+                    run_model(line, solver, times, rec);
+                }
                 Err(e) => rec.error = Some(e.to_string()),
             }
         }
     }
 }
 
-/// Integrates a built model and records its observables into `rec` (no I/O).
+/// Integrates a built model and records its observables into `rec` (no I/O): the series
+/// (`length`, pressure and stretch extremes, plus `end_reaction`, `mean_alpha`, `x0`, `cells`,
+/// `mean_g`, `min_g`) at `times.series` and the profiles at `times.profiles`, through
+/// [`crate::runner::run_recorded`] with [`LineRecorder`]. Returns the problem (its array
+/// as the run left it, e.g. a proliferating line's division log).
 pub fn run_model<A: LineModel>(
     array: A,
     solver: &SolveSettings,
     times: &OutputTimes,
     rec: &mut RunRecord,
-) {
-    let start = Instant::now();
-    let t_out = times.merged();
+) -> ArrayProblem<A> {
+    let y0 = array.initial_state();
+    let breakpoints = array.breakpoints();
     let mut problem = ArrayProblem::new(array);
-    let traj = integrate(&mut problem, solver, &t_out);
-    rec.stats = RunStats::from_stats(&traj.stats, start.elapsed().as_secs_f64());
-    rec.error = traj.error.clone();
-    record(&traj, times, rec);
+    let r = run_recorded(
+        &mut problem,
+        &y0,
+        &breakpoints,
+        solver,
+        times,
+        &mut LineRecorder,
+    );
+    rec.series = r.series;
+    rec.profiles = r.profiles;
+    rec.stats = r.stats;
+    rec.error = r.error;
+    problem
 }
 
-/// Fills series and profiles from a trajectory's snapshots (stops at the first non-finite one
-/// and reports it, so records never contain NaN).
-pub fn record(traj: &Trajectory, times: &OutputTimes, rec: &mut RunRecord) {
-    let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * (1.0 + a.abs());
-    for snap in &traj.snapshots {
-        let t = snap.t;
-        let finite = snap
-            .pressure
-            .iter()
-            .chain(&snap.alpha)
-            .chain(&snap.x)
-            .chain(&snap.sigma)
-            .all(|v| v.is_finite());
-        if !finite {
-            if rec.error.is_none() {
-                rec.error = Some(format!("non-finite state at t = {t}"));
-            }
-            break;
-        }
-        if times.series.iter().any(|&s| close(s, t)) {
-            let s = &mut rec.series;
-            s.t.push(t);
-            s.length.push(snap.length());
-            s.max_pressure.push(snap.max_pressure());
-            s.min_pressure.push(snap.min_pressure());
-            s.max_stretch.push(snap.max_stretch());
-            s.min_stretch.push(snap.min_stretch());
-            let n = snap.alpha.len() as f64;
-            let mut push = |k: &str, v: f64| s.extra.entry(k.to_string()).or_default().push(v);
-            push("end_reaction", snap.end_reaction());
-            push("mean_alpha", snap.alpha.iter().sum::<f64>() / n);
-            push("x0", snap.x[0]);
-            push("cells", n);
-            push("mean_g", snap.g.iter().sum::<f64>() / n);
-            push(
+/// What a line run records (any [`LineModel`]: line, ring, thesis scheme, proliferating
+/// line and continuum): from its [`Snapshot`], the series with the extra keys `end_reaction`,
+/// `mean_alpha`, `x0`, `cells`, `mean_g`, `min_g`, and the per-cell profile; failures explained
+/// in cell terms (the cell the model rejected, the boundary the solver names, the most
+/// compressed cell).
+///
+/// ```
+/// use celltissue::line::build::{discrete, LineParams};
+/// use celltissue::line::run::LineRecorder;
+/// use celltissue::line::OutputTimes;
+/// use celltissue::runner::run_recorded;
+/// use celltissue::{ArrayProblem, NeoHookean, SolveSettings};
+/// let line = discrete(NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(8)).unwrap();
+/// let y0 = line.initial_state();
+/// let times = OutputTimes { series: vec![0.0, 1.0], profiles: vec![] };
+/// let r = run_recorded(&mut ArrayProblem::new(line), &y0, &[], &SolveSettings::default(),
+///                      &times, &mut LineRecorder);
+/// assert_eq!(r.series.extra["cells"], [8.0, 8.0]);
+/// ```
+#[derive(Clone, Copy, Debug, Default)]
+pub struct LineRecorder;
+
+impl<A: LineModel> Recorder<A> for LineRecorder {
+    fn series_row(
+        &mut self,
+        array: &A,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+    ) -> Result<SeriesRow, String> {
+        let snap = array.observe(t, y, yp).map_err(|e| reason(&e))?;
+        let n = snap.alpha.len() as f64;
+        let extra = [
+            ("end_reaction", snap.end_reaction()),
+            ("mean_alpha", snap.alpha.iter().sum::<f64>() / n),
+            ("x0", snap.x[0]),
+            ("cells", n),
+            ("mean_g", snap.g.iter().sum::<f64>() / n),
+            (
                 "min_g",
                 snap.g.iter().copied().fold(f64::INFINITY, f64::min),
-            );
-        }
-        if times.profiles.iter().any(|&s| close(s, t)) {
-            rec.profiles.push(snap.profile());
-        }
+            ),
+        ];
+        Ok(SeriesRow {
+            length: snap.length(),
+            max_pressure: snap.max_pressure(),
+            min_pressure: snap.min_pressure(),
+            max_stretch: snap.max_stretch(),
+            min_stretch: snap.min_stretch(),
+            extra: extra.into_iter().map(|(k, v)| (k.to_string(), v)).collect(),
+        })
+    }
+
+    fn profile(&mut self, array: &A, t: f64, y: &[f64], yp: &[f64]) -> Result<Profile, String> {
+        let snap = array.observe(t, y, yp).map_err(|e| reason(&e))?;
+        Ok(snap.profile())
+    }
+
+    fn explain(&self, array: &A, f: &SolveFailure, rejected: Option<&RejectedStep>) -> String {
+        failure_message(array, f, rejected)
     }
 }
 
@@ -452,7 +480,8 @@ mod tests {
     use super::*;
     use crate::line::build::{discrete, LineParams};
     use crate::NeoHookean;
-    use integrators::{ErrorKind, SolverError};
+    use integrators::observer::RejectCause;
+    use integrators::{ErrorKind, RecoverableCause, SolverError};
 
     /// When the solver's error says only "step size too small", the model's reason from the
     /// last rejected step is put first, with the step; the solver's worst unknown is named in

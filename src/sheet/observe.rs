@@ -10,7 +10,8 @@
 use super::shear::ShearFields;
 use super::uniaxial::{SheetCell, UniaxialSheet};
 use crate::energy::StrainEnergy;
-use crate::observe::{Profile, Series};
+use crate::observe::Profile;
+use crate::runner::SeriesRow;
 
 /// Series key: mean cell pressure.
 pub const MEAN_PRESSURE: &str = "mean_pressure";
@@ -142,33 +143,39 @@ pub fn sheet_observables<E: StrainEnergy>(
     o
 }
 
-/// Appends one snapshot's observables to a sheet [`Series`].
+/// One sheet state's series values: `length` and the pressure and `λ_x` extremes, extra keys
+/// [`MEAN_PRESSURE`], [`MEAN_HEIGHT`], [`MEAN_STRETCH_Z_OVER_Y`], [`BOUNDARY_MISMATCH_MEAN`],
+/// [`BOUNDARY_MISMATCH_MAX`], [`MAX_STRETCH_Y`], [`MIN_STRETCH_Y`] and, for a growing sheet,
+/// [`MEAN_WIDTH`].
 ///
 /// ```
 /// use celltissue::observe::Series;
-/// use celltissue::sheet::observe::{push_sheet_series, SheetObservables, MEAN_HEIGHT};
+/// use celltissue::sheet::observe::{sheet_series_row, SheetObservables, MEAN_HEIGHT};
 /// let mut s = Series::default();
-/// push_sheet_series(&mut s, &SheetObservables { t: 1.0, mean_height: 0.9, ..Default::default() });
+/// s.push_row(1.0, &sheet_series_row(&SheetObservables { t: 1.0, mean_height: 0.9, ..Default::default() }));
 /// assert_eq!((s.t[0], s.extra[MEAN_HEIGHT][0]), (1.0, 0.9));
 /// assert!(!s.extra.contains_key("mean_width")); // only a growing sheet has a width series
 /// ```
-pub fn push_sheet_series(s: &mut Series, o: &SheetObservables) {
-    s.t.push(o.t);
-    s.length.push(o.length);
-    s.max_pressure.push(o.pressure[0]);
-    s.min_pressure.push(o.pressure[1]);
-    s.max_stretch.push(o.stretch_x[0]);
-    s.min_stretch.push(o.stretch_x[1]);
-    let mut put = |k: &str, v: f64| s.extra.entry(k.to_string()).or_default().push(v);
-    put(MEAN_PRESSURE, o.pressure[2]);
-    put(MEAN_HEIGHT, o.mean_height);
-    put(MEAN_STRETCH_Z_OVER_Y, o.stretch_z_over_y);
-    put(BOUNDARY_MISMATCH_MEAN, o.mismatch[0]);
-    put(BOUNDARY_MISMATCH_MAX, o.mismatch[1]);
-    put(MAX_STRETCH_Y, o.stretch_y[0]);
-    put(MIN_STRETCH_Y, o.stretch_y[1]);
+pub fn sheet_series_row(o: &SheetObservables) -> SeriesRow {
+    let mut extra = vec![
+        (MEAN_PRESSURE, o.pressure[2]),
+        (MEAN_HEIGHT, o.mean_height),
+        (MEAN_STRETCH_Z_OVER_Y, o.stretch_z_over_y),
+        (BOUNDARY_MISMATCH_MEAN, o.mismatch[0]),
+        (BOUNDARY_MISMATCH_MAX, o.mismatch[1]),
+        (MAX_STRETCH_Y, o.stretch_y[0]),
+        (MIN_STRETCH_Y, o.stretch_y[1]),
+    ];
     if let Some(w) = o.width {
-        put(MEAN_WIDTH, w);
+        extra.push((MEAN_WIDTH, w));
+    }
+    SeriesRow {
+        length: o.length,
+        max_pressure: o.pressure[0],
+        min_pressure: o.pressure[1],
+        max_stretch: o.stretch_x[0],
+        min_stretch: o.stretch_x[1],
+        extra: extra.into_iter().map(|(k, v)| (k.to_string(), v)).collect(),
     }
 }
 
@@ -375,19 +382,25 @@ pub fn shear_observables(t: f64, f: &ShearFields) -> ShearObservables {
     }
 }
 
-/// Appends one snapshot to a shear [`Series`]: `length` is the top displacement, `max/min_stretch`
-/// are `max/min tan θ`; extra keys [`TOP_DISPLACEMENT`], [`SHEAR_SPREAD`], [`MEAN_SHEAR_ANGLE`].
-pub fn push_shear_series(s: &mut Series, o: &ShearObservables) {
-    s.t.push(o.t);
-    s.length.push(o.top);
-    s.max_pressure.push(o.pressure[0]);
-    s.min_pressure.push(o.pressure[1]);
-    s.max_stretch.push(o.tan_theta[0]);
-    s.min_stretch.push(o.tan_theta[1]);
-    let mut put = |k: &str, v: f64| s.extra.entry(k.to_string()).or_default().push(v);
-    put(TOP_DISPLACEMENT, o.top);
-    put(SHEAR_SPREAD, o.spread);
-    put(MEAN_SHEAR_ANGLE, o.mean_theta);
+/// One shear-column state's series values: `length` is the top displacement,
+/// `max/min_stretch` are `max/min tan θ`; extra keys [`TOP_DISPLACEMENT`], [`SHEAR_SPREAD`],
+/// [`MEAN_SHEAR_ANGLE`].
+pub fn shear_series_row(o: &ShearObservables) -> SeriesRow {
+    SeriesRow {
+        length: o.top,
+        max_pressure: o.pressure[0],
+        min_pressure: o.pressure[1],
+        max_stretch: o.tan_theta[0],
+        min_stretch: o.tan_theta[1],
+        extra: [
+            (TOP_DISPLACEMENT, o.top),
+            (SHEAR_SPREAD, o.spread),
+            (MEAN_SHEAR_ANGLE, o.mean_theta),
+        ]
+        .into_iter()
+        .map(|(k, v)| (k.to_string(), v))
+        .collect(),
+    }
 }
 
 /// A per-cell shear [`Profile`] against height: `X` is the reference centre height `y`, `x` the

@@ -16,18 +16,17 @@
 
 use super::config::{ConfigError, ShearConfig, ShearForm, SheetConfig};
 use super::observe::{
-    push_shear_series, push_sheet_series, shear_observables, shear_profile, sheet_observables,
-    sheet_profile, SheetColumns,
+    shear_observables, shear_profile, shear_series_row, sheet_observables, sheet_profile,
+    sheet_series_row, SheetColumns,
 };
 use super::shear::{ShearCellCentre, ShearColumn, ShearFields};
 use super::uniaxial::UniaxialSheet;
-use crate::array::{ArrayProblem, CellArray};
-use crate::drive::drive;
+use crate::array::ArrayProblem;
 use crate::energy::StrainEnergy;
-use crate::observe::{ModelKind, RunRecord, RunStats, Series};
+use crate::line::OutputTimes;
+use crate::observe::{ModelKind, Profile, RunRecord};
+use crate::runner::{run_recorded, Recorder, Recording, SeriesRow};
 use crate::settings::SolveSettings;
-use integrators::Stats;
-use std::time::Instant;
 
 /// What to record (the runners write no files: `crate::output` does, from the record).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -86,32 +85,74 @@ pub(crate) fn all_times(out: &Outputs) -> Result<Vec<f64>, RunError> {
     Ok(t)
 }
 
-fn contains(ts: &[f64], t: f64) -> bool {
-    ts.contains(&t)
+impl Outputs {
+    /// The same request as the runner's [`OutputTimes`].
+    pub(crate) fn output_times(&self) -> OutputTimes {
+        OutputTimes {
+            series: self.times.clone(),
+            profiles: self.profile_times.clone(),
+        }
+    }
 }
 
-/// What [`integrate`] returns: `(t, y)` at the reached output times, the work counters, and the
-/// solver's error message if it failed (the states then stop at the failure).
-pub type Integrated = (Vec<(f64, Vec<f64>)>, Stats, Option<String>);
+/// What a sheet run records: [`sheet_series_row`] of [`sheet_observables`] and the per-cell
+/// [`sheet_profile`] with the sheet's optional columns.
+struct SheetRecorder(SheetColumns);
 
-/// Per-cell shear fields from a state (edge or cell-centre form).
-type FieldsFn<'a> = Box<dyn Fn(&[f64]) -> ShearFields + 'a>;
+impl<E: StrainEnergy> Recorder<UniaxialSheet<E>> for SheetRecorder {
+    fn series_row(
+        &mut self,
+        sheet: &UniaxialSheet<E>,
+        t: f64,
+        y: &[f64],
+        _: &[f64],
+    ) -> Result<SeriesRow, String> {
+        let cells = sheet.cells(t, y);
+        Ok(sheet_series_row(&sheet_observables(sheet, t, y, &cells)))
+    }
 
-/// Integrates a cell array from `(0, y0)` with [`drive`] and returns the states at `times`
-/// (`t = 0` after the consistent initialisation). On failure returns the states reached and
-/// the error message.
-pub fn integrate<A: CellArray>(
-    problem: &mut ArrayProblem<A>,
-    y0: &[f64],
-    times: &[f64],
-    solver: &SolveSettings,
-) -> Integrated {
-    let mut states = Vec::new();
-    let driven = drive(problem, solver, y0, times, &[], |_, t, y, _| {
-        states.push((t, y.to_vec()));
-        Ok(())
-    });
-    (states, driven.stats, driven.error.map(|e| e.to_string()))
+    fn profile(
+        &mut self,
+        sheet: &UniaxialSheet<E>,
+        t: f64,
+        y: &[f64],
+        _: &[f64],
+    ) -> Result<Profile, String> {
+        Ok(sheet_profile(t, &sheet.cells(t, y), self.0))
+    }
+}
+
+/// The two forms of the shear column: per-cell fields from a state.
+trait ShearFieldsOf {
+    fn shear_fields(&self, y: &[f64]) -> ShearFields;
+}
+
+impl<E: StrainEnergy> ShearFieldsOf for ShearColumn<E> {
+    fn shear_fields(&self, y: &[f64]) -> ShearFields {
+        self.fields(y)
+    }
+}
+
+impl<E: StrainEnergy> ShearFieldsOf for ShearCellCentre<E> {
+    fn shear_fields(&self, y: &[f64]) -> ShearFields {
+        self.fields(y)
+    }
+}
+
+/// What a shear-column run records: [`shear_series_row`] and [`shear_profile`] of its fields.
+struct ShearRecorder;
+
+impl<A: ShearFieldsOf> Recorder<A> for ShearRecorder {
+    fn series_row(&mut self, col: &A, t: f64, y: &[f64], _: &[f64]) -> Result<SeriesRow, String> {
+        Ok(shear_series_row(&shear_observables(
+            t,
+            &col.shear_fields(y),
+        )))
+    }
+
+    fn profile(&mut self, col: &A, t: f64, y: &[f64], _: &[f64]) -> Result<Profile, String> {
+        Ok(shear_profile(t, &col.shear_fields(y)))
+    }
 }
 
 /// Runs the uniaxial sheet (docs/model.md §4.1–4.3).
@@ -153,33 +194,27 @@ pub fn run_sheet<E: StrainEnergy>(
             return Err(cfg_err("grid", format!("{g:?}"), "both sizes must be >= 1"))
         }
     };
-    let times = all_times(out)?;
+    all_times(out)?;
     let sheet = UniaxialSheet::continuum(law, &cfg.params(), n, m)
         .map_err(|e| cfg_err("sheet", "", &e.to_string()))?
         .with_cell_atol(solver.atol);
     let y0 = sheet.initial_state();
+    let spacing = sheet.spacing();
+    let mut recorder = SheetRecorder(SheetColumns::of(&sheet));
     let mut problem = ArrayProblem::new(sheet);
-    let start = Instant::now();
-    let (states, stats, error) = integrate(&mut problem, &y0, &times, solver);
-    let wall = start.elapsed().as_secs_f64();
-    let sheet = &problem.array;
-
-    let mut series = Series::default();
-    let mut profiles = Vec::new();
-    for (t, y) in &states {
-        let cells = sheet.cells(*t, y);
-        if contains(&out.times, *t) {
-            push_sheet_series(&mut series, &sheet_observables(sheet, *t, y, &cells));
-        }
-        if contains(&out.profile_times, *t) {
-            profiles.push(sheet_profile(*t, &cells, SheetColumns::of(sheet)));
-        }
-    }
+    let r = run_recorded(
+        &mut problem,
+        &y0,
+        &[],
+        solver,
+        &out.output_times(),
+        &mut recorder,
+    );
     let parameters = serde_json::json!({
         "config": cfg,
         "drag_K": cfg.drag(),
         "grid": [n, m],
-        "spacing": [sheet.spacing().0, sheet.spacing().1],
+        "spacing": [spacing.0, spacing.1],
         "shear_modulus": law.shear_modulus(),
         "method": solver.method.name(),
         "rtol": solver.rtol,
@@ -198,17 +233,7 @@ pub fn run_sheet<E: StrainEnergy>(
         cfg.drag()
     )
     .to_lowercase();
-    Ok(RunRecord {
-        label,
-        model,
-        parameters,
-        series,
-        profiles,
-        stats: RunStats::from_stats(&stats, wall),
-        divisions: Vec::new(),
-        error,
-        reference: None,
-    })
+    Ok(record(label, model, parameters, r))
 }
 
 /// Runs the shear column (docs/model.md §4.4–4.6).
@@ -232,7 +257,7 @@ pub fn run_shear<E: StrainEnergy>(
     solver
         .options()
         .map_err(|e| cfg_err("solver", "options", &e.to_string()))?;
-    let times = all_times(out)?;
+    all_times(out)?;
     let params = cfg.params();
     let m = match (model, grid, cfg.form) {
         (ModelKind::Continuum, _, ShearForm::CellCentre) => {
@@ -251,38 +276,34 @@ pub fn run_shear<E: StrainEnergy>(
         (ModelKind::Continuum, Some(g), _) if g >= 1 => g,
         (ModelKind::Continuum, Some(g), _) => return Err(cfg_err("grid", g, "must be >= 1")),
     };
-    let start = Instant::now();
     let bad = |e: super::shear::ShearBuildError| cfg_err("shear", "", &e.to_string());
-    let (states, stats, error, fields): (_, _, _, FieldsFn<'_>) = match cfg.form {
+    let times = out.output_times();
+    let r = match cfg.form {
         ShearForm::Edge => {
             let col = ShearColumn::continuum(law, &params, m).map_err(bad)?;
             let y0 = col.initial_state();
-            let mut problem = ArrayProblem::new(col);
-            let (s, st, e) = integrate(&mut problem, &y0, &times, solver);
-            let col = problem.array;
-            (s, st, e, Box::new(move |y| col.fields(y)))
+            run_recorded(
+                &mut ArrayProblem::new(col),
+                &y0,
+                &[],
+                solver,
+                &times,
+                &mut ShearRecorder,
+            )
         }
         ShearForm::CellCentre => {
             let col = ShearCellCentre::new(law, &params).map_err(bad)?;
             let y0 = col.initial_state();
-            let mut problem = ArrayProblem::new(col);
-            let (s, st, e) = integrate(&mut problem, &y0, &times, solver);
-            let col = problem.array;
-            (s, st, e, Box::new(move |y| col.fields(y)))
+            run_recorded(
+                &mut ArrayProblem::new(col),
+                &y0,
+                &[],
+                solver,
+                &times,
+                &mut ShearRecorder,
+            )
         }
     };
-    let wall = start.elapsed().as_secs_f64();
-    let mut series = Series::default();
-    let mut profiles = Vec::new();
-    for (t, y) in &states {
-        let f = fields(y);
-        if contains(&out.times, *t) {
-            push_shear_series(&mut series, &shear_observables(*t, &f));
-        }
-        if contains(&out.profile_times, *t) {
-            profiles.push(shear_profile(*t, &f));
-        }
-    }
     let parameters = serde_json::json!({
         "config": cfg,
         "drag_K": cfg.drag(),
@@ -303,15 +324,25 @@ pub fn run_shear<E: StrainEnergy>(
         cfg.form
     )
     .to_lowercase();
-    Ok(RunRecord {
+    Ok(record(label, model, parameters, r))
+}
+
+/// A sheet or shear-column record from its label, parameters and recording.
+fn record(
+    label: String,
+    model: ModelKind,
+    parameters: serde_json::Value,
+    r: Recording,
+) -> RunRecord {
+    RunRecord {
         label,
         model,
         parameters,
-        series,
-        profiles,
-        stats: RunStats::from_stats(&stats, wall),
+        series: r.series,
+        profiles: r.profiles,
+        stats: r.stats,
         divisions: Vec::new(),
-        error,
+        error: r.error,
         reference: None,
-    })
+    }
 }

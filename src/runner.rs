@@ -1,0 +1,269 @@
+//! [`run_recorded`]: the one run-and-record loop of every model — line, ring, proliferating
+//! line, proliferating continuum, sheet, shear column and registered modes. A runner builds
+//! its array from its configuration, then hands it here with a [`Recorder`] that says what a
+//! state is recorded as (a [`SeriesRow`] at the series times, a [`Profile`] at the profile
+//! times) and how a failure reads in the model's terms. The loop integrates with
+//! [`crate::drive`], records inside the solver's observer (so records follow an array through
+//! resizes), refuses a non-finite observation (the run stops there with the reason: records
+//! never hold NaN), and returns the series, profiles, counters and error the runner puts in
+//! its [`crate::observe::RunRecord`].
+
+use crate::array::{ArrayProblem, CellArray};
+use crate::drive::{drive_observed, DriveError, DriveObserver};
+use crate::observe::{Profile, RunStats, Series};
+use crate::settings::SolveSettings;
+use integrators::observer::{RejectCause, RejectedStep};
+use integrators::{RecoverableCause, SolveFailure};
+use std::time::Instant;
+
+/// The scalar values recorded at one series time: the five every record has, and the model's
+/// own (`extra`, by name).
+///
+/// ```
+/// use celltissue::runner::SeriesRow;
+/// use celltissue::observe::Series;
+/// let row = SeriesRow { length: 10.0, extra: vec![("cells".into(), 10.0)], ..Default::default() };
+/// let mut s = Series::default();
+/// s.push_row(0.5, &row);
+/// assert_eq!((s.t[0], s.length[0], s.extra["cells"][0]), (0.5, 10.0, 10.0));
+/// ```
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SeriesRow {
+    /// The array's length (a sheet's or mode's own measure; the shear column's top
+    /// displacement).
+    pub length: f64,
+    /// Largest pressure.
+    pub max_pressure: f64,
+    /// Smallest pressure.
+    pub min_pressure: f64,
+    /// Largest stretch (`tan θ` on a shear column).
+    pub max_stretch: f64,
+    /// Smallest stretch.
+    pub min_stretch: f64,
+    /// Further series by name.
+    pub extra: Vec<(String, f64)>,
+}
+
+impl SeriesRow {
+    /// The first non-finite value's name, if any.
+    fn non_finite(&self) -> Option<&str> {
+        let fixed = [
+            ("length", self.length),
+            ("max_pressure", self.max_pressure),
+            ("min_pressure", self.min_pressure),
+            ("max_stretch", self.max_stretch),
+            ("min_stretch", self.min_stretch),
+        ];
+        fixed
+            .into_iter()
+            .chain(self.extra.iter().map(|(k, v)| (k.as_str(), *v)))
+            .find(|(_, v)| !v.is_finite())
+            .map(|(k, _)| k)
+    }
+
+    /// The five fixed values from a profile's extremes (pressure and stretch), with `length`
+    /// and no extra series.
+    ///
+    /// ```
+    /// use celltissue::observe::Profile;
+    /// use celltissue::runner::SeriesRow;
+    /// let p = Profile { stretch: vec![0.9, 1.1], pressure: vec![2.0, 1.0], ..Default::default() };
+    /// let row = SeriesRow::from_profile(&p, 5.0);
+    /// assert_eq!((row.max_pressure, row.min_stretch, row.length), (2.0, 0.9, 5.0));
+    /// ```
+    pub fn from_profile(p: &Profile, length: f64) -> Self {
+        let extreme = |v: &[f64], max: bool| {
+            v.iter()
+                .copied()
+                .reduce(if max { f64::max } else { f64::min })
+                .unwrap_or(f64::NAN)
+        };
+        Self {
+            length,
+            max_pressure: extreme(&p.pressure, true),
+            min_pressure: extreme(&p.pressure, false),
+            max_stretch: extreme(&p.stretch, true),
+            min_stretch: extreme(&p.stretch, false),
+            extra: Vec::new(),
+        }
+    }
+}
+
+/// What a run records of its array `A`'s states, and how its failures read.
+///
+/// ```
+/// use celltissue::line::build::{discrete, LineParams};
+/// use celltissue::line::{Line, OutputTimes};
+/// use celltissue::observe::Profile;
+/// use celltissue::runner::{run_recorded, Recorder, SeriesRow};
+/// use celltissue::{ArrayProblem, NeoHookean, SolveSettings};
+/// /// Records only the first free boundary's position x₁ (the state's first unknown).
+/// struct FirstBoundary;
+/// impl Recorder<Line<NeoHookean>> for FirstBoundary {
+///     fn series_row(&mut self, _: &Line<NeoHookean>, _t: f64, y: &[f64], _: &[f64])
+///         -> Result<SeriesRow, String> {
+///         Ok(SeriesRow { length: y[0], ..Default::default() })
+///     }
+///     fn profile(&mut self, _: &Line<NeoHookean>, t: f64, y: &[f64], _: &[f64])
+///         -> Result<Profile, String> {
+///         Ok(Profile { t, x: y.to_vec(), ..Default::default() })
+///     }
+/// }
+/// let line = discrete(NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(5)).unwrap();
+/// let y0 = line.initial_state();
+/// let times = OutputTimes { series: vec![0.0, 1.0], profiles: vec![1.0] };
+/// let r = run_recorded(&mut ArrayProblem::new(line), &y0, &[], &SolveSettings::default(),
+///                      &times, &mut FirstBoundary);
+/// assert!(r.error.is_none());
+/// assert_eq!(r.series.length, [1.0, 1.0]); // a line held at its rest length stays at rest
+/// assert_eq!(r.profiles.len(), 1);
+/// ```
+pub trait Recorder<A> {
+    /// The series values of the state at `t`.
+    fn series_row(&mut self, array: &A, t: f64, y: &[f64], yp: &[f64])
+        -> Result<SeriesRow, String>;
+
+    /// The profile of the state at `t`.
+    fn profile(&mut self, array: &A, t: f64, y: &[f64], yp: &[f64]) -> Result<Profile, String>;
+
+    /// The message of a failed solve, in the model's terms; `rejected` is the last step the
+    /// model itself rejected (its own reason), if any. Default: the solver's message, with
+    /// the model's reason first when the step that failed had one.
+    fn explain(
+        &self,
+        _array: &A,
+        failure: &SolveFailure,
+        rejected: Option<&RejectedStep>,
+    ) -> String {
+        let solver = failure.error.to_string();
+        match model_reason(failure, rejected) {
+            Some(r) => format!("{r}; solver: {solver}"),
+            None => solver,
+        }
+    }
+}
+
+/// The model's own reason for rejecting the step that failed ("cell 4 has non-positive
+/// stretch … in the step from t = … (h = …)"), when the solver's error does not already say
+/// it: the last rejected step, if it started at or after the failure and the model (not the
+/// error test or Newton) rejected it.
+pub fn model_reason(failure: &SolveFailure, rejected: Option<&RejectedStep>) -> Option<String> {
+    let r = rejected?;
+    let RejectCause::Recoverable(RecoverableCause::Rejected(reason)) = &r.cause else {
+        return None;
+    };
+    let solver = failure.error.to_string();
+    (r.t >= failure.error.t && !solver.contains(reason.as_str()))
+        .then(|| format!("{reason} in the step from t = {} (h = {:.1e})", r.t, r.h))
+}
+
+/// What [`run_recorded`] returns: the recorded series and profiles, the work counters and
+/// wall time, and the error that stopped the run early (everything before it is kept).
+#[derive(Clone, Debug, Default)]
+pub struct Recording {
+    /// The series at the series times reached.
+    pub series: Series,
+    /// The profiles at the profile times reached.
+    pub profiles: Vec<Profile>,
+    /// Work counters (summed over restarts) and wall time.
+    pub stats: RunStats,
+    /// Why the run stopped early.
+    pub error: Option<String>,
+    /// The last state reached.
+    pub y_last: Vec<f64>,
+}
+
+/// Integrates `problem` from `(0, y0)` (restarting at `breakpoints`) with `settings`, and
+/// records with `recorder` a series row at each of `times.series` and a profile at each of
+/// `times.profiles` (see [`Recorder`] for an example). Output times must be finite and
+/// `≥ 0` (a runner checks them first).
+pub fn run_recorded<A: CellArray, R: Recorder<A>>(
+    problem: &mut ArrayProblem<A>,
+    y0: &[f64],
+    breakpoints: &[f64],
+    settings: &SolveSettings,
+    times: &crate::line::OutputTimes,
+    recorder: &mut R,
+) -> Recording {
+    let start = Instant::now();
+    let t_out = times.merged();
+    let mut watch = Watch {
+        recorder,
+        times,
+        series: Series::default(),
+        profiles: Vec::new(),
+        rejected: None,
+    };
+    let driven = drive_observed(problem, settings, y0, &t_out, breakpoints, &mut watch);
+    let error = driven.error.map(|e| match e {
+        DriveError::Solver(f) => {
+            watch
+                .recorder
+                .explain(&problem.array, &f, watch.rejected.as_ref())
+        }
+        other => other.to_string(),
+    });
+    Recording {
+        series: watch.series,
+        profiles: watch.profiles,
+        stats: RunStats::from_stats(&driven.stats, start.elapsed().as_secs_f64()),
+        error,
+        y_last: driven.y_last,
+    }
+}
+
+/// The observer [`run_recorded`] drives with: records at the outputs, keeps the last step the
+/// model rejected.
+struct Watch<'a, R> {
+    recorder: &'a mut R,
+    times: &'a crate::line::OutputTimes,
+    series: Series,
+    profiles: Vec<Profile>,
+    rejected: Option<RejectedStep>,
+}
+
+impl<A: CellArray, R: Recorder<A>> DriveObserver<ArrayProblem<A>> for Watch<'_, R> {
+    fn output(&mut self, p: &ArrayProblem<A>, t: f64, y: &[f64], yp: &[f64]) -> Result<(), String> {
+        let failed = |e: String| format!("observation at t = {t} failed: {e}");
+        if self.times.series.contains(&t) {
+            let row = self
+                .recorder
+                .series_row(&p.array, t, y, yp)
+                .map_err(failed)?;
+            if let Some(k) = row.non_finite() {
+                return Err(format!("non-finite state at t = {t} (series `{k}`)"));
+            }
+            self.series.push_row(t, &row);
+        }
+        if self.times.profiles.contains(&t) {
+            let profile = self.recorder.profile(&p.array, t, y, yp).map_err(failed)?;
+            let fields = [
+                &profile.x_ref,
+                &profile.x,
+                &profile.stretch,
+                &profile.pressure,
+            ];
+            let finite = fields.into_iter().chain(profile.extra.values()).flatten();
+            if !finite.copied().all(f64::is_finite) {
+                return Err(format!("non-finite state at t = {t} (profile)"));
+            }
+            self.profiles.push(profile);
+        }
+        Ok(())
+    }
+
+    fn rejected(&mut self, _: &ArrayProblem<A>, step: &RejectedStep) {
+        if rejected_by_the_model(step) {
+            self.rejected = Some(step.clone());
+        }
+    }
+}
+
+/// Whether the model itself rejected the step (its residual refused the state), rather than
+/// the error test, Newton or a factorisation.
+pub fn rejected_by_the_model(step: &RejectedStep) -> bool {
+    matches!(
+        step.cause,
+        RejectCause::Recoverable(RecoverableCause::Rejected(_))
+    )
+}
