@@ -15,9 +15,9 @@
 use crate::array::{ArrayProblem, CellArray};
 use crate::observe::{ModelKind, Profile, RunRecord, Series};
 use crate::registry::{checked, Constructor, Kind, Named, ParamError, Registry, RegistryError};
+use crate::runner::OutputTimes;
 use crate::runner::{run_recorded, Recorder, SeriesRow};
 use crate::settings::SolveSettings;
-use crate::sheet::run::{all_times, Outputs};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 use std::fmt::Debug;
@@ -72,7 +72,7 @@ pub trait ModeRun: Send + Sync + Debug {
         model: ModelKind,
         nodes: Option<usize>,
         solver: &SolveSettings,
-        out: &Outputs,
+        out: &OutputTimes,
     ) -> RunRecord;
 }
 
@@ -91,7 +91,7 @@ impl<M: Mode> ModeRun for Configured<M> {
         model: ModelKind,
         nodes: Option<usize>,
         solver: &SolveSettings,
-        out: &Outputs,
+        out: &OutputTimes,
     ) -> RunRecord {
         run_mode::<M>(&self.0, model, nodes, solver, out)
     }
@@ -152,7 +152,7 @@ pub fn run_mode<M: Mode>(
     model: ModelKind,
     nodes: Option<usize>,
     solver: &SolveSettings,
-    out: &Outputs,
+    out: &OutputTimes,
 ) -> RunRecord {
     let mut rec = RunRecord {
         label: String::new(),
@@ -165,8 +165,8 @@ pub fn run_mode<M: Mode>(
         error: None,
         reference: None,
     };
-    if let Err(e) = all_times(out) {
-        rec.error = Some(e.to_string());
+    if let Err(e) = out.check() {
+        rec.error = Some(e);
         return rec;
     }
     let (array, y0) = match M::build(config, model, nodes) {
@@ -182,7 +182,7 @@ pub fn run_mode<M: Mode>(
         &y0,
         &[],
         solver,
-        &out.output_times(),
+        out,
         &mut ModeRecorder::<M>(PhantomData),
     );
     rec.series = r.series;

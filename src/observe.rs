@@ -166,11 +166,12 @@ pub struct DivisionRecord {
 ///
 /// ```
 /// use celltissue::observe::{ModelKind, RunRecord};
-/// use celltissue::sheet::{run::Outputs, run_sheet, SheetConfig};
+/// use celltissue::runner::OutputTimes;
+/// use celltissue::sheet::{run_sheet, SheetConfig};
 /// use celltissue::SolveSettings;
 /// let cfg = SheetConfig { cells_x: 3, cells_y: 3, ..Default::default() };
 /// let rec: RunRecord = run_sheet(&cfg, &cfg.law, ModelKind::Discrete, None,
-///                                &SolveSettings::default(), &Outputs::at(&[1.0]))?;
+///                                &SolveSettings::default(), &OutputTimes::at(&[1.0]))?;
 /// assert!(rec.error.is_none() && rec.stats.steps > 0);
 /// assert_eq!(rec.series.t, [1.0]);
 /// # Ok::<(), Box<dyn std::error::Error>>(())

@@ -16,6 +16,61 @@ use integrators::observer::{RejectCause, RejectedStep};
 use integrators::{RecoverableCause, SolveFailure};
 use std::time::Instant;
 
+/// Requested output times (each list increasing, `t ≥ 0`; the run starts at `t = 0`): the
+/// one output request of every runner.
+///
+/// ```
+/// use celltissue::runner::OutputTimes;
+/// let t = OutputTimes { series: vec![0.0, 1.0, 2.0], profiles: vec![1.0, 5.0] };
+/// assert_eq!(t.merged(), [0.0, 1.0, 2.0, 5.0]); // the integrator's output times
+/// assert_eq!(OutputTimes::at(&[1.0]).profiles, []);
+/// assert_eq!(OutputTimes::at(&[-1.0]).check().unwrap_err(), "output time -1 must be finite and >= 0");
+/// ```
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct OutputTimes {
+    /// Times of the scalar series.
+    pub series: Vec<f64>,
+    /// Times of the profiles.
+    pub profiles: Vec<f64>,
+}
+
+impl OutputTimes {
+    /// Series at `series`, no profiles.
+    pub fn at(series: &[f64]) -> Self {
+        Self {
+            series: series.to_vec(),
+            profiles: Vec::new(),
+        }
+    }
+
+    /// Every time finite and `≥ 0`; else the message naming the first that is not.
+    pub fn check(&self) -> Result<(), String> {
+        match self
+            .series
+            .iter()
+            .chain(&self.profiles)
+            .find(|t| !(t.is_finite() && **t >= 0.0))
+        {
+            Some(bad) => Err(format!("output time {bad} must be finite and >= 0")),
+            None => Ok(()),
+        }
+    }
+
+    /// Sorted, deduplicated union of both lists (finite times only).
+    pub fn merged(&self) -> Vec<f64> {
+        let mut t: Vec<f64> = self
+            .series
+            .iter()
+            .chain(&self.profiles)
+            .copied()
+            .filter(|t| t.is_finite())
+            .collect();
+        t.sort_by(f64::total_cmp);
+        t.dedup();
+        t
+    }
+}
+
 /// The scalar values recorded at one series time: the five every record has, and the model's
 /// own (`extra`, by name).
 ///
@@ -182,7 +237,7 @@ pub fn run_recorded<A: CellArray, R: Recorder<A>>(
     y0: &[f64],
     breakpoints: &[f64],
     settings: &SolveSettings,
-    times: &crate::line::OutputTimes,
+    times: &OutputTimes,
     recorder: &mut R,
 ) -> Recording {
     let start = Instant::now();
@@ -216,7 +271,7 @@ pub fn run_recorded<A: CellArray, R: Recorder<A>>(
 /// model rejected.
 struct Watch<'a, R> {
     recorder: &'a mut R,
-    times: &'a crate::line::OutputTimes,
+    times: &'a OutputTimes,
     series: Series,
     profiles: Vec<Profile>,
     rejected: Option<RejectedStep>,

@@ -5,9 +5,10 @@
 
 use celltissue::array::ArrayProblem;
 use celltissue::observe::{ModelKind, Profile, RunRecord};
+use celltissue::runner::OutputTimes;
 use celltissue::sheet::exact::{shear_series, ShearDiscreteExact};
 use celltissue::sheet::shear::{ShearColumn, ShearParams};
-use celltissue::sheet::{run::Outputs, run_shear, ShearConfig, ShearForm};
+use celltissue::sheet::{run_shear, ShearConfig, ShearForm};
 use celltissue::{NeoHookean, Ogden, SolveSettings, StrainEnergy};
 use integrators::{MethodKind, Options, Solver};
 
@@ -31,16 +32,24 @@ fn run(
     times: &[f64],
     rtol: f64,
 ) -> RunRecord {
-    let rec = run_shear(cfg, law, model, grid, &solver(rtol), &Outputs::at(times)).unwrap();
+    let rec = run_shear(
+        cfg,
+        law,
+        model,
+        grid,
+        &solver(rtol),
+        &OutputTimes::at(times),
+    )
+    .unwrap();
     assert!(rec.error.is_none(), "{:?}", rec.error);
     rec
 }
 
 /// A run that records only the profiles, at `times`, with `rtol = 10⁻¹¹` (BDF), without error.
 fn profiles(cfg: &ShearConfig, model: ModelKind, grid: Option<usize>, times: &[f64]) -> RunRecord {
-    let outputs = Outputs {
-        times: vec![],
-        profile_times: times.to_vec(),
+    let outputs = OutputTimes {
+        series: vec![],
+        profiles: times.to_vec(),
     };
     let rec = run_shear(cfg, &nh(1.0), model, grid, &solver(1e-11), &outputs).unwrap();
     assert!(rec.error.is_none(), "{:?}", rec.error);
@@ -295,7 +304,7 @@ fn cell_centre_form_is_discrete_only() {
         ModelKind::Continuum,
         None,
         &solver(1e-8),
-        &Outputs::at(&[1.0]),
+        &OutputTimes::at(&[1.0]),
     )
     .unwrap_err();
     assert!(err.to_string().contains("form"), "{err}");

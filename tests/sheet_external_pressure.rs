@@ -11,7 +11,8 @@
 use crate::common::sheet_solver;
 use celltissue::cell::Field;
 use celltissue::observe::{ModelKind, Profile, RunRecord};
-use celltissue::sheet::{run::Outputs, run_sheet, SheetConfig, TopBoundary};
+use celltissue::runner::OutputTimes;
+use celltissue::sheet::{run_sheet, SheetConfig, TopBoundary};
 use celltissue::NeoHookean;
 
 fn nh() -> NeoHookean {
@@ -20,9 +21,9 @@ fn nh() -> NeoHookean {
 
 /// Discrete run with profiles at `times`.
 fn run(cfg: &SheetConfig, times: &[f64]) -> RunRecord {
-    let out = Outputs {
-        times: times.to_vec(),
-        profile_times: times.to_vec(),
+    let out = OutputTimes {
+        series: times.to_vec(),
+        profiles: times.to_vec(),
     };
     let rec = run_sheet(
         cfg,

@@ -18,7 +18,7 @@ use celltissue::drive::drive;
 use celltissue::line::build::{discrete, LineParams};
 use celltissue::line::run::{integrate as integrate_line, SolveSettings};
 use celltissue::observe::{ModelKind, RunRecord};
-use celltissue::sheet::run::Outputs;
+use celltissue::runner::OutputTimes;
 use celltissue::sheet::uniaxial::UniaxialSheet;
 use celltissue::sheet::{run_sheet, GrowthDirections, RightEdge, SheetConfig, TopBoundary};
 use celltissue::NeoHookean;
@@ -42,9 +42,9 @@ fn growing(cells_x: usize, cells_y: usize, drag: f64, top: TopBoundary) -> Sheet
 }
 
 fn run(cfg: &SheetConfig, model: ModelKind, grid: Option<(usize, usize)>, t: &[f64]) -> RunRecord {
-    let out = Outputs {
-        times: t.to_vec(),
-        profile_times: t.to_vec(),
+    let out = OutputTimes {
+        series: t.to_vec(),
+        profiles: t.to_vec(),
     };
     let rec = run_sheet(cfg, &nh(), model, grid, &sheet_solver(1e-10, 1e-12), &out).unwrap();
     assert!(rec.error.is_none(), "{:?}", rec.error);

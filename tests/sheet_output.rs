@@ -4,9 +4,10 @@
 
 use celltissue::observe::ModelKind;
 use celltissue::output;
+use celltissue::runner::OutputTimes;
 use celltissue::scenario::{execute, load_str};
 use celltissue::sheet::observe::sheet_cells;
-use celltissue::sheet::{run::Outputs, run_sheet, SheetConfig, TopBoundary};
+use celltissue::sheet::{run_sheet, SheetConfig, TopBoundary};
 use celltissue::SolveSettings;
 
 #[test]
@@ -16,9 +17,9 @@ fn sheet_run_returns_profiles_and_writes_nothing() {
         cells_y: 3,
         ..Default::default()
     };
-    let out = Outputs {
-        times: vec![0.0, 1.0, 2.0],
-        profile_times: vec![1.0, 2.0],
+    let out = OutputTimes {
+        series: vec![0.0, 1.0, 2.0],
+        profiles: vec![1.0, 2.0],
     };
     let rec = run_sheet(
         &cfg,

@@ -3,8 +3,9 @@
 //! neo-Hookean `μ = 1`), the exact steady states of §4.3, and the small-displacement solution.
 
 use celltissue::observe::{ModelKind, RunRecord};
+use celltissue::runner::OutputTimes;
 use celltissue::sheet::exact::sheet_free_steady;
-use celltissue::sheet::{run::Outputs, run_sheet, Ramp, SheetConfig, TopBoundary};
+use celltissue::sheet::{run_sheet, Ramp, SheetConfig, TopBoundary};
 use celltissue::{MooneyRivlin, NeoHookean, SolveSettings, StrainEnergy};
 use integrators::{IterativeSettings, LinearSolverChoice};
 
@@ -28,14 +29,14 @@ fn times() -> Vec<f64> {
     t
 }
 
-fn run(cfg: &SheetConfig, law: &impl StrainEnergy, out: &Outputs) -> RunRecord {
+fn run(cfg: &SheetConfig, law: &impl StrainEnergy, out: &OutputTimes) -> RunRecord {
     run_with(cfg, law, out, &solver(1e-9))
 }
 
 fn run_with(
     cfg: &SheetConfig,
     law: &impl StrainEnergy,
-    out: &Outputs,
+    out: &OutputTimes,
     settings: &SolveSettings,
 ) -> RunRecord {
     let rec = run_sheet(cfg, law, ModelKind::Discrete, None, settings, out).unwrap();
@@ -101,7 +102,7 @@ fn check_ref_with(c: &RefCase, settings: &SolveSettings) {
         drag_exponent: c.m,
         ..Default::default()
     };
-    let rec = run_with(&cfg, &nh(), &Outputs::at(&times()), settings);
+    let rec = run_with(&cfg, &nh(), &OutputTimes::at(&times()), settings);
     let tag = format!("{:?} m={}", c.top, c.m);
     close(max_over_t(&rec), c.max_t, &format!("{tag} max_t max p"));
     for (t, p) in [1.0, 2.0, 5.0, 10.0].iter().zip(c.max_p) {
@@ -170,7 +171,7 @@ fn iterative_and_direct_linear_solvers_agree_on_a_small_sheet() {
         cells_y: 7,
         ..Default::default()
     };
-    let out = Outputs::at(&(1..=100).map(|i| i as f64 * 0.1).collect::<Vec<_>>());
+    let out = OutputTimes::at(&(1..=100).map(|i| i as f64 * 0.1).collect::<Vec<_>>());
     let direct = run_with(&cfg, &nh(), &out, &solver(1e-8));
     let iter = run_with(&cfg, &nh(), &out, &iterative_solver(1e-8));
     let mut worst = 0.0f64;
@@ -230,7 +231,7 @@ fn periodic_m0_reproduces_ref_transients() {
 
 #[test]
 fn free_top_mismatch_at_t5_matches_ref_and_vanishes_at_steady_state() {
-    let rec = run(&SheetConfig::default(), &nh(), &Outputs::at(&times()));
+    let rec = run(&SheetConfig::default(), &nh(), &OutputTimes::at(&times()));
     // Ref: mean / max W_err at t = 5 is 1.7e-2 / 5.5e-2 (two digits)
     let (mean, max) = (
         at(&rec, "boundary_mismatch_mean", 5.0),
@@ -245,7 +246,7 @@ fn free_top_mismatch_at_t5_matches_ref_and_vanishes_at_steady_state() {
 #[test]
 fn free_top_steady_state_is_the_exact_nonlinear_solution() {
     // λ₁ = 0.9, λ₂ = λ₃ = 0.9^{-1/2} = 1.054093, p = 1/0.9 = 1.111111 (docs/model.md §4.3)
-    let rec = run(&SheetConfig::default(), &nh(), &Outputs::at(&[400.0]));
+    let rec = run(&SheetConfig::default(), &nh(), &OutputTimes::at(&[400.0]));
     let l2 = 0.9f64.powf(-0.5);
     for (key, v) in [
         ("max_stretch", 0.9),
@@ -269,7 +270,7 @@ fn periodic_side_has_no_y_motion_at_any_time() {
         top: TopBoundary::Periodic,
         ..Default::default()
     };
-    let rec = run(&cfg, &nh(), &Outputs::at(&times()));
+    let rec = run(&cfg, &nh(), &OutputTimes::at(&times()));
     for key in ["max_stretch_y", "min_stretch_y"] {
         let dev = rec.series.extra[key]
             .iter()
@@ -296,7 +297,7 @@ fn smaller_shortenings_reproduce_ref_peak_pressures() {
             k1,
             ..Default::default()
         };
-        let rec = run(&cfg, &nh(), &Outputs::at(&times()));
+        let rec = run(&cfg, &nh(), &OutputTimes::at(&times()));
         close(max_over_t(&rec), reference, &format!("k1={k1} max_t max p"));
     }
 }
@@ -314,9 +315,9 @@ fn linear_solution_error(k1: f64) -> (f64, f64) {
         ModelKind::Discrete,
         None,
         &solver(1e-10),
-        &Outputs {
-            times: vec![400.0],
-            profile_times: vec![400.0],
+        &OutputTimes {
+            series: vec![400.0],
+            profiles: vec![400.0],
         },
     )
     .unwrap();
@@ -354,11 +355,19 @@ fn mooney_rivlin_sheet_reaches_its_own_exact_steady_state() {
     // λ₂ = λ₃ here too, but the pressure p = λ₃W₃ is different.
     let mr = MooneyRivlin::new(0.3, 0.2).unwrap();
     let exact = sheet_free_steady(&mr, 0.1).unwrap();
-    let rec = run(&SheetConfig::default(), &mr, &Outputs::at(&[1.0, 400.0]));
+    let rec = run(
+        &SheetConfig::default(),
+        &mr,
+        &OutputTimes::at(&[1.0, 400.0]),
+    );
     assert!((at(&rec, "max_stretch_y", 400.0) - exact.stretch[1]).abs() < 1e-8);
     assert!((at(&rec, "min_stretch", 400.0) - exact.stretch[0]).abs() < 1e-8);
     assert!((at(&rec, "max_pressure", 400.0) - exact.pressure).abs() < 1e-8);
-    let nh_rec = run(&SheetConfig::default(), &nh(), &Outputs::at(&[1.0, 400.0]));
+    let nh_rec = run(
+        &SheetConfig::default(),
+        &nh(),
+        &OutputTimes::at(&[1.0, 400.0]),
+    );
     let (p_mr, p_nh) = (
         at(&rec, "max_pressure", 1.0),
         at(&nh_rec, "max_pressure", 1.0),
@@ -380,7 +389,7 @@ fn polynomial_ramp_reaches_the_same_steady_state() {
         ramp: Ramp::Polynomial { t_ramp: 1.0 },
         ..Default::default()
     };
-    let rec = run(&cfg, &nh(), &Outputs::at(&[0.5, 1.0, 400.0]));
+    let rec = run(&cfg, &nh(), &OutputTimes::at(&[0.5, 1.0, 400.0]));
     assert!((rec.series.length[0] - 10.0 * (1.0 - 0.1 * 0.5)).abs() < 1e-12);
     assert!((at(&rec, "max_pressure", 400.0) - 1.0 / 0.9).abs() < 1e-8);
 }
@@ -389,7 +398,7 @@ fn polynomial_ramp_reaches_the_same_steady_state() {
 fn continuum_on_the_cell_grid_is_the_discrete_model() {
     // docs/model.md §4.3: the conservative scheme with n = N, m = M is the discrete model.
     let cfg = SheetConfig::default();
-    let out = Outputs::at(&[1.0, 5.0]);
+    let out = OutputTimes::at(&[1.0, 5.0]);
     let d = run_sheet(&cfg, &nh(), ModelKind::Discrete, None, &solver(1e-9), &out).unwrap();
     let c = run_sheet(
         &cfg,
@@ -409,7 +418,7 @@ fn continuum_refinement_converges() {
     // Mean height at t = 2 on grids 10², 20², 40², 80² (same macroscale, per-face drag
     // K h_X h_Y/γ₀): successive differences shrink.
     let cfg = SheetConfig::default();
-    let out = Outputs::at(&[2.0]);
+    let out = OutputTimes::at(&[2.0]);
     let vals: Vec<f64> = [10, 20, 40, 80]
         .iter()
         .map(|&n| {
@@ -445,7 +454,7 @@ fn periodic_single_row_is_the_line_model() {
         top: TopBoundary::Periodic,
         ..Default::default()
     };
-    let rec = run(&cfg, &nh(), &Outputs::at(&[1.0, 1e5]));
+    let rec = run(&cfg, &nh(), &OutputTimes::at(&[1.0, 1e5]));
     close(at(&rec, "max_pressure", 1.0), 13.4257, "line p_N(t=1)");
     close(at(&rec, "min_stretch", 1.0), 0.2729, "line min λ(t=1)");
     assert!((at(&rec, "max_pressure", 1e5) - 1.0 / 0.81).abs() < 1e-6);
@@ -463,7 +472,7 @@ fn free_single_row_differs_from_the_line_model() {
         drag: Some(1.0),
         ..Default::default()
     };
-    let rec = run(&cfg, &nh(), &Outputs::at(&[1.0, 1e5]));
+    let rec = run(&cfg, &nh(), &OutputTimes::at(&[1.0, 1e5]));
     assert!((at(&rec, "max_pressure", 1e5) - 1.0 / 0.9).abs() < 1e-6);
     let p1 = at(&rec, "max_pressure", 1.0);
     assert!(

@@ -14,7 +14,8 @@
 use crate::common::{maxwell_ramp_stress, poly_strain, sheet_solver};
 use celltissue::cell::ViscosityModel;
 use celltissue::observe::{ModelKind, Profile, RunRecord};
-use celltissue::sheet::{run::Outputs, run_sheet, Ramp, SheetConfig};
+use celltissue::runner::OutputTimes;
+use celltissue::sheet::{run_sheet, Ramp, SheetConfig};
 use celltissue::NeoHookean;
 
 fn nh() -> NeoHookean {
@@ -47,9 +48,9 @@ const RTOL: f64 = 1e-10;
 
 /// The discrete run with per-cell profiles at `times`.
 fn run(cfg: &SheetConfig, times: &[f64]) -> RunRecord {
-    let out = Outputs {
-        times: times.to_vec(),
-        profile_times: times.to_vec(),
+    let out = OutputTimes {
+        series: times.to_vec(),
+        profiles: times.to_vec(),
     };
     let rec = run_sheet(
         cfg,
@@ -226,7 +227,7 @@ fn maxwell_sheet_relaxes_to_zero_stress_at_finite_strain() {
 #[test]
 fn continuum_with_a_branch_converges_under_refinement() {
     let cfg = dragged(sls(0.5, 1.0));
-    let out = Outputs::at(&[1.0]);
+    let out = OutputTimes::at(&[1.0]);
     let vals: Vec<f64> = [5, 10, 20, 40]
         .iter()
         .map(|&n| {

@@ -164,13 +164,8 @@ pub fn run_proliferation(
         rec.error = Some(e.to_string());
         return rec;
     }
-    if let Some(&bad) = times
-        .series
-        .iter()
-        .chain(&times.profiles)
-        .find(|t| !(t.is_finite() && **t >= 0.0))
-    {
-        rec.error = Some(format!("output time {bad} must be finite and >= 0"));
+    if let Err(e) = times.check() {
+        rec.error = Some(e);
         return rec;
     }
     with_law(

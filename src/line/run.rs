@@ -1,14 +1,16 @@
 //! [`run_line`]: one line run from a validated [`LineConfig`] to a [`RunRecord`] — build the
 //! discrete or continuum array, integrate it, and record series and profiles at the requested
-//! times. No I/O; the CLI writes the record, benches call [`integrate`] directly.
+//! times through [`crate::runner::run_recorded`]. No I/O; the CLI writes the record, benches
+//! call [`integrate`] directly.
 //!
 //! On solver failure the record holds everything computed up to the failure and
 //! `error: Some(message)`; outputs never contain NaN. The message names the cell whose stretch
-//! the model last rejected (and its λ: [`integrate`] observes the rejected steps), not only the
-//! integrator's failure kind and worst unknown.
+//! the model last rejected (and its λ, from the last rejected step the run observed), not only
+//! the integrator's failure kind and worst unknown.
 //!
 //! * [`LineModel`] — what a line model provides to be integrated and observed;
-//! * [`integrate`], [`run_model`], [`run_line`], [`record`] — integration and recording.
+//! * [`LineRecorder`] — what a line run records of a state, and its failure messages;
+//! * [`integrate`] (raw snapshots), [`run_model`], [`run_line`] — integration and recording.
 
 use super::array::Line;
 use super::config::{ContinuumScheme, LineConfig};
@@ -25,36 +27,8 @@ use integrators::{ResidualError, SolveFailure, Stats};
 /// The run settings (one type for every model; see [`crate::settings`]).
 pub use crate::settings::SolveSettings;
 
-/// Requested output times (each list increasing, `t ≥ 0`; the run starts at `t = 0`).
-///
-/// ```
-/// use celltissue::line::OutputTimes;
-/// let t = OutputTimes { series: vec![0.0, 1.0, 2.0], profiles: vec![1.0, 5.0] };
-/// assert_eq!(t.merged(), [0.0, 1.0, 2.0, 5.0]); // the integrator's output times
-/// ```
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct OutputTimes {
-    /// Times of the scalar series.
-    pub series: Vec<f64>,
-    /// Times of the profiles.
-    pub profiles: Vec<f64>,
-}
-
-impl OutputTimes {
-    /// Sorted, deduplicated union of both lists.
-    pub fn merged(&self) -> Vec<f64> {
-        let mut t: Vec<f64> = self
-            .series
-            .iter()
-            .chain(&self.profiles)
-            .copied()
-            .filter(|t| t.is_finite())
-            .collect();
-        t.sort_by(|a, b| a.partial_cmp(b).expect("finite"));
-        t.dedup();
-        t
-    }
-}
+/// The requested output times (one type for every model; see [`crate::runner`]).
+pub use crate::runner::OutputTimes;
 
 /// A line model that can be observed: the discrete/conservative [`Line`] and the thesis scheme.
 pub trait LineModel: CellArray {
@@ -318,13 +292,8 @@ pub fn run_line(
         rec.error = Some(e.to_string());
         return rec;
     }
-    if let Some(&bad) = times
-        .series
-        .iter()
-        .chain(&times.profiles)
-        .find(|t| !(t.is_finite() && **t >= 0.0))
-    {
-        rec.error = Some(format!("output time {bad} must be finite and >= 0"));
+    if let Err(e) = times.check() {
+        rec.error = Some(e);
         return rec;
     }
     run_with_law(cfg, cfg.law.clone(), model, nodes, solver, times, &mut rec);

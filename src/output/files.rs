@@ -286,11 +286,12 @@ pub fn write_arrays(dir: &Path, summary: &Summary) -> Result<Vec<PathBuf>, Outpu
 ///
 /// ```
 /// use celltissue::observe::{ModelKind, RunRecord};
-/// use celltissue::sheet::{run::Outputs, run_sheet, SheetConfig};
+/// use celltissue::runner::OutputTimes;
+/// use celltissue::sheet::{run_sheet, SheetConfig};
 /// use celltissue::SolveSettings;
 /// let cfg = SheetConfig { cells_x: 2, cells_y: 2, ..Default::default() };
 /// let rec: RunRecord = run_sheet(&cfg, &cfg.law, ModelKind::Discrete, None,
-///                                &SolveSettings::default(), &Outputs::at(&[0.0, 1.0]))?;
+///                                &SolveSettings::default(), &OutputTimes::at(&[0.0, 1.0]))?;
 /// let csv = celltissue::output::files::series_csv(&rec);
 /// assert!(csv.starts_with("t,length,max_pressure"));
 /// assert_eq!(csv.lines().count(), 3); // header and two times

@@ -4,9 +4,9 @@
 
 use super::load::{RunSpec, Scenario};
 use super::model::ModelConfig;
-use crate::line::{run_line, OutputTimes};
+use crate::line::run_line;
 use crate::observe::{RunRecord, RunStats, Series, Summary};
-use crate::sheet::{run::Outputs, run_shear, run_sheet};
+use crate::sheet::{run_shear, run_sheet};
 
 /// Runs one spec with the real model code (no files written: the writers of
 /// [`crate::output`] draw every file from the returned record).
@@ -20,37 +20,23 @@ use crate::sheet::{run::Outputs, run_shear, run_sheet};
 /// # Ok::<(), celltissue::scenario::ScenarioError>(())
 /// ```
 pub fn run_spec(spec: &RunSpec) -> RunRecord {
-    let outputs = || Outputs {
-        times: spec.times.series.clone(),
-        profile_times: spec.times.profiles.clone(),
-    };
     // grid sizes apply to the continuum only
     let is_continuum = spec.model == crate::observe::ModelKind::Continuum;
     let grid = spec.grid.filter(|_| is_continuum);
     let nodes = spec.nodes.filter(|_| is_continuum);
     let mut rec = match &spec.config {
         ModelConfig::Sheet(cfg, law) => {
-            run_sheet(cfg, law, spec.model, grid, &spec.solver, &outputs())
+            run_sheet(cfg, law, spec.model, grid, &spec.solver, &spec.times)
                 .unwrap_or_else(|e| failed(spec, e.to_string()))
         }
         ModelConfig::Shear(cfg, law) => {
-            run_shear(cfg, law, spec.model, nodes, &spec.solver, &outputs())
+            run_shear(cfg, law, spec.model, nodes, &spec.solver, &spec.times)
                 .unwrap_or_else(|e| failed(spec, e.to_string()))
         }
-        ModelConfig::Mode(mode) => mode.law().run(spec.model, nodes, &spec.solver, &outputs()),
-        ModelConfig::Line(cfg) => {
-            let times = OutputTimes {
-                series: spec.times.series.clone(),
-                profiles: spec.times.profiles.clone(),
-            };
-            run_line(cfg, spec.model, spec.nodes, &spec.solver, &times)
-        }
+        ModelConfig::Mode(mode) => mode.law().run(spec.model, nodes, &spec.solver, &spec.times),
+        ModelConfig::Line(cfg) => run_line(cfg, spec.model, spec.nodes, &spec.solver, &spec.times),
         ModelConfig::Proliferating(cfg) => {
-            let times = OutputTimes {
-                series: spec.times.series.clone(),
-                profiles: spec.times.profiles.clone(),
-            };
-            crate::events::run_proliferation(cfg, spec.model, spec.nodes, &spec.solver, &times)
+            crate::events::run_proliferation(cfg, spec.model, spec.nodes, &spec.solver, &spec.times)
         }
     };
     finish(spec, &mut rec);

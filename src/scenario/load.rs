@@ -14,14 +14,8 @@ use crate::settings::SolveSettings;
 use integrators::LinearSolverChoice;
 use std::path::Path;
 
-/// Output times of a run.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Times {
-    /// Times of the scalar series.
-    pub series: Vec<f64>,
-    /// Times of the profiles.
-    pub profiles: Vec<f64>,
-}
+/// Output times of a run (the runners' own request type).
+pub use crate::runner::OutputTimes as Times;
 
 /// One run: one discretisation of one parameter set.
 #[derive(Clone, Debug, PartialEq)]

@@ -292,10 +292,11 @@ pub fn sheet_profile(t: f64, cells: &[SheetCell], columns: SheetColumns) -> Prof
 /// ```
 /// use celltissue::observe::ModelKind;
 /// use celltissue::sheet::observe::sheet_cells;
-/// use celltissue::sheet::{run::Outputs, run_sheet, SheetConfig};
+/// use celltissue::runner::OutputTimes;
+/// use celltissue::sheet::{run_sheet, SheetConfig};
 /// use celltissue::SolveSettings;
 /// let cfg = SheetConfig { cells_x: 3, cells_y: 2, ..Default::default() };
-/// let out = Outputs { times: vec![1.0], profile_times: vec![1.0] };
+/// let out = OutputTimes { series: vec![1.0], profiles: vec![1.0] };
 /// let rec = run_sheet(&cfg, &cfg.law, ModelKind::Discrete, None, &SolveSettings::default(), &out)?;
 /// let cells = sheet_cells(&rec.profiles[0]);
 /// assert_eq!(cells.len(), 6);

@@ -5,11 +5,12 @@
 //!
 //! ```
 //! use celltissue::observe::ModelKind;
-//! use celltissue::sheet::{run::Outputs, run_sheet, SheetConfig};
+//! use celltissue::runner::OutputTimes;
+//! use celltissue::sheet::{run_sheet, SheetConfig};
 //! use celltissue::SolveSettings;
 //! let law = celltissue::NeoHookean::new(1.0)?;
 //! let rec = run_sheet(&SheetConfig::default(), &law, ModelKind::Discrete, None,
-//!                     &SolveSettings::default(), &Outputs::at(&[1.0, 2.0, 5.0, 10.0]))?;
+//!                     &SolveSettings::default(), &OutputTimes::at(&[1.0, 2.0, 5.0, 10.0]))?;
 //! assert_eq!(rec.series.t, [1.0, 2.0, 5.0, 10.0]);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
@@ -23,29 +24,10 @@ use super::shear::{ShearCellCentre, ShearColumn, ShearFields};
 use super::uniaxial::UniaxialSheet;
 use crate::array::ArrayProblem;
 use crate::energy::StrainEnergy;
-use crate::line::OutputTimes;
 use crate::observe::{ModelKind, Profile, RunRecord};
+use crate::runner::OutputTimes;
 use crate::runner::{run_recorded, Recorder, Recording, SeriesRow};
 use crate::settings::SolveSettings;
-
-/// What to record (the runners write no files: `crate::output` does, from the record).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Outputs {
-    /// Times of the scalar series (increasing, `>= 0`; `t = 0` is the initial state).
-    pub times: Vec<f64>,
-    /// Times of the per-cell profiles (from which the writers draw VTK and PNG snapshots).
-    pub profile_times: Vec<f64>,
-}
-
-impl Outputs {
-    /// Series at `times`, no profiles, no files.
-    pub fn at(times: &[f64]) -> Self {
-        Self {
-            times: times.to_vec(),
-            ..Default::default()
-        }
-    }
-}
 
 /// Why a run could not start. (Integrator failures do not raise this: they are reported in
 /// [`RunRecord::error`] together with everything computed before the failure.)
@@ -65,34 +47,6 @@ fn cfg_err(key: &str, value: impl ToString, expected: &str) -> RunError {
         value: value.to_string(),
         expected: expected.into(),
     })
-}
-
-/// All output times (series ∪ profiles), sorted and deduplicated, after checking them.
-pub(crate) fn all_times(out: &Outputs) -> Result<Vec<f64>, RunError> {
-    let mut t: Vec<f64> = out
-        .times
-        .iter()
-        .chain(&out.profile_times)
-        .copied()
-        .collect();
-    if let Some(bad) = t.iter().find(|v| !(v.is_finite() && **v >= 0.0)) {
-        return Err(RunError::Outputs(format!(
-            "output time {bad} must be finite and >= 0"
-        )));
-    }
-    t.sort_by(|a, b| a.partial_cmp(b).unwrap());
-    t.dedup();
-    Ok(t)
-}
-
-impl Outputs {
-    /// The same request as the runner's [`OutputTimes`].
-    pub(crate) fn output_times(&self) -> OutputTimes {
-        OutputTimes {
-            series: self.times.clone(),
-            profiles: self.profile_times.clone(),
-        }
-    }
 }
 
 /// What a sheet run records: [`sheet_series_row`] of [`sheet_observables`] and the per-cell
@@ -172,7 +126,7 @@ pub fn run_sheet<E: StrainEnergy>(
     model: ModelKind,
     grid: Option<(usize, usize)>,
     solver: &SolveSettings,
-    out: &Outputs,
+    out: &OutputTimes,
 ) -> Result<RunRecord, RunError> {
     cfg.validate()?;
     solver
@@ -194,7 +148,7 @@ pub fn run_sheet<E: StrainEnergy>(
             return Err(cfg_err("grid", format!("{g:?}"), "both sizes must be >= 1"))
         }
     };
-    all_times(out)?;
+    out.check().map_err(RunError::Outputs)?;
     let sheet = UniaxialSheet::continuum(law, &cfg.params(), n, m)
         .map_err(|e| cfg_err("sheet", "", &e.to_string()))?
         .with_cell_atol(solver.atol);
@@ -202,14 +156,7 @@ pub fn run_sheet<E: StrainEnergy>(
     let spacing = sheet.spacing();
     let mut recorder = SheetRecorder(SheetColumns::of(&sheet));
     let mut problem = ArrayProblem::new(sheet);
-    let r = run_recorded(
-        &mut problem,
-        &y0,
-        &[],
-        solver,
-        &out.output_times(),
-        &mut recorder,
-    );
+    let r = run_recorded(&mut problem, &y0, &[], solver, out, &mut recorder);
     let parameters = serde_json::json!({
         "config": cfg,
         "drag_K": cfg.drag(),
@@ -251,13 +198,13 @@ pub fn run_shear<E: StrainEnergy>(
     model: ModelKind,
     grid: Option<usize>,
     solver: &SolveSettings,
-    out: &Outputs,
+    out: &OutputTimes,
 ) -> Result<RunRecord, RunError> {
     cfg.validate()?;
     solver
         .options()
         .map_err(|e| cfg_err("solver", "options", &e.to_string()))?;
-    all_times(out)?;
+    out.check().map_err(RunError::Outputs)?;
     let params = cfg.params();
     let m = match (model, grid, cfg.form) {
         (ModelKind::Continuum, _, ShearForm::CellCentre) => {
@@ -277,7 +224,6 @@ pub fn run_shear<E: StrainEnergy>(
         (ModelKind::Continuum, Some(g), _) => return Err(cfg_err("grid", g, "must be >= 1")),
     };
     let bad = |e: super::shear::ShearBuildError| cfg_err("shear", "", &e.to_string());
-    let times = out.output_times();
     let r = match cfg.form {
         ShearForm::Edge => {
             let col = ShearColumn::continuum(law, &params, m).map_err(bad)?;
@@ -287,7 +233,7 @@ pub fn run_shear<E: StrainEnergy>(
                 &y0,
                 &[],
                 solver,
-                &times,
+                out,
                 &mut ShearRecorder,
             )
         }
@@ -299,7 +245,7 @@ pub fn run_shear<E: StrainEnergy>(
                 &y0,
                 &[],
                 solver,
-                &times,
+                out,
                 &mut ShearRecorder,
             )
         }
