@@ -205,7 +205,34 @@ pub fn drive<P: Problem>(
 }
 
 /// As [`drive`], reporting outputs, accepted and rejected steps and events to `observer` (see
-/// [`DriveObserver`] for an example).
+/// [`DriveObserver`] for an observer of one's own). Events, e.g. a proliferating line's
+/// divisions:
+///
+/// ```
+/// use celltissue::drive::{drive_observed, DriveObserver};
+/// use celltissue::events::{AreaDoubling, Dividing};
+/// use celltissue::line::build::{discrete, LineParams};
+/// use celltissue::{ArrayProblem, NeoHookean, SolveSettings};
+/// use integrators::EventRecord;
+/// /// The number of unknowns after each event.
+/// struct Sizes(Vec<usize>);
+/// impl<P> DriveObserver<P> for Sizes {
+///     fn output(&mut self, _: &P, _: f64, _: &[f64], _: &[f64]) -> Result<(), String> { Ok(()) }
+///     fn event(&mut self, _: &P, _: &EventRecord, y: &[f64]) { self.0.push(y.len()); }
+/// }
+/// let mut p = LineParams::unit_cells(4);
+/// p.right = celltissue::boundary::RightEnd::Free(None);
+/// p.growth = Some(std::sync::Arc::new(celltissue::cell::TanhGrowth::default()));
+/// let line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+/// let dividing = Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap();
+/// let y0 = dividing.line.initial_state();
+/// let mut sizes = Sizes(Vec::new());
+/// let d = drive_observed(&mut ArrayProblem::new(dividing), &SolveSettings::default(), &y0,
+///                        &[2.5], &[], &mut sizes);
+/// assert!(d.error.is_none());
+/// assert_eq!(sizes.0.len(), d.stats.events);
+/// assert!(sizes.0.windows(2).all(|w| w[1] > w[0])); // every division adds unknowns
+/// ```
 pub fn drive_observed<P: Problem>(
     problem: &mut P,
     settings: &SolveSettings,

@@ -23,7 +23,7 @@ use std::time::Instant;
 /// use celltissue::runner::OutputTimes;
 /// let t = OutputTimes { series: vec![0.0, 1.0, 2.0], profiles: vec![1.0, 5.0] };
 /// assert_eq!(t.merged(), [0.0, 1.0, 2.0, 5.0]); // the integrator's output times
-/// assert_eq!(OutputTimes::at(&[1.0]).profiles, []);
+/// assert!(OutputTimes::at(&[1.0]).profiles.is_empty());
 /// assert_eq!(OutputTimes::at(&[-1.0]).check().unwrap_err(), "output time -1 must be finite and >= 0");
 /// ```
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -202,6 +202,25 @@ pub trait Recorder<A> {
 /// stretch … in the step from t = … (h = …)"), when the solver's error does not already say
 /// it: the last rejected step, if it started at or after the failure and the model (not the
 /// error test or Newton) rejected it.
+///
+/// ```
+/// use celltissue::runner::model_reason;
+/// use integrators::observer::{RejectCause, RejectedStep};
+/// use integrators::{ErrorKind, RecoverableCause, SolveFailure, SolverError};
+/// let failure = SolveFailure {
+///     error: SolverError::new(ErrorKind::StepSizeTooSmall { h: 1e-14 }, 3.0, Some(5)),
+///     partial: Box::default(),
+/// };
+/// let step = RejectedStep {
+///     t: 3.0, h: 1e-4, component: Some(5),
+///     cause: RejectCause::Recoverable(RecoverableCause::Rejected("cell 6 collapsed".into())),
+/// };
+/// assert_eq!(model_reason(&failure, Some(&step)).unwrap(),
+///            "cell 6 collapsed in the step from t = 3 (h = 1.0e-4)");
+/// // an error-test rejection is no reason of the model's
+/// let step = RejectedStep { cause: RejectCause::ErrorTest, ..step };
+/// assert_eq!(model_reason(&failure, Some(&step)), None);
+/// ```
 pub fn model_reason(failure: &SolveFailure, rejected: Option<&RejectedStep>) -> Option<String> {
     let r = rejected?;
     let RejectCause::Recoverable(RecoverableCause::Rejected(reason)) = &r.cause else {
@@ -214,6 +233,22 @@ pub fn model_reason(failure: &SolveFailure, rejected: Option<&RejectedStep>) -> 
 
 /// What [`run_recorded`] returns: the recorded series and profiles, the work counters and
 /// wall time, and the error that stopped the run early (everything before it is kept).
+///
+/// ```
+/// use celltissue::line::build::{discrete, LineParams};
+/// use celltissue::line::run::LineRecorder;
+/// use celltissue::runner::{run_recorded, OutputTimes, Recording};
+/// use celltissue::{ArrayProblem, NeoHookean, SolveSettings};
+/// let mut p = LineParams::unit_cells(10);
+/// p.k = 1.0.into();
+/// let line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+/// let y0 = line.initial_state();
+/// let times = OutputTimes { series: vec![0.0, 0.5, 1.0], profiles: vec![1.0] };
+/// let r: Recording = run_recorded(&mut ArrayProblem::new(line), &y0, &[],
+///                                 &SolveSettings::default(), &times, &mut LineRecorder);
+/// assert!(r.error.is_none() && r.stats.steps > 0);
+/// assert_eq!((r.series.t.len(), r.profiles.len(), r.y_last.len()), (3, 1, y0.len()));
+/// ```
 #[derive(Clone, Debug, Default)]
 pub struct Recording {
     /// The series at the series times reached.
@@ -230,8 +265,33 @@ pub struct Recording {
 
 /// Integrates `problem` from `(0, y0)` (restarting at `breakpoints`) with `settings`, and
 /// records with `recorder` a series row at each of `times.series` and a profile at each of
-/// `times.profiles` (see [`Recorder`] for an example). Output times must be finite and
-/// `≥ 0` (a runner checks them first).
+/// `times.profiles` (see [`Recorder`] for a recorder of one's own). Output times must be
+/// finite and `≥ 0` (a runner checks them first). An observation with a non-finite value
+/// stops the run there:
+///
+/// ```
+/// use celltissue::line::build::{discrete, LineParams};
+/// use celltissue::line::Line;
+/// use celltissue::observe::Profile;
+/// use celltissue::runner::{run_recorded, OutputTimes, Recorder, SeriesRow};
+/// use celltissue::{ArrayProblem, NeoHookean, SolveSettings};
+/// /// A length that is NaN from t = 1 on.
+/// struct Broken;
+/// impl Recorder<Line<NeoHookean>> for Broken {
+///     fn series_row(&mut self, _: &Line<NeoHookean>, t: f64, _: &[f64], _: &[f64])
+///         -> Result<SeriesRow, String> {
+///         Ok(SeriesRow { length: if t < 1.0 { 1.0 } else { f64::NAN }, ..Default::default() })
+///     }
+///     fn profile(&mut self, _: &Line<NeoHookean>, t: f64, _: &[f64], _: &[f64])
+///         -> Result<Profile, String> { Ok(Profile { t, ..Default::default() }) }
+/// }
+/// let line = discrete(NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(4)).unwrap();
+/// let y0 = line.initial_state();
+/// let r = run_recorded(&mut ArrayProblem::new(line), &y0, &[], &SolveSettings::default(),
+///                      &OutputTimes::at(&[0.0, 0.5, 1.0, 2.0]), &mut Broken);
+/// assert_eq!(r.series.t, [0.0, 0.5]); // nothing non-finite is recorded
+/// assert_eq!(r.error.unwrap(), "non-finite state at t = 1 (series `length`)");
+/// ```
 pub fn run_recorded<A: CellArray, R: Recorder<A>>(
     problem: &mut ArrayProblem<A>,
     y0: &[f64],
@@ -316,6 +376,16 @@ impl<A: CellArray, R: Recorder<A>> DriveObserver<ArrayProblem<A>> for Watch<'_, 
 
 /// Whether the model itself rejected the step (its residual refused the state), rather than
 /// the error test, Newton or a factorisation.
+///
+/// ```
+/// use celltissue::runner::rejected_by_the_model;
+/// use integrators::observer::{RejectCause, RejectedStep};
+/// use integrators::RecoverableCause;
+/// let model = RejectCause::Recoverable(RecoverableCause::Rejected("cell 2 collapsed".into()));
+/// let step = RejectedStep { t: 0.0, h: 0.1, cause: model, component: None };
+/// assert!(rejected_by_the_model(&step));
+/// assert!(!rejected_by_the_model(&RejectedStep { cause: RejectCause::Newton, ..step }));
+/// ```
 pub fn rejected_by_the_model(step: &RejectedStep) -> bool {
     matches!(
         step.cause,

@@ -367,6 +367,22 @@ pub fn static_positions(cfg: &LineConfig, t: f64) -> Option<Vec<(f64, f64)>> {
 
 /// The applicable analytic solution of `cfg` at the series and profile times where it
 /// applies ([`crate::observe::AnalyticReference`]); `None` if none applies at any of them.
+///
+/// ```
+/// use celltissue::line::analytic::reference;
+/// use celltissue::line::LineConfig;
+/// // η = 0, K = 1, 10 % shortening by the exponential ramp: the linear theory, which holds
+/// // at the start and once the strain is small everywhere, not mid-ramp (cells next to the
+/// // moving end are compressed far beyond k₁ = 0.1)
+/// let r = reference(&LineConfig::default(), &[0.0, 1.0, 1000.0], &[1.0, 1000.0]).unwrap();
+/// assert_eq!(r.label, "linear theory (§5.3 series)");
+/// assert_eq!(r.series.t, [0.0, 1000.0]);
+/// assert!((r.series.min_stretch[1] - 0.896126).abs() < 1e-6);
+/// assert_eq!(r.profiles.len(), 1);
+/// // a free end: no analytic solution
+/// let free = LineConfig { right_end: celltissue::line::config::RightEndKind::Free, ..Default::default() };
+/// assert!(reference(&free, &[1.0], &[]).is_none());
+/// ```
 pub fn reference(
     cfg: &LineConfig,
     series_times: &[f64],

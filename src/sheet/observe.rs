@@ -386,6 +386,14 @@ pub fn shear_observables(t: f64, f: &ShearFields) -> ShearObservables {
 /// One shear-column state's series values: `length` is the top displacement,
 /// `max/min_stretch` are `max/min tan θ`; extra keys [`TOP_DISPLACEMENT`], [`SHEAR_SPREAD`],
 /// [`MEAN_SHEAR_ANGLE`].
+///
+/// ```
+/// use celltissue::sheet::observe::{shear_series_row, ShearObservables, SHEAR_SPREAD};
+/// let o = ShearObservables { top: 2.0, spread: 0.1, tan_theta: [0.3, 0.2], ..Default::default() };
+/// let row = shear_series_row(&o);
+/// assert_eq!((row.length, row.max_stretch, row.min_stretch), (2.0, 0.3, 0.2));
+/// assert!(row.extra.contains(&(SHEAR_SPREAD.to_string(), 0.1)));
+/// ```
 pub fn shear_series_row(o: &ShearObservables) -> SeriesRow {
     SeriesRow {
         length: o.top,
