@@ -110,6 +110,18 @@ pub enum RampKind {
 }
 
 /// The right-end condition (the left end is a wall except on a ring).
+///
+/// ```
+/// use celltissue::boundary::{Ramp, RightEnd};
+/// use celltissue::line::build::{discrete, LineParams};
+/// use celltissue::NeoHookean;
+/// let mut p = LineParams::unit_cells(10);
+/// p.right = RightEnd::Prescribed(Ramp::Constant(9.0)); // held 10 % short
+/// let held = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+/// p.right = RightEnd::Free(None); // free: one more unknown, the end's position
+/// let free = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+/// assert_eq!(free.initial_state().len(), held.initial_state().len() + 1);
+/// ```
 #[derive(Clone)]
 pub enum RightEnd {
     /// `x_N = l(t)`; the holding force `W_N σ_N` is reported.

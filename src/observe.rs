@@ -98,6 +98,17 @@ pub struct Profile {
 }
 
 /// Integrator work for a run.
+///
+/// ```
+/// use celltissue::observe::RunStats;
+/// let s = integrators::Stats { steps: 12, rejected_steps: 2, ..Default::default() };
+/// let r = RunStats::from_stats(&s, 0.5);
+/// assert_eq!((r.steps, r.extra["rejected_steps"]), (12, 2));
+/// // every counter is an integer in JSON; wall time is the only float
+/// let json = serde_json::to_value(&r).unwrap();
+/// assert_eq!(json["rejected_steps"], 2);
+/// assert_eq!(json["wall_seconds"], 0.5);
+/// ```
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct RunStats {
     /// Accepted steps.

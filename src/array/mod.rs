@@ -162,6 +162,24 @@ pub trait CellArray {
 /// Adapter: any [`CellArray`] as an [`integrators::Problem`] with exact AD directional
 /// derivatives, and the array's own Jacobian when it provides one ([`CellArray::jacobian`]). Reuses its dual-number buffers across calls (no allocation per residual once
 /// warmed up, except after a resize).
+///
+/// ```
+/// use celltissue::line::build::{discrete, LineParams};
+/// use celltissue::{ArrayProblem, NeoHookean};
+/// use integrators::{MethodKind, Options, Problem, Solver};
+/// let mut p = LineParams::unit_cells(10);
+/// p.k = 1.0.into();
+/// let line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+/// let y0 = line.initial_state();
+/// let mut problem = ArrayProblem::new(line);
+/// assert_eq!(problem.dim(), y0.len());
+/// // any integrator runs it; the array stays readable
+/// let sol = Solver::new(MethodKind::Bdf, Options::default())
+///     .solve(&mut problem, 0.0, &y0, &[1.0])
+///     .unwrap();
+/// assert_eq!(problem.array.n_cells(), 10);
+/// assert!(sol.stats.steps > 0);
+/// ```
 pub struct ArrayProblem<A: CellArray> {
     /// The wrapped array (public so observers can read cell fields).
     pub array: A,

@@ -27,6 +27,18 @@ use std::sync::Arc;
 // hand-written impls add the plain-number form of `Constant` and `"closure"`. Tables are read
 // through `FieldTable` (below), so that an error names the key inside the table
 // (`mu.width`, not `mu`).
+///
+/// A per-cell parameter (`μ`, `η`, `K`…) as a function of the reference position:
+///
+/// ```
+/// use celltissue::cell::Field;
+/// assert_eq!(Field::Constant(2.0).eval(30.0, 100.0), 2.0);
+/// // (2.82): 1 + exp(−(X − 50)²/(2·10²)) on l₀ = 100
+/// let bump = Field::gaussian_bump(1.0, 1.0, 0.5, 0.1);
+/// assert_eq!(bump.eval(50.0, 100.0), 2.0);
+/// let ramp = Field::closure(|x, l0| 1.0 + x / l0);
+/// assert_eq!(ramp.sample(&[0.0, 50.0], 100.0), [1.0, 1.5]);
+/// ```
 #[derive(Clone, Serialize)]
 #[serde(remote = "Self", tag = "type", rename_all = "snake_case")]
 pub enum Field {
@@ -226,7 +238,14 @@ impl<'de> Deserialize<'de> for Field {
     }
 }
 
-/// A user field function `f(X, l₀)`.
+/// A user field function `f(X, l₀)` (what [`Field::closure`] wraps).
+///
+/// ```
+/// use celltissue::cell::{Field, FieldFn};
+/// use std::sync::Arc;
+/// let f = Field::Closure(FieldFn(Arc::new(|x, _| 2.0 * x)));
+/// assert_eq!(f.eval(3.0, 10.0), 6.0);
+/// ```
 #[derive(Clone)]
 pub struct FieldFn(pub Arc<dyn Fn(f64, f64) -> f64 + Send + Sync>);
 
@@ -278,6 +297,17 @@ impl From<f64> for Field {
 pub const MIN_GAUSSIAN_WIDTH: f64 = 1e-10;
 
 /// Where a field is sampled for each cell.
+///
+/// ```
+/// use celltissue::cell::{Field, Sampling};
+/// use celltissue::line::build::{discrete, LineParams};
+/// use celltissue::NeoHookean;
+/// let mut p = LineParams::unit_cells(4);
+/// p.mu = Field::closure(|x, _| 1.0 + x);
+/// p.sampling = Sampling::IntegerPoints; // μ_j at X_{j−1}: 1, 2, 3, 4
+/// let line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+/// assert_eq!(line.cells().mu, [1.0, 2.0, 3.0, 4.0]);
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Sampling {

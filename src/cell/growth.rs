@@ -70,6 +70,15 @@ pub trait GrowthLaw: Send + Sync {
 }
 
 /// `ġ = ½ G_m (1 + tanh(σ/σ₀))` (3.15), canonical `σ₀ = 0.1`, `G_m = 1`.
+///
+/// ```
+/// use celltissue::cell::{GrowthLaw, TanhGrowth};
+/// let g = TanhGrowth::default();
+/// let (rate, slope) = g.rate(0.0);
+/// assert_eq!(rate, 0.5); // half the maximum rate when unstressed
+/// assert!((slope - 5.0).abs() < 1e-12); // G_m / (2σ₀)
+/// assert!(g.rate(-1.0).0 < 1e-8); // compression stops growth
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TanhGrowth {

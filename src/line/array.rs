@@ -322,6 +322,17 @@ impl LocalCell {
 ///
 /// Build one with [`crate::line::build::discrete`] or [`crate::line::build::continuum`]; wrap
 /// it in [`crate::ArrayProblem`] to integrate it.
+///
+/// ```
+/// use celltissue::line::build::{continuum, discrete, LineParams};
+/// use celltissue::NeoHookean;
+/// let p = LineParams::unit_cells(100);
+/// let cells = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+/// let coarse = continuum(NeoHookean::new(1.0).unwrap(), &p, 20).unwrap(); // n = 20 segments
+/// assert_eq!((cells.n_cells(), coarse.n_cells()), (100, 20));
+/// // a held right end: the interior boundaries x₁ … x₉₉ are the unknowns
+/// assert_eq!(cells.initial_state().len(), 99);
+/// ```
 #[derive(Clone)]
 pub struct Line<E: StrainEnergy> {
     /// The strain energy (scaled per cell by [`Cells::mu`]).

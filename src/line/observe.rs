@@ -11,6 +11,16 @@ use integrators::ResidualError;
 use std::collections::BTreeMap;
 
 /// Every per-cell quantity at one time (cells `1..=N` at index `0..N`).
+///
+/// ```
+/// use celltissue::line::build::{discrete, LineParams};
+/// use celltissue::NeoHookean;
+/// let line = discrete(NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(5)).unwrap();
+/// let y = line.initial_state();
+/// let s = line.snapshot(0.0, &y, &vec![0.0; y.len()]).unwrap();
+/// assert_eq!((s.length(), s.min_stretch(), s.max_pressure()), (5.0, 1.0, 1.0)); // at rest: p = μ
+/// assert_eq!(s.x, [0.0, 1.0, 2.0, 3.0, 4.0, 5.0]);
+/// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Snapshot {
     /// Time.

@@ -343,6 +343,22 @@ fn run_with_law<E: StrainEnergy + Clone>(
 /// `mean_g`, `min_g`) at `times.series` and the profiles at `times.profiles`, through
 /// [`crate::runner::run_recorded`] with [`LineRecorder`]. Returns the problem (its array
 /// as the run left it, e.g. a proliferating line's division log).
+///
+/// ```
+/// use celltissue::line::build::{discrete, LineParams};
+/// use celltissue::line::run::run_model;
+/// use celltissue::line::{OutputTimes, SolveSettings};
+/// use celltissue::observe::{ModelKind, RunRecord};
+/// let line = discrete(celltissue::NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(6)).unwrap();
+/// let mut rec = RunRecord { label: "six cells".into(), model: ModelKind::Discrete,
+///     parameters: serde_json::Value::Null, series: Default::default(), profiles: vec![],
+///     stats: Default::default(), divisions: vec![], error: None, reference: None };
+/// let times = OutputTimes { series: vec![0.0, 1.0], profiles: vec![1.0] };
+/// let problem = run_model(line, &SolveSettings::default(), &times, &mut rec);
+/// assert!(rec.error.is_none());
+/// assert_eq!((rec.series.t.len(), rec.profiles.len()), (2, 1));
+/// assert_eq!(problem.array.n_cells(), 6);
+/// ```
 pub fn run_model<A: LineModel>(
     array: A,
     solver: &SolveSettings,

@@ -128,6 +128,16 @@ pub fn invert_stretch<E: StrainEnergy>(energy: &E, scale: f64, s: f64) -> Result
 }
 
 /// A static equilibrium.
+///
+/// ```
+/// use celltissue::line::build::{discrete, LineParams};
+/// use celltissue::line::static_solve::static_equilibrium;
+/// use celltissue::NeoHookean;
+/// let line = discrete(NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(10)).unwrap();
+/// let s = static_equilibrium(&line, 9.0).unwrap(); // uniform cells, 10 % shorter
+/// assert!(s.lambda.iter().all(|l| (l - 0.9).abs() < 1e-12));
+/// assert!((s.x[10] - 9.0).abs() < 1e-12 && (s.min_stretch() - 0.9).abs() < 1e-12);
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct StaticSolution {
     /// Uniform axial stress `S`.
@@ -256,6 +266,18 @@ pub fn static_equilibrium<E: StrainEnergy>(
 /// Returns the converged unknowns: `max |F| ≤ tol`, or `max |F|` at its round-off floor
 /// (`8ε·max_i Σ_j |∂F_i/∂y_j|·|y_j|`, above a tight `tol` on fine continuum grids), or a Newton
 /// step at round-off level.
+///
+/// ```
+/// use celltissue::boundary::{Ramp, RightEnd};
+/// use celltissue::line::build::{discrete, LineParams};
+/// use celltissue::line::static_solve::static_newton;
+/// use celltissue::NeoHookean;
+/// let mut p = LineParams::unit_cells(10);
+/// p.right = RightEnd::Prescribed(Ramp::Constant(9.0));
+/// let line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+/// let x = static_newton(&line, 0.0, None, 1e-12).unwrap();
+/// assert!((x[0] - 0.9).abs() < 1e-10); // x₁ of the uniformly compressed line
+/// ```
 pub fn static_newton<E: StrainEnergy>(
     line: &Line<E>,
     t: f64,
