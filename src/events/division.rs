@@ -15,6 +15,17 @@ use serde::{Deserialize, Serialize};
 /// What a rule sees of one cell: its growth and age, and (for rules whose
 /// [`DivisionRule::needs_mechanics`] is `true`) its geometry and mechanics at the current
 /// state. Mechanical fields are `NaN` for rules that do not ask for them.
+///
+/// ```
+/// use celltissue::events::{CellView, DivisionRule, SurfaceToVolume};
+/// // a surface-to-volume rule reads the cell's geometry
+/// let rule = SurfaceToVolume { critical: 3.5 };
+/// assert!(rule.needs_mechanics());
+/// // a 2 × 1 cell: perimeter 6, area 2, ratio 3 below the critical 3.5: it divides
+/// let c = CellView { length: 2.0, width: 1.0, area: 2.0, ..CellView::growth_only(2.0, 1.0, f64::NAN) };
+/// assert_eq!(c.surface_to_volume(), 3.0);
+/// assert!(rule.event(&c) > 0.0);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CellView {
     /// Area ratio `A/A₀ = g·g₂`.
@@ -167,6 +178,15 @@ impl DivisionRule for SurfaceToVolume {
 }
 
 /// Division when the footprint area reaches `ratio` times its reference value (default 2).
+///
+/// ```
+/// use celltissue::events::{AreaDoubling, CellView, DivisionRule};
+/// let rule = AreaDoubling::default();
+/// // the event function changes sign when A/A₀ crosses 2
+/// assert!(rule.event(&CellView::growth_only(1.9, 0.0, f64::NAN)) < 0.0);
+/// assert!(rule.event(&CellView::growth_only(2.1, 0.0, f64::NAN)) > 0.0);
+/// assert!(AreaDoubling { ratio: 1.0 }.check().is_err()); // must be > 1
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AreaDoubling {
@@ -204,6 +224,15 @@ impl DivisionRule for AreaDoubling {
 ///
 /// Daughters still get half the parent's *grown* length `L₀g/2`, so a cell that divides
 /// before `g = 2` produces daughters with a smaller reference length than its own.
+///
+/// ```
+/// use celltissue::events::{AgeRule, CellView, DivisionRule};
+/// let rule = AgeRule { period: 3.0 };
+/// // the age decides, whatever the growth
+/// assert!(rule.event(&CellView::growth_only(1.0, 3.5, f64::NAN)) > 0.0);
+/// assert!(rule.event(&CellView::growth_only(5.0, 2.5, f64::NAN)) < 0.0);
+/// assert_eq!(rule.name(), "age 3");
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AgeRule {
@@ -226,6 +255,20 @@ impl DivisionRule for AgeRule {
 /// Stochastic area threshold: cell `j` divides when `g g₂` reaches `θ_j`, with
 /// `θ_j ~ Uniform[mean − spread, mean + spread]` drawn at its birth (initial cells at `t = 0`).
 /// Requires `mean − spread > 1` so that a daughter (`g = 1`) never starts past its threshold.
+///
+/// ```
+/// use celltissue::events::{DivisionRule, RandomThreshold, SplitMix64};
+/// let rule = RandomThreshold { mean: 2.0, spread: 0.2, seed: 7 };
+/// let mut rng = SplitMix64::new(rule.seed());
+/// let draws: Vec<f64> = (0..1000).map(|_| rule.draw_threshold(&mut rng)).collect();
+/// assert!(draws.iter().all(|&d| (1.8..=2.2).contains(&d)));
+/// let mean = draws.iter().sum::<f64>() / 1000.0;
+/// assert!((mean - 2.0).abs() < 0.01);
+/// // the same seed draws the same thresholds
+/// let mut again = SplitMix64::new(7);
+/// assert_eq!(rule.draw_threshold(&mut again), draws[0]);
+/// assert!(RandomThreshold { mean: 1.1, spread: 0.2, seed: 0 }.check().is_err());
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RandomThreshold {

@@ -65,7 +65,17 @@ impl DivisionLog {
     }
 }
 
-/// Number of cells at `t` from division records (right-continuous), starting from `n0`.
+/// Number of cells at `t` from division records (right-continuous: the last record at or
+/// before `t` gives its `cells_after`), `n0` before the first.
+///
+/// ```
+/// use celltissue::events::log::cells_at;
+/// use celltissue::observe::DivisionRecord;
+/// let d = |t, n| DivisionRecord { t, parent: 1, x: 0.5, x_over_length: 0.5, cells_after: n };
+/// let records = [d(1.0, 11), d(2.0, 12), d(2.0, 13)];
+/// assert_eq!(cells_at(&records, 10, 0.5), 10);
+/// assert_eq!(cells_at(&records, 10, 2.0), 13); // the divisions at t = 2 count
+/// ```
 pub fn cells_at(records: &[DivisionRecord], n0: usize, t: f64) -> usize {
     records
         .iter()
@@ -75,6 +85,15 @@ pub fn cells_at(records: &[DivisionRecord], n0: usize, t: f64) -> usize {
 }
 
 /// Median of `x_d/l` over records with `t_d ∈ [t0, t1]`.
+///
+/// ```
+/// use celltissue::events::log::median_x_over_length;
+/// use celltissue::observe::DivisionRecord;
+/// let d = |t, f| DivisionRecord { t, parent: 1, x: 0.0, x_over_length: f, cells_after: 0 };
+/// let records = [d(1.0, 0.2), d(5.0, 0.9), d(6.0, 0.95), d(7.0, 0.99)];
+/// assert_eq!(median_x_over_length(&records, 4.0, 10.0), Some(0.95)); // the rim
+/// assert_eq!(median_x_over_length(&records, 20.0, 30.0), None);
+/// ```
 pub fn median_x_over_length(records: &[DivisionRecord], t0: f64, t1: f64) -> Option<f64> {
     let mut v: Vec<f64> = records
         .iter()
