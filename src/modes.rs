@@ -31,6 +31,55 @@ use std::sync::Arc;
 /// `min_stretch` (the extremes taken over the [`Profile`] that [`observe`](Mode::observe)
 /// returns) plus the mode's [`extra_series`](Mode::extra_series), and at the profile times the
 /// profiles themselves.
+///
+/// A mode reusing the line of cells: a configurable number of cells held 10 % short
+/// (`examples/tethered_line.rs` is a whole new array):
+///
+/// ```
+/// use celltissue::boundary::{Ramp, RightEnd};
+/// use celltissue::line::build::{continuum, discrete, LineParams};
+/// use celltissue::line::{Line, OutputTimes};
+/// use celltissue::modes::{run_mode, Mode};
+/// use celltissue::observe::{ModelKind, Profile};
+/// use celltissue::registry::ParamError;
+/// use celltissue::{NeoHookean, SolveSettings};
+/// struct Squeezed;
+/// #[derive(serde::Serialize, serde::Deserialize, Debug)]
+/// struct Cells { cells: usize }
+/// impl Mode for Squeezed {
+///     type Config = Cells;
+///     type Array = Line<NeoHookean>;
+///     fn check(c: &Cells) -> Result<(), ParamError> {
+///         if c.cells == 0 { return Err(ParamError::range("cells", 0, ">= 1")); }
+///         Ok(())
+///     }
+///     fn build(c: &Cells, model: ModelKind, nodes: Option<usize>)
+///         -> Result<(Line<NeoHookean>, Vec<f64>), ParamError> {
+///         let mut p = LineParams::unit_cells(c.cells);
+///         p.k = 1.0.into();
+///         p.right = RightEnd::Prescribed(Ramp::Constant(0.9 * c.cells as f64));
+///         let law = NeoHookean::new(1.0).unwrap();
+///         let line = match model {
+///             ModelKind::Discrete => discrete(law, &p),
+///             ModelKind::Continuum => continuum(law, &p, nodes.unwrap_or(c.cells)),
+///         }
+///         .map_err(|e| ParamError::new("cells", e))?;
+///         // start uniformly compressed, consistent with the held end
+///         let y0 = line.initial_state().iter().map(|x| 0.9 * x).collect();
+///         Ok((line, y0))
+///     }
+///     fn observe(line: &Line<NeoHookean>, t: f64, y: &[f64]) -> Profile {
+///         line.snapshot(t, y, &vec![0.0; y.len()]).map(|s| s.profile()).unwrap_or_default()
+///     }
+///     fn length(_: &Line<NeoHookean>, _: f64, y: &[f64]) -> f64 { y.len() as f64 + 1.0 }
+/// }
+/// let rec = run_mode::<Squeezed>(&Cells { cells: 10 }, ModelKind::Discrete, None,
+///                                &SolveSettings::default(), &OutputTimes::at(&[0.0, 50.0]));
+/// assert!(rec.error.is_none(), "{:?}", rec.error);
+/// // uniformly compressed, at rest: λ = 0.9 and p = 1/0.81 throughout
+/// assert!(rec.series.min_stretch.iter().all(|l| (l - 0.9).abs() < 1e-9));
+/// assert!((rec.series.max_pressure[1] - 1.0 / 0.81).abs() < 1e-9);
+/// ```
 pub trait Mode: Send + Sync + 'static {
     /// The `[model]` table's keys (other than `kind`, `models`, `nodes`).
     type Config: Serialize + DeserializeOwned + Debug + Send + Sync + 'static;
@@ -140,6 +189,11 @@ pub fn register<M: Mode>(name: &str) -> Result<(), RegistryError> {
 }
 
 /// The registered mode names (the built-in kinds not included), sorted.
+///
+/// ```
+/// // nothing registered in this program: the built-in kinds are not listed
+/// assert!(!celltissue::modes::names().contains(&"line".to_string()));
+/// ```
 pub fn names() -> Vec<String> {
     MODES.names()
 }
