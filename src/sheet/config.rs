@@ -168,6 +168,15 @@ fn check_drag(k_th: Option<f64>, drag: Option<f64>, allow_zero: bool) -> Result<
 }
 
 /// Configuration of a uniaxial sheet run (docs/model.md §4.1–4.3).
+///
+/// ```
+/// use celltissue::sheet::SheetConfig;
+/// let cfg: SheetConfig = toml::from_str("cells_x = 20\ncells_y = 5\ndrag = 0.1")?;
+/// assert_eq!((cfg.cells_x, cfg.drag()), (20, 0.1));
+/// assert!(cfg.validate().is_ok());
+/// assert!(SheetConfig { cells_y: 0, ..cfg }.validate().is_err());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SheetConfig {

@@ -199,6 +199,15 @@ const PROFILE_KEYS: [&str; 14] = [
 ];
 
 /// The optional per-cell columns of a sheet profile.
+///
+/// ```
+/// use celltissue::sheet::observe::SheetColumns;
+/// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+/// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &SheetParams::default())?;
+/// // an elastic sheet without growth: no viscous or growth stretches to write
+/// assert_eq!(SheetColumns::of(&sheet), SheetColumns { viscous: false, growth: false });
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct SheetColumns {
     /// `viscous_x`, `viscous_y`: the Maxwell branch's viscous stretches.
@@ -415,6 +424,17 @@ pub fn shear_series_row(o: &ShearObservables) -> SeriesRow {
 /// A per-cell shear [`Profile`] against height: `X` is the reference centre height `y`, `x` the
 /// centre position `x_c`, `stretch` is `tan θ`; extra: `theta`, `tau` (σ₁₂), `x_edge` (top edge
 /// of each cell).
+///
+/// ```
+/// use celltissue::sheet::observe::shear_profile;
+/// use celltissue::sheet::shear::ShearFields;
+/// let f = ShearFields { y_ref: vec![0.5, 1.5], x_centre: vec![0.1, 0.3], tan_theta: vec![0.2, 0.2],
+///                       theta: vec![0.197, 0.197], tau: vec![0.2, 0.2], pressure: vec![1.0, 1.0],
+///                       x_edge: vec![0.0, 0.2, 0.4] };
+/// let p = shear_profile(3.0, &f);
+/// assert_eq!((p.x_ref.clone(), p.stretch.clone()), (vec![0.5, 1.5], vec![0.2, 0.2]));
+/// assert_eq!(p.extra["x_edge"], [0.2, 0.4]); // each cell's top edge
+/// ```
 pub fn shear_profile(t: f64, f: &ShearFields) -> Profile {
     let mut p = Profile {
         t,

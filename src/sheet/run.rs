@@ -120,6 +120,23 @@ impl<A: ShearFieldsOf> Recorder<A> for ShearRecorder {
 /// Series extra keys: `mean_pressure`, `mean_height`, `mean_stretch_z_over_y`,
 /// `boundary_mismatch_mean`, `boundary_mismatch_max`, `max_stretch_y`, `min_stretch_y`, and
 /// `mean_width` for a growing sheet.
+///
+/// ```
+/// use celltissue::observe::ModelKind;
+/// use celltissue::runner::OutputTimes;
+/// use celltissue::sheet::{run_sheet, SheetConfig};
+/// use celltissue::SolveSettings;
+/// let cfg = SheetConfig { cells_x: 4, cells_y: 3, ..Default::default() };
+/// let law = celltissue::NeoHookean::new(1.0)?;
+/// let out = OutputTimes { series: vec![0.0, 2.0], profiles: vec![2.0] };
+/// let rec = run_sheet(&cfg, &law, ModelKind::Discrete, None, &SolveSettings::default(), &out)?;
+/// assert!(rec.error.is_none());
+/// assert_eq!(rec.profiles[0].pressure.len(), 12); // one value per cell
+/// // a bad grid is refused before anything runs, naming the key
+/// let e = run_sheet(&cfg, &law, ModelKind::Discrete, Some((8, 6)), &SolveSettings::default(), &out);
+/// assert!(e.unwrap_err().to_string().contains("grid"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn run_sheet<E: StrainEnergy>(
     cfg: &SheetConfig,
     law: &E,
@@ -192,6 +209,21 @@ pub fn run_sheet<E: StrainEnergy>(
 /// Series: `length` = top displacement, `max/min_stretch` = `max/min tan θ`; extra keys
 /// `top_displacement`, `shear_spread` (max − min tan θ), `mean_shear_angle`. Profiles against the
 /// reference height: `stretch` = `tan θ`, extra `theta`, `tau`, `x_edge`.
+///
+/// ```
+/// use celltissue::observe::ModelKind;
+/// use celltissue::runner::OutputTimes;
+/// use celltissue::sheet::{run_shear, ShearConfig};
+/// use celltissue::SolveSettings;
+/// let cfg = ShearConfig { cells: 5, force: 0.1, ..Default::default() };
+/// let law = celltissue::NeoHookean::new(1.0)?;
+/// let rec = run_shear(&cfg, &law, ModelKind::Discrete, None, &SolveSettings::default(),
+///                     &OutputTimes::at(&[0.0, 200.0]))?;
+/// // steady simple shear of a neo-Hookean cell: μ tan θ = F_A
+/// assert!((rec.series.max_stretch[1] - 0.1).abs() < 1e-4);
+/// assert!(rec.series.extra["shear_spread"][1] < 1e-4); // every cell at the same angle
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn run_shear<E: StrainEnergy>(
     cfg: &ShearConfig,
     law: &E,
