@@ -144,6 +144,18 @@ fn check_set_against_sweep(
 }
 
 /// Validates a scenario table (already overridden) and expands its sweep.
+///
+/// ```
+/// use celltissue::scenario::resolve;
+/// let t: toml::Table = toml::from_str("name = \"r\"\n[output]\nseries = [0, 1]\n[model]\n\
+///     kind = \"line\"\ncells = 5\nmodels = [\"discrete\"]\n[sweep]\nparameter = \"K\"\n\
+///     values = [0.1, 1]")?;
+/// let s = resolve(t)?;
+/// let labels: Vec<&str> = s.runs.iter().map(|r| r.label.as_str()).collect();
+/// assert_eq!(labels, ["discrete K=0.1", "discrete K=1"]);
+/// assert_eq!(s.runs[0].times.series, [0.0, 1.0]);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn resolve(table: toml::Table) -> Result<Scenario, ScenarioError> {
     let raw: RawScenario = deserialize_at("", toml::Value::Table(table.clone()))?;
     if raw.name.trim().is_empty() {

@@ -27,6 +27,16 @@ pub const MAX_KEY_CHARS: usize = 256;
 /// Splits `dotted.key=value` into the key path and a TOML value. The value is parsed as TOML
 /// (`0.1`, `10`, `true`, `[1, 2]`, `{ type = "gaussian", … }`, `"text"`); anything that does not
 /// parse is taken as a plain string (so `solver.method=radau` works without quotes).
+///
+/// ```
+/// use celltissue::scenario::overrides::parse_set;
+/// let (path, value) = parse_set("model.mu.width=0.2")?;
+/// assert_eq!((path, value), (vec!["model".into(), "mu".into(), "width".into()], toml::Value::Float(0.2)));
+/// let (_, method) = parse_set("solver.method=radau")?;
+/// assert_eq!(method.as_str(), Some("radau")); // a bare word is a string
+/// assert!(parse_set("model.K").is_err()); // no `=`
+/// # Ok::<(), celltissue::scenario::ScenarioError>(())
+/// ```
 pub fn parse_set(arg: &str) -> Result<(Vec<String>, Value), ScenarioError> {
     let bad = |message: &str| ScenarioError::set(arg, message);
     let (key, raw) = arg
@@ -43,6 +53,12 @@ pub fn parse_set(arg: &str) -> Result<(Vec<String>, Value), ScenarioError> {
 }
 
 /// Splits a dotted key into its parts (`None` if any part is empty or not a bare TOML key).
+///
+/// ```
+/// use celltissue::scenario::overrides::parse_path;
+/// assert_eq!(parse_path("output.profiles.0"), Some(vec!["output".into(), "profiles".into(), "0".into()]));
+/// assert_eq!(parse_path("model..K"), None);
+/// ```
 pub fn parse_path(key: &str) -> Option<Vec<String>> {
     if key.split('.').count() > MAX_KEY_PARTS || key.len() > MAX_KEY_CHARS {
         return None;
@@ -61,6 +77,13 @@ pub fn parse_path(key: &str) -> Option<Vec<String>> {
 }
 
 /// A TOML value from text; unparsable text becomes a string.
+///
+/// ```
+/// use celltissue::scenario::overrides::parse_value;
+/// assert_eq!(parse_value("[1, 2]").as_array().map(|a| a.len()), Some(2));
+/// assert_eq!(parse_value("{ type = \"gaussian\" }")["type"].as_str(), Some("gaussian"));
+/// assert_eq!(parse_value("bdf").as_str(), Some("bdf"));
+/// ```
 pub fn parse_value(raw: &str) -> Value {
     let doc = format!("v = {raw}");
     match toml::from_str::<Table>(&doc) {
@@ -74,6 +97,21 @@ pub fn parse_value(raw: &str) -> Value {
 /// Sets `path` in `table` to `value`, creating missing intermediate tables (a misspelt name then
 /// fails deserialisation as an unknown key, naming it). Numeric parts index into arrays.
 /// Fails if the path runs through a value that is neither a table nor an array.
+///
+/// ```
+/// use celltissue::scenario::overrides::{apply, parse_set};
+/// let mut t: toml::Table = toml::from_str("[model]\nK = 1.0\n[output]\nprofiles = [1, 10]")?;
+/// let (path, v) = parse_set("model.K=0.1")?;
+/// apply(&mut t, &path, v)?;
+/// let (path, v) = parse_set("output.profiles.1=5")?;
+/// apply(&mut t, &path, v)?;
+/// assert_eq!(t["model"]["K"].as_float(), Some(0.1));
+/// assert_eq!(t["output"]["profiles"][1].as_integer(), Some(5));
+/// // through a number: an error naming the key
+/// let (path, v) = parse_set("model.K.x=1")?;
+/// assert!(apply(&mut t, &path, v).unwrap_err().to_string().contains("model.K.x"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn apply(table: &mut Table, path: &[String], value: Value) -> Result<(), ScenarioError> {
     let dotted = path.join(".");
     let (last, parents) = path
