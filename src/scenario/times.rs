@@ -28,6 +28,15 @@ pub enum Spacing {
 }
 
 /// A range of output times.
+///
+/// ```
+/// use celltissue::scenario::times::{Spacing, TimeRange};
+/// let r = TimeRange { start: 0.01, stop: 100.0, count: 5, spacing: Spacing::Log, zero: true };
+/// assert_eq!(r.expand("output.series")?, [0.0, 0.01, 0.1, 1.0, 10.0, 100.0]);
+/// let bad = TimeRange { start: 0.0, ..r };
+/// assert!(bad.expand("output.series").unwrap_err().to_string().contains("output.series.start"));
+/// # Ok::<(), celltissue::scenario::ScenarioError>(())
+/// ```
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TimeRange {
@@ -105,6 +114,15 @@ fn round_sig(v: f64) -> f64 {
 }
 
 /// Parses a list or range at `key` into increasing, finite, non-negative times.
+///
+/// ```
+/// use celltissue::scenario::times::parse_times;
+/// let range: toml::Value = toml::from_str::<toml::Table>("v = { start = 0, stop = 1, count = 3 }")?["v"].clone();
+/// assert_eq!(parse_times("output.series", &range)?, [0.0, 0.5, 1.0]);
+/// let list = toml::Value::Array(vec![1.into(), 0.5.into()]);
+/// assert!(parse_times("output.profiles", &list).is_err()); // not increasing
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn parse_times(key: &str, value: &toml::Value) -> Result<Vec<f64>, ScenarioError> {
     let times = match value {
         toml::Value::Array(items) => items
@@ -135,6 +153,13 @@ pub fn parse_times(key: &str, value: &toml::Value) -> Result<Vec<f64>, ScenarioE
 }
 
 /// Non-empty, finite, `≥ 0`, strictly increasing.
+///
+/// ```
+/// use celltissue::scenario::times::check_times;
+/// assert!(check_times("output.series", &[0.0, 1.0]).is_ok());
+/// let e = check_times("output.series", &[0.0, -1.0]).unwrap_err();
+/// assert_eq!(e.key_name(), Some("output.series"));
+/// ```
 pub fn check_times(key: &str, t: &[f64]) -> Result<(), ScenarioError> {
     if t.is_empty() {
         return Err(ScenarioError::key(key, "needs at least one time"));
