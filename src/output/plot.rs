@@ -97,7 +97,24 @@ impl Curve {
     }
 }
 
-/// A chart: title, axis labels and scales, curves.
+/// A chart: title, axis labels and scales, curves. Discrete runs are drawn as symbols,
+/// continuum runs as lines, analytic references dashed:
+///
+/// ```
+/// use celltissue::output::plot::{plot_chart, Axis, Chart, Curve, Style};
+/// let t: Vec<f64> = (0..50).map(|i| i as f64 * 0.1).collect();
+/// let chart = Chart {
+///     title: "decay".into(), x_label: "t".into(), y_label: "y".into(),
+///     x_axis: Axis::Linear, y_axis: Axis::Log,
+///     curves: vec![
+///         Curve::new("run", Style::Markers, 0, t.iter().map(|&t| (t, (-t).exp())).collect()),
+///         Curve::new("exact", Style::Reference, 0, t.iter().map(|&t| (t, (-t).exp())).collect()),
+///     ],
+/// };
+/// let path = std::env::temp_dir().join("celltissue_doc_chart.png");
+/// plot_chart(&path, &chart).unwrap();
+/// assert_eq!(&std::fs::read(&path).unwrap()[1..4], b"PNG");
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Chart {
     /// Caption.
@@ -189,6 +206,12 @@ fn range(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
 /// A tick label for the drawn coordinate `v` on an axis whose ticks are about `step` apart.
 /// Linear axes get as many digits as the tick spacing needs (ticks of a range 1 ± 1e-9 read
 /// `1.000000001`, not all `1.0`); log axes label `10^v`.
+///
+/// ```
+/// use celltissue::output::plot::{tick_label, Axis};
+/// assert_eq!(tick_label(Axis::Linear, 0.25, 0.05), "0.25");
+/// assert_eq!(tick_label(Axis::Linear, 1.000000001, 1e-9), "1.000000001");
+/// ```
 pub fn tick_label(axis: Axis, v: f64, step: f64) -> String {
     match axis {
         Axis::Linear => number_label(v, step),
@@ -488,6 +511,13 @@ fn legend_corner(
 }
 
 /// Viridis-like colour map on `[0, 1]`.
+///
+/// ```
+/// use celltissue::output::plot::colormap;
+/// let (lo, hi) = (colormap(0.0), colormap(1.0));
+/// assert!(lo.2 > lo.1 && hi.1 > hi.2); // dark blue-violet to yellow
+/// assert_eq!(colormap(-1.0), lo); // clamped
+/// ```
 pub fn colormap(u: f64) -> RGBColor {
     const A: [(f64, f64, f64); 5] = [
         (68.0, 1.0, 84.0),
@@ -518,6 +548,14 @@ pub const RECT_SIZE: (u32, u32) = (1200, 520);
 /// Draws axis-aligned rectangles `(x0, y0, x1, y1, value)` filled by a colour map of `value`,
 /// with a colour bar labelled `colorbar_label`. Used for cell snapshots (line ring Fig 2.10e,
 /// sheet Figs 4.3a/4.4a). Non-finite rectangles are skipped.
+///
+/// ```
+/// use celltissue::output::plot::plot_rectangles;
+/// let cells = [(0.0, 0.0, 1.0, 1.0, 1.0), (1.0, 0.0, 2.1, 0.9, 1.2)];
+/// let path = std::env::temp_dir().join("celltissue_doc_rectangles.png");
+/// plot_rectangles(&path, "two cells", &cells, "pressure p").unwrap();
+/// assert_eq!(&std::fs::read(&path).unwrap()[1..4], b"PNG");
+/// ```
 pub fn plot_rectangles(
     path: &Path,
     title: &str,
