@@ -2,9 +2,20 @@
 //! back to its last finite data and says so in its `error`; [`check_summary`] is the final guard
 //! before `summary.json` is written.
 
-use crate::observe::{RunRecord, Summary};
+use crate::observe::{AnalyticReference, RunRecord, Summary};
 
 /// Where the first non-finite number of a record is, e.g. `series.max_pressure[12]`.
+///
+/// ```
+/// use celltissue::observe::*;
+/// use celltissue::output::finite::first_non_finite;
+/// let mut rec = RunRecord { label: "r".into(), model: ModelKind::Discrete,
+///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
+///     stats: RunStats::default(), divisions: vec![], error: None, reference: None };
+/// assert_eq!(first_non_finite(&rec), None);
+/// rec.profiles.push(Profile { t: 1.0, stretch: vec![1.0, f64::NAN], ..Default::default() });
+/// assert_eq!(first_non_finite(&rec).unwrap(), "profiles[0].stretch[1]");
+/// ```
 pub fn first_non_finite(rec: &RunRecord) -> Option<String> {
     let s = &rec.series;
     let mut named: Vec<(&str, &Vec<f64>)> = vec![
@@ -47,7 +58,39 @@ pub fn first_non_finite(rec: &RunRecord) -> Option<String> {
             return Some(format!("divisions[{i}]"));
         }
     }
-    None
+    rec.reference.as_ref().and_then(reference_non_finite)
+}
+
+/// Where the first non-finite number of an analytic reference is.
+fn reference_non_finite(r: &AnalyticReference) -> Option<String> {
+    let s = &r.series;
+    let mut named: Vec<(String, &Vec<f64>)> = vec![
+        ("series.t".into(), &s.t),
+        ("series.max_pressure".into(), &s.max_pressure),
+        ("series.min_stretch".into(), &s.min_stretch),
+    ];
+    for (i, p) in r.profiles.iter().enumerate() {
+        named.push((format!("profiles[{i}].X"), &p.x_ref));
+        named.push((format!("profiles[{i}].stretch"), &p.stretch));
+        named.push((format!("profiles[{i}].pressure"), &p.pressure));
+    }
+    for (i, e) in r.equilibrium.iter().enumerate() {
+        named.push((format!("equilibrium[{i}].X"), &e.x_ref));
+        named.push((format!("equilibrium[{i}].x"), &e.x));
+    }
+    let times = r
+        .profiles
+        .iter()
+        .map(|p| p.t)
+        .chain(r.equilibrium.iter().map(|e| e.t));
+    if times.clone().any(|t| !t.is_finite()) {
+        return Some("reference (a profile time)".into());
+    }
+    named.into_iter().find_map(|(k, v)| {
+        v.iter()
+            .position(|x| !x.is_finite())
+            .map(|i| format!("reference.{k}[{i}]"))
+    })
 }
 
 /// Removes non-finite data: series are cut before the first output time with a non-finite
@@ -119,6 +162,15 @@ pub fn sanitize(rec: &mut RunRecord) -> bool {
     if !rec.stats.wall_seconds.is_finite() {
         rec.stats.wall_seconds = 0.0;
     }
+    // an analytic reference with a non-finite value is dropped whole (it is a comparison,
+    // not the run's data)
+    if rec
+        .reference
+        .as_ref()
+        .is_some_and(|r| reference_non_finite(r).is_some())
+    {
+        rec.reference = None;
+    }
     let note = format!("non-finite value at {first}; output cut back to the last finite data");
     rec.error = Some(match rec.error.take() {
         Some(e) => format!("{e}; {note}"),
@@ -138,6 +190,26 @@ pub struct NonFiniteError {
 }
 
 /// The first non-finite number in the summary, if any.
+///
+/// ```
+/// use celltissue::observe::*;
+/// use celltissue::output::finite::check_summary;
+/// let mut rec = RunRecord { label: "r".into(), model: ModelKind::Discrete,
+///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
+///     stats: RunStats::default(), divisions: vec![], error: None, reference: None };
+/// rec.reference = Some(AnalyticReference {
+///     label: "exact".into(),
+///     series: ReferenceSeries { t: vec![1.0], max_pressure: vec![f64::INFINITY], min_stretch: vec![0.9] },
+///     ..Default::default()
+/// });
+/// let summary = Summary { scenario: "s".into(), runs: vec![rec] };
+/// let e = check_summary(&summary).unwrap_err();
+/// assert_eq!(e.to_string(), "run `r`: reference.series.max_pressure[0]");
+/// // sanitising drops such a reference whole, and says so
+/// let mut rec = summary.runs[0].clone();
+/// assert!(celltissue::output::finite::sanitize(&mut rec));
+/// assert!(rec.reference.is_none() && rec.error.unwrap().contains("reference.series"));
+/// ```
 pub fn check_summary(summary: &Summary) -> Result<(), NonFiniteError> {
     for rec in &summary.runs {
         if let Some(place) = first_non_finite(rec) {
