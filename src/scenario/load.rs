@@ -10,12 +10,10 @@ pub use super::sweep::SweepPoint;
 use super::sweep::{expand, swept_keys, SweepSection};
 use super::times::parse_times;
 use crate::observe::ModelKind;
+use crate::runner::OutputTimes;
 use crate::settings::SolveSettings;
 use integrators::LinearSolverChoice;
 use std::path::Path;
-
-/// Output times of a run (the runners' own request type).
-pub use crate::runner::OutputTimes as Times;
 
 /// One run: one discretisation of one parameter set.
 #[derive(Clone, Debug, PartialEq)]
@@ -33,7 +31,7 @@ pub struct RunSpec {
     /// Integrator and tolerances.
     pub solver: SolveSettings,
     /// Output times.
-    pub times: Times,
+    pub times: OutputTimes,
     /// The sweep point, if the scenario sweeps.
     pub sweep: Option<SweepPoint>,
 }
@@ -201,7 +199,7 @@ pub fn resolve(table: toml::Table) -> Result<Scenario, ScenarioError> {
             None => raw.clone(),
         };
         let solver = one.solver.validate().map_err(ctx)?;
-        let times = Times {
+        let times = OutputTimes {
             series: parse_times("output.series", &one.output.series).map_err(ctx)?,
             profiles: match &one.output.profiles {
                 None => Vec::new(),

@@ -39,8 +39,6 @@ pub mod sweep;
 pub mod times;
 
 pub use error::ScenarioError;
-pub use load::{
-    format_number, load, load_str, resolve, RunSpec, Scenario, SweepInfo, SweepPoint, Times,
-};
+pub use load::{format_number, load, load_str, resolve, RunSpec, Scenario, SweepInfo, SweepPoint};
 pub use model::ModelConfig;
 pub use schema::{PlotSettings, ProfileAxis, Scale};
