@@ -27,12 +27,36 @@ pub fn temp_path(path: &Path) -> PathBuf {
 }
 
 /// Whether a file name is one of [`temp_path`]'s temporary names.
+///
+/// ```
+/// use celltissue::output::atomic::{is_temp_name, temp_path};
+/// let tmp = temp_path(std::path::Path::new("out/summary.json"));
+/// assert!(is_temp_name(tmp.file_name().unwrap().to_str().unwrap()));
+/// assert!(!is_temp_name("summary.json"));
+/// ```
 pub fn is_temp_name(name: &str) -> bool {
     name.starts_with('.') && name.contains(".partial")
 }
 
 /// Runs `write` on a temporary path beside `path`, then renames the result to `path`. On any
 /// error the temporary file is removed and `path` is left as it was.
+///
+/// ```
+/// use celltissue::output::atomic::with_temp_file;
+/// let dir = std::env::temp_dir().join(format!("ct_with_temp_doc_{}", std::process::id()));
+/// std::fs::create_dir_all(&dir).unwrap();
+/// let path = dir.join("a.txt");
+/// std::fs::write(&path, "old").unwrap();
+/// // a writer that fails half-way leaves the old file, and no temporary file
+/// let r: std::io::Result<()> = with_temp_file(&path, |tmp| {
+///     std::fs::write(tmp, "half")?;
+///     Err(std::io::Error::other("disk full"))
+/// });
+/// assert!(r.is_err());
+/// assert_eq!(std::fs::read_to_string(&path).unwrap(), "old");
+/// assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
+/// # std::fs::remove_dir_all(&dir).unwrap();
+/// ```
 pub fn with_temp_file<T, E: From<io::Error>>(
     path: &Path,
     write: impl FnOnce(&Path) -> Result<T, E>,
@@ -62,6 +86,14 @@ pub fn write(path: &Path, bytes: &[u8]) -> io::Result<()> {
 }
 
 /// Writes to `path` atomically through a buffered writer handed to `fill`.
+///
+/// ```
+/// use std::io::Write;
+/// let path = std::env::temp_dir().join(format!("ct_write_with_doc_{}.txt", std::process::id()));
+/// celltissue::output::atomic::write_with(&path, |w| writeln!(w, "t,l")).unwrap();
+/// assert_eq!(std::fs::read_to_string(&path).unwrap(), "t,l\n");
+/// # std::fs::remove_file(&path).unwrap();
+/// ```
 pub fn write_with(
     path: &Path,
     fill: impl FnOnce(&mut io::BufWriter<std::fs::File>) -> io::Result<()>,

@@ -111,6 +111,20 @@ pub fn write_all(
 
 /// Creates `dir` and writes every output of a scenario run: data first (JSON, NPZ, CSV, VTU,
 /// TOML), then plots. The summary is checked for non-finite numbers before anything is written.
+///
+/// ```
+/// use celltissue::output::{write_all_with, WriteOptions, Written};
+/// use celltissue::scenario::{execute, load_str};
+/// let text = "name = \"quiet\"\n[output]\nseries = [1]\n[model]\nkind = \"line\"\nmodels = [\"discrete\"]\ncells = 5";
+/// let s = load_str(text, "quiet.toml".as_ref(), &[])?;
+/// let summary = execute::run_all(&s, execute::run_spec, |_| {});
+/// let dir = std::env::temp_dir().join(format!("celltissue_doc_no_plots_{}", std::process::id()));
+/// let opts = WriteOptions { no_plots: true, ..Default::default() };
+/// let w: Written = write_all_with(&dir, &s, &summary, &opts)?;
+/// assert!(w.plots.is_empty() && !w.data.is_empty()); // `--no-plots`: data only
+/// std::fs::remove_dir_all(&dir)?;
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn write_all_with(
     dir: &Path,
     scenario: &Scenario,

@@ -162,6 +162,20 @@ pub(crate) fn members(rec: &RunRecord) -> BTreeMap<String, Member> {
 }
 
 /// Writes the archive of `rec` to `w`.
+///
+/// ```
+/// use celltissue::observe::*;
+/// use celltissue::output::npz::write_npz;
+/// let mut rec = RunRecord { label: "r".into(), model: ModelKind::Discrete,
+///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
+///     stats: RunStats::default(), divisions: vec![], error: None, reference: None };
+/// rec.series.t = vec![0.0, 1.0];
+/// let mut bytes = std::io::Cursor::new(Vec::new());
+/// write_npz(&rec, &mut bytes).unwrap();
+/// let zip = bytes.into_inner();
+/// assert_eq!(&zip[..2], b"PK"); // a zip of .npy members, as numpy.savez writes
+/// assert!(zip.windows(12).any(|w| w == b"series/t.npy"));
+/// ```
 pub fn write_npz<W: Write + Seek>(rec: &RunRecord, w: W) -> io::Result<()> {
     let mut zip = zip::ZipWriter::new(w);
     for (name, member) in members(rec) {
@@ -200,6 +214,18 @@ pub fn write_npz<W: Write + Seek>(rec: &RunRecord, w: W) -> io::Result<()> {
 }
 
 /// Writes `rec`'s archive to `path` atomically.
+///
+/// ```
+/// use celltissue::observe::*;
+/// use celltissue::output::npz::{member_names, write_npz_file};
+/// let rec = RunRecord { label: "r".into(), model: ModelKind::Discrete,
+///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
+///     stats: RunStats::default(), divisions: vec![], error: None, reference: None };
+/// let path = std::env::temp_dir().join(format!("celltissue_doc_{}.npz", std::process::id()));
+/// write_npz_file(&path, &rec).unwrap();
+/// assert!(path.exists() && member_names(&rec).contains(&"series/t".to_string()));
+/// std::fs::remove_file(&path).unwrap();
+/// ```
 pub fn write_npz_file(path: &Path, rec: &RunRecord) -> io::Result<()> {
     super::atomic::with_temp_file(path, |tmp| {
         let f = std::fs::File::create(tmp)?;
