@@ -98,6 +98,15 @@ pub fn series_columns(rec: &RunRecord) -> Vec<(String, &Vec<f64>)> {
 
 /// The output name of a profile field of `rec`: a shear column's `X` is the reference height
 /// `Y` and its `stretch` is `tan_theta`.
+///
+/// ```
+/// use celltissue::observe::*;
+/// use celltissue::output::files::profile_field_name;
+/// let rec = RunRecord { label: "discrete N=10".into(), model: ModelKind::Discrete,
+///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
+///     stats: RunStats::default(), divisions: vec![], error: None, reference: None };
+/// assert_eq!(profile_field_name(&rec, "stretch"), "stretch"); // a line keeps its names
+/// ```
 pub fn profile_field_name<'a>(rec: &RunRecord, field: &'a str) -> &'a str {
     match (is_shear(rec), field) {
         (true, "X") => "Y",

@@ -29,6 +29,18 @@ pub const VTK_HEXAHEDRON: u8 = 12;
 pub const VTU_MAX_CELLS: usize = 400_000;
 
 /// An unstructured grid: points, cells by connectivity, per-cell data.
+///
+/// ```
+/// use celltissue::output::vtu::{vtu_string, Grid};
+/// // one unit square (VTK_QUAD = 9) carrying a pressure
+/// let g = Grid {
+///     points: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+///     connectivity: vec![0, 1, 2, 3], offsets: vec![4], types: vec![9],
+///     cell_data: vec![("pressure".into(), vec![1.0])],
+/// };
+/// let xml = vtu_string(0.5, &g).unwrap();
+/// assert!(xml.contains("NumberOfPoints=\"4\"") && xml.contains("Name=\"pressure\""));
+/// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Grid {
     /// Point coordinates, `[x, y, z]`.
@@ -140,6 +152,20 @@ pub fn vtu_string(t: f64, grid: &Grid) -> io::Result<String> {
 }
 
 /// Writes `grid` at time `t` to `path` atomically.
+///
+/// ```
+/// use celltissue::output::vtu::{line_grid, write_pvd, write_vtu};
+/// use celltissue::observe::Profile;
+/// let p = Profile { t: 1.0, x_ref: vec![0.5, 1.5], x: vec![0.45, 1.35], stretch: vec![0.9, 0.9],
+///                   pressure: vec![1.2, 1.2], ..Default::default() };
+/// let dir = std::env::temp_dir().join(format!("ct_vtu_doc_{}", std::process::id()));
+/// std::fs::create_dir_all(&dir).unwrap();
+/// write_vtu(&dir.join("line_0000.vtu"), 1.0, &line_grid(&p, false)).unwrap();
+/// write_pvd(&dir.join("line.pvd"), &[(1.0, "line_0000.vtu".into())]).unwrap();
+/// let pvd = std::fs::read_to_string(dir.join("line.pvd")).unwrap();
+/// assert!(pvd.contains("file=\"line_0000.vtu\""));
+/// # std::fs::remove_dir_all(&dir).unwrap();
+/// ```
 pub fn write_vtu(path: &Path, t: f64, grid: &Grid) -> io::Result<()> {
     let text = vtu_string(t, grid)?;
     super::atomic::write(path, text.as_bytes())
