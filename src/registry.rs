@@ -184,6 +184,20 @@ pub fn parse<L: Serialize + DeserializeOwned>(p: &Params) -> Result<(L, Params),
 /// `wrap` the law into the registry's object (e.g. `Arc<dyn Trait>`). What every typed
 /// registration ([`crate::events::rules::register`], [`crate::cell::growth_laws::register`],
 /// [`crate::modes::register`]) builds.
+///
+/// ```
+/// use celltissue::registry::{checked, ParamError, Params};
+/// #[derive(serde::Serialize, serde::Deserialize)]
+/// struct Ratio { ratio: f64 }
+/// let ctor = checked::<Ratio, f64>(
+///     |r| if r.ratio > 1.0 { Ok(()) } else { Err(ParamError::range("ratio", r.ratio, "> 1")) },
+///     |r| r.ratio,
+/// );
+/// let p: Params = serde_json::from_str(r#"{"ratio": 2.0}"#).unwrap();
+/// assert_eq!(ctor(&p).unwrap().0, 2.0);
+/// let bad: Params = serde_json::from_str(r#"{"ratio": 0.5}"#).unwrap();
+/// assert_eq!(ctor(&bad).unwrap_err().to_string(), "`ratio` = 0.5: must be > 1");
+/// ```
 pub fn checked<L, T>(check: fn(&L) -> Result<(), ParamError>, wrap: fn(L) -> T) -> Constructor<T>
 where
     L: Serialize + DeserializeOwned + 'static,
@@ -222,6 +236,18 @@ pub enum RegistryError {
 
 /// A process-wide map from names to [`Constructor`]s of `T`, seeded with built-ins on first
 /// use (`static` with [`Registry::new`]).
+///
+/// ```
+/// use celltissue::registry::{Params, Registry};
+/// use std::sync::Arc;
+/// static COLOURS: Registry<u32> = Registry::new("colour", "colour", || {
+///     vec![("red", Arc::new(|_: &Params| Ok((0xff0000, Params::new()))))]
+/// });
+/// assert_eq!((COLOURS.what(), COLOURS.key()), ("colour", "colour"));
+/// // names are lower-case words, and a name is taken once
+/// assert!(COLOURS.register("Blue", Arc::new(|_: &Params| Ok((0x0000ff, Params::new())))).is_err());
+/// assert!(COLOURS.register("red", Arc::new(|_: &Params| Ok((1, Params::new())))).is_err());
+/// ```
 pub struct Registry<T: 'static, E: 'static = ParamError> {
     what: &'static str,
     key: &'static str,
