@@ -11,6 +11,14 @@ use crate::scalar::Scalar;
 use serde::{Deserialize, Serialize};
 
 /// Which force balance moves the boundaries.
+///
+/// ```
+/// use celltissue::line::LineConfig;
+/// use celltissue::substrate::DragForm;
+/// let cfg: LineConfig = toml::from_str("drag_form = \"centre\"")?; // the thesis code's form
+/// assert_eq!(cfg.drag_form, DragForm::Centre);
+/// # Ok::<(), toml::de::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum DragForm {

@@ -57,6 +57,12 @@ pub use rules::RuleSpec;
 pub use run::{run_proliferation, ProliferationConfig, ProliferationError};
 
 /// Errors of the division machinery (become fatal solver errors inside an event handler).
+///
+/// ```
+/// use celltissue::events::EventError;
+/// let e = EventError::NoSuchCell { cell: 12, cells: 10 };
+/// assert_eq!(e.to_string(), "no cell 12: the line has 10 cells (1-based)");
+/// ```
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum EventError {

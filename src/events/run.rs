@@ -15,6 +15,14 @@ use serde::Serialize;
 
 /// An invalid proliferating line; [`ProliferationError::key`] is the innermost scenario key
 /// (under `model`).
+///
+/// ```
+/// use celltissue::events::{ProliferationConfig, ProliferationError};
+/// let t: toml::Table = toml::from_str("cells = 10\nright_end = \"free\"").unwrap();
+/// let e = ProliferationConfig::from_table(&t).and_then(|c| c.validate().map(|_| c)).unwrap_err();
+/// assert!(matches!(e, ProliferationError::NoGrowth));
+/// assert!(e.to_string().contains("division needs a growth law"));
+/// ```
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum ProliferationError {

@@ -25,6 +25,14 @@ use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
 /// The right-end condition named in a scenario.
+///
+/// ```
+/// use celltissue::line::config::RightEndKind;
+/// use celltissue::line::LineConfig;
+/// let cfg: LineConfig = toml::from_str("cells = 12\nright_end = \"periodic\"\nK = 1")?;
+/// assert_eq!(cfg.right_end, RightEndKind::Periodic); // a ring of 12 cells
+/// # Ok::<(), toml::de::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RightEndKind {
@@ -38,6 +46,15 @@ pub enum RightEndKind {
 }
 
 /// The continuum discretisation.
+///
+/// ```
+/// use celltissue::line::config::ContinuumScheme;
+/// use celltissue::line::LineConfig;
+/// let cfg: LineConfig = toml::from_str("continuum_scheme = \"thesis\"")?;
+/// assert_eq!(cfg.continuum_scheme, ContinuumScheme::Thesis);
+/// assert_eq!(LineConfig::default().continuum_scheme, ContinuumScheme::Conservative);
+/// # Ok::<(), toml::de::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ContinuumScheme {

@@ -28,6 +28,13 @@ pub use config::LineConfig;
 pub use run::{run_line, OutputTimes, SolveSettings};
 
 /// Errors building or configuring a line. Messages name the key and its valid range.
+///
+/// ```
+/// use celltissue::line::LineConfig;
+/// let e = LineConfig { cells: 0, ..Default::default() }.validate().unwrap_err();
+/// assert_eq!(e.key(), Some("cells"));
+/// assert!(e.to_string().starts_with("invalid `cells` = 0"));
+/// ```
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum LineError {
