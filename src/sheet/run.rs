@@ -22,7 +22,7 @@ use super::observe::{
 };
 use super::shear::{ShearCellCentre, ShearColumn, ShearFields};
 use super::uniaxial::UniaxialSheet;
-use crate::array::ArrayProblem;
+use crate::array::{ArrayProblem, CellArray};
 use crate::energy::StrainEnergy;
 use crate::observe::{ModelKind, Profile, RunRecord};
 use crate::runner::OutputTimes;
@@ -91,6 +91,23 @@ impl<E: StrainEnergy> ShearFieldsOf for ShearCellCentre<E> {
     fn shear_fields(&self, y: &[f64]) -> ShearFields {
         self.fields(y)
     }
+}
+
+/// Runs either form of the shear column from `y0` and records it.
+fn record_column<A: CellArray + ShearFieldsOf>(
+    col: A,
+    y0: &[f64],
+    solver: &SolveSettings,
+    out: &OutputTimes,
+) -> Recording {
+    run_recorded(
+        &mut ArrayProblem::new(col),
+        y0,
+        &[],
+        solver,
+        out,
+        &mut ShearRecorder,
+    )
 }
 
 /// What a shear-column run records: [`shear_series_row`] and [`shear_profile`] of its fields.
@@ -260,26 +277,12 @@ pub fn run_shear<E: StrainEnergy>(
         ShearForm::Edge => {
             let col = ShearColumn::continuum(law, &params, m).map_err(bad)?;
             let y0 = col.initial_state();
-            run_recorded(
-                &mut ArrayProblem::new(col),
-                &y0,
-                &[],
-                solver,
-                out,
-                &mut ShearRecorder,
-            )
+            record_column(col, &y0, solver, out)
         }
         ShearForm::CellCentre => {
             let col = ShearCellCentre::new(law, &params).map_err(bad)?;
             let y0 = col.initial_state();
-            run_recorded(
-                &mut ArrayProblem::new(col),
-                &y0,
-                &[],
-                solver,
-                out,
-                &mut ShearRecorder,
-            )
+            record_column(col, &y0, solver, out)
         }
     };
     let parameters = serde_json::json!({
