@@ -240,7 +240,20 @@ impl<E: StrainEnergy> Line<E> {
     /// Calls `f(row, col)` for every structural entry of the Jacobian (with repeats), without
     /// storing them: the banded pattern of a long line needs only the widest offsets, and a
     /// list of the 10⁷ entries of a 10⁶-cell line would be 100+ MB of fresh memory.
-    pub fn for_each_jacobian_entry(&self, mut f: impl FnMut(usize, usize)) {
+    pub fn for_each_jacobian_entry(&self, f: impl FnMut(usize, usize)) {
+        let n = self.n_cells();
+        self.for_each_jacobian_entry_in(1..=n, 0..=n, f);
+    }
+
+    /// [`for_each_jacobian_entry`](Self::for_each_jacobian_entry) restricted to the rows of
+    /// the cells in `cells` (their growth and viscous-stretch rows) and of the boundaries in
+    /// `boundaries` (their position rows).
+    pub(crate) fn for_each_jacobian_entry_in(
+        &self,
+        cells: std::ops::RangeInclusive<usize>,
+        boundaries: std::ops::RangeInclusive<usize>,
+        mut f: impl FnMut(usize, usize),
+    ) {
         let n = self.n_cells();
         let lay = &self.layout;
         let periodic = self.right.is_periodic();
@@ -264,7 +277,7 @@ impl<E: StrainEnergy> Line<E> {
             }
         };
         let mut deps = Vec::new();
-        for c in 1..=n {
+        for c in cells.filter(|c| (1..=n).contains(c)) {
             let v = lay.vi.get(c - 1).copied().unwrap_or(NONE);
             for row in [lay.gi[c - 1], v] {
                 if row != NONE {
@@ -276,7 +289,7 @@ impl<E: StrainEnergy> Line<E> {
                 }
             }
         }
-        for b in 0..=n {
+        for b in boundaries.filter(|b| *b <= n) {
             let row = lay.xi[b];
             if row == NONE {
                 continue;

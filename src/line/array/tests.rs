@@ -203,3 +203,37 @@ fn density_divisions_refresh_the_uniform_fields() {
     line.residual(0.0, &y, &yp, &mut r).unwrap();
     assert_eq!(r, reference_residual(line, &y, &yp));
 }
+
+/// The band from the end windows (`Line::pattern`) is the band of the whole walk over every
+/// Jacobian entry, for every combination of unknowns, ends and drag form, at every size from
+/// 2 cells (a held line of one cell without growth has no unknowns) to past the windows.
+#[test]
+fn pattern_from_the_end_windows_is_the_full_band() {
+    use crate::cell::MaxwellBranch;
+    for n in 2..=16 {
+        for form in [DragForm::Boundary, DragForm::Centre] {
+            for (growth, free, maxwell) in (0..8).map(|b| (b & 1 != 0, b & 2 != 0, b & 4 != 0)) {
+                let mut l = line(n, form, growth, free);
+                if maxwell {
+                    let mut p = LineParams::unit_cells(n);
+                    p.form = form;
+                    p.growth = l.growth.clone();
+                    p.right = if free { RightEnd::Free(None) } else { p.right };
+                    p.maxwell = Some(MaxwellBranch::standard_linear_solid(0.5, 2.0).unwrap());
+                    l = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+                }
+                let (mut lower, mut upper) = (0, 0);
+                l.for_each_jacobian_entry(|i, j| {
+                    lower = lower.max(i.saturating_sub(j));
+                    upper = upper.max(j.saturating_sub(i));
+                });
+                let full = Pattern::Banded { lower, upper };
+                assert_eq!(
+                    l.pattern(),
+                    full,
+                    "n = {n}, {form:?}, growth {growth}, free {free}, maxwell {maxwell}"
+                );
+            }
+        }
+    }
+}
