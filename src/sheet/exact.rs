@@ -11,6 +11,14 @@ use crate::energy::StrainEnergy;
 use std::f64::consts::PI;
 
 /// A homogeneous sheet state.
+///
+/// ```
+/// use celltissue::sheet::exact::sheet_periodic_steady;
+/// // a periodic sheet 10 % shorter: λ₂ = 1 (held by periodicity), λ₃ = 1/0.9
+/// let s = sheet_periodic_steady(&celltissue::NeoHookean::new(1.0).unwrap(), 0.1);
+/// assert!((s.stretch[0] - 0.9).abs() < 1e-12 && (s.stretch[1] - 1.0).abs() < 1e-12);
+/// assert!((s.pressure - 1.0 / 0.81).abs() < 1e-9);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SheetSteady {
     /// `λ₁, λ₂, λ₃`.

@@ -68,6 +68,18 @@ pub struct ShearFields {
 /// `λ± = √(1+T²/4) ± T/2`, `λ₃ = 1`, principal stresses `t_i = λ_i ∂W/∂λ_i` and Eulerian
 /// principal directions `n±` (eigenvectors of `B = FFᵀ`), `p = t₊ n₊,₂² + t₋ n₋,₂²`.
 /// Neo-Hookean gives `p = μ`.
+///
+/// ```
+/// use celltissue::sheet::shear::shear_pressure;
+/// use celltissue::{Gent, NeoHookean};
+/// // neo-Hookean: p = μ at every amount of shear
+/// for t in [0.0, 0.5, 2.0] {
+///     assert!((shear_pressure(&NeoHookean::new(1.5).unwrap(), t) - 1.5).abs() < 1e-12);
+/// }
+/// // Gent (μ = 1, J_m = 3): p = μ/(1 − T²/J_m) stiffens towards the lock
+/// let gent = Gent::new(1.0, 3.0).unwrap();
+/// assert!((shear_pressure(&gent, 1.0) - 1.5).abs() < 1e-12);
+/// ```
 pub fn shear_pressure<E: StrainEnergy>(law: &E, t: f64) -> f64 {
     let s = (1.0 + 0.25 * t * t).sqrt();
     let (lp, lm) = (s + 0.5 * t, s - 0.5 * t);
@@ -206,6 +218,15 @@ impl<E: StrainEnergy> ShearColumn<E> {
 }
 
 /// Per-cell fields from edge positions `x_{e,0..m}` and segment height `h`.
+///
+/// ```
+/// use celltissue::sheet::shear::fields_from_edges;
+/// // two cells of height 1, each sheared by tan θ = 0.2
+/// let f = fields_from_edges(&celltissue::NeoHookean::new(1.0).unwrap(), &[0.0, 0.2, 0.4], 1.0);
+/// assert!(f.tan_theta.iter().all(|t| (t - 0.2).abs() < 1e-12));
+/// assert!(f.tau.iter().all(|s| (s - 0.2).abs() < 1e-12)); // σ₁₂ = μ tan θ
+/// assert_eq!(f.y_ref, [0.5, 1.5]);
+/// ```
 pub fn fields_from_edges<E: StrainEnergy>(law: &E, xe: &[f64], h: f64) -> ShearFields {
     let m = xe.len() - 1;
     let mut f = ShearFields {
