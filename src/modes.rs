@@ -199,8 +199,29 @@ pub fn names() -> Vec<String> {
 }
 
 /// Runs a mode: builds the array and records it with [`crate::runner::run_recorded`] (the
-/// loop every model uses) at the series and profile times. A failed build or solve gives a record with
-/// `error` (and whatever it had computed before the failure).
+/// loop every model uses) at the series and profile times. A failed build or solve gives a
+/// record with `error` (and whatever it had computed before the failure); see [`Mode`] for a
+/// run.
+///
+/// ```
+/// # use celltissue::{line::Line, modes::{run_mode, Mode}, observe::{ModelKind, Profile},
+/// #     registry::ParamError, runner::OutputTimes, NeoHookean, SolveSettings};
+/// # struct Never;
+/// # impl Mode for Never {
+/// #     type Config = ();
+/// #     type Array = Line<NeoHookean>;
+/// #     fn build(_: &(), _: ModelKind, _: Option<usize>) -> Result<(Line<NeoHookean>, Vec<f64>), ParamError> {
+/// #         Err(ParamError::new("cells", "cannot be built"))
+/// #     }
+/// #     fn observe(_: &Line<NeoHookean>, _: f64, _: &[f64]) -> Profile { Profile::default() }
+/// #     fn length(_: &Line<NeoHookean>, _: f64, _: &[f64]) -> f64 { 0.0 }
+/// # }
+/// // a mode whose build fails gives a record naming the key, and no data
+/// let rec = run_mode::<Never>(&(), ModelKind::Discrete, None, &SolveSettings::default(),
+///                             &OutputTimes::at(&[1.0]));
+/// assert_eq!(rec.error.as_deref(), Some("invalid `cells`: cannot be built"));
+/// assert!(rec.series.t.is_empty());
+/// ```
 pub fn run_mode<M: Mode>(
     config: &M::Config,
     model: ModelKind,

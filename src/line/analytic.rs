@@ -341,6 +341,15 @@ fn sample(v: &[f64], m: usize) -> Vec<f64> {
 }
 
 /// `(max p, min λ)` of the applicable reference solution at time `t` (see [`profile`]).
+///
+/// ```
+/// use celltissue::line::analytic::extremes;
+/// use celltissue::line::LineConfig;
+/// // K = 0, η = 1, after the exponential ramp: uniform λ = 0.9, p = 1/λ²
+/// let cfg = LineConfig { k: 0.0.into(), eta: 1.0.into(), ..Default::default() };
+/// let (p, l) = extremes(&cfg, 50.0).unwrap();
+/// assert!((l - 0.9).abs() < 1e-9 && (p - 1.0 / 0.81).abs() < 1e-9);
+/// ```
 pub fn extremes(cfg: &LineConfig, t: f64) -> Option<(f64, f64)> {
     let prof = profile(cfg, t)?;
     let pmax = prof.iter().map(|q| q.2).fold(f64::NEG_INFINITY, f64::max);
@@ -350,6 +359,16 @@ pub fn extremes(cfg: &LineConfig, t: f64) -> Option<(f64, f64)> {
 
 /// Static boundary positions `x₀..x_N` at `l(t)` with the reference positions `X₀..X_N`
 /// (Fig 2.6's static macroscale solution), where [`quasi_static_applies`].
+///
+/// ```
+/// use celltissue::line::analytic::static_positions;
+/// use celltissue::line::LineConfig;
+/// // K = 1e-5 (quasi-static throughout), uniform cells: uniform strain x = (l/l₀)X
+/// let cfg = LineConfig { k: 1e-5.into(), ..Default::default() };
+/// let xs = static_positions(&cfg, 20.0).unwrap();
+/// let l = xs.last().unwrap().1;
+/// assert!(xs.iter().all(|&(xr, x)| (x - l / 100.0 * xr).abs() < 1e-9));
+/// ```
 pub fn static_positions(cfg: &LineConfig, t: f64) -> Option<Vec<(f64, f64)>> {
     reference_for(cfg)?;
     if !quasi_static_applies(cfg, t) {
