@@ -26,6 +26,11 @@ pub fn text(name: &str) -> Option<&'static str> {
 }
 
 /// The bundled names, comma-separated (for messages that list what exists).
+///
+/// ```
+/// let names = celltissue::scenario::bundled::names();
+/// assert!(names.contains("fig2_5") && names.contains("fig3_3d"));
+/// ```
 pub fn names() -> String {
     BUNDLED
         .iter()

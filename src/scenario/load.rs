@@ -16,6 +16,20 @@ use integrators::LinearSolverChoice;
 use std::path::Path;
 
 /// One run: one discretisation of one parameter set.
+///
+/// ```
+/// use celltissue::observe::ModelKind;
+/// use celltissue::scenario::{execute, load_str, ModelConfig};
+/// let text = "name = \"one\"\n[output]\nseries = [0, 1]\nprofiles = [1]\n[model]\n\
+///             kind = \"line\"\ncells = 8\nnodes = 16";
+/// let s = load_str(text, "one.toml".as_ref(), &[])?;
+/// let spec = &s.runs[1];
+/// assert_eq!((spec.label.as_str(), spec.model, spec.nodes), ("continuum", ModelKind::Continuum, Some(16)));
+/// assert!(matches!(spec.config, ModelConfig::Line(_)));
+/// let rec = execute::run_spec(spec); // one run, as the CLI runs it
+/// assert_eq!(rec.profiles[0].x_ref.len(), 16);
+/// # Ok::<(), celltissue::scenario::ScenarioError>(())
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct RunSpec {
     /// Label used in legends and file names: model, then the swept value (`"discrete K=0.01"`).
@@ -37,6 +51,16 @@ pub struct RunSpec {
 }
 
 /// The sweep as declared.
+///
+/// ```
+/// use celltissue::scenario::load_str;
+/// let text = "name = \"sw\"\n[output]\nseries = [1]\n[model]\nkind = \"line\"\ncells = 5\n\
+///             models = [\"discrete\"]\n[sweep]\nparameter = \"K\"\nvalues = [0.1, 1]";
+/// let info = load_str(text, "sw.toml".as_ref(), &[])?.sweep.unwrap();
+/// assert_eq!((info.key.as_str(), info.name.as_str()), ("model.K", "K"));
+/// assert_eq!(info.ensemble, None);
+/// # Ok::<(), celltissue::scenario::ScenarioError>(())
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct SweepInfo {
     /// Full dotted key (`"model.K"`; several joined by commas).
@@ -50,6 +74,15 @@ pub struct SweepInfo {
 }
 
 /// A validated scenario, ready to run.
+///
+/// ```
+/// use celltissue::scenario::{bundled, load_str};
+/// let text = bundled::text("fig2_5").unwrap();
+/// let s = load_str(text, "fig2_5.toml".as_ref(), &["model.cells=20".into()])?;
+/// assert_eq!((s.name.as_str(), s.figure.as_deref()), ("fig2_5", Some("2.5")));
+/// assert_eq!(s.runs.len(), 8); // 4 values of K × discrete, continuum
+/// # Ok::<(), celltissue::scenario::ScenarioError>(())
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scenario {
     /// Name (`"scenario"` in `summary.json`).

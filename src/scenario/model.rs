@@ -93,6 +93,16 @@ pub struct ModelSection {
 }
 
 /// Parses and validates `[model]`. Errors name `model.<key>`.
+///
+/// ```
+/// use celltissue::scenario::model::parse_model;
+/// let t: toml::Table = toml::from_str("kind = \"sheet\"\ncells_x = 4\ncells_y = 2\nnodes = [8, 4]")?;
+/// let m = parse_model(&t)?;
+/// assert_eq!(m.grid, Some((8, 4)));
+/// let bad: toml::Table = toml::from_str("kind = \"line\"\nK = -1")?;
+/// assert_eq!(parse_model(&bad).unwrap_err().key_name(), Some("model.K"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
     let mut rest = table.clone();
     let kind = match rest.remove("kind") {
