@@ -3,9 +3,17 @@
 //! validation tests and reports (first/last division, `N(t)`, median `x_d/l`).
 
 use crate::observe::DivisionRecord;
-use std::fmt::Write as _;
 
-/// Division records in event order.
+/// Division records in event order (written by [`crate::output::files::divisions_csv`]).
+///
+/// ```
+/// use celltissue::events::DivisionLog;
+/// use celltissue::observe::DivisionRecord;
+/// let mut log = DivisionLog::default();
+/// log.push(DivisionRecord { t: 2.0, parent: 3, x: 2.5, x_over_length: 0.5, cells_after: 6 });
+/// log.push(DivisionRecord { t: 2.4, parent: 1, x: 0.5, x_over_length: 0.1, cells_after: 7 });
+/// assert_eq!((log.len(), log.cells_at(5, 2.1), log.cells_at(5, 3.0)), (2, 6, 7));
+/// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct DivisionLog {
     /// The records.
@@ -26,32 +34,6 @@ impl DivisionLog {
     /// Whether no division happened.
     pub fn is_empty(&self) -> bool {
         self.records.is_empty()
-    }
-
-    /// `t,parent,x,x_over_length,cells_after` with a header line.
-    ///
-    /// ```
-    /// use celltissue::events::DivisionLog;
-    /// use celltissue::observe::DivisionRecord;
-    /// let mut log = DivisionLog::default();
-    /// log.push(DivisionRecord { t: 2.0, parent: 3, x: 2.5, x_over_length: 0.5, cells_after: 6 });
-    /// assert_eq!(log.to_csv(), "t,parent,x,x_over_length,cells_after\n2,3,2.5,0.5,6\n");
-    /// ```
-    pub fn to_csv(&self) -> String {
-        let mut out = String::from("t,parent,x,x_over_length,cells_after\n");
-        for d in &self.records {
-            let _ = writeln!(
-                out,
-                "{},{},{},{},{}",
-                d.t, d.parent, d.x, d.x_over_length, d.cells_after
-            );
-        }
-        out
-    }
-
-    /// Writes [`to_csv`](Self::to_csv) to a file.
-    pub fn write_csv(&self, path: &std::path::Path) -> std::io::Result<()> {
-        std::fs::write(path, self.to_csv())
     }
 
     /// Number of cells at time `t` (right-continuous: divisions at `t` count), given `n0`.

@@ -9,7 +9,7 @@ use crate::energy::StrainEnergy;
 use crate::line::config::RightEndKind;
 use crate::line::run::run_model;
 use crate::line::{LineConfig, OutputTimes, SolveSettings};
-use crate::observe::{DivisionRecord, ModelKind, RunRecord, RunStats, Series};
+use crate::observe::{ModelKind, RunRecord, RunStats, Series};
 use crate::proliferation::DensityContinuum;
 use serde::Serialize;
 
@@ -248,12 +248,4 @@ fn with_law<E: StrainEnergy + Clone>(
             }
         }
     }
-}
-
-/// The divisions of a record as CSV (`t,parent,x,x_over_length,cells_after`).
-pub fn divisions_csv(divisions: &[DivisionRecord]) -> String {
-    super::log::DivisionLog {
-        records: divisions.to_vec(),
-    }
-    .to_csv()
 }
