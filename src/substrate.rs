@@ -88,6 +88,13 @@ pub trait Dissipation: Send + Sync {
 
 /// The thesis's power law `κ = (A/A₀)^m` for any real `m` (`m = 0`: area-independent drag).
 /// `m = 0` and `m = 1` are evaluated without `powf` (exactly 1 and `A/A₀`).
+///
+/// ```
+/// use celltissue::substrate::{Dissipation, PowerLawDrag};
+/// assert_eq!(PowerLawDrag { m: 0.0 }.kappa(1.7f64), 1.0); // κ = 1: area-independent
+/// assert_eq!(PowerLawDrag { m: 1.0 }.kappa(1.7f64), 1.7); // κ = A/A₀
+/// assert!((PowerLawDrag { m: 0.5 }.kappa(4.0f64) - 2.0).abs() < 1e-15);
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PowerLawDrag {

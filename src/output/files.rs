@@ -231,6 +231,20 @@ fn write(path: &Path, text: &str) -> Result<PathBuf, OutputError> {
 
 /// Writes `summary.json` (pretty-printed; profiles only by time, see [`npz_names`]) after
 /// checking that every number is finite.
+///
+/// ```
+/// use celltissue::observe::*;
+/// let rec = RunRecord { label: "discrete".into(), model: ModelKind::Discrete,
+///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
+///     stats: RunStats::default(), divisions: vec![], error: None, reference: None };
+/// let summary = Summary { scenario: "demo".into(), runs: vec![rec] };
+/// let dir = std::env::temp_dir().join(format!("ct_summary_doc_{}", std::process::id()));
+/// std::fs::create_dir_all(&dir).unwrap();
+/// let path = celltissue::output::files::write_summary(&dir, &summary).unwrap();
+/// let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+/// assert_eq!(json["runs"][0]["arrays"], "run_discrete.npz");
+/// # std::fs::remove_dir_all(&dir).unwrap();
+/// ```
 pub fn write_summary(dir: &Path, summary: &Summary) -> Result<PathBuf, OutputError> {
     write_summary_with(dir, summary, None, &[])
 }
@@ -314,6 +328,18 @@ pub fn series_csv(rec: &RunRecord) -> String {
 
 /// The profiles of one run as long-format CSV: one row per cell (node) per time,
 /// `t,X,x,stretch,pressure,<extra fields>`. Extra fields missing at some time are left empty.
+///
+/// ```
+/// use celltissue::observe::*;
+/// let mut rec = RunRecord { label: "discrete".into(), model: ModelKind::Discrete,
+///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
+///     stats: RunStats::default(), divisions: vec![], error: None, reference: None };
+/// rec.profiles.push(Profile { t: 1.0, x_ref: vec![0.5, 1.5], x: vec![0.45, 1.35],
+///                             stretch: vec![0.9, 0.9], pressure: vec![1.2, 1.2], ..Default::default() });
+/// let csv = celltissue::output::files::profiles_csv(&rec);
+/// assert_eq!(csv.lines().collect::<Vec<_>>(),
+///            ["t,X,x,stretch,pressure", "1,0.5,0.45,0.9,1.2", "1,1.5,1.35,0.9,1.2"]);
+/// ```
 pub fn profiles_csv(rec: &RunRecord) -> String {
     let mut extra: Vec<&str> = rec
         .profiles

@@ -18,6 +18,14 @@ use integrators::{Pattern, ResidualError};
 use num_dual::Dual64;
 
 /// Physical parameters of the shear column (docs/model.md §4.4).
+///
+/// ```
+/// use celltissue::sheet::shear::{ShearColumn, ShearParams};
+/// let p = ShearParams { cells: 4, force: 0.2, ..Default::default() };
+/// // the edge form on 8 segments: one unknown per moving edge
+/// let col = ShearColumn::continuum(celltissue::NeoHookean::new(1.0).unwrap(), &p, 8).unwrap();
+/// assert_eq!(col.initial_state().len(), 8);
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct ShearParams {
     /// Number of cells `M` (so `w₀ = Mγ₀`).
