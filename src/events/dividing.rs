@@ -26,6 +26,28 @@ use integrators::{EventAction, ResidualError};
 
 /// Largest change of the division invariants (docs/model.md §5.5) seen over all events, measured
 /// just before and just after each split (enable with [`Dividing::check_invariants`]).
+///
+/// ```
+/// use celltissue::boundary::RightEnd;
+/// use celltissue::cell::TanhGrowth;
+/// use celltissue::events::{AreaDoubling, Dividing, InvariantReport};
+/// use celltissue::line::build::{discrete, LineParams};
+/// use celltissue::line::run::integrate;
+/// use celltissue::{ArrayProblem, NeoHookean, SolveSettings};
+/// let mut p = LineParams::unit_cells(10);
+/// p.right = RightEnd::Free(None);
+/// p.k = 1e-5.into();
+/// p.growth = Some(std::sync::Arc::new(TanhGrowth::default()));
+/// let line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+/// let mut div = Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap();
+/// div.check_invariants = Some(InvariantReport::default());
+/// let mut prob = ArrayProblem::new(div);
+/// assert!(integrate(&mut prob, &SolveSettings::default(), &[0.0, 2.5]).error.is_none());
+/// let r = prob.array.check_invariants.unwrap();
+/// // every split keeps the boundaries, the length and Σ L₀g, and the daughters' state
+/// assert!(r.events > 0 && r.boundary_shift == 0.0 && r.length_change == 0.0);
+/// assert!(r.sum_l0g_rel < 1e-14 && r.alpha_jump < 1e-12);
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct InvariantReport {
     /// Events checked.

@@ -21,7 +21,14 @@ use crate::energy::StrainEnergy;
 use crate::line::array::NONE;
 use crate::line::Line;
 
-/// What a split did.
+/// What a split did (see [`Line::split_cell`] for a split).
+///
+/// ```
+/// use celltissue::events::Split;
+/// // a cell of reference length 1 that grew to g = 2 leaves daughters of reference length 1
+/// let s = Split { x_new: 1.5, g_parent: 2.0, l0_daughter: 1.0 };
+/// assert_eq!(s.l0_daughter, 1.0 * s.g_parent / 2.0);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Split {
     /// Position of the new boundary.

@@ -40,6 +40,18 @@ pub const PAR_MIN_CELLS: usize = integrators::System::PARALLEL_MIN;
 
 /// Per-cell data, one `Vec` per field, cells in order `1..=N` at index `0..N`. Inserting a cell
 /// (division) is one `insert` per field, O(N).
+///
+/// ```
+/// use celltissue::cell::Field;
+/// use celltissue::line::build::{discrete, LineParams};
+/// use celltissue::NeoHookean;
+/// let mut p = LineParams::unit_cells(4);
+/// p.eta = Field::Constant(0.5);
+/// let line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+/// let cells = line.cells();
+/// assert_eq!((cells.len(), cells.x_ref.clone()), (4, vec![0.5, 1.5, 2.5, 3.5]));
+/// assert!(cells.eta.iter().all(|&e| e > 0.0)); // η (with its factor 2, see the field's doc)
+/// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Cells {
     /// Reference (resting) length `L₀,j`.
@@ -74,6 +86,15 @@ impl Cells {
 
 /// Mutable views of a [`Line`]'s per-cell fields and face drag, handed out by
 /// [`Line::edit_fields`]: slices, so values can change but not the number of cells.
+///
+/// ```
+/// use celltissue::line::build::{discrete, LineParams};
+/// use celltissue::NeoHookean;
+/// let mut line = discrete(NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(5)).unwrap();
+/// // a stiff cell in the middle and no drag on the first face
+/// line.edit_fields(|f| { f.mu[2] = 4.0; f.k_face[0] = 0.0; }).unwrap();
+/// assert_eq!(line.cells().mu[2], 4.0);
+/// ```
 #[derive(Debug)]
 pub struct FieldsMut<'a> {
     /// Reference lengths `L₀,j`.
