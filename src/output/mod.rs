@@ -31,6 +31,24 @@ use crate::scenario::Scenario;
 use std::path::{Path, PathBuf};
 
 /// Why outputs could not be written.
+///
+/// ```
+/// use celltissue::observe::*;
+/// use celltissue::output::{write_all, OutputError};
+/// use celltissue::scenario::load_str;
+/// let text = "name = \"n\"\n[output]\nseries = [1]\n[model]\nkind = \"line\"\nmodels = [\"discrete\"]\ncells = 4";
+/// let s = load_str(text, "n.toml".as_ref(), &[])?;
+/// let mut rec = RunRecord { label: "discrete".into(), model: ModelKind::Discrete,
+///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
+///     stats: RunStats::default(), divisions: vec![], error: None, reference: None };
+/// rec.series.t = vec![f64::NAN];
+/// let summary = Summary { scenario: "n".into(), runs: vec![rec] };
+/// // a NaN is refused before anything is written
+/// let dir = std::env::temp_dir().join(format!("ct_nan_doc_{}", std::process::id()));
+/// assert!(matches!(write_all(&dir, &s, &summary), Err(OutputError::NonFinite(_))));
+/// assert!(!dir.exists());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum OutputError {

@@ -6,6 +6,15 @@ use std::path::PathBuf;
 use thiserror::Error;
 
 /// A scenario that cannot be run as written.
+///
+/// ```
+/// use celltissue::scenario::load_str;
+/// let text = "name = \"x\"\n[output]\nseries = [1]\n[model]\nkind = \"line\"\nmu = { type = \"gaussian\", base = 1, amplitude = 1, centre = 0.5, width = -1 }";
+/// let e = load_str(text, "x.toml".as_ref(), &[]).unwrap_err();
+/// assert_eq!(e.key_name(), Some("model.mu.width")); // the innermost key
+/// let missing = celltissue::scenario::load("no/such/file.toml", &[]).unwrap_err();
+/// assert!(missing.to_string().starts_with("cannot read scenario file"));
+/// ```
 #[derive(Debug, Error)]
 #[non_exhaustive]
 pub enum ScenarioError {

@@ -37,6 +37,15 @@ fn valid_kinds() -> String {
 }
 
 /// A parsed and validated model configuration.
+///
+/// ```
+/// use celltissue::scenario::{model::parse_model, ModelConfig};
+/// let t: toml::Table = toml::from_str("kind = \"line\"\nright_end = \"free\"\n\
+///     growth = { sigma0 = 0.1 }\ndivision = { rule = \"area\" }")?;
+/// // a line with a division table is a proliferating line
+/// assert!(matches!(parse_model(&t)?.config, ModelConfig::Proliferating(_)));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum ModelConfig {
