@@ -30,6 +30,15 @@ pub enum DragForm {
 }
 
 /// How the width of a shared boundary is formed from the two cells' widths.
+///
+/// ```
+/// use celltissue::line::LineConfig;
+/// use celltissue::substrate::WidthRule;
+/// let cfg: LineConfig = toml::from_str("width = \"min\"")?; // the true contact length
+/// assert_eq!(cfg.width, WidthRule::Min);
+/// assert_eq!(WidthRule::Min.face(0.8f64, 1.2), 0.8);
+/// # Ok::<(), toml::de::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum WidthRule {

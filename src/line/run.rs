@@ -31,6 +31,19 @@ pub use crate::settings::SolveSettings;
 pub use crate::runner::OutputTimes;
 
 /// A line model that can be observed: the discrete/conservative [`Line`] and the thesis scheme.
+///
+/// ```
+/// use celltissue::line::build::LineParams;
+/// use celltissue::line::run::LineModel;
+/// use celltissue::line::thesis_scheme::ThesisLine;
+/// use celltissue::NeoHookean;
+/// // the thesis's finite-difference scheme on 11 nodes, observed like a line of cells
+/// let model = ThesisLine::new(NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(10), 11).unwrap();
+/// let y = model.initial_state();
+/// let s = model.observe(0.0, &y, &model.initial_derivative_guess()).unwrap();
+/// assert_eq!(s.length(), 10.0);
+/// assert!(model.breakpoints().is_empty()); // a constant end: nothing to restart at
+/// ```
 pub trait LineModel: CellArray {
     /// Initial state.
     fn initial_state(&self) -> Vec<f64>;
