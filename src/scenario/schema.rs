@@ -35,6 +35,16 @@ pub struct RawScenario {
 }
 
 /// `[solver]`: integrator and tolerances.
+///
+/// ```
+/// use celltissue::scenario::schema::SolverSection;
+/// let s: SolverSection = toml::from_str("method = \"radau\"\nrtol = 1e-8")?;
+/// let settings = s.validate()?;
+/// assert_eq!((settings.method.name(), settings.rtol), ("radau", 1e-8));
+/// let bad: SolverSection = toml::from_str("rtol = 2")?;
+/// assert_eq!(bad.validate().unwrap_err().key_name(), Some("solver.rtol"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SolverSection {
@@ -155,6 +165,15 @@ impl SolverSection {
 }
 
 /// `[output]`: when to record.
+///
+/// ```
+/// use celltissue::scenario::schema::OutputSection;
+/// use celltissue::scenario::times::parse_times;
+/// let o: OutputSection = toml::from_str("series = { start = 0, stop = 10, count = 11 }\nprofiles = [10]")?;
+/// assert_eq!(parse_times("output.series", &o.series)?.len(), 11);
+/// assert!(o.profiles.is_some());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct OutputSection {
@@ -188,6 +207,14 @@ pub enum ProfileAxis {
 }
 
 /// `[plots]`: how the PNGs look (all keys optional).
+///
+/// ```
+/// use celltissue::scenario::schema::{PlotSettings, ProfileAxis, Scale};
+/// let p: PlotSettings = toml::from_str("time_axis = \"log\"\nprofile_axis = \"current\"\nsweep_profiles = [10]")?;
+/// assert_eq!((p.time_axis, p.profile_axis, p.sweep_profiles), (Scale::Log, ProfileAxis::Current, vec![10.0]));
+/// assert!(toml::from_str::<PlotSettings>("time_axis = \"ln\"").is_err());
+/// # Ok::<(), toml::de::Error>(())
+/// ```
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct PlotSettings {

@@ -180,6 +180,15 @@ pub fn sweep_key(at: &str, parameter: &str) -> Result<Vec<String>, ScenarioError
 }
 
 /// The ensemble's seed key (full dotted key), if the sweep has an ensemble.
+///
+/// ```
+/// use celltissue::scenario::sweep::{ensemble_key, SweepSection};
+/// let sw: SweepSection = toml::from_str("ensemble = { realisations = 4 }")?;
+/// assert_eq!(ensemble_key(&sw)?.as_deref(), Some("model.division.seed"));
+/// let plain: SweepSection = toml::from_str("parameter = \"K\"\nvalues = [1]")?;
+/// assert_eq!(ensemble_key(&plain)?, None);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn ensemble_key(sw: &SweepSection) -> Result<Option<String>, ScenarioError> {
     match &sw.ensemble {
         None => Ok(None),
@@ -327,6 +336,17 @@ fn axes(sw: &SweepSection) -> Result<Vec<Vec<Axis>>, ScenarioError> {
 }
 
 /// Expands a sweep into its points (first grid axis slowest). Errors name the `[sweep]` key.
+///
+/// ```
+/// use celltissue::scenario::sweep::{expand, SweepSection};
+/// let sw: SweepSection = toml::from_str(r#"
+///     grid = [{ parameter = "k1", values = [0.01, 0.1] },
+///             { parameter = "drag_exponent", values = [0, 1] }]"#)?;
+/// let labels: Vec<String> = expand(&sw)?.iter().map(|p| p.label.clone()).collect();
+/// assert_eq!(labels, ["0.01,0", "0.01,1", "0.1,0", "0.1,1"]); // first axis slowest
+/// assert_eq!(expand(&sw)?[0].parts[0].key, "model.k1");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn expand(sw: &SweepSection) -> Result<Vec<SweepPoint>, ScenarioError> {
     let dims = axes(sw)?;
     // each dimension as a list of value tuples
