@@ -21,6 +21,16 @@ use plotters::prelude::*;
 use std::path::Path;
 
 /// Why a plot was not written.
+///
+/// ```
+/// use celltissue::output::plot::{plot_chart, Axis, Chart, Curve, PlotError, Style};
+/// // only non-positive values on a log axis: nothing to draw, and no file
+/// let chart = Chart { title: "t".into(), x_label: "x".into(), y_label: "y".into(),
+///     x_axis: Axis::Log, y_axis: Axis::Linear,
+///     curves: vec![Curve::new("c", Style::Line, 0, vec![(0.0, 1.0), (-1.0, 2.0)])] };
+/// let path = std::env::temp_dir().join("celltissue_doc_nodata.png");
+/// assert!(matches!(plot_chart(&path, &chart), Err(PlotError::NoData)));
+/// ```
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum PlotError {
@@ -132,6 +142,12 @@ pub struct Chart {
 }
 
 /// Colour cycle (Tableau 10).
+///
+/// ```
+/// use celltissue::output::plot::color;
+/// assert_eq!(color(0), color(10)); // ten colours, cycled
+/// assert_ne!(color(0), color(1));
+/// ```
 pub fn color(i: usize) -> RGBColor {
     const C: [(u8, u8, u8); 10] = [
         (31, 119, 180),
