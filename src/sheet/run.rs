@@ -31,6 +31,18 @@ use crate::settings::SolveSettings;
 
 /// Why a run could not start. (Integrator failures do not raise this: they are reported in
 /// [`RunRecord::error`] together with everything computed before the failure.)
+///
+/// ```
+/// use celltissue::observe::ModelKind;
+/// use celltissue::runner::OutputTimes;
+/// use celltissue::sheet::{run_sheet, run::RunError, SheetConfig};
+/// use celltissue::SolveSettings;
+/// let law = celltissue::NeoHookean::new(1.0).unwrap();
+/// let e = run_sheet(&SheetConfig::default(), &law, ModelKind::Discrete, None,
+///                   &SolveSettings::default(), &OutputTimes::at(&[-1.0])).unwrap_err();
+/// assert!(matches!(e, RunError::Outputs(_)));
+/// assert_eq!(e.to_string(), "invalid output request: output time -1 must be finite and >= 0");
+/// ```
 #[derive(Debug, thiserror::Error)]
 pub enum RunError {
     /// Invalid configuration (names the key and its valid range).

@@ -132,6 +132,13 @@ pub struct ShearColumn<E: StrainEnergy> {
 }
 
 /// Why a shear column could not be built.
+///
+/// ```
+/// use celltissue::sheet::shear::{ShearColumn, ShearParams};
+/// let p = ShearParams { drag: -1.0, ..Default::default() };
+/// let e = ShearColumn::continuum(celltissue::NeoHookean::new(1.0).unwrap(), &p, 10).err().unwrap();
+/// assert!(e.to_string().starts_with("drag = -1 is out of range"), "{e}");
+/// ```
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ShearBuildError {
     /// A parameter is out of range.
