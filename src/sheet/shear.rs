@@ -54,6 +54,15 @@ impl Default for ShearParams {
 }
 
 /// Per-cell shear quantities in `f64`.
+///
+/// ```
+/// use celltissue::sheet::shear::{ShearColumn, ShearParams};
+/// let p = ShearParams { cells: 2, ..Default::default() };
+/// let col = ShearColumn::continuum(celltissue::NeoHookean::new(1.0).unwrap(), &p, 2).unwrap();
+/// let f = col.fields(&[0.1, 0.3]); // edges at x = 0.1 and 0.3 above the fixed base
+/// assert_eq!(f.x_edge, [0.0, 0.1, 0.3]);
+/// assert!((f.tan_theta[1] - 0.2).abs() < 1e-12 && (f.x_centre[1] - 0.2).abs() < 1e-12);
+/// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ShearFields {
     /// Reference centre heights `y` of the cells (or segments).
@@ -317,6 +326,14 @@ impl<E: StrainEnergy> CellArray for ShearColumn<E> {
 }
 
 /// The thesis's cell-centre form of the shear column (docs/model.md §4.5), for comparison only.
+///
+/// ```
+/// use celltissue::sheet::shear::{ShearCellCentre, ShearParams};
+/// let col = ShearCellCentre::new(celltissue::NeoHookean::new(1.0).unwrap(), &ShearParams::default()).unwrap();
+/// let f = col.fields(&col.initial_state()); // unsheared: x_c = 0 for every cell
+/// assert_eq!(f.tan_theta.len(), 10);
+/// assert!(f.tan_theta.iter().all(|t| t.abs() < 1e-15));
+/// ```
 ///
 /// State `x_{c,1..M}`; drag coefficient `K_th` (`= 2K`). Dense Jacobian: use small `M`.
 pub struct ShearCellCentre<E: StrainEnergy> {
