@@ -99,6 +99,17 @@ impl Ramp {
 }
 
 /// The ramp shape named in a scenario.
+///
+/// ```
+/// use celltissue::boundary::RampKind;
+/// use celltissue::line::LineConfig;
+/// let cfg: LineConfig = toml::from_str("ramp = \"polynomial\"\nk1 = 0.1")?;
+/// assert_eq!(cfg.ramp, RampKind::Polynomial);
+/// // (2.81) reaches l = (1 − k₁) l₀ at t_ramp and stays there
+/// let (l, v) = cfg.ramp().eval(5.0);
+/// assert!((l - 90.0).abs() < 1e-12 && v.abs() < 1e-12);
+/// # Ok::<(), toml::de::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RampKind {

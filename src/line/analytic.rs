@@ -23,6 +23,15 @@ use crate::observe::{AnalyticReference, ReferencePositions, ReferenceProfile};
 use std::f64::consts::PI;
 
 /// Which analytic solution applies to a configuration (see [`reference_for`]).
+///
+/// ```
+/// use celltissue::line::analytic::{reference_for, Reference};
+/// use celltissue::line::LineConfig;
+/// // η = 1 with drag: no closed form, the static equilibrium at l(t) (where it applies)
+/// let cfg = LineConfig { eta: 1.0.into(), ..Default::default() };
+/// assert_eq!(reference_for(&cfg), Some(Reference::QuasiStatic));
+/// assert_eq!(Reference::QuasiStatic.label(), "static equilibrium at l(t)");
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Reference {
     /// [`uniform_k0`]: exact (K = 0, uniform properties).

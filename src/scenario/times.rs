@@ -17,6 +17,14 @@ use super::error::{deserialize_at, ScenarioError};
 use serde::{Deserialize, Serialize};
 
 /// How a range is spaced.
+///
+/// ```
+/// use celltissue::scenario::times::{Spacing, TimeRange};
+/// let r: TimeRange = toml::from_str("start = 1\nstop = 100\ncount = 3\nspacing = \"log\"")?;
+/// assert_eq!(r.spacing, Spacing::Log);
+/// assert_eq!(r.expand("output.series")?, [1.0, 10.0, 100.0]);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Spacing {

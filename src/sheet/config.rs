@@ -90,6 +90,13 @@ impl GrowthDirections {
 }
 
 /// Which form of the shear column to integrate.
+///
+/// ```
+/// use celltissue::sheet::{ShearConfig, ShearForm};
+/// let cfg: ShearConfig = toml::from_str("form = \"cell_centre\"")?; // the thesis's form
+/// assert_eq!(cfg.form, ShearForm::CellCentre);
+/// # Ok::<(), toml::de::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ShearForm {
