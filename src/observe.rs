@@ -246,6 +246,13 @@ pub struct AnalyticReference {
 }
 
 /// [`AnalyticReference::series`]: extremes against time.
+///
+/// ```
+/// use celltissue::observe::ReferenceSeries;
+/// let s = ReferenceSeries { t: vec![1.0], max_pressure: vec![1.2], min_stretch: vec![0.9] };
+/// // written to summary.json under the run's `reference.series`
+/// assert_eq!(serde_json::to_value(&s).unwrap()["min_stretch"][0], 0.9);
+/// ```
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ReferenceSeries {
     /// Times.
@@ -258,6 +265,16 @@ pub struct ReferenceSeries {
 
 /// [`AnalyticReference::profiles`]: one profile (at cell centres, at most a few hundred of
 /// them for the closed forms).
+///
+/// ```
+/// use celltissue::line::analytic::reference;
+/// use celltissue::line::LineConfig;
+/// // 10⁴ cells, K = 0: the exact profile is sampled, not evaluated at every cell
+/// let cfg = LineConfig { cells: 10_000, k: 0.0.into(), eta: 1.0.into(), ..Default::default() };
+/// let p = &reference(&cfg, &[], &[5.0]).unwrap().profiles[0];
+/// assert!(p.x_ref.len() <= celltissue::line::analytic::PROFILE_SAMPLES);
+/// assert_eq!(p.stretch.len(), p.x_ref.len());
+/// ```
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ReferenceProfile {
     /// Time.
@@ -272,6 +289,15 @@ pub struct ReferenceProfile {
 }
 
 /// [`AnalyticReference::equilibrium`]: boundary positions at one time.
+///
+/// ```
+/// use celltissue::line::analytic::reference;
+/// use celltissue::line::LineConfig;
+/// let cfg = LineConfig { cells: 20, k: 1e-5.into(), ..Default::default() };
+/// let e = &reference(&cfg, &[], &[20.0]).unwrap().equilibrium[0];
+/// assert_eq!((e.x_ref.len(), e.x.len()), (21, 21)); // x₀ … x_N
+/// assert_eq!((e.x[0], e.x_ref[20]), (0.0, 20.0));
+/// ```
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ReferencePositions {
     /// Time.
