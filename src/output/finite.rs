@@ -179,7 +179,13 @@ pub fn sanitize(rec: &mut RunRecord) -> bool {
     true
 }
 
-/// The first non-finite number of a summary: its run and its place in the run.
+/// The first non-finite number of a summary: its run and its place in the run (see
+/// [`check_summary`]).
+///
+/// ```
+/// let e = celltissue::output::finite::NonFiniteError { label: "discrete".into(), place: "series.t[0]".into() };
+/// assert_eq!(e.to_string(), "run `discrete`: series.t[0]");
+/// ```
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error("run `{label}`: {place}")]
 pub struct NonFiniteError {

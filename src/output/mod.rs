@@ -79,7 +79,12 @@ pub enum OutputError {
     },
 }
 
-/// What [`write_all`] wrote.
+/// What [`write_all`] wrote (see [`write_all`] and [`write_all_with`] for runs).
+///
+/// ```
+/// let w = celltissue::output::Written::default();
+/// assert!(w.data.is_empty() && w.plots.is_empty() && w.plot_errors.is_empty());
+/// ```
 #[derive(Debug, Default)]
 pub struct Written {
     /// Data files (JSON, NPZ, CSV, VTU, TOML).
@@ -91,6 +96,17 @@ pub struct Written {
 }
 
 /// Options of [`write_all_with`].
+///
+/// ```
+/// use celltissue::output::{provenance::Provenance, WriteOptions};
+/// let table: toml::Table = toml::from_str("[model]\ndivision = { seed = 7 }").unwrap();
+/// let opts = WriteOptions {
+///     provenance: Some(Provenance::collect(&table, 1)), // recorded in summary.json
+///     interrupted: vec!["discrete K=1".into()],
+///     ..Default::default()
+/// };
+/// assert!(!opts.no_plots);
+/// ```
 #[derive(Debug, Default)]
 pub struct WriteOptions {
     /// Skip the PNG plots (`--no-plots`).
