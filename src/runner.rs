@@ -304,7 +304,8 @@ pub fn run_recorded<A: CellArray, R: Recorder<A>>(
     let t_out = times.merged();
     let mut watch = Watch {
         recorder,
-        times,
+        series_at: Cursor::new(&times.series),
+        profiles_at: Cursor::new(&times.profiles),
         series: Series::default(),
         profiles: Vec::new(),
         rejected: None,
@@ -331,7 +332,8 @@ pub fn run_recorded<A: CellArray, R: Recorder<A>>(
 /// model rejected.
 struct Watch<'a, R> {
     recorder: &'a mut R,
-    times: &'a OutputTimes,
+    series_at: Cursor,
+    profiles_at: Cursor,
     series: Series,
     profiles: Vec<Profile>,
     rejected: Option<RejectedStep>,
@@ -340,7 +342,7 @@ struct Watch<'a, R> {
 impl<A: CellArray, R: Recorder<A>> DriveObserver<ArrayProblem<A>> for Watch<'_, R> {
     fn output(&mut self, p: &ArrayProblem<A>, t: f64, y: &[f64], yp: &[f64]) -> Result<(), String> {
         let failed = |e: String| format!("observation at t = {t} failed: {e}");
-        if self.times.series.contains(&t) {
+        if self.series_at.hit(t) {
             let row = self
                 .recorder
                 .series_row(&p.array, t, y, yp)
@@ -350,7 +352,7 @@ impl<A: CellArray, R: Recorder<A>> DriveObserver<ArrayProblem<A>> for Watch<'_, 
             }
             self.series.push_row(t, &row);
         }
-        if self.times.profiles.contains(&t) {
+        if self.profiles_at.hit(t) {
             let profile = self.recorder.profile(&p.array, t, y, yp).map_err(failed)?;
             let fields = [
                 &profile.x_ref,
@@ -374,6 +376,30 @@ impl<A: CellArray, R: Recorder<A>> DriveObserver<ArrayProblem<A>> for Watch<'_, 
     }
 }
 
+/// Requested times in increasing order and how far the outputs have come: the solver reports
+/// outputs in increasing time, so each is matched in amortised O(1) instead of a search of
+/// every requested time (O(T²) over a run with T outputs).
+struct Cursor {
+    times: Vec<f64>,
+    next: usize,
+}
+
+impl Cursor {
+    fn new(times: &[f64]) -> Self {
+        let mut times = times.to_vec();
+        times.sort_by(f64::total_cmp);
+        Self { times, next: 0 }
+    }
+
+    /// Whether `t` is one of the times (outputs come in increasing `t`).
+    fn hit(&mut self, t: f64) -> bool {
+        while self.times.get(self.next).is_some_and(|&s| s < t) {
+            self.next += 1;
+        }
+        self.times.get(self.next) == Some(&t)
+    }
+}
+
 /// Whether the model itself rejected the step (its residual refused the state), rather than
 /// the error test, Newton or a factorisation.
 ///
@@ -391,4 +417,21 @@ pub fn rejected_by_the_model(step: &RejectedStep) -> bool {
         step.cause,
         RejectCause::Recoverable(RecoverableCause::Rejected(_))
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Cursor;
+
+    /// Outputs in increasing time hit exactly the requested ones, whatever order they were
+    /// requested in.
+    #[test]
+    fn cursor_matches_the_requested_times_in_any_order() {
+        let mut c = Cursor::new(&[5.0, 1.0, 3.0]);
+        let hits: Vec<bool> = [0.0, 1.0, 2.0, 3.0, 5.0, 6.0]
+            .iter()
+            .map(|&t| c.hit(t))
+            .collect();
+        assert_eq!(hits, [false, true, false, true, true, false]);
+    }
 }
