@@ -51,6 +51,7 @@ mod scenario_validation;
 mod shear_validation;
 mod sheet_external_pressure;
 mod sheet_growth;
+mod sheet_kelvin_voigt;
 mod sheet_output;
 mod sheet_structure;
 mod sheet_validation;

@@ -23,4 +23,6 @@ pub use active::Active;
 pub use field::{Field, FieldError, FieldFn, Sampling};
 pub use growth::{GrowthLaw, GrowthRate, TanhGrowth};
 pub use growth_laws::GrowthSpec;
-pub use viscosity::{MaxwellBranch, ViscosityError, ViscosityModel, ViscousBranch};
+pub use viscosity::{
+    kelvin_voigt_sheet, MaxwellBranch, ViscosityError, ViscosityModel, ViscousBranch,
+};

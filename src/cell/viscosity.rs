@@ -2,7 +2,8 @@
 //! scenario's [`ViscosityModel`] and the finite-strain Maxwell branch [`MaxwellBranch`], a
 //! [`ViscousBranch`] with one internal variable per cell.
 //!
-//! * Kelvin–Voigt (the thesis): `σ += η α̇ (1 + α⁻²)`, no internal variable (the line's `eta`).
+//! * Kelvin–Voigt (the thesis): `σ += η α̇ (1 + α⁻²)`, no internal variable (the line's `eta`);
+//!   in the sheet, `η α̇ᵢ` in each principal direction ([`kelvin_voigt_sheet`]).
 //! * Maxwell branch: multiplicative split `α = a_e a_v` of the cell's elastic stretch, branch
 //!   energy of the cell law's family with modulus `μ_m` at `a_e`, flow rule
 //!   `ȧ_v / a_v = σ_m(a_e) / η_m`. The internal variable `a_v` is an unknown of the residual
@@ -182,6 +183,33 @@ impl ViscousBranch for MaxwellBranch {
             a[1] * (s[1] * 2.0 - s[0]) * c,
         ]
     }
+}
+
+/// Kelvin–Voigt stresses of a quasi-3D sheet cell (docs/viscoelasticity.md, "Kelvin–Voigt in
+/// the sheet"): each principal direction carries `η α̇ᵢ`, as on the line, and the free top
+/// `σ₃₃ = 0` fixes the pressure. Given the in-plane elastic stretches `α = (α₁, α₂)` and their
+/// rates, returns `[σ₁₁ᵛ, σ₂₂ᵛ, pᵛ] = [η(α̇₁ − α̇₃), η(α̇₂ − α̇₃), η α̇₃]` with `α₃ = 1/(α₁α₂)`,
+/// `α̇₃ = −α₃(α̇₁/α₁ + α̇₂/α₂)`.
+///
+/// With `α₂ ≡ 1` (plane strain) this is the line's `η α̇ (1 + α⁻²)` and `−η α̇ α⁻²`:
+///
+/// ```
+/// use celltissue::cell::kelvin_voigt_sheet;
+/// let (eta, a, rate) = (0.7, 0.8f64, 0.3);
+/// let [s11, s22, p] = kelvin_voigt_sheet(eta, [a, 1.0], [rate, 0.0]);
+/// assert!((s11 - eta * rate * (1.0 + a.powi(-2))).abs() < 1e-15);
+/// assert!((p + eta * rate * a.powi(-2)).abs() < 1e-15);
+/// assert!((s22 - (-p)).abs() < 1e-15); // σ₂₂ᵛ = η(0 − α̇₃)
+/// ```
+#[inline]
+pub fn kelvin_voigt_sheet<S: Scalar>(eta: f64, alpha: [S; 2], rate: [S; 2]) -> [S; 3] {
+    let a3 = (alpha[0] * alpha[1]).recip();
+    let rate3 = -a3 * (rate[0] / alpha[0] + rate[1] / alpha[1]);
+    [
+        (rate[0] - rate3) * eta,
+        (rate[1] - rate3) * eta,
+        rate3 * eta,
+    ]
 }
 
 /// The viscosity of a cell as named in a scenario:

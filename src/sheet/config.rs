@@ -210,7 +210,7 @@ pub struct SheetConfig {
     /// Strain energy, e.g. `law = { law = "mooney_rivlin", c1 = 0.3, c2 = 0.2 }` (default
     /// neo-Hookean `μ = 1`).
     pub law: AnyEnergy,
-    /// Viscosity `{ model = "maxwell", mu_m, eta_m }` or
+    /// Viscosity `{ model = "kelvin_voigt", eta }`, `{ model = "maxwell", mu_m, eta_m }` or
     /// `{ model = "standard_linear_solid", mu_m, eta_m }` (absent: elastic cells, as in the
     /// thesis; docs/viscoelasticity.md).
     pub viscosity: Option<ViscosityModel>,
@@ -288,16 +288,10 @@ impl SheetConfig {
         self.validate_viscosity_and_pressure()
     }
 
-    /// Checks `viscosity` (Maxwell or standard linear solid only) and `external_pressure`
-    /// (finite at every cell centre of the discrete sheet).
+    /// Checks `viscosity` and `external_pressure` (finite at every cell centre of the discrete
+    /// sheet).
     fn validate_viscosity_and_pressure(&self) -> Result<(), ConfigError> {
         if let Some(v) = &self.viscosity {
-            need(
-                !matches!(v, ViscosityModel::KelvinVoigt { .. }),
-                "viscosity.model",
-                "\"kelvin_voigt\"",
-                "must be \"maxwell\" or \"standard_linear_solid\" (the sheet has no Kelvin–Voigt viscosity)",
-            )?;
             v.branch().map_err(|e| ConfigError {
                 key: format!("viscosity.{}", e.key),
                 value: e.value.to_string(),
@@ -341,6 +335,10 @@ impl SheetConfig {
             ramp: self.ramp,
             top: self.top,
             branch: self.viscosity.and_then(|v| v.branch().ok().flatten()),
+            eta: match self.viscosity {
+                Some(ViscosityModel::KelvinVoigt { eta }) => eta,
+                _ => 0.0,
+            },
             external_pressure: self.external_pressure.clone(),
             right: self.right,
             growth: self.growth.as_ref().map(|g| SheetGrowth {

@@ -100,7 +100,7 @@ pub fn boundary_mismatch<E: StrainEnergy>(sheet: &UniaxialSheet<E>, y: &[f64]) -
 /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
 /// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &SheetParams::default())?;
 /// let y = sheet.initial_state();
-/// let o = sheet_observables(&sheet, 0.0, &y, &sheet.cells(0.0, &y));
+/// let o = sheet_observables(&sheet, 0.0, &y, &sheet.cells(0.0, &y, &vec![0.0; y.len()]));
 /// // at rest: unit stretches, p = μ, no mismatch
 /// assert_eq!((o.length, o.stretch_x, o.mismatch), (10.0, [1.0, 1.0], [0.0, 0.0]));
 /// assert!((o.pressure[2] - 1.0).abs() < 1e-15);
@@ -238,7 +238,7 @@ impl SheetColumns {
 /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
 /// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &SheetParams::default())?;
 /// let y = sheet.initial_state();
-/// let p = sheet_profile(0.0, &sheet.cells(0.0, &y), SheetColumns::of(&sheet));
+/// let p = sheet_profile(0.0, &sheet.cells(0.0, &y, &vec![0.0; y.len()]), SheetColumns::of(&sheet));
 /// assert_eq!(p.stretch.len(), 100);
 /// assert_eq!(p.extra["x_right"][0], 1.0);
 /// assert!(!p.extra.contains_key("growth_x"));

@@ -40,6 +40,21 @@ impl Ramp {
         }
     }
 
+    /// Times where `l(t)` is not smooth, for the solver to restart at: the polynomial ramp's
+    /// end `t_ramp`, where `l''` jumps.
+    ///
+    /// ```
+    /// use celltissue::sheet::Ramp;
+    /// assert_eq!(Ramp::Polynomial { t_ramp: 2.0 }.breakpoints(), vec![2.0]);
+    /// assert!(Ramp::Exponential { t_ramp: 2.0 }.breakpoints().is_empty());
+    /// ```
+    pub fn breakpoints(&self) -> Vec<f64> {
+        match *self {
+            Ramp::Polynomial { t_ramp } => vec![t_ramp],
+            Ramp::Exponential { .. } => Vec::new(),
+        }
+    }
+
     /// Fraction `s(t) ∈ [0, 1]` of the final shortening applied at time `t`.
     pub fn fraction(&self, t: f64) -> f64 {
         match *self {
@@ -51,8 +66,37 @@ impl Ramp {
         }
     }
 
+    /// Rate `s'(t)` of the fraction (0 before the start and after a polynomial ramp ends).
+    ///
+    /// ```
+    /// use celltissue::sheet::Ramp;
+    /// let r = Ramp::Polynomial { t_ramp: 2.0 };
+    /// let h = 1e-6;
+    /// let fd = (r.fraction(0.7 + h) - r.fraction(0.7 - h)) / (2.0 * h);
+    /// assert!((r.fraction_rate(0.7) - fd).abs() < 1e-9);
+    /// assert_eq!(r.fraction_rate(3.0), 0.0);
+    /// ```
+    pub fn fraction_rate(&self, t: f64) -> f64 {
+        match *self {
+            Ramp::Exponential { t_ramp } => (-t / t_ramp).exp() / t_ramp,
+            Ramp::Polynomial { t_ramp } => {
+                let tau = t / t_ramp;
+                if (0.0..=1.0).contains(&tau) {
+                    6.0 * tau * (1.0 - tau) / t_ramp
+                } else {
+                    0.0
+                }
+            }
+        }
+    }
+
     /// `l(t) = l₀(1 − k₁ s(t))`.
     pub fn length(&self, l0: f64, k1: f64, t: f64) -> f64 {
         l0 * (1.0 - k1 * self.fraction(t))
+    }
+
+    /// `l'(t) = −l₀ k₁ s'(t)`.
+    pub fn length_rate(&self, l0: f64, k1: f64, t: f64) -> f64 {
+        -l0 * k1 * self.fraction_rate(t)
     }
 }

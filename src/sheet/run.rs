@@ -15,7 +15,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-use super::config::{ConfigError, ShearConfig, ShearForm, SheetConfig};
+use super::config::{ConfigError, RightEdge, ShearConfig, ShearForm, SheetConfig};
 use super::observe::{
     shear_observables, shear_profile, shear_series_row, sheet_observables, sheet_profile,
     sheet_series_row, SheetColumns,
@@ -71,9 +71,9 @@ impl<E: StrainEnergy> Recorder<UniaxialSheet<E>> for SheetRecorder {
         sheet: &UniaxialSheet<E>,
         t: f64,
         y: &[f64],
-        _: &[f64],
+        yp: &[f64],
     ) -> Result<SeriesRow, String> {
-        let cells = sheet.cells(t, y);
+        let cells = sheet.cells(t, y, yp);
         Ok(sheet_series_row(&sheet_observables(sheet, t, y, &cells)))
     }
 
@@ -82,9 +82,9 @@ impl<E: StrainEnergy> Recorder<UniaxialSheet<E>> for SheetRecorder {
         sheet: &UniaxialSheet<E>,
         t: f64,
         y: &[f64],
-        _: &[f64],
+        yp: &[f64],
     ) -> Result<Profile, String> {
-        Ok(sheet_profile(t, &sheet.cells(t, y), self.0))
+        Ok(sheet_profile(t, &sheet.cells(t, y, yp), self.0))
     }
 }
 
@@ -202,7 +202,12 @@ pub fn run_sheet<E: StrainEnergy>(
     let spacing = sheet.spacing();
     let mut recorder = SheetRecorder(SheetColumns::of(&sheet));
     let mut problem = ArrayProblem::new(sheet);
-    let r = run_recorded(&mut problem, &y0, &[], solver, out, &mut recorder);
+    // a prescribed edge's ramp end is a kink in l''(t): the solver restarts there
+    let breakpoints = match cfg.right {
+        RightEdge::Prescribed => cfg.ramp.breakpoints(),
+        RightEdge::Free => Vec::new(),
+    };
+    let r = run_recorded(&mut problem, &y0, &breakpoints, solver, out, &mut recorder);
     let parameters = serde_json::json!({
         "config": cfg,
         "drag_K": cfg.drag(),

@@ -15,15 +15,17 @@
 //! `= K` for the discrete model):
 //! `D κ ẋ_b(j,k) = H W (σ₁₁' − σ₁₁)`, `D κ ẏ_b(j,k) = H L (σ₂₂' − σ₂₂)`, and for a free top
 //! `D κ ẏ_b(j,m) = −H L σ₂₂(j,m)` with the top cell's own `H`, `L`. A cell's `σᵢᵢ` is the law's
-//! (unless the cell is a Maxwell cell) plus the branch's `μ_m/μ · σᵢᵢ(λ₁/a₁, λ₂/a₂)` minus the
-//! external pressure `p_e(X)` on its upper face; each viscous stretch has the row
-//! `ȧᵢ − aᵢ·2 dev(σ_m)ᵢᵢ/η_m = 0` (docs/viscoelasticity.md, "The sheet"; docs/external_pressure.md).
+//! (unless the cell is a Maxwell cell) plus the branch's `μ_m/μ · σᵢᵢ(λ₁/a₁, λ₂/a₂)` plus the
+//! Kelvin–Voigt stress `η(α̇ᵢ − α̇₃)` minus the external pressure `p_e(X)` on its upper face;
+//! each viscous stretch has the row `ȧᵢ − aᵢ·2 dev(σ_m)ᵢᵢ/η_m = 0` (docs/viscoelasticity.md,
+//! "The sheet" and "Kelvin–Voigt in the sheet"; docs/external_pressure.md). With `η > 0` the
+//! face rows hold the face velocities of the neighbouring cells too, inside the same pattern.
 
 use super::config::{GrowthDirections, RightEdge, TopBoundary};
 use super::lift2;
 use super::ramp::Ramp;
 use crate::array::CellArray;
-use crate::cell::{Field, GrowthLaw, MaxwellBranch, ViscousBranch};
+use crate::cell::{kelvin_voigt_sheet, Field, GrowthLaw, MaxwellBranch, ViscousBranch};
 use crate::energy::{SheetResponse, StrainEnergy};
 use crate::scalar::Scalar;
 use crate::substrate::{Dissipation, PowerLawDrag};
@@ -65,6 +67,9 @@ pub struct SheetParams {
     pub top: TopBoundary,
     /// Maxwell branch of every cell (Maxwell or standard-linear-solid cells), if any.
     pub branch: Option<MaxwellBranch>,
+    /// Kelvin–Voigt viscosity `η ≥ 0` of every cell (including the factor 2, as on the line):
+    /// `η α̇ᵢ` in each principal direction ([`kelvin_voigt_sheet`]); 0 for elastic cells.
+    pub eta: f64,
     /// External pressure `p_e(X)` on each cell's upper face `z = H`, a field of the reference
     /// position `X` sampled at the cell (segment) centres; constant along `Y`.
     pub external_pressure: Field,
@@ -121,6 +126,7 @@ impl Default for SheetParams {
             ramp: Ramp::default(),
             top: TopBoundary::Free,
             branch: None,
+            eta: 0.0,
             external_pressure: Field::Constant(0.0),
             right: RightEdge::Prescribed,
             growth: None,
@@ -134,7 +140,7 @@ impl Default for SheetParams {
 /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
 /// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &SheetParams::default())?;
 /// let y = sheet.initial_state();
-/// let c = sheet.cells(0.0, &y)[0]; // column 1, row 1
+/// let c = sheet.cells(0.0, &y, &vec![0.0; y.len()])[0]; // column 1, row 1
 /// assert_eq!((c.j, c.k, c.x, c.stretch), (1, 1, [0.0, 1.0], [1.0, 1.0, 1.0]));
 /// assert_eq!((c.growth, c.viscous), ([1.0, 1.0], [1.0, 1.0]));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
@@ -293,6 +299,7 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
             "> 0",
         )?;
         check(p.drag >= 0.0 && p.drag.is_finite(), "drag", p.drag, ">= 0")?;
+        check(p.eta >= 0.0 && p.eta.is_finite(), "eta", p.eta, ">= 0")?;
         check(
             p.drag_exponent.is_finite(),
             "drag_exponent",
@@ -387,6 +394,15 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
     /// The prescribed length `l(t)` (the ramp; see [`Self::right_edge`] for a free edge).
     pub fn length(&self, t: f64) -> f64 {
         self.params.ramp.length(self.l0(), self.params.k1, t)
+    }
+
+    /// The prescribed edge's velocity `l'(t)` (0 for a free edge, whose velocity is an unknown).
+    fn length_rate(&self, t: f64) -> f64 {
+        if self.free_right() {
+            0.0
+        } else {
+            self.params.ramp.length_rate(self.l0(), self.params.k1, t)
+        }
     }
 
     /// Index of the unknown `y_b(j, k)` (`j = 1..n`; `k = 1..m` free top, `k = 0..m−1` periodic).
@@ -495,6 +511,42 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
             S::from(lt)
         } else {
             y[self.ix(j, k)]
+        }
+    }
+
+    /// The velocity `ẏ_b(j, k)` from the rates `yp` (the periodic image moves with `y_b(j, 0)`).
+    #[inline]
+    fn yb_rate_s<S: Scalar>(&self, yp: &[S], j: usize, k: usize) -> S {
+        match self.params.top {
+            TopBoundary::Free if k == 0 => S::from(0.0),
+            TopBoundary::Periodic if k == self.m => yp[self.iy(j, 0)],
+            _ => yp[self.iy(j, k)],
+        }
+    }
+
+    /// The elastic stretch rates `α̇ᵢ = (λ̇ᵢ − αᵢ ġᵢ)/gᵢ` of cell `(j, k)` from the rates `yp`
+    /// (`ldot` = the prescribed edge's velocity), given its elastic stretches `alpha`.
+    #[inline]
+    fn stretch_rates<S: Scalar>(
+        &self,
+        y: &[S],
+        yp: &[S],
+        ldot: f64,
+        j: usize,
+        k: usize,
+        alpha: [S; 2],
+    ) -> [S; 2] {
+        let l1 = (self.xb_s(yp, ldot, j, k) - self.xb_s(yp, ldot, j - 1, k)) * (1.0 / self.hx);
+        let l2 = (self.yb_rate_s(yp, j, k) - self.yb_rate_s(yp, j, k - 1)) * (1.0 / self.hy);
+        match &self.params.growth {
+            Some(_) => {
+                let gi = self.ig(j, k);
+                [
+                    (l1 - alpha[0] * yp[gi]) / y[gi],
+                    (l2 - alpha[1] * yp[gi + 1]) / y[gi + 1],
+                ]
+            }
+            None => [l1, l2],
         }
     }
 
@@ -616,12 +668,16 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
 
     /// State of cell `(j, k)` inside a residual; errors on a non-positive stretch. With a
     /// Maxwell branch the rates `(ȧ₁, ȧ₂)` of its viscous stretches are pushed onto `rates`
-    /// (kept apart, so that the common cell state stays small).
+    /// (kept apart, so that the common cell state stays small). `yp` and the edge velocity
+    /// `ldot` enter only through the Kelvin–Voigt stress.
+    #[allow(clippy::too_many_arguments)]
     #[inline]
     fn cell_s<S: Scalar>(
         &self,
         y: &[S],
+        yp: &[S],
         lt: f64,
+        ldot: f64,
         j: usize,
         k: usize,
         rates: &mut Vec<[S; 2]>,
@@ -716,6 +772,12 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
             s22 += sb[1];
             rates.push(br.sheet_rate(av, sb));
         }
+        if self.params.eta > 0.0 {
+            let rate = self.stretch_rates(y, yp, ldot, j, k, [al1, al2]);
+            let [v11, v22, _] = kelvin_voigt_sheet(self.params.eta, [al1, al2], rate);
+            s11 += v11;
+            s22 += v22;
+        }
         if self.pressure {
             let pe = self.p_ext[j - 1];
             s11 -= S::from(pe);
@@ -766,7 +828,7 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
         r: &mut [S],
     ) -> Result<(), ResidualError> {
         let (n, m) = (self.n, self.m);
-        let lt = self.length(t);
+        let (lt, ldot) = (self.length(t), self.length_rate(t));
         let d = self.face_drag;
         let periodic = self.params.top == TopBoundary::Periodic;
         let mut cur: Vec<CellS<S>> = Vec::with_capacity(m);
@@ -774,7 +836,7 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
         // the viscous stretches' rates of the current and next column (with a branch)
         let (mut cur_rates, mut next_rates) = (Vec::new(), Vec::new());
         for k in 1..=m {
-            cur.push(self.cell_s(y, lt, 1, k, &mut cur_rates)?);
+            cur.push(self.cell_s(y, yp, lt, ldot, 1, k, &mut cur_rates)?);
         }
         for j in 1..=n {
             // viscous stretches of column j
@@ -823,7 +885,7 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
                 next.clear();
                 next_rates.clear();
                 for k in 1..=m {
-                    next.push(self.cell_s(y, lt, j + 1, k, &mut next_rates)?);
+                    next.push(self.cell_s(y, yp, lt, ldot, j + 1, k, &mut next_rates)?);
                 }
                 for k in 1..=m {
                     let (a, b) = (&cur[k - 1], &next[k - 1]);
@@ -909,7 +971,8 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
     }
 
     fn algebraic(&self) -> Vec<bool> {
-        let mut v = vec![self.params.drag == 0.0; self.dim()];
+        // without drag the face rows hold no rate, unless through the Kelvin–Voigt stress
+        let mut v = vec![self.params.drag == 0.0 && self.params.eta == 0.0; self.dim()];
         for j in 1..=self.n {
             for k in 1..=self.m {
                 for i in self.internal(j, k) {

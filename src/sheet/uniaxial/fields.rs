@@ -1,17 +1,18 @@
 //! The sheet's per-cell fields in `f64` for observers and writers ([`UniaxialSheet::cells`]):
-//! stretches, height, stresses and pressure including a Maxwell branch and the external
-//! pressure, and the viscous stretches.
+//! stretches, height, stresses and pressure including a Maxwell branch, the Kelvin–Voigt stress
+//! and the external pressure, and the viscous stretches.
 
 use super::{zero_response, SheetCell, UniaxialSheet};
-use crate::cell::ViscousBranch;
+use crate::cell::{kelvin_voigt_sheet, ViscousBranch};
 use crate::energy::{SheetResponse, StrainEnergy};
 use crate::substrate::Dissipation;
 
 impl<E: StrainEnergy> UniaxialSheet<E> {
-    /// Per-cell fields at state `y`, time `t` (column-major: index `(j−1)·m + (k−1)`). The
-    /// stresses and the pressure include the branch and the external pressure.
-    pub fn cells(&self, t: f64, y: &[f64]) -> Vec<SheetCell> {
-        let lt = self.length(t);
+    /// Per-cell fields at state `y` with rates `yp`, time `t` (column-major: index
+    /// `(j−1)·m + (k−1)`). The stresses and the pressure include the branch, the Kelvin–Voigt
+    /// stress (the only use of `yp`) and the external pressure.
+    pub fn cells(&self, t: f64, y: &[f64], yp: &[f64]) -> Vec<SheetCell> {
+        let (lt, ldot) = (self.length(t), self.length_rate(t));
         let branch = self.params.branch.as_ref();
         let respond = |l1: f64, l2: f64| {
             if l1 > 0.0 && l2 > 0.0 {
@@ -54,6 +55,13 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
                     r.s11 += f * rb.s11;
                     r.s22 += f * rb.s22;
                     r.pressure += f * rb.pressure;
+                }
+                if self.params.eta > 0.0 && a1 > 0.0 && a2 > 0.0 {
+                    let rate = self.stretch_rates(y, yp, ldot, j, k, [a1, a2]);
+                    let [v11, v22, vp] = kelvin_voigt_sheet(self.params.eta, [a1, a2], rate);
+                    r.s11 += v11;
+                    r.s22 += v22;
+                    r.pressure += vp;
                 }
                 out.push(SheetCell {
                     j,
