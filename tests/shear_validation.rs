@@ -4,9 +4,10 @@
 //! convergence.
 
 use celltissue::array::ArrayProblem;
+use celltissue::cell::ViscosityModel;
 use celltissue::observe::{ModelKind, Profile, RunRecord};
 use celltissue::runner::OutputTimes;
-use celltissue::sheet::exact::{shear_series, ShearDiscreteExact};
+use celltissue::sheet::exact::{shear_series, shear_series_viscous, ShearDiscreteExact};
 use celltissue::sheet::shear::{ShearColumn, ShearParams};
 use celltissue::sheet::{run_shear, ShearConfig, ShearForm};
 use celltissue::{NeoHookean, Ogden, SolveSettings, StrainEnergy};
@@ -116,15 +117,20 @@ fn edge_form_reproduces_ref_top_displacements_m50() {
 #[test]
 fn edge_form_matches_the_exact_discrete_solution() {
     // docs/model.md §4.6: eigen-expansion with q_j = (2j+1)π/(2M+1); integrator-limited accuracy.
-    for (m, beta0, gamma0, mu, drag, force) in
-        [(10, 1.0, 1.0, 1.0, 0.5, 1.0), (7, 2.0, 0.5, 1.5, 0.3, -0.4)]
-    {
+    // Elastic and Kelvin–Voigt cells (same modes, each slowed by 1 + 4v sin²(q_j/2)).
+    for (m, beta0, gamma0, mu, drag, force, eta) in [
+        (10, 1.0, 1.0, 1.0, 0.5, 1.0, 0.0),
+        (7, 2.0, 0.5, 1.5, 0.3, -0.4, 0.0),
+        (10, 1.0, 1.0, 1.0, 0.5, 1.0, 1.5),
+        (7, 2.0, 0.5, 1.5, 0.3, -0.4, 0.2),
+    ] {
         let p = ShearParams {
             cells: m,
             gamma0,
             beta0,
             drag,
             force,
+            eta,
         };
         let col = ShearColumn::discrete(nh(mu), &p).unwrap();
         let y0 = col.initial_state();
@@ -138,15 +144,21 @@ fn edge_form_matches_the_exact_discrete_solution() {
         let sol = Solver::new(MethodKind::Bdf, opts)
             .solve(&mut prob, 0.0, &y0, &times)
             .unwrap();
-        let ex = ShearDiscreteExact::new(m, gamma0, beta0, mu, drag, force);
-        let mut worst = 0.0f64;
+        let ex = ShearDiscreteExact::new(m, gamma0, beta0, mu, drag, force).with_viscosity(eta);
+        let elastic = ShearDiscreteExact::new(m, gamma0, beta0, mu, drag, force);
+        let (mut worst, mut lag) = (0.0f64, 0.0f64);
         for (t, y) in sol.t.iter().zip(&sol.y) {
-            for (a, b) in y.iter().zip(ex.edges(*t)) {
+            for ((a, b), c) in y.iter().zip(ex.edges(*t)).zip(elastic.edges(*t)) {
                 worst = worst.max((a - b).abs());
+                lag = lag.max((b - c).abs());
             }
         }
-        eprintln!("M = {m}: max |x_e − exact| = {worst:.2e}");
+        eprintln!("M = {m}, η = {eta}: max |x_e − exact| = {worst:.2e} (viscous lag {lag:.2e})");
         assert!(worst < 1e-9, "M = {m}: {worst:e}");
+        assert!(
+            eta == 0.0 || lag > 1e6 * worst,
+            "η = {eta} changes nothing: {lag:e}"
+        );
     }
 }
 
@@ -190,12 +202,14 @@ fn nonlinear_law_steady_shear_solves_tau_equals_force_over_beta0() {
 
 #[test]
 fn cell_centre_form_gives_identical_trajectories_to_edge_form() {
-    // docs/model.md §4.5: the thesis form with K_th = 1 is exactly the edge form with K = ½.
-    for m in [10, 50] {
+    // docs/model.md §4.5: the thesis form with K_th = 1 is exactly the edge form with K = ½,
+    // with elastic and with Kelvin–Voigt cells.
+    for (m, viscosity) in [(10, None), (50, None), (10, kelvin_voigt(0.8))] {
         let times = [0.5, 1.0, 10.0, 50.0, 100.0];
         let mk = |form| ShearConfig {
             cells: m,
             form,
+            viscosity,
             ..Default::default()
         };
         let edge = profiles(&mk(ShearForm::Edge), ModelKind::Discrete, None, &times);
@@ -214,6 +228,84 @@ fn cell_centre_form_gives_identical_trajectories_to_edge_form() {
         eprintln!("M = {m}: max |x_e(edge) − x_e(cell-centre)| = {worst:.2e}");
         assert!(worst < 1e-8, "M = {m}: {worst:e}");
     }
+}
+
+fn kelvin_voigt(eta: f64) -> Option<ViscosityModel> {
+    Some(ViscosityModel::KelvinVoigt { eta })
+}
+
+#[test]
+fn viscous_continuum_converges_to_the_viscous_series_solution() {
+    // K x_t = β₀γ₀(μ x_yy + (η/2) x_yyt): the same modes, mode j slowed by 1 + E k_j²,
+    // E = β₀γ₀η/(2K) = 2 for η = 2, K = ½ (w₀ = 10, D = 2). First order in h, as elastic.
+    let cfg = ShearConfig {
+        viscosity: kelvin_voigt(2.0),
+        ..Default::default()
+    };
+    let (d, e, w0) = (2.0, 2.0, 10.0);
+    let times = [1.0, 10.0, 50.0];
+    let gap = |p: &Profile, h: f64, w: f64| {
+        p.extra["x_edge"]
+            .iter()
+            .enumerate()
+            .map(|(k, xe)| {
+                let y = (k + 1) as f64 * h;
+                (xe - shear_series_viscous(1.0, d, e, w, y, p.t, 4000).0).abs()
+            })
+            .fold(0.0, f64::max)
+    };
+    let mut errs = Vec::new();
+    for m in [20, 40, 80, 160] {
+        let rec = profiles(&cfg, ModelKind::Continuum, Some(m), &times);
+        let h = w0 / m as f64;
+        let worst = rec
+            .profiles
+            .iter()
+            .map(|p| gap(p, h, w0))
+            .fold(0.0, f64::max);
+        let worst_eff = rec
+            .profiles
+            .iter()
+            .map(|p| gap(p, h, w0 + 0.5 * h))
+            .fold(0.0, f64::max);
+        // the elastic series is far off: the viscosity is felt
+        let elastic = rec
+            .profiles
+            .iter()
+            .map(|p| series_gap(p, h, d, w0 + 0.5 * h))
+            .fold(0.0, f64::max);
+        assert!(
+            elastic > 100.0 * worst_eff,
+            "m = {m}: {elastic} vs {worst_eff}"
+        );
+        errs.push((worst, worst_eff));
+    }
+    eprintln!("viscous continuum vs series (w0, w0 + h/2), m = 20, 40, 80, 160: {errs:?}");
+    for w in errs.windows(2) {
+        let r = w[0].0 / w[1].0;
+        assert!(r > 1.8 && r < 2.2, "convergence ratio {r} ({errs:?})");
+        let r2 = w[0].1 / w[1].1;
+        assert!(r2 > 3.5, "w_eff convergence ratio {r2} ({errs:?})");
+    }
+}
+
+#[test]
+fn viscosity_key_is_kelvin_voigt_only_and_checked() {
+    let cfg: ShearConfig =
+        toml::from_str("viscosity = { model = \"kelvin_voigt\", eta = 0.4 }").unwrap();
+    assert!(cfg.validate().is_ok());
+    assert_eq!(cfg.params().eta, 0.4);
+    let bad = ShearConfig {
+        viscosity: kelvin_voigt(-1.0),
+        ..Default::default()
+    };
+    let e = bad.validate().unwrap_err();
+    assert_eq!(e.key, "viscosity.eta");
+    let maxwell: ShearConfig =
+        toml::from_str("viscosity = { model = \"maxwell\", mu_m = 1.0, eta_m = 1.0 }").unwrap();
+    let e = maxwell.validate().unwrap_err();
+    assert_eq!(e.key, "viscosity.model");
+    assert!(e.to_string().contains("kelvin_voigt"), "{e}");
 }
 
 #[test]

@@ -377,6 +377,9 @@ pub struct ShearConfig {
     pub form: ShearForm,
     /// Strain energy (default neo-Hookean `μ = 1`).
     pub law: AnyEnergy,
+    /// Viscosity `{ model = "kelvin_voigt", eta }` (absent: elastic cells, as in the thesis;
+    /// docs/viscoelasticity.md). Maxwell branches are not modelled on the column.
+    pub viscosity: Option<ViscosityModel>,
 }
 
 impl Default for ShearConfig {
@@ -390,6 +393,7 @@ impl Default for ShearConfig {
             force: 1.0,
             form: ShearForm::Edge,
             law: default_law(),
+            viscosity: None,
         }
     }
 }
@@ -412,7 +416,25 @@ impl ShearConfig {
             self.force,
             "must be finite",
         )?;
-        Ok(())
+        match self.viscosity {
+            None => Ok(()),
+            Some(ViscosityModel::KelvinVoigt { eta }) => need(
+                eta >= 0.0 && eta.is_finite(),
+                "viscosity.eta",
+                eta,
+                "must be finite and >= 0",
+            ),
+            Some(v @ (ViscosityModel::Maxwell { .. } | ViscosityModel::StandardLinearSolid { .. })) => {
+                Err(ConfigError {
+                    key: "viscosity.model".into(),
+                    value: match v {
+                        ViscosityModel::Maxwell { .. } => "\"maxwell\"".into(),
+                        _ => "\"standard_linear_solid\"".into(),
+                    },
+                    expected: "must be \"kelvin_voigt\" (the shear column has no Maxwell or standard-linear-solid cells)".into(),
+                })
+            }
+        }
     }
 
     /// The model parameters.
@@ -423,6 +445,10 @@ impl ShearConfig {
             beta0: self.beta0,
             drag: self.drag(),
             force: self.force,
+            eta: match self.viscosity {
+                Some(ViscosityModel::KelvinVoigt { eta }) => eta,
+                _ => 0.0,
+            },
         }
     }
 }

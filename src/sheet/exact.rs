@@ -4,8 +4,10 @@
 //!   (uniform law): `λ₁ = 1 − k₁` in every cell (`σ₁₁` uniform and monotone in `λ₁`); free top:
 //!   `σ₂₂(λ₁, λ₂) = 0` fixes `λ₂` (for neo-Hookean `λ₂ = λ₃ = (1 − k₁)^{−1/2}`); periodic:
 //!   `λ₂ ≡ 1`.
-//! * [`shear_series`] — the continuum series solution of the shear column.
-//! * [`ShearDiscreteExact`] — the exact solution of the discrete edge form (neo-Hookean, linear).
+//! * [`shear_series`] — the continuum series solution of the shear column;
+//!   [`shear_series_viscous`] with Kelvin–Voigt cells.
+//! * [`ShearDiscreteExact`] — the exact solution of the discrete edge form (neo-Hookean, linear),
+//!   elastic or Kelvin–Voigt ([`ShearDiscreteExact::with_viscosity`]).
 
 use crate::energy::StrainEnergy;
 use std::f64::consts::PI;
@@ -115,33 +117,72 @@ pub fn sheet_periodic_steady(law: &impl StrainEnergy, k1: f64) -> SheetSteady {
 /// assert!((x - 10.0).abs() < 1e-9 && (tan - 1.0).abs() < 1e-9);
 /// ```
 pub fn shear_series(s: f64, d: f64, w: f64, y: f64, t: f64, terms: usize) -> (f64, f64) {
+    shear_series_viscous(s, d, 0.0, w, y, t, terms)
+}
+
+/// [`shear_series`] for Kelvin–Voigt cells, `τ = μ x_y + (η/2) x_yt`:
+/// `K x_t = β₀γ₀ (μ x_yy + (η/2) x_yyt)`. The top condition `β₀τ(w) = F_A` and the modes
+/// `sin(k_j y)`, `k_j = (2j+1)π/(2w)`, are the elastic ones; mode `j` decays at
+/// `D k_j²/(1 + E k_j²)` with `E = β₀γ₀η/(2K)`, so the fast modes are held back to the rate
+/// `D/E = 2μ/η` (the line's `1/t_k`). `E = 0` is the elastic column.
+///
+/// ```
+/// use celltissue::sheet::exact::{shear_series, shear_series_viscous};
+/// // viscosity slows the approach to the steady shear s·y …
+/// let (elastic, _) = shear_series(1.0, 2.0, 10.0, 10.0, 5.0, 400);
+/// let (viscous, _) = shear_series_viscous(1.0, 2.0, 3.0, 10.0, 10.0, 5.0, 400);
+/// assert!(viscous < elastic && elastic < 10.0);
+/// // … but not the steady state itself
+/// let (late, _) = shear_series_viscous(1.0, 2.0, 3.0, 10.0, 10.0, 1e6, 400);
+/// assert!((late - 10.0).abs() < 1e-9);
+/// ```
+pub fn shear_series_viscous(
+    s: f64,
+    d: f64,
+    e: f64,
+    w: f64,
+    y: f64,
+    t: f64,
+    terms: usize,
+) -> (f64, f64) {
     let mut x = s * y;
     let mut tan = s;
     for j in 0..terms {
         let kj = (2 * j + 1) as f64 * PI / (2.0 * w);
         let sign = if j % 2 == 0 { 1.0 } else { -1.0 };
-        let e = (-d * kj * kj * t).exp();
-        x -= 2.0 * s / w * sign / (kj * kj) * (kj * y).sin() * e;
-        tan -= 2.0 * s / w * sign / kj * (kj * y).cos() * e;
+        let k2 = kj * kj;
+        let decay = (-d * k2 / (1.0 + e * k2) * t).exp();
+        x -= 2.0 * s / w * sign / k2 * (kj * y).sin() * decay;
+        tan -= 2.0 * s / w * sign / kj * (kj * y).cos() * decay;
     }
     (x, tan)
 }
 
 /// Exact solution of the discrete edge form with a linear law `τ = μT` (docs/model.md §4.6):
-/// `x_{e,k}(t) = δk + Σ_j b_j sin(q_j k) e^{−4c sin²(q_j/2) t}`, `q_j = (2j+1)π/(2M+1)`,
-/// `c = β₀μ/(γ₀K)`, `δ = γ₀ F_A/(β₀μ)`.
+/// `x_{e,k}(t) = δk + Σ_j b_j sin(q_j k) e^{−r_j t}`, `q_j = (2j+1)π/(2M+1)`,
+/// `r_j = 4c sin²(q_j/2)`, `c = β₀μ/(γ₀K)`, `δ = γ₀ F_A/(β₀μ)`. With Kelvin–Voigt cells
+/// ([`with_viscosity`](Self::with_viscosity)) the modes are the same and
+/// `r_j = 4c s_j²/(1 + 4v s_j²)`, `s_j = sin(q_j/2)`, `v = β₀η/(2γ₀K)`.
 ///
 /// ```
 /// use celltissue::sheet::exact::ShearDiscreteExact;
 /// let ex = ShearDiscreteExact::new(10, 1.0, 1.0, 1.0, 0.5, 1.0);
 /// let x0 = ex.edges(0.0);
 /// assert!(x0.iter().all(|v| v.abs() < 1e-12));
+/// // viscous cells lag behind the elastic ones at the top edge
+/// let slow = ex.clone().with_viscosity(2.0);
+/// assert!(slow.edges(1.0)[9] < ex.edges(1.0)[9]);
 /// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct ShearDiscreteExact {
     m: usize,
     delta: f64,
     c: f64,
+    /// `β₀η/(2γ₀K)` (0 for elastic cells).
+    v: f64,
+    beta0: f64,
+    gamma0: f64,
+    drag: f64,
     q: Vec<f64>,
     b: Vec<f64>,
 }
@@ -161,7 +202,23 @@ impl ShearDiscreteExact {
                 -4.0 * delta / (2 * m + 1) as f64 * s
             })
             .collect();
-        Self { m, delta, c, q, b }
+        Self {
+            m,
+            delta,
+            c,
+            v: 0.0,
+            beta0,
+            gamma0,
+            drag,
+            q,
+            b,
+        }
+    }
+
+    /// The same column with Kelvin–Voigt cells of viscosity `η` (`τ = μT + (η/2)Ṫ`).
+    pub fn with_viscosity(mut self, eta: f64) -> Self {
+        self.v = self.beta0 * eta / (2.0 * self.gamma0 * self.drag);
+        self
     }
 
     /// Edge positions `x_{e,1..M}` at time `t`.
@@ -175,7 +232,9 @@ impl ShearDiscreteExact {
                         .iter()
                         .zip(&self.b)
                         .map(|(&q, &b)| {
-                            b * (q * kf).sin() * (-4.0 * self.c * (0.5 * q).sin().powi(2) * t).exp()
+                            let s2 = (0.5 * q).sin().powi(2);
+                            let rate = 4.0 * self.c * s2 / (1.0 + 4.0 * self.v * s2);
+                            b * (q * kf).sin() * (-rate * t).exp()
                         })
                         .sum::<f64>()
             })

@@ -90,18 +90,18 @@ impl<E: StrainEnergy> Recorder<UniaxialSheet<E>> for SheetRecorder {
 
 /// The two forms of the shear column: per-cell fields from a state.
 trait ShearFieldsOf {
-    fn shear_fields(&self, y: &[f64]) -> ShearFields;
+    fn shear_fields(&self, y: &[f64], yp: &[f64]) -> ShearFields;
 }
 
 impl<E: StrainEnergy> ShearFieldsOf for ShearColumn<E> {
-    fn shear_fields(&self, y: &[f64]) -> ShearFields {
-        self.fields(y)
+    fn shear_fields(&self, y: &[f64], yp: &[f64]) -> ShearFields {
+        self.fields(y, yp)
     }
 }
 
 impl<E: StrainEnergy> ShearFieldsOf for ShearCellCentre<E> {
-    fn shear_fields(&self, y: &[f64]) -> ShearFields {
-        self.fields(y)
+    fn shear_fields(&self, y: &[f64], yp: &[f64]) -> ShearFields {
+        self.fields(y, yp)
     }
 }
 
@@ -126,15 +126,15 @@ fn record_column<A: CellArray + ShearFieldsOf>(
 struct ShearRecorder;
 
 impl<A: ShearFieldsOf> Recorder<A> for ShearRecorder {
-    fn series_row(&mut self, col: &A, t: f64, y: &[f64], _: &[f64]) -> Result<SeriesRow, String> {
+    fn series_row(&mut self, col: &A, t: f64, y: &[f64], yp: &[f64]) -> Result<SeriesRow, String> {
         Ok(shear_series_row(&shear_observables(
             t,
-            &col.shear_fields(y),
+            &col.shear_fields(y, yp),
         )))
     }
 
-    fn profile(&mut self, col: &A, t: f64, y: &[f64], _: &[f64]) -> Result<Profile, String> {
-        Ok(shear_profile(t, &col.shear_fields(y)))
+    fn profile(&mut self, col: &A, t: f64, y: &[f64], yp: &[f64]) -> Result<Profile, String> {
+        Ok(shear_profile(t, &col.shear_fields(y, yp)))
     }
 }
 

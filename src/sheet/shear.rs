@@ -10,6 +10,12 @@
 //!   sums `x_{e,k} = 2x_{c,k} − x_{e,k−1}`. Every `T_k` depends on all centres below it, so the
 //!   Jacobian is dense lower-Hessenberg (declared [`Pattern::Dense`]: fine for the small `M` of
 //!   the thesis, `O(M³)` per factorisation). It is exactly the edge form with `K = K_th/2`.
+//!
+//! **Kelvin–Voigt viscosity** ([`ShearParams::eta`]): `τ_k = τ(T_k) + (η/2) Ṫ_k`, the Newtonian
+//! shear stress `2η_dim D₁₂` with `D₁₂ = Ṫ/2` and the dimensionless `η = 2η_dim/(μ₀t₀)` of the
+//! line, so the small-strain retardation time is the line's `t_k = η/(2μ)`. The viscous stress
+//! has no normal part (`D₁₁ = D₂₂ = 0`), so the pressure is the elastic one
+//! (docs/viscoelasticity.md, "Kelvin–Voigt in the shear column").
 
 use crate::array::CellArray;
 use crate::energy::StrainEnergy;
@@ -38,6 +44,9 @@ pub struct ShearParams {
     pub drag: f64,
     /// Applied shear force `F_A` on the top edge.
     pub force: f64,
+    /// Kelvin–Voigt viscosity `η ≥ 0` of every cell (including the factor 2, as on the line):
+    /// `τ += (η/2) Ṫ`.
+    pub eta: f64,
 }
 
 impl Default for ShearParams {
@@ -49,6 +58,7 @@ impl Default for ShearParams {
             beta0: 1.0,
             drag: 0.5,
             force: 1.0,
+            eta: 0.0,
         }
     }
 }
@@ -57,11 +67,14 @@ impl Default for ShearParams {
 ///
 /// ```
 /// use celltissue::sheet::shear::{ShearColumn, ShearParams};
-/// let p = ShearParams { cells: 2, ..Default::default() };
+/// let p = ShearParams { cells: 2, eta: 0.5, ..Default::default() };
 /// let col = ShearColumn::continuum(celltissue::NeoHookean::new(1.0).unwrap(), &p, 2).unwrap();
-/// let f = col.fields(&[0.1, 0.3]); // edges at x = 0.1 and 0.3 above the fixed base
+/// // edges at x = 0.1 and 0.3 above the fixed base, the top one moving at speed 0.4
+/// let f = col.fields(&[0.1, 0.3], &[0.0, 0.4]);
 /// assert_eq!(f.x_edge, [0.0, 0.1, 0.3]);
 /// assert!((f.tan_theta[1] - 0.2).abs() < 1e-12 && (f.x_centre[1] - 0.2).abs() < 1e-12);
+/// // σ₁₂ = μ T + (η/2) Ṫ with Ṫ = 0.4 in the top cell
+/// assert!((f.tau[1] - (0.2 + 0.25 * 0.4)).abs() < 1e-12);
 /// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ShearFields {
@@ -188,6 +201,9 @@ fn check_params(p: &ShearParams, m: usize) -> Result<(), ShearBuildError> {
     if !p.force.is_finite() {
         return bad("force", p.force, "finite");
     }
+    if !(p.eta >= 0.0 && p.eta.is_finite()) {
+        return bad("eta", p.eta, ">= 0");
+    }
     Ok(())
 }
 
@@ -232,12 +248,23 @@ impl<E: StrainEnergy> ShearColumn<E> {
         vec![0.0; self.m]
     }
 
-    /// Per-cell fields from the edge state `y = x_{e,1..m}`.
-    pub fn fields(&self, y: &[f64]) -> ShearFields {
-        let mut xe = Vec::with_capacity(self.m + 1);
-        xe.push(0.0);
-        xe.extend_from_slice(y);
-        fields_from_edges(&self.law, &xe, self.h)
+    /// Per-cell fields from the edge state `y = x_{e,1..m}` and its rate `yp` (which enters
+    /// only through the Kelvin–Voigt stress).
+    pub fn fields(&self, y: &[f64], yp: &[f64]) -> ShearFields {
+        let with_base = |v: &[f64]| [&[0.0], v].concat();
+        let mut f = fields_from_edges(&self.law, &with_base(y), self.h);
+        add_viscous_shear(&mut f, self.params.eta, &with_base(yp), self.h);
+        f
+    }
+}
+
+/// Adds the Kelvin–Voigt shear stress `(η/2) Ṫ_k` to `f.tau`, given the edge velocities
+/// `ẋ_{e,0..m}` and the segment height `h`.
+fn add_viscous_shear(f: &mut ShearFields, eta: f64, edge_rates: &[f64], h: f64) {
+    if eta > 0.0 {
+        for (tau, v) in f.tau.iter_mut().zip(edge_rates.windows(2)) {
+            *tau += 0.5 * eta * (v[1] - v[0]) / h;
+        }
     }
 }
 
@@ -288,12 +315,21 @@ impl<E: StrainEnergy> CellArray for ShearColumn<E> {
         let m = self.m;
         let b0 = self.params.beta0;
         let inv_h = 1.0 / self.h;
+        let half_eta = 0.5 * self.params.eta;
+        // cell k = 1..m between edges k−1 and k: T_k from y, Ṫ_k from yp
+        let shear = |v: &[S], k: usize| -> S {
+            let lo = if k == 1 { S::from(0.0) } else { v[k - 2] };
+            (v[k - 1] - lo) * inv_h
+        };
         let tau = |k: usize| -> S {
-            // cell k = 1..m between edges k−1 and k
-            let lo = if k == 1 { S::from(0.0) } else { y[k - 2] };
-            let tt = (y[k - 1] - lo) * inv_h;
+            let tt = shear(y, k);
             let s = self.law.shear(tt.re());
-            tt.lift(s.tau, s.dtau)
+            let elastic = tt.lift(s.tau, s.dtau);
+            if half_eta > 0.0 {
+                elastic + shear(yp, k) * half_eta
+            } else {
+                elastic
+            }
         };
         let mut below = tau(1);
         for k in 1..=m {
@@ -330,7 +366,8 @@ impl<E: StrainEnergy> CellArray for ShearColumn<E> {
 /// ```
 /// use celltissue::sheet::shear::{ShearCellCentre, ShearParams};
 /// let col = ShearCellCentre::new(celltissue::NeoHookean::new(1.0).unwrap(), &ShearParams::default()).unwrap();
-/// let f = col.fields(&col.initial_state()); // unsheared: x_c = 0 for every cell
+/// let x0 = col.initial_state();
+/// let f = col.fields(&x0, &x0); // unsheared and at rest: x_c = 0 for every cell
 /// assert_eq!(f.tan_theta.len(), 10);
 /// assert!(f.tan_theta.iter().all(|t| t.abs() < 1e-15));
 /// ```
@@ -375,9 +412,13 @@ impl<E: StrainEnergy> ShearCellCentre<E> {
         xe
     }
 
-    /// Per-cell fields from the centre state.
-    pub fn fields(&self, xc: &[f64]) -> ShearFields {
-        fields_from_edges(&self.law, &Self::edges(xc), self.params.gamma0)
+    /// Per-cell fields from the centre state `xc` and its rate `xc_rate` (which enters only
+    /// through the Kelvin–Voigt stress).
+    pub fn fields(&self, xc: &[f64], xc_rate: &[f64]) -> ShearFields {
+        let h = self.params.gamma0;
+        let mut f = fields_from_edges(&self.law, &Self::edges(xc), h);
+        add_viscous_shear(&mut f, self.params.eta, &Self::edges(xc_rate), h);
+        f
     }
 }
 
@@ -400,11 +441,23 @@ impl<E: StrainEnergy> CellArray for ShearCellCentre<E> {
         let m = self.params.cells;
         let b0 = self.params.beta0;
         let xe = Self::edges(y);
+        let inv_h = 1.0 / self.params.gamma0;
+        let half_eta = 0.5 * self.params.eta;
+        let ve = if half_eta > 0.0 {
+            Self::edges(yp)
+        } else {
+            Vec::new()
+        };
         let tau: Vec<S> = (1..=m)
             .map(|k| {
-                let tt = (xe[k] - xe[k - 1]) * (1.0 / self.params.gamma0);
+                let tt = (xe[k] - xe[k - 1]) * inv_h;
                 let s = self.law.shear(tt.re());
-                tt.lift(s.tau, s.dtau)
+                let elastic = tt.lift(s.tau, s.dtau);
+                if half_eta > 0.0 {
+                    elastic + (ve[k] - ve[k - 1]) * (inv_h * half_eta)
+                } else {
+                    elastic
+                }
             })
             .collect();
         // F_{k+1/2}, k = 0..m: F_{1/2} = 0, F_{k+1/2} = β₀(τ_{k+1} − τ_k), F_{m+1/2} = F_A − β₀τ_m
