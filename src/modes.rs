@@ -114,6 +114,31 @@ pub trait Mode: Send + Sync + 'static {
 }
 
 /// A configured mode, ready to run (what the registry builds from a scenario's table).
+///
+/// ```
+/// # use celltissue::{line::Line, modes::Mode, observe::{ModelKind, Profile},
+/// #     registry::ParamError, NeoHookean};
+/// # #[derive(serde::Serialize, serde::Deserialize, Debug)]
+/// # struct Config { cells: usize }
+/// # struct Unbuilt;
+/// # impl Mode for Unbuilt {
+/// #     type Config = Config;
+/// #     type Array = Line<NeoHookean>;
+/// #     fn build(c: &Config, _: ModelKind, _: Option<usize>) -> Result<(Line<NeoHookean>, Vec<f64>), ParamError> {
+/// #         Err(ParamError::range("cells", c.cells, "a line this mode can build"))
+/// #     }
+/// #     fn observe(_: &Line<NeoHookean>, _: f64, _: &[f64]) -> Profile { Profile::default() }
+/// #     fn length(_: &Line<NeoHookean>, _: f64, _: &[f64]) -> f64 { 0.0 }
+/// # }
+/// use celltissue::modes::{register, ModeSpec};
+/// use celltissue::runner::OutputTimes;
+/// register::<Unbuilt>("unbuilt")?;
+/// // what the scenario layer does with `kind = "unbuilt"`: build the mode, then run it
+/// let spec: ModeSpec = toml::from_str("kind = \"unbuilt\"\ncells = 3").unwrap();
+/// let rec = spec.law().run(ModelKind::Discrete, None, &Default::default(), &OutputTimes::at(&[1.0]));
+/// assert_eq!(rec.error.as_deref(), Some("invalid `cells` = 3: must be a line this mode can build"));
+/// # Ok::<(), celltissue::registry::RegistryError>(())
+/// ```
 pub trait ModeRun: Send + Sync + Debug {
     /// Runs one model (discrete, or continuum on `nodes`).
     fn run(
@@ -151,6 +176,15 @@ impl<M: Mode> ModeRun for Configured<M> {
 pub type ModeSpec = Named<Modes>;
 
 /// The registry of deformation modes (selected by the `kind` key).
+///
+/// ```
+/// use celltissue::modes::{ModeSpec, Modes};
+/// use celltissue::registry::{Kind, Params};
+/// // the built-in kinds (line, sheet, …) are not modes; a program registers its own
+/// assert!(Modes::registry().names().is_empty());
+/// let e = ModeSpec::build("tethered", &Params::new()).unwrap_err();
+/// assert!(e.to_string().contains("not a registered deformation mode"), "{e}");
+/// ```
 pub struct Modes;
 
 static MODES: Registry<Arc<dyn ModeRun>> = Registry::new("deformation mode", "kind", Vec::new);

@@ -51,6 +51,15 @@ pub type Constructor<T, E = ParamError> =
 pub type Builtins<T, E = ParamError> = fn() -> Vec<(&'static str, Constructor<T, E>)>;
 
 /// A name that no law in a registry has: what a registry's error type is built from.
+///
+/// ```
+/// use celltissue::events::rules::RuleSpec;
+/// use celltissue::registry::Params;
+/// // a name the registry does not hold: the error lists the registered names
+/// let e = RuleSpec::build("mitosis", &Params::new()).unwrap_err();
+/// assert_eq!(e.key, "rule");
+/// assert!(e.to_string().contains("\"mitosis\": not a registered division rule (age, area,"), "{e}");
+/// ```
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct UnknownName {
     /// The key that names the law in a table (`rule`, `law`).
@@ -330,6 +339,16 @@ impl<T: 'static, E: From<UnknownName> + 'static> Registry<T, E> {
 }
 
 /// Which registry a [`Named`] value resolves in, and the name used when its table has none.
+///
+/// ```
+/// use celltissue::cell::growth_laws::GrowthLaws;
+/// use celltissue::events::rules::Rules;
+/// use celltissue::registry::Kind;
+/// // a growth law may be left unnamed (tanh); a division rule must be named
+/// assert_eq!(GrowthLaws::default_name(), Some("tanh"));
+/// assert_eq!(Rules::default_name(), None);
+/// assert!(Rules::registry().names().contains(&"surface_to_volume".to_string()));
+/// ```
 pub trait Kind: 'static {
     /// The built law.
     type Law: Clone + Send + Sync + 'static;

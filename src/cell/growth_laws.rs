@@ -41,6 +41,15 @@ use std::sync::Arc;
 pub type GrowthSpec = Named<GrowthLaws>;
 
 /// The registry of growth laws (selected by the `law` key; default `tanh`).
+///
+/// ```
+/// use celltissue::cell::growth_laws::{GrowthLaws, GrowthSpec};
+/// use celltissue::registry::Kind;
+/// let g: GrowthSpec = toml::from_str("sigma0 = 0.5")?; // no `law` key: the default
+/// assert_eq!((g.name(), GrowthLaws::default_name()), ("tanh", Some("tanh")));
+/// assert_eq!(g.law().rate(0.0).0, 0.5); // G(0) = G_m/2
+/// # Ok::<(), toml::de::Error>(())
+/// ```
 pub struct GrowthLaws;
 
 static LAWS: Registry<Arc<dyn GrowthLaw>> = Registry::new("growth law", "law", || {

@@ -178,6 +178,21 @@ where
 
 /// Registers a constructor under `name` (for laws built some other way than by deserializing a
 /// type, e.g. a fixed formula: `Arc::new(|p| …)`). Same naming rules as [`register`].
+///
+/// ```
+/// use celltissue::energy::registry;
+/// use celltissue::registry::Params;
+/// use celltissue::{AnyEnergy, NeoHookean, StrainEnergy};
+/// use std::sync::Arc;
+/// // a neo-Hookean law given by its Young's modulus E = 3μ
+/// registry::register_with("young_neo_hookean", Arc::new(|p: &Params| {
+///     let young = p.get("E").and_then(|v| v.as_f64()).unwrap_or(3.0);
+///     Ok(AnyEnergy::NeoHookean(NeoHookean::new(young / 3.0)?))
+/// }))?;
+/// let p = serde_json::json!({"E": 6.0}).as_object().unwrap().clone();
+/// assert_eq!(registry::build("young_neo_hookean", &p)?.shear_modulus(), 2.0);
+/// # Ok::<(), celltissue::EnergyError>(())
+/// ```
 pub fn register_with(name: &str, ctor: Constructor) -> Result<(), EnergyError> {
     LAWS.register(name, stored(ctor)).map_err(|e| match e {
         RegistryError::Duplicate(name, _) => EnergyError::DuplicateLaw(name),
@@ -237,6 +252,20 @@ impl<L: StrainEnergy + fmt::Debug> DynLaw for L {
 
 /// A user law registered with [`register`], as held by [`AnyEnergy::Registered`]: its name,
 /// the parameters it was built from (for serialization and equality) and the law itself.
+///
+/// ```
+/// use celltissue::energy::registry;
+/// use celltissue::AnyEnergy;
+/// registry::register::<celltissue::NeoHookean>("my_neo_hookean")?;
+/// let p = serde_json::json!({"mu": 1.5}).as_object().unwrap().clone();
+/// match registry::build("my_neo_hookean", &p)? {
+///     AnyEnergy::Registered(r) => {
+///         assert_eq!((r.name(), r.params()["mu"].as_f64()), ("my_neo_hookean", Some(1.5)))
+///     }
+///     other => panic!("not a registered law: {other:?}"),
+/// }
+/// # Ok::<(), celltissue::EnergyError>(())
+/// ```
 #[derive(Clone)]
 pub struct Registered {
     name: Arc<str>,

@@ -37,6 +37,14 @@ use std::sync::Arc;
 pub type RuleSpec = Named<Rules>;
 
 /// The registry of division rules (selected by the `rule` key; no default name).
+///
+/// ```
+/// use celltissue::events::rules::RuleSpec;
+/// let spec: RuleSpec = toml::from_str("rule = \"age\"\nperiod = 2.5")?;
+/// assert_eq!((spec.name(), spec.params()["period"].as_f64()), ("age", Some(2.5)));
+/// assert_eq!(spec.law().name(), "age 2.5");
+/// # Ok::<(), toml::de::Error>(())
+/// ```
 pub struct Rules;
 
 static RULES: Registry<Arc<dyn DivisionRule>> = Registry::new("division rule", "rule", || {
@@ -79,6 +87,24 @@ where
 
 /// Registers a constructor under `name`, for a rule built otherwise than by deserializing a
 /// type.
+///
+/// ```
+/// use celltissue::events::rules::{register_with, RuleSpec};
+/// use celltissue::events::{AgeRule, DivisionRule};
+/// use celltissue::registry::{positive, Params};
+/// use std::sync::Arc;
+/// // a rule given by its rate: cells divide at age 1/rate
+/// register_with("clock", Arc::new(|p: &Params| {
+///     let rate = p.get("rate").and_then(|v| v.as_f64()).unwrap_or(1.0);
+///     positive("rate", rate)?;
+///     let rule: Arc<dyn DivisionRule> = Arc::new(AgeRule { period: 1.0 / rate });
+///     Ok((rule, p.clone()))
+/// }))?;
+/// let spec: RuleSpec = toml::from_str("rule = \"clock\"\nrate = 4.0").unwrap();
+/// assert_eq!(spec.law().name(), "age 0.25");
+/// assert!(toml::from_str::<RuleSpec>("rule = \"clock\"\nrate = -1.0").is_err());
+/// # Ok::<(), celltissue::registry::RegistryError>(())
+/// ```
 pub fn register_with(
     name: &str,
     ctor: Constructor<Arc<dyn DivisionRule>>,
