@@ -92,7 +92,7 @@ fn context(found: &Option<String>) -> String {
 
 /// A unary function of the formula language.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Func {
+pub(crate) enum Func {
     /// `exp`
     Exp,
     /// `ln` (natural logarithm)
@@ -160,7 +160,7 @@ impl Func {
 /// One node of the parsed formula; children are indices into the arena, always smaller than
 /// the node's own index (so the root is the last node).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Node {
+pub(crate) enum Node {
     /// A number (literals, parameters and folded sub-expressions).
     Const(f64),
     /// A variable, an index into [`VARIABLES`].
@@ -298,7 +298,8 @@ impl Expression {
     }
 
     /// The parsed tree (root last).
-    pub fn nodes(&self) -> &[Node] {
+    #[cfg(test)]
+    pub(crate) fn nodes(&self) -> &[Node] {
         &self.nodes
     }
 
