@@ -41,7 +41,7 @@ pub mod dividing;
 pub mod division;
 pub mod log;
 #[cfg(feature = "plots")]
-pub mod plots;
+pub(crate) mod plots;
 pub mod reindex;
 pub mod rules;
 pub mod run;

@@ -27,7 +27,7 @@ fn series<'a>(rec: &'a RunRecord, key: &str) -> &'a [f64] {
 
 /// Writes the division figures into `dir` (titles prefixed by `title`); returns each path with
 /// its outcome. Empty if no run divided.
-pub fn division_figures(
+pub(crate) fn division_figures(
     dir: &Path,
     title: &str,
     summary: &Summary,

@@ -37,7 +37,7 @@ pub const QUANTILES: [(f64, &str); 5] = [
 pub const LOCATION_BINS: usize = 20;
 
 /// The realisations of one parameter set and model.
-pub struct Group<'a> {
+pub(crate) struct Group<'a> {
     /// `"discrete"`, or `"discrete K=0.01"` with other swept parameters.
     pub label: String,
     /// The realisations, in seed order.
@@ -45,7 +45,7 @@ pub struct Group<'a> {
 }
 
 /// The scenario's ensemble groups (none without an ensemble).
-pub fn groups<'a>(scenario: &Scenario, summary: &'a Summary) -> Vec<Group<'a>> {
+pub(crate) fn groups<'a>(scenario: &Scenario, summary: &'a Summary) -> Vec<Group<'a>> {
     let Some(seed_key) = scenario.sweep.as_ref().and_then(|s| s.ensemble.as_deref()) else {
         return Vec::new();
     };
@@ -128,7 +128,7 @@ fn usable<'a>(g: &Group<'a>) -> Vec<&'a RunRecord> {
 }
 
 /// A group's series statistics as CSV (see the module docs).
-pub fn statistics_csv(g: &Group<'_>) -> String {
+pub(crate) fn statistics_csv(g: &Group<'_>) -> String {
     let runs = usable(g);
     let Some(first) = runs.first() else {
         return "t,realisations\n".into();
@@ -171,7 +171,7 @@ pub fn statistics_csv(g: &Group<'_>) -> String {
 
 /// A group's division-location histogram as CSV (see the module docs); `None` when no
 /// realisation divided.
-pub fn divisions_csv(g: &Group<'_>) -> Option<String> {
+pub(crate) fn divisions_csv(g: &Group<'_>) -> Option<String> {
     let hist = location_histogram(g)?;
     let total: f64 = hist.iter().map(|(_, d)| d[0]).sum();
     let mut out = String::from("bin_lo,bin_hi,per_realisation_mean");
@@ -219,7 +219,7 @@ fn location_histogram(g: &Group<'_>) -> Option<Vec<(f64, [f64; 6])>> {
 }
 
 /// Writes every group's statistics (nothing without an ensemble); returns the paths.
-pub fn write_ensemble(
+pub(crate) fn write_ensemble(
     dir: &Path,
     scenario: &Scenario,
     summary: &Summary,
@@ -247,7 +247,7 @@ pub fn write_ensemble(
 /// The ensemble plots: for `length` and `cells`, every group's mean (solid) and its 5–95 %
 /// band (dashed), against `t`.
 #[cfg(feature = "plots")]
-pub fn ensemble_figures(
+pub(crate) fn ensemble_figures(
     dir: &Path,
     scenario: &Scenario,
     summary: &Summary,

@@ -70,7 +70,7 @@ fn groups<'a>(scenario: &'a Scenario, summary: &'a Summary) -> Vec<Group<'a>> {
 }
 
 /// Writes every figure; returns each path with its outcome ([`PlotError::NoData`] = skipped).
-pub fn write_figures(
+pub(crate) fn write_figures(
     dir: &Path,
     scenario: &Scenario,
     summary: &Summary,
@@ -695,7 +695,7 @@ fn sweep_curves(scenario: &Scenario, summary: &Summary, key: &str) -> Vec<Curve>
 /// Cell rectangles `[x − L/2, x + L/2] × [−W/2, W/2]` per profile, one row per profile (the
 /// first on top); `L = λ·ΔX` with ΔX the reference spacing, `W` from the profile's `"width"`
 /// field or `1/λ` (incompressible unit cell).
-pub fn rectangles(profiles: &[Profile]) -> Vec<(f64, f64, f64, f64, f64)> {
+pub(crate) fn rectangles(profiles: &[Profile]) -> Vec<(f64, f64, f64, f64, f64)> {
     let mut out = Vec::new();
     let max_w = profiles
         .iter()

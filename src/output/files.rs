@@ -250,7 +250,7 @@ pub fn write_summary(dir: &Path, summary: &Summary) -> Result<PathBuf, OutputErr
 }
 
 /// [`write_summary`] with the provenance and the labels of interrupted runs.
-pub fn write_summary_with(
+pub(crate) fn write_summary_with(
     dir: &Path,
     summary: &Summary,
     provenance: Option<&Provenance>,
@@ -291,7 +291,7 @@ pub fn write_summary_with(
 }
 
 /// Writes each run's `.npz` (see [`super::npz`]); returns their paths.
-pub fn write_arrays(dir: &Path, summary: &Summary) -> Result<Vec<PathBuf>, OutputError> {
+pub(crate) fn write_arrays(dir: &Path, summary: &Summary) -> Result<Vec<PathBuf>, OutputError> {
     let mut out = Vec::new();
     for (rec, name) in summary.runs.iter().zip(npz_names(summary)) {
         let path = dir.join(name);
@@ -435,7 +435,7 @@ fn table(cols: &[(&str, &Vec<f64>)], rows: usize, t: Option<f64>) -> String {
 }
 
 /// Writes the CSV files of every run; returns their paths.
-pub fn write_csvs(dir: &Path, summary: &Summary) -> Result<Vec<PathBuf>, OutputError> {
+pub(crate) fn write_csvs(dir: &Path, summary: &Summary) -> Result<Vec<PathBuf>, OutputError> {
     let slugs = unique_slugs(summary.runs.iter().map(|r| r.label.as_str()));
     let mut files = Vec::new();
     for (rec, s) in summary.runs.iter().zip(&slugs) {

@@ -44,7 +44,7 @@ fn dataset<T: hdf5::H5Type>(
 }
 
 /// Writes `summary`'s runs to `dir/results.h5`; returns its path.
-pub fn write_results(
+pub(crate) fn write_results(
     dir: &Path,
     summary: &Summary,
     provenance: Option<&Provenance>,

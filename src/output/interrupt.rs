@@ -12,7 +12,7 @@ pub const INTERRUPTED: i32 = 130;
 /// The flag raised by the first SIGINT/SIGTERM, lowered again for this run. The handler is
 /// installed once per process (`ctrlc` allows one); later calls, e.g. a program that runs the
 /// CLI several times ([`crate::cli::main_from`]), get the same flag.
-pub fn install() -> Arc<AtomicBool> {
+pub(crate) fn install() -> Arc<AtomicBool> {
     static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
     let flag = FLAG.get_or_init(|| {
         let flag = Arc::new(AtomicBool::new(false));

@@ -13,7 +13,7 @@ pub const MANIFEST: &str = ".celltissue-manifest.json";
 
 /// Contents of the manifest.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct Manifest {
+pub(crate) struct Manifest {
     /// Scenario that wrote the directory.
     pub scenario: String,
     /// Files it wrote (names relative to the directory), sorted.
@@ -22,7 +22,7 @@ pub struct Manifest {
 
 /// What [`prepare`] found: files in the directory that this program did not write (kept).
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct Prepared {
+pub(crate) struct Prepared {
     /// Names of files kept from before.
     pub foreign: BTreeSet<String>,
     /// Names of files removed (the previous run's).
@@ -50,7 +50,7 @@ fn entries(dir: &Path) -> Result<BTreeSet<String>, OutputError> {
 }
 
 /// Reads the manifest of `dir`, if any.
-pub fn read(dir: &Path) -> Option<Manifest> {
+pub(crate) fn read(dir: &Path) -> Option<Manifest> {
     let text = std::fs::read_to_string(dir.join(MANIFEST)).ok()?;
     serde_json::from_str(&text).ok()
 }
@@ -60,7 +60,7 @@ pub fn read(dir: &Path) -> Option<Manifest> {
 /// file of an earlier run survives). Anything else is [`OutputError::DirectoryInUse`] unless
 /// `replace`; with `replace` the files of the previous manifest are removed and every other
 /// file is kept. Leftover temporary files of an interrupted write are removed.
-pub fn prepare(dir: &Path, scenario: &str, replace: bool) -> Result<Prepared, OutputError> {
+pub(crate) fn prepare(dir: &Path, scenario: &str, replace: bool) -> Result<Prepared, OutputError> {
     std::fs::create_dir_all(dir).map_err(io_err(dir))?;
     for e in std::fs::read_dir(dir).map_err(io_err(dir))?.flatten() {
         if super::atomic::is_temp_name(&e.file_name().to_string_lossy()) {
@@ -116,7 +116,7 @@ fn write(dir: &Path, m: &Manifest) -> Result<PathBuf, OutputError> {
 }
 
 /// Records every file now in `dir` except `prepared.foreign` as written by `scenario`.
-pub fn finish(dir: &Path, scenario: &str, prepared: &Prepared) -> Result<Manifest, OutputError> {
+pub(crate) fn finish(dir: &Path, scenario: &str, prepared: &Prepared) -> Result<Manifest, OutputError> {
     let files: Vec<String> = entries(dir)?
         .difference(&prepared.foreign)
         .cloned()

@@ -16,7 +16,7 @@ pub mod finite;
 #[cfg(feature = "plots")]
 pub mod fonts;
 #[cfg(feature = "hdf5")]
-pub mod h5;
+pub(crate) mod h5;
 #[cfg(feature = "cli")]
 pub mod interrupt;
 pub mod manifest;

@@ -173,7 +173,7 @@ pub fn write_vtu(path: &Path, t: f64, grid: &Grid) -> io::Result<()> {
 
 /// Writes a ParaView collection (`.pvd`) listing `(time, file name relative to the .pvd)`,
 /// atomically.
-pub fn write_pvd(path: &Path, entries: &[(f64, String)]) -> io::Result<()> {
+pub(crate) fn write_pvd(path: &Path, entries: &[(f64, String)]) -> io::Result<()> {
     let mut s = String::from(
         "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n",
     );
@@ -257,7 +257,7 @@ pub fn line_grid(p: &Profile, ring: bool) -> Grid {
 
 /// Writes `.vtu` snapshots and a `.pvd` per line, ring or sheet run (not shear columns, nor
 /// runs whose profiles exceed [`VTU_MAX_CELLS`] cells in total); returns the paths.
-pub fn write_snapshots(
+pub(crate) fn write_snapshots(
     dir: &Path,
     scenario: &Scenario,
     summary: &Summary,

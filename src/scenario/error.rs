@@ -235,7 +235,7 @@ fn long_numbers_scientific(s: &str) -> String {
 }
 
 /// At most [`MAX_MESSAGE_CHARS`] characters per line and 12 lines, marking what was cut.
-pub fn shorten(s: &str) -> String {
+pub(crate) fn shorten(s: &str) -> String {
     shorten_to(s, MAX_MESSAGE_CHARS)
 }
 

@@ -36,7 +36,7 @@ pub const SHEET_BYTES_PER_CELL: f64 = 8000.0;
 /// Checks a size: `count` (as given; may be huge or fractional before conversion) must be at
 /// most `max`, and `count · bytes_per_cell` must fit the machine's available memory. The error
 /// names `key`, the limit and the memory the run would need.
-pub fn check_cells(
+pub(crate) fn check_cells(
     key: &str,
     count: f64,
     bytes_per_cell: f64,
@@ -75,7 +75,7 @@ pub fn check_cells(
 }
 
 /// `MemAvailable` from `/proc/meminfo`, in bytes (`None` where unavailable).
-pub fn available_memory() -> Option<f64> {
+pub(crate) fn available_memory() -> Option<f64> {
     let text = std::fs::read_to_string("/proc/meminfo").ok()?;
     let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
     let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;

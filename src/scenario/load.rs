@@ -330,7 +330,7 @@ fn check_sweep_profiles(times: &[f64], swept: bool, runs: &[RunSpec]) -> Result<
 }
 
 /// `"discrete"` / `"continuum"`.
-pub fn model_name(m: ModelKind) -> &'static str {
+pub(crate) fn model_name(m: ModelKind) -> &'static str {
     match m {
         ModelKind::Discrete => "discrete",
         ModelKind::Continuum => "continuum",

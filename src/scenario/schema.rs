@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 /// The file's top level as written (before sweep expansion and model parsing).
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RawScenario {
+pub(crate) struct RawScenario {
     /// Short name; becomes `"scenario"` in `summary.json`.
     pub name: String,
     /// One line saying what the scenario runs (shown by `celltissue list`).

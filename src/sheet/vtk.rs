@@ -1,15 +1,15 @@
 //! VTK output of the sheet for ParaView: one `.vtu` (XML unstructured grid, binary: zlib +
 //! base64, see [`crate::output::vtu`]) per snapshot with one hexahedron per cell
 //! (`[x_b(j−1,k), x_b(j,k)] × [y_b(j,k−1), y_b(j,k)] × [0, H]`) and per-cell `pressure`,
-//! `lambda1`, `lambda2`, `lambda3`, `height`, `sigma11`, `sigma22`, `kappa`, `column`, `row`;
-//! and a `.pvd` collection indexing the snapshots by time. Files are written atomically.
+//! `lambda1`, `lambda2`, `lambda3`, `height`, `sigma11`, `sigma22`, `kappa`, `column`, `row`.
+//! [`crate::output::vtu`] writes the snapshots (atomically) and the `.pvd` collection indexing
+//! them by time.
 //!
 //! Cells do not share vertices (neighbouring cells' faces need not coincide, docs/model.md §4.1).
 
 use super::uniaxial::SheetCell;
 use crate::output::vtu::{self, Grid, VTK_HEXAHEDRON};
 use std::io;
-use std::path::Path;
 
 /// The sheet's cells as a grid of hexahedra.
 ///
@@ -70,14 +70,4 @@ pub fn grid(cells: &[SheetCell]) -> Grid {
 /// ```
 pub fn vtu_string(t: f64, cells: &[SheetCell]) -> io::Result<String> {
     vtu::vtu_string(t, &grid(cells))
-}
-
-/// Writes one snapshot to `path` (`.vtu`), atomically.
-pub fn write_vtu(path: &Path, t: f64, cells: &[SheetCell]) -> io::Result<()> {
-    vtu::write_vtu(path, t, &grid(cells))
-}
-
-/// Writes a ParaView collection (`.pvd`) listing `(time, file name relative to the .pvd)`.
-pub fn write_pvd(path: &Path, entries: &[(f64, String)]) -> io::Result<()> {
-    vtu::write_pvd(path, entries)
 }
