@@ -74,7 +74,7 @@ fn exact_periodic_steady_state_has_zero_residual() {
         top: TopBoundary::Periodic,
         ..Default::default()
     };
-    let s = sheet_periodic_steady(&nh(), 0.1);
+    let s = sheet_periodic_steady(&nh(), 0.1).unwrap();
     assert!((s.pressure - 1.234568).abs() < 5e-7);
     let sheet = UniaxialSheet::discrete(nh(), &p).unwrap();
     let y = uniform_state(&sheet, 0.9, 1.0);

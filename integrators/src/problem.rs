@@ -32,9 +32,10 @@ pub type JacobianSink = Matrix;
 /// assert!(e.to_string().contains("past the wall"), "{e}");
 /// assert!(e.partial.t_last < 2.0 + 1e-9); // what it had computed is kept
 /// ```
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ResidualError {
     /// The state is outside the domain; a smaller step may avoid it.
+    #[error("{reason}")]
     Recoverable {
         /// Human-readable reason.
         reason: String,
@@ -42,6 +43,7 @@ pub enum ResidualError {
         component: Option<usize>,
     },
     /// Evaluation cannot succeed; stop.
+    #[error("{0}")]
     Fatal(String),
 }
 

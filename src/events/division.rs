@@ -362,6 +362,14 @@ impl Default for DivisionConfig {
 }
 
 /// A division setting out of range: the key inside `division` and what is wrong.
+///
+/// ```
+/// use celltissue::events::DivisionConfig;
+/// let v: toml::Value = toml::from_str("rule = \"age\"\nperiod = -1.0").unwrap();
+/// let e = DivisionConfig::from_value(v).unwrap_err();
+/// assert_eq!(e.key(), "period");
+/// assert!(e.to_string().starts_with("invalid `division.period`"), "{e}");
+/// ```
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub struct DivisionError(pub ParamError);
 

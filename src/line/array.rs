@@ -117,6 +117,18 @@ pub struct FieldsMut<'a> {
 
 /// Where each cell's `g` and each boundary's `x` live in the unknown vector (`NONE` if not an
 /// unknown). Rebuilt by [`Line::rebuild_layout`] after any change in the number of cells.
+///
+/// ```
+/// use celltissue::line::array::NONE;
+/// use celltissue::line::{discrete, LineParams};
+/// // four cells between a wall and a held end: x₁, x₂, x₃ are the unknowns, nothing grows
+/// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(4))?;
+/// let l = line.layout();
+/// assert_eq!((l.dim, l.xi[0], l.xi[1], l.xi[3], l.xi[4]), (3, NONE, 0, 2, NONE));
+/// assert!(l.gi.iter().all(|&i| i == NONE));
+/// assert_eq!(line.initial_state(), [1.0, 2.0, 3.0]);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Layout {
     /// `gi[j]` for cell `j = 1..=N` at index `j − 1`.
@@ -225,6 +237,19 @@ impl Lookup for Contiguous {
 }
 
 /// Quantities of one cell at `(t, y, ẏ)`.
+///
+/// ```
+/// use celltissue::line::{discrete, LineParams};
+/// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(4))?;
+/// // the first cell stretched to 1.2 (x₁ = 1.2), at rest
+/// let y = [1.2, 2.0, 3.0];
+/// let c = line.eval_cell(1, 0.0, &y, &[0.0; 3])?;
+/// assert!((c.lam - 1.2).abs() < 1e-15 && (c.alpha - 1.2).abs() < 1e-15);
+/// // neo-Hookean line stress μ(α² − α⁻²), no viscosity: σ = σ_el
+/// assert!((c.sigma_el - (1.44 - 1.0 / 1.44)).abs() < 1e-14 && c.sigma == c.sigma_el);
+/// assert!((c.w - 1.0 / 1.2).abs() < 1e-15); // width γ₀g₂/α
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub struct CellEval<S> {
     /// Total stretch `λ`.

@@ -10,6 +10,21 @@ pub const FONT: &str = "sans-serif";
 static DEJAVU_SANS: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
 
 /// Registers the embedded font (once per process; later calls do nothing).
+///
+/// ```
+/// use plotters::prelude::*;
+/// celltissue::output::fonts::register();
+/// celltissue::output::fonts::register(); // later calls do nothing
+/// // text in the embedded font, without any installed font
+/// let mut pixels = vec![255u8; 80 * 24 * 3];
+/// {
+///     let area = BitMapBackend::with_buffer(&mut pixels, (80, 24)).into_drawing_area();
+///     let font = (celltissue::output::fonts::FONT, 16).into_font().color(&BLACK);
+///     area.draw_text("μ = 1", &font, (2, 2)).unwrap();
+///     area.present().unwrap();
+/// }
+/// assert!(pixels.iter().any(|&p| p < 100)); // the glyphs left dark pixels
+/// ```
 pub fn register() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {

@@ -116,7 +116,11 @@ fn write(dir: &Path, m: &Manifest) -> Result<PathBuf, OutputError> {
 }
 
 /// Records every file now in `dir` except `prepared.foreign` as written by `scenario`.
-pub(crate) fn finish(dir: &Path, scenario: &str, prepared: &Prepared) -> Result<Manifest, OutputError> {
+pub(crate) fn finish(
+    dir: &Path,
+    scenario: &str,
+    prepared: &Prepared,
+) -> Result<Manifest, OutputError> {
     let files: Vec<String> = entries(dir)?
         .difference(&prepared.foreign)
         .cloned()

@@ -53,6 +53,19 @@ fn draw_err<E: std::fmt::Display>(e: E) -> PlotError {
 }
 
 /// Axis scale.
+///
+/// ```
+/// use celltissue::output::plot::{plot_chart, Axis, Chart, Curve, Style};
+/// // on a log axis the point at y = 0 is dropped, the others are drawn
+/// let chart = Chart {
+///     title: "growth".into(), x_label: "t".into(), y_label: "N".into(),
+///     x_axis: Axis::Linear, y_axis: Axis::Log,
+///     curves: vec![Curve::new("N", Style::Line, 0, vec![(0.0, 0.0), (1.0, 10.0), (2.0, 1e3)])],
+/// };
+/// let path = std::env::temp_dir().join("celltissue_doc_axis.png");
+/// assert!(plot_chart(&path, &chart).is_ok());
+/// assert_eq!(Axis::default(), Axis::Linear);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Axis {
     /// Linear.
@@ -63,6 +76,19 @@ pub enum Axis {
 }
 
 /// How a curve is drawn.
+///
+/// ```
+/// use celltissue::output::plot::{Curve, Style};
+/// // one run drawn both ways: its discrete cells as symbols, its continuum as a line, in the
+/// // same colour; the analytic solution over them as a reference
+/// let t = [0.0, 1.0, 2.0];
+/// let curves = [
+///     Curve::new("discrete", Style::Markers, 3, t.iter().map(|&t| (t, 1.0 - 0.1 * t)).collect()),
+///     Curve::new("continuum", Style::Line, 3, t.iter().map(|&t| (t, 1.0 - 0.1 * t)).collect()),
+///     Curve::new("exact", Style::Reference, 3, t.iter().map(|&t| (t, 1.0 - 0.1 * t)).collect()),
+/// ];
+/// assert!(curves.iter().all(|c| c.color == 3));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Style {
     /// Solid line (continuum runs).
@@ -78,6 +104,13 @@ pub enum Style {
 }
 
 /// One curve.
+///
+/// ```
+/// use celltissue::output::plot::{Curve, Style};
+/// let guide = Curve::new("", Style::Dashed, 0, vec![(0.0, 0.0), (10.0, 9.0)]); // x = (l/l₀)X
+/// assert!(guide.label.is_empty()); // no legend entry
+/// assert_eq!(guide.points.len(), 2);
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Curve {
     /// Legend entry (empty: not in the legend).
@@ -272,6 +305,20 @@ fn number_label(v: f64, step: f64) -> String {
 }
 
 /// Writes `chart` as a PNG at `path` (atomically: drawn to a temporary file, then renamed).
+///
+/// ```
+/// use celltissue::output::plot::{plot_chart, Axis, Chart, Curve, Style};
+/// // nothing drawable on a log axis: an error, and no file is left behind
+/// let path = std::env::temp_dir().join("celltissue_doc_plot_chart_empty.png");
+/// let _ = std::fs::remove_file(&path);
+/// let chart = Chart {
+///     title: "pressure".into(), x_label: "t".into(), y_label: "p".into(),
+///     x_axis: Axis::Linear, y_axis: Axis::Log,
+///     curves: vec![Curve::new("p", Style::Line, 0, vec![(0.0, 0.0), (1.0, -1.0)])],
+/// };
+/// assert!(plot_chart(&path, &chart).is_err());
+/// assert!(!path.exists());
+/// ```
 pub fn plot_chart(path: &Path, chart: &Chart) -> Result<(), PlotError> {
     super::fonts::register();
     let curves: Vec<(Curve, Vec<(f64, f64)>)> = chart

@@ -7,6 +7,16 @@ use std::collections::BTreeMap;
 
 /// The `"provenance"` object of `summary.json`. Absent facts (no git checkout at build time, no
 /// readable host name) are left out, not `null`.
+///
+/// ```
+/// use celltissue::output::provenance::Provenance;
+/// let table: toml::Table = toml::from_str("[division]\nrule = \"random_area\"\nseed = 42").unwrap();
+/// let p = Provenance::collect(&table, 2);
+/// assert_eq!(p.version, env!("CARGO_PKG_VERSION"));
+/// assert_eq!(p.seeds["division.seed"].as_integer(), Some(42));
+/// let json = serde_json::to_value(&p).unwrap();
+/// assert!(json.get("threads").is_some() && json.get("command_line").is_some());
+/// ```
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Provenance {
     /// `celltissue` crate version.

@@ -60,6 +60,21 @@ fn failed(spec: &RunSpec, error: String) -> RunRecord {
 
 /// Gives a record the spec's label, drops `null` (absent) parameters and adds `"kind"`,
 /// `"sweep"` and `"solver"` to its parameters.
+///
+/// ```
+/// use celltissue::scenario::{execute, load_str};
+/// let text = "name = \"k\"\n[output]\nseries = [0, 1]\n[model]\nkind = \"line\"\ncells = 4\nK = 1.0\n\
+///             [sweep]\nparameter = \"K\"\nvalues = [1.0, 2.0]";
+/// let s = load_str(text, "k.toml".as_ref(), &[])?;
+/// let spec = &s.runs[1];
+/// let mut rec = execute::run_spec(spec);
+/// rec.label.clear();
+/// execute::finish(spec, &mut rec);
+/// assert_eq!(rec.label, spec.label);
+/// assert_eq!(rec.parameters["kind"], "line");
+/// assert!(rec.parameters.get("sweep").is_some());
+/// # Ok::<(), celltissue::scenario::ScenarioError>(())
+/// ```
 pub fn finish(spec: &RunSpec, rec: &mut RunRecord) {
     rec.label = spec.label.clone();
     rec.model = spec.model;

@@ -89,6 +89,15 @@ impl ModelConfig {
 }
 
 /// What `[model]` says.
+///
+/// ```
+/// use celltissue::observe::ModelKind;
+/// use celltissue::scenario::model::parse_model;
+/// let t: toml::Table = toml::from_str("kind = \"line\"\ncells = 10\nmodels = [\"continuum\"]\nnodes = 40")?;
+/// let m = parse_model(&t)?;
+/// assert_eq!((m.models.as_slice(), m.nodes, m.grid), (&[ModelKind::Continuum][..], Some(40), None));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct ModelSection {
     /// The model's configuration.

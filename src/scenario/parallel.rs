@@ -15,6 +15,13 @@ use std::sync::Mutex;
 use thiserror::Error;
 
 /// Why runs could not be scheduled.
+///
+/// ```
+/// use celltissue::scenario::parallel::{ParallelError, Shard};
+/// let e: ParallelError = "3/2".parse::<Shard>().unwrap_err();
+/// assert!(matches!(e, ParallelError::Shard(_)));
+/// assert!(e.to_string().starts_with("`--shard`:"), "{e}");
+/// ```
 #[derive(Debug, Error, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum ParallelError {

@@ -185,6 +185,16 @@ pub struct OutputSection {
 }
 
 /// An axis scale.
+///
+/// ```
+/// use celltissue::scenario::schema::Scale;
+/// #[derive(serde::Deserialize)]
+/// struct Axes { time_axis: Scale }
+/// let a: Axes = toml::from_str("time_axis = \"log\"")?;
+/// assert_eq!(a.time_axis, Scale::Log);
+/// assert_eq!(Scale::default(), Scale::Linear);
+/// # Ok::<(), toml::de::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Scale {
@@ -196,6 +206,14 @@ pub enum Scale {
 }
 
 /// Which position profiles are plotted against.
+///
+/// ```
+/// use celltissue::scenario::schema::{PlotSettings, ProfileAxis};
+/// let p: PlotSettings = toml::from_str("profile_axis = \"current\"")?;
+/// assert_eq!(p.profile_axis, ProfileAxis::Current);
+/// assert_eq!(PlotSettings::default().profile_axis, ProfileAxis::Reference); // against X
+/// # Ok::<(), toml::de::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ProfileAxis {

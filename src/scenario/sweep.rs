@@ -91,6 +91,17 @@ fn default_seed_key() -> String {
 }
 
 /// One swept parameter of a `grid` or `zip`.
+///
+/// ```
+/// use celltissue::scenario::sweep::SweepSection;
+/// let sw: SweepSection = toml::from_str(
+///     r#"zip = [{ parameter = "K", values = [0.1, 1.0], labels = ["weak", "strong"] },
+///               { parameter = "eta", values = [0, 2] }]"#)?;
+/// let axes = sw.zip.unwrap();
+/// assert_eq!((axes[0].parameter.as_str(), axes[1].values.len()), ("K", 2));
+/// assert_eq!(axes[0].labels.as_deref(), Some(&["weak".to_string(), "strong".to_string()][..]));
+/// # Ok::<(), toml::de::Error>(())
+/// ```
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SweepAxis {
@@ -104,6 +115,15 @@ pub struct SweepAxis {
 }
 
 /// One swept parameter's value at a sweep point.
+///
+/// ```
+/// use celltissue::scenario::sweep::{expand, SweepSection};
+/// let sw: SweepSection = toml::from_str("parameter = \"division.ratio\"\nvalues = [1.5, 2]")?;
+/// let part = &expand(&sw)?[1].parts[0];
+/// assert_eq!((part.key.as_str(), part.name.as_str(), part.label.as_str()), ("model.division.ratio", "ratio", "2"));
+/// assert_eq!((part.value, part.origin.as_str()), (Some(2.0), "sweep.values[1]"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct SweepPart {
     /// Full dotted key (`"model.K"`).

@@ -17,7 +17,7 @@ use std::f64::consts::PI;
 /// ```
 /// use celltissue::sheet::exact::sheet_periodic_steady;
 /// // a periodic sheet 10 % shorter: λ₂ = 1 (held by periodicity), λ₃ = 1/0.9
-/// let s = sheet_periodic_steady(&celltissue::NeoHookean::new(1.0).unwrap(), 0.1);
+/// let s = sheet_periodic_steady(&celltissue::NeoHookean::new(1.0).unwrap(), 0.1).unwrap();
 /// assert!((s.stretch[0] - 0.9).abs() < 1e-12 && (s.stretch[1] - 1.0).abs() < 1e-12);
 /// assert!((s.pressure - 1.0 / 0.81).abs() < 1e-9);
 /// ```
@@ -34,6 +34,18 @@ pub struct SheetSteady {
 }
 
 /// Why an exact solution could not be computed.
+///
+/// ```
+/// use celltissue::sheet::exact::{sheet_free_steady, ExactError};
+/// use celltissue::Gent;
+/// // a Gent cell locks at I₁ − 3 = J_m: halved in length, the free top's root
+/// // λ₂ = λ₃ = √2 has I₁ − 3 = 1.25 > J_m = 0.5, so no admissible state exists
+/// let e = sheet_free_steady(&Gent::new(1.0, 0.5)?, 0.5).unwrap_err();
+/// assert!(matches!(e, ExactError::Inadmissible { .. }), "{e}");
+/// // a quarter shorter it is admissible: I₁ − 3 = 0.56 + 2/0.75 − 3 = 0.23
+/// assert!(sheet_free_steady(&Gent::new(1.0, 0.5)?, 0.25).is_ok());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ExactError {
     /// Newton's method for `σ₂₂(λ₁, λ₂) = 0` did not converge.
@@ -42,16 +54,32 @@ pub enum ExactError {
         /// The given `λ₁`.
         lambda1: f64,
     },
+    /// The state is outside the law's domain (a locking law past its lock): no admissible
+    /// steady state exists.
+    #[error("the steady stretches {stretch:?} are outside the law's domain: {reason}")]
+    Inadmissible {
+        /// The stretches `λ₁, λ₂, λ₃`.
+        stretch: [f64; 3],
+        /// The law's reason.
+        reason: String,
+    },
 }
 
-fn steady(law: &impl StrainEnergy, l1: f64, l2: f64) -> SheetSteady {
+/// The homogeneous state at `(λ₁, λ₂)`, if the law admits it.
+fn steady(law: &impl StrainEnergy, l1: f64, l2: f64) -> Result<SheetSteady, ExactError> {
+    let stretch = [l1, l2, 1.0 / (l1 * l2)];
+    law.admissible(stretch)
+        .map_err(|e| ExactError::Inadmissible {
+            stretch,
+            reason: e.to_string(),
+        })?;
     let r = law.sheet(l1, l2);
-    SheetSteady {
-        stretch: [l1, l2, 1.0 / (l1 * l2)],
+    Ok(SheetSteady {
+        stretch,
         pressure: r.pressure,
         s11: r.s11,
         s22: r.s22,
-    }
+    })
 }
 
 /// Steady state of the free-top sheet at final shortening `k₁`: `λ₁ = 1 − k₁`, `λ₂` from
@@ -80,10 +108,10 @@ pub fn sheet_free_steady(law: &impl StrainEnergy, k1: f64) -> Result<SheetSteady
         }
         l2 -= step;
         if step.abs() <= 1e-15 * l2 {
-            return Ok(steady(law, l1, l2));
+            return steady(law, l1, l2);
         }
     }
-    let s = steady(law, l1, l2);
+    let s = steady(law, l1, l2)?;
     if s.s22.abs() < 1e-13 {
         Ok(s)
     } else {
@@ -91,16 +119,17 @@ pub fn sheet_free_steady(law: &impl StrainEnergy, k1: f64) -> Result<SheetSteady
     }
 }
 
-/// Steady state of the sheet with a periodic side: `λ₁ = 1 − k₁`, `λ₂ = 1`.
+/// Steady state of the sheet with a periodic side: `λ₁ = 1 − k₁`, `λ₂ = 1` (an error if the law
+/// does not admit it).
 ///
 /// ```
 /// use celltissue::sheet::exact::sheet_periodic_steady;
-/// let s = sheet_periodic_steady(&celltissue::NeoHookean::new(1.0)?, 0.5);
+/// let s = sheet_periodic_steady(&celltissue::NeoHookean::new(1.0)?, 0.5)?;
 /// assert_eq!(s.stretch[0], 0.5);
 /// assert!((s.stretch[2] - 2.0).abs() < 1e-12 && (s.pressure - 4.0).abs() < 1e-12); // λ₃ = 2, p = 4
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn sheet_periodic_steady(law: &impl StrainEnergy, k1: f64) -> SheetSteady {
+pub fn sheet_periodic_steady(law: &impl StrainEnergy, k1: f64) -> Result<SheetSteady, ExactError> {
     steady(law, 1.0 - k1, 1.0)
 }
 

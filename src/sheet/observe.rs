@@ -37,6 +37,19 @@ pub const MIN_STRETCH_Y: &str = "min_stretch_y";
 pub const MEAN_WIDTH: &str = "mean_width";
 
 /// Scalar observables of one sheet snapshot.
+///
+/// ```
+/// use celltissue::sheet::observe::sheet_observables;
+/// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+/// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &SheetParams::default())?;
+/// let y = sheet.initial_state();
+/// let o = sheet_observables(&sheet, 0.0, &y, &sheet.cells(0.0, &y, &vec![0.0; y.len()]));
+/// // the undeformed 10 × 10 sheet: length l₀ = 10, unit stretches, height β₀ = 1
+/// assert_eq!((o.length, o.stretch_x, o.stretch_y), (10.0, [1.0; 2], [1.0; 2]));
+/// assert!((o.mean_height - 1.0).abs() < 1e-15);
+/// assert_eq!(o.width, None); // reported for growing sheets only
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SheetObservables {
     /// Time.
@@ -346,6 +359,19 @@ pub fn sheet_cells(p: &Profile) -> Vec<SheetCell> {
 }
 
 /// Scalar observables of one shear snapshot.
+///
+/// ```
+/// use celltissue::sheet::observe::shear_observables;
+/// use celltissue::sheet::shear::{ShearColumn, ShearParams};
+/// let p = ShearParams { cells: 4, ..Default::default() };
+/// let col = ShearColumn::discrete(celltissue::NeoHookean::new(1.0)?, &p)?;
+/// // the steady state of F_A = β₀μ: every cell sheared by tan θ = 1, the top edge at x = 4
+/// let o = shear_observables(0.0, &col.fields(&[1.0, 2.0, 3.0, 4.0], &[0.0; 4]));
+/// assert_eq!((o.top, o.spread, o.tan_theta), (4.0, 0.0, [1.0, 1.0]));
+/// assert!((o.mean_theta - std::f64::consts::FRAC_PI_4).abs() < 1e-15);
+/// assert!((o.pressure[0] - 1.0).abs() < 1e-12); // neo-Hookean: p = μ
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ShearObservables {
     /// Time.
