@@ -23,7 +23,7 @@
 //!   noise-amplified velocities (`∝ μ/(K L₀)`) made every restart reject steps);
 //! * [`log`] — [`DivisionLog`]: time, parent, `x_d`, `x_d/l`, `N` after; CSV; `N(t)`, median
 //!   `x_d/l`;
-//! * [`plots`] — the division scatter and log–log `l(t)`, `N(t)` figures (Fig. 3.3);
+//! * `plots` — the division scatter and log–log `l(t)`, `N(t)` figures (Fig. 3.3);
 //! * [`run`] — [`run_proliferation`]: a scenario run (discrete with division, or the
 //!   proliferating continuum of [`crate::proliferation`]) to a [`crate::observe::RunRecord`]
 //!   with `"cells"` series and `"divisions"`.

@@ -3,7 +3,7 @@
 //! UInt64 headers), about 10–30× smaller than ASCII; and `.pvd` collections that index the
 //! snapshots of a run by time.
 //!
-//! [`write_snapshots`] writes the lines, rings and sheets of a scenario (one `.vtu` per profile
+//! `write_snapshots` writes the lines, rings and sheets of a scenario (one `.vtu` per profile
 //! time, `<label>_NNNN.vtu`, and `<label>.pvd`). A line's cell is a VTK line segment from
 //! `x − λΔX/2` to `x + λΔX/2` on the x axis — for a ring, the chord of its arc on a circle of
 //! the ring's current length — carrying `stretch`, `pressure` and every other per-cell field;

@@ -67,7 +67,7 @@ pub struct SheetParams {
     /// Maxwell branch of every cell (Maxwell or standard-linear-solid cells), if any.
     pub branch: Option<MaxwellBranch>,
     /// Kelvin–Voigt viscosity `η ≥ 0` of every cell (including the factor 2, as on the line):
-    /// `η α̇ᵢ` in each principal direction ([`kelvin_voigt_sheet`]); 0 for elastic cells.
+    /// `η α̇ᵢ` in each principal direction ([`kelvin_voigt_sheet`](crate::cell::kelvin_voigt_sheet)); 0 for elastic cells.
     pub eta: f64,
     /// External pressure `p_e(X)` on each cell's upper face `z = H`, a field of the reference
     /// position `X` sampled at the cell (segment) centres; constant along `Y`.
