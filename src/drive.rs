@@ -11,26 +11,26 @@ use crate::settings::SolveSettings;
 use integrators::observer::{AcceptedStep, Observer, RejectedStep};
 use integrators::{EventRecord, OptionsError, Problem, SolveFailure, Solver, Stats};
 
-/// What [`drive`] reports while it integrates: every requested output (which the observer may
-/// refuse, stopping the run), and — if the observer wants them — each accepted step, each
-/// rejected attempt (with its cause and worst unknown) and each handled event, across the
-/// pieces between breakpoints. [`drive_observed`] takes one; [`drive`] takes a closure
-/// observing outputs only.
+/// What [`drive`] reports to while it integrates: an [`Observer`] of the solver (every
+/// requested output, and each accepted step, rejected attempt — with its cause and worst
+/// unknown — and handled event it wants, across the pieces between breakpoints) that may also
+/// refuse an output, stopping the run: after each output, [`drive_observed`] takes the
+/// observer's refusal, if any. [`drive`] takes a closure observing outputs only.
 ///
 /// ```
 /// use celltissue::drive::{drive_observed, DriveObserver};
 /// use celltissue::line::build::{discrete, LineParams};
 /// use celltissue::{ArrayProblem, NeoHookean, SolveSettings};
-/// use integrators::observer::{AcceptedStep, RejectedStep};
+/// use integrators::observer::{AcceptedStep, Observer, RejectedStep};
 /// /// The smallest step taken and the rejected attempts.
 /// struct Steps { h_min: f64, rejected: Vec<RejectedStep> }
-/// impl<P> DriveObserver<P> for Steps {
-///     fn output(&mut self, _: &P, _: f64, _: &[f64], _: &[f64]) -> Result<(), String> { Ok(()) }
+/// impl<P> Observer<P> for Steps {
 ///     fn accepted(&mut self, _: &P, s: &AcceptedStep, _: &[f64]) {
 ///         self.h_min = self.h_min.min(s.t - s.t_prev);
 ///     }
 ///     fn rejected(&mut self, _: &P, s: &RejectedStep) { self.rejected.push(s.clone()); }
 /// }
+/// impl<P> DriveObserver<P> for Steps {} // refuses nothing
 /// let mut p = LineParams::unit_cells(50);
 /// p.k = 1.0.into();
 /// let line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
@@ -41,41 +41,45 @@ use integrators::{EventRecord, OptionsError, Problem, SolveFailure, Solver, Stat
 /// assert!(d.error.is_none() && steps.h_min < 1e-3);
 /// assert_eq!(steps.rejected.len(), d.stats.rejected_steps);
 /// ```
-pub trait DriveObserver<P> {
-    /// An output time reached; an `Err` stops the run after the current piece.
-    fn output(&mut self, problem: &P, t: f64, y: &[f64], yp: &[f64]) -> Result<(), String>;
-    /// A step accepted (default: ignored).
-    fn accepted(&mut self, _problem: &P, _step: &AcceptedStep, _y: &[f64]) {}
-    /// A step attempt rejected (default: ignored).
-    fn rejected(&mut self, _problem: &P, _step: &RejectedStep) {}
-    /// An event handled, with the state after it (default: ignored).
-    fn event(&mut self, _problem: &P, _event: &EventRecord, _y: &[f64]) {}
+pub trait DriveObserver<P>: Observer<P> {
+    /// Why the observer refused the output it was last given, if it did (taken: the next call
+    /// gives `None` unless it refuses again). The run stops after the current piece with this
+    /// message. Default: it refuses nothing.
+    fn take_refusal(&mut self) -> Option<String> {
+        None
+    }
 }
 
-/// An observer of outputs only, from a closure (what [`drive`] wraps its closure in).
-struct OnOutput<F>(F);
+impl<P, O: DriveObserver<P> + ?Sized> DriveObserver<P> for &mut O {
+    fn take_refusal(&mut self) -> Option<String> {
+        (**self).take_refusal()
+    }
+}
+
+/// An observer of outputs only, from a closure that may refuse one (what [`drive`] wraps its
+/// closure in).
+struct OnOutput<F> {
+    observe: F,
+    refusal: Option<String>,
+}
+
+impl<P, F> Observer<P> for OnOutput<F>
+where
+    F: FnMut(&P, f64, &[f64], &[f64]) -> Result<(), String>,
+{
+    fn output(&mut self, problem: &P, t: f64, y: &[f64], yp: &[f64]) {
+        if let Err(m) = (self.observe)(problem, t, y, yp) {
+            self.refusal = Some(m);
+        }
+    }
+}
 
 impl<P, F> DriveObserver<P> for OnOutput<F>
 where
     F: FnMut(&P, f64, &[f64], &[f64]) -> Result<(), String>,
 {
-    fn output(&mut self, problem: &P, t: f64, y: &[f64], yp: &[f64]) -> Result<(), String> {
-        (self.0)(problem, t, y, yp)
-    }
-}
-
-impl<P, O: DriveObserver<P> + ?Sized> DriveObserver<P> for &mut O {
-    fn output(&mut self, problem: &P, t: f64, y: &[f64], yp: &[f64]) -> Result<(), String> {
-        (**self).output(problem, t, y, yp)
-    }
-    fn accepted(&mut self, problem: &P, step: &AcceptedStep, y: &[f64]) {
-        (**self).accepted(problem, step, y);
-    }
-    fn rejected(&mut self, problem: &P, step: &RejectedStep) {
-        (**self).rejected(problem, step);
-    }
-    fn event(&mut self, problem: &P, event: &EventRecord, y: &[f64]) {
-        (**self).event(problem, event, y);
+    fn take_refusal(&mut self) -> Option<String> {
+        self.refusal.take()
     }
 }
 
@@ -93,9 +97,8 @@ impl<P, O: DriveObserver<P>> Observer<P> for Piece<'_, O> {
         if self.refused.is_some() || (t == self.stop && !self.requested_stop) {
             return;
         }
-        if let Err(m) = self.observer.output(problem, t, y, yp) {
-            self.refused = Some(m);
-        }
+        self.observer.output(problem, t, y, yp);
+        self.refused = self.observer.take_refusal();
     }
     fn accepted(&mut self, problem: &P, step: &AcceptedStep, y: &[f64]) {
         self.observer.accepted(problem, step, y);
@@ -201,7 +204,11 @@ pub fn drive<P: Problem>(
     breakpoints: &[f64],
     observe: impl FnMut(&P, f64, &[f64], &[f64]) -> Result<(), String>,
 ) -> Driven {
-    drive_observed(problem, settings, y0, t_out, breakpoints, OnOutput(observe))
+    let observer = OnOutput {
+        observe,
+        refusal: None,
+    };
+    drive_observed(problem, settings, y0, t_out, breakpoints, observer)
 }
 
 /// As [`drive`], reporting outputs, accepted and rejected steps and events to `observer` (see
@@ -213,13 +220,13 @@ pub fn drive<P: Problem>(
 /// use celltissue::events::{AreaDoubling, Dividing};
 /// use celltissue::line::build::{discrete, LineParams};
 /// use celltissue::{ArrayProblem, NeoHookean, SolveSettings};
-/// use integrators::EventRecord;
+/// use integrators::{observer::Observer, EventRecord};
 /// /// The number of unknowns after each event.
 /// struct Sizes(Vec<usize>);
-/// impl<P> DriveObserver<P> for Sizes {
-///     fn output(&mut self, _: &P, _: f64, _: &[f64], _: &[f64]) -> Result<(), String> { Ok(()) }
+/// impl<P> Observer<P> for Sizes {
 ///     fn event(&mut self, _: &P, _: &EventRecord, y: &[f64]) { self.0.push(y.len()); }
 /// }
+/// impl<P> DriveObserver<P> for Sizes {}
 /// let mut p = LineParams::unit_cells(4);
 /// p.right = celltissue::boundary::RightEnd::Free(None);
 /// p.growth = Some(std::sync::Arc::new(celltissue::cell::TanhGrowth::default()));

@@ -12,7 +12,7 @@ use crate::array::{ArrayProblem, CellArray};
 use crate::drive::{drive_observed, DriveError, DriveObserver};
 use crate::observe::{Profile, RunStats, Series};
 use crate::settings::SolveSettings;
-use integrators::observer::{RejectCause, RejectedStep};
+use integrators::observer::{Observer, RejectCause, RejectedStep};
 use integrators::{RecoverableCause, SolveFailure};
 use std::time::Instant;
 
@@ -309,6 +309,7 @@ pub fn run_recorded<A: CellArray, R: Recorder<A>>(
         series: Series::default(),
         profiles: Vec::new(),
         rejected: None,
+        refusal: None,
     };
     let driven = drive_observed(problem, settings, y0, &t_out, breakpoints, &mut watch);
     let error = driven.error.map(|e| match e {
@@ -337,10 +338,22 @@ struct Watch<'a, R> {
     series: Series,
     profiles: Vec<Profile>,
     rejected: Option<RejectedStep>,
+    refusal: Option<String>,
 }
 
-impl<A: CellArray, R: Recorder<A>> DriveObserver<ArrayProblem<A>> for Watch<'_, R> {
-    fn output(&mut self, p: &ArrayProblem<A>, t: f64, y: &[f64], yp: &[f64]) -> Result<(), String> {
+impl<R> Watch<'_, R> {
+    /// Records the state at `t` if it is a series or profile time; refuses a failed or
+    /// non-finite observation.
+    fn record<A: CellArray>(
+        &mut self,
+        p: &ArrayProblem<A>,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+    ) -> Result<(), String>
+    where
+        R: Recorder<A>,
+    {
         let failed = |e: String| format!("observation at t = {t} failed: {e}");
         if self.series_at.hit(t) {
             let row = self
@@ -368,11 +381,25 @@ impl<A: CellArray, R: Recorder<A>> DriveObserver<ArrayProblem<A>> for Watch<'_, 
         }
         Ok(())
     }
+}
+
+impl<A: CellArray, R: Recorder<A>> Observer<ArrayProblem<A>> for Watch<'_, R> {
+    fn output(&mut self, p: &ArrayProblem<A>, t: f64, y: &[f64], yp: &[f64]) {
+        if let Err(m) = self.record(p, t, y, yp) {
+            self.refusal = Some(m);
+        }
+    }
 
     fn rejected(&mut self, _: &ArrayProblem<A>, step: &RejectedStep) {
         if rejected_by_the_model(step) {
             self.rejected = Some(step.clone());
         }
+    }
+}
+
+impl<A: CellArray, R: Recorder<A>> DriveObserver<ArrayProblem<A>> for Watch<'_, R> {
+    fn take_refusal(&mut self) -> Option<String> {
+        self.refusal.take()
     }
 }
 

@@ -21,7 +21,7 @@ use crate::drive::{drive_observed, DriveError, DriveObserver};
 use crate::energy::StrainEnergy;
 use crate::observe::{ModelKind, Profile, RunRecord, RunStats, Series};
 use crate::runner::{run_recorded, Recorder, SeriesRow};
-use integrators::observer::RejectedStep;
+use integrators::observer::{Observer, RejectedStep};
 use integrators::{ResidualError, SolveFailure, Stats};
 
 /// The run settings (one type for every model; see [`crate::settings`]).
@@ -190,20 +190,27 @@ pub fn integrate<A: LineModel>(
 struct Watch {
     snapshots: Vec<Snapshot>,
     rejected: Option<RejectedStep>,
+    refusal: Option<String>,
 }
 
-impl<A: LineModel> DriveObserver<ArrayProblem<A>> for Watch {
-    fn output(&mut self, p: &ArrayProblem<A>, t: f64, y: &[f64], yp: &[f64]) -> Result<(), String> {
-        p.array
-            .observe(t, y, yp)
-            .map(|s| self.snapshots.push(s))
-            .map_err(|e| format!("observation at t = {t} failed: {}", reason(&e)))
+impl<A: LineModel> Observer<ArrayProblem<A>> for Watch {
+    fn output(&mut self, p: &ArrayProblem<A>, t: f64, y: &[f64], yp: &[f64]) {
+        match p.array.observe(t, y, yp) {
+            Ok(s) => self.snapshots.push(s),
+            Err(e) => self.refusal = Some(format!("observation at t = {t} failed: {}", reason(&e))),
+        }
     }
 
     fn rejected(&mut self, _: &ArrayProblem<A>, step: &RejectedStep) {
         if crate::runner::rejected_by_the_model(step) {
             self.rejected = Some(step.clone());
         }
+    }
+}
+
+impl<A: LineModel> DriveObserver<ArrayProblem<A>> for Watch {
+    fn take_refusal(&mut self) -> Option<String> {
+        self.refusal.take()
     }
 }
 
