@@ -209,12 +209,27 @@ fn check_params(p: &ShearParams, m: usize) -> Result<(), ShearBuildError> {
 
 impl<E: StrainEnergy> ShearColumn<E> {
     /// The discrete column of `M` cells.
+    ///
+    /// ```
+    /// use celltissue::sheet::shear::{ShearColumn, ShearParams};
+    /// let col = ShearColumn::discrete(celltissue::NeoHookean::new(1.0)?, &ShearParams::default())?;
+    /// assert_eq!((col.segments(), col.spacing()), (10, 1.0)); // M cells of height γ₀
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn discrete(law: E, params: &ShearParams) -> Result<Self, ShearBuildError> {
         Self::continuum(law, params, params.cells)
     }
 
     /// The conservative continuum scheme on `m` segments of height `h = Mγ₀/m`, edge drag
     /// `K h/γ₀` (docs/model.md §4.6). With `m = M` this is the discrete model.
+    ///
+    /// ```
+    /// use celltissue::sheet::shear::{ShearColumn, ShearParams};
+    /// // 10 cells of height γ₀ = 1 resolved on 40 segments
+    /// let col = ShearColumn::continuum(celltissue::NeoHookean::new(1.0)?, &ShearParams::default(), 40)?;
+    /// assert_eq!((col.segments(), col.spacing()), (40, 0.25));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn continuum(law: E, params: &ShearParams, m: usize) -> Result<Self, ShearBuildError> {
         check_params(params, m)?;
         let h = params.cells as f64 * params.gamma0 / m as f64;
@@ -244,6 +259,13 @@ impl<E: StrainEnergy> ShearColumn<E> {
         &self.law
     }
     /// Initial state `x_e ≡ 0` (docs/model.md §4.4, (4.89)).
+    ///
+    /// ```
+    /// use celltissue::sheet::shear::{ShearColumn, ShearParams};
+    /// let col = ShearColumn::discrete(celltissue::NeoHookean::new(1.0)?, &ShearParams::default())?;
+    /// assert!(col.initial_state().iter().all(|&x| x == 0.0)); // unsheared
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn initial_state(&self) -> Vec<f64> {
         vec![0.0; self.m]
     }
@@ -382,6 +404,14 @@ pub struct ShearCellCentre<E: StrainEnergy> {
 impl<E: StrainEnergy> ShearCellCentre<E> {
     /// Builds the cell-centre form with `K_th = 2 params.drag` (so it matches the edge form with
     /// the same `params`).
+    ///
+    /// ```
+    /// use celltissue::sheet::shear::{ShearCellCentre, ShearParams};
+    /// let p = ShearParams { drag: 0.3, ..Default::default() };
+    /// let col = ShearCellCentre::new(celltissue::NeoHookean::new(1.0)?, &p)?;
+    /// assert_eq!(col.k_th(), 0.6); // the thesis's coefficient, twice the edge form's K
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn new(law: E, params: &ShearParams) -> Result<Self, ShearBuildError> {
         check_params(params, params.cells)?;
         Ok(Self {
@@ -402,6 +432,14 @@ impl<E: StrainEnergy> ShearCellCentre<E> {
     }
 
     /// Edge positions `x_{e,0..M}` from centres by the alternating sums (4.93)–(4.95).
+    ///
+    /// ```
+    /// use celltissue::sheet::shear::ShearCellCentre;
+    /// use celltissue::NeoHookean;
+    /// // centres at 0.5 and 1.5 above a fixed base: edges at 1 and 2 (uniform shear)
+    /// let xe = ShearCellCentre::<NeoHookean>::edges(&[0.5f64, 1.5]);
+    /// assert_eq!(xe, [0.0, 1.0, 2.0]);
+    /// ```
     pub fn edges<S: Scalar>(xc: &[S]) -> Vec<S> {
         let mut xe = Vec::with_capacity(xc.len() + 1);
         xe.push(S::from(0.0));

@@ -256,6 +256,15 @@ fn check(
 
 impl<E: StrainEnergy> UniaxialSheet<E> {
     /// The discrete model: `N × M` cells of reference size `1 × γ₀`.
+    ///
+    /// ```
+    /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+    /// let p = SheetParams { cells_x: 6, cells_y: 3, ..Default::default() };
+    /// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &p)?;
+    /// // unit cells: the grid is the cells, the spacing their reference size 1 × γ₀
+    /// assert_eq!((sheet.grid(), sheet.spacing()), ((6, 3), (1.0, 1.0)));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn discrete(law: E, params: &SheetParams) -> Result<Self, SheetBuildError> {
         Self::continuum(law, params, params.cells_x, params.cells_y)
     }
@@ -263,6 +272,16 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
     /// The conservative continuum scheme on an `n × m` grid (docs/model.md §4.3): reference cells
     /// `h_X = N/n`, `h_Y = Mγ₀/m`, per-face drag `K h_X h_Y/γ₀`. With `n = N`, `m = M` this is the
     /// discrete model.
+    ///
+    /// ```
+    /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+    /// let p = SheetParams { cells_x: 6, cells_y: 3, ..Default::default() };
+    /// // the same 6 × 3 sheet resolved on a 12 × 12 grid: a quarter-cell in y
+    /// let sheet = UniaxialSheet::continuum(celltissue::NeoHookean::new(1.0)?, &p, 12, 12)?;
+    /// assert_eq!((sheet.l0(), sheet.w0(), sheet.spacing()), (6.0, 3.0, (0.5, 0.25)));
+    /// assert!(UniaxialSheet::continuum(celltissue::NeoHookean::new(1.0)?, &p, 0, 12).is_err());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn continuum(
         law: E,
         params: &SheetParams,
@@ -350,6 +369,17 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
 
     /// Sets per-unknown absolute tolerances to `atol × h` (cell-sized units): `h_X` for x-faces,
     /// `h_Y` for y-faces. Without it the solver's scalar `atol` is used.
+    ///
+    /// ```
+    /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+    /// use celltissue::CellArray;
+    /// let sheet = UniaxialSheet::continuum(celltissue::NeoHookean::new(1.0)?, &SheetParams::default(), 20, 40)?
+    ///     .with_cell_atol(1e-8);
+    /// // each face position's tolerance is atol times its segment's size (h_X = 0.5, h_Y = 0.25)
+    /// let atol = sheet.atol().unwrap();
+    /// assert_eq!((atol[sheet.iy(1, 1)], atol[sheet.ix(1, 1)]), (0.25e-8, 0.5e-8));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn with_cell_atol(mut self, atol: f64) -> Self {
         self.atol_cell = Some(atol);
         self
@@ -380,6 +410,15 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
         self.params.cells_y as f64 * self.params.gamma0
     }
     /// The prescribed length `l(t)` (the ramp; see [`Self::right_edge`] for a free edge).
+    ///
+    /// ```
+    /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+    /// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &SheetParams::default())?;
+    /// // the exponential ramp shortens the 10-cell sheet by k₁ = 10 %
+    /// assert_eq!(sheet.length(0.0), 10.0);
+    /// assert!((sheet.length(50.0) - 9.0).abs() < 1e-12);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn length(&self, t: f64) -> f64 {
         self.params.ramp.length(self.l0(), self.params.k1, t)
     }
@@ -394,6 +433,16 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
     }
 
     /// Index of the unknown `y_b(j, k)` (`j = 1..n`; `k = 1..m` free top, `k = 0..m−1` periodic).
+    ///
+    /// ```
+    /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+    /// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &SheetParams::default())?;
+    /// let y = sheet.initial_state();
+    /// // the top face of column 2 starts at y = M γ₀ = 10
+    /// assert_eq!(y[sheet.iy(2, 10)], 10.0);
+    /// assert_eq!(sheet.yb(&y, 2, 10), 10.0);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn iy(&self, j: usize, k: usize) -> usize {
         let base = (j - 1) * self.block + self.faces;
         match self.params.top {
@@ -403,6 +452,16 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
     }
     /// Index of the unknown `x_b(j, k)` (`j = 1..n−1`, and `j = n` with a free right edge;
     /// `k = 1..m`).
+    ///
+    /// ```
+    /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+    /// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &SheetParams::default())?;
+    /// let y = sheet.initial_state();
+    /// // the face between columns 3 and 4 of row 5 starts at x = 3
+    /// assert_eq!(y[sheet.ix(3, 5)], 3.0);
+    /// assert_eq!(sheet.xb(&y, 0.0, 3, 5), 3.0);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn ix(&self, j: usize, k: usize) -> usize {
         (j - 1) * self.block + self.x_faces + k - 1
     }
@@ -429,6 +488,15 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
         self.params.growth.as_ref()
     }
     /// Mean position of the side `x = l` over the rows: `l(t)` when prescribed.
+    ///
+    /// ```
+    /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+    /// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &SheetParams::default())?;
+    /// let y = sheet.initial_state();
+    /// // a prescribed edge follows the ramp whatever the state
+    /// assert_eq!(sheet.right_edge(2.0, &y), sheet.length(2.0));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn right_edge(&self, t: f64, y: &[f64]) -> f64 {
         let lt = self.length(t);
         (1..=self.m)
@@ -454,6 +522,19 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
     }
 
     /// The initial state `x_b = j h_X`, `y_b = k h_Y` (and relaxed branches, `a₁ = a₂ = 1`).
+    ///
+    /// ```
+    /// use celltissue::cell::MaxwellBranch;
+    /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+    /// use celltissue::CellArray;
+    /// let p = SheetParams { branch: Some(MaxwellBranch::maxwell(1.0, 2.0)?), ..Default::default() };
+    /// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &p)?;
+    /// let y = sheet.initial_state();
+    /// assert_eq!(y.len(), sheet.dim());
+    /// // relaxed branches: a₁ = a₂ = 1 in every cell
+    /// assert_eq!((y[sheet.iq(4, 7)], y[sheet.iq(4, 7) + 1]), (1.0, 1.0));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn initial_state(&self) -> Vec<f64> {
         let mut y = vec![0.0; self.dim()];
         for j in 1..=self.n {
@@ -483,10 +564,30 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
     }
 
     /// `x_b(j, k)` for `j = 0..n` (boundary values included).
+    ///
+    /// ```
+    /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+    /// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &SheetParams::default())?;
+    /// let y = sheet.initial_state();
+    /// // the wall x = 0 and the prescribed edge x = l(t) are not unknowns but are reported
+    /// assert_eq!((sheet.xb(&y, 1.0, 0, 3), sheet.xb(&y, 1.0, 10, 3)), (0.0, sheet.length(1.0)));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn xb(&self, y: &[f64], t: f64, j: usize, k: usize) -> f64 {
         self.xb_s(y, self.length(t), j, k)
     }
     /// `y_b(j, k)` for `k = 0..m` (base / periodic image included).
+    ///
+    /// ```
+    /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+    /// use celltissue::sheet::TopBoundary;
+    /// let p = SheetParams { top: TopBoundary::Periodic, ..Default::default() };
+    /// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &p)?;
+    /// let y = sheet.initial_state();
+    /// // periodic in y: the top face is the image of the bottom one, one width w₀ up
+    /// assert_eq!(sheet.yb(&y, 1, 10), sheet.yb(&y, 1, 0) + sheet.w0());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn yb(&self, y: &[f64], j: usize, k: usize) -> f64 {
         self.yb_s(y, j, k)
     }
