@@ -14,7 +14,7 @@
 //! daughter's elastic stretch `α = λ/g` (equal to the parent's), hence elastic `σ` and `p`.
 //!
 //! This is an inherent method of [`Line`] written here (not in `line/`) so the division logic
-//! stays in one place; it uses only `Line`'s public fields and [`Line::rebuild_layout`].
+//! stays in one place; it uses only `Line`'s public fields and `Line::rebuild_layout`.
 
 use super::EventError;
 use crate::energy::StrainEnergy;

@@ -9,7 +9,7 @@
 //! nothing and costs O(N). Lines of at least [`PAR_MIN_CELLS`] cells sweep the two halves on two
 //! threads when the solver passes `threads ≥ 2`, with the same result. Without growth the
 //! layout is read as "boundary `j` is unknown `j − 1`", and per-cell fields that are uniform
-//! (detected by [`Line::rebuild_layout`] / [`Line::refresh_uniform_fields`]) are not streamed;
+//! (detected by `Line::rebuild_layout` / `Line::refresh_uniform_fields`) are not streamed;
 //! the fields are changed from outside the crate only through [`Line::edit_fields`], which
 //! refreshes that detection, so it cannot go stale.
 //!
@@ -75,6 +75,13 @@ pub struct Cells {
 
 impl Cells {
     /// Number of cells.
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(5))?;
+    /// assert_eq!((line.cells().len(), line.cells().is_empty()), (5, false));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn len(&self) -> usize {
         self.l0.len()
     }
@@ -116,7 +123,7 @@ pub struct FieldsMut<'a> {
 }
 
 /// Where each cell's `g` and each boundary's `x` live in the unknown vector (`NONE` if not an
-/// unknown). Rebuilt by [`Line::rebuild_layout`] after any change in the number of cells.
+/// unknown). Rebuilt by `Line::rebuild_layout` after any change in the number of cells.
 ///
 /// ```
 /// use celltissue::line::array::NONE;
@@ -144,7 +151,7 @@ pub struct Layout {
 
 /// The per-cell fields (and the face drag) that hold one value, bit for bit, for every cell:
 /// the residual uses the value instead of streaming the vector (8 bytes per cell and field).
-/// Detected by [`Line::rebuild_layout`], so every change to [`Cells`] or `k_face` must be
+/// Detected by `Line::rebuild_layout`, so every change to [`Cells`] or `k_face` must be
 /// followed by it: the fields are private to the crate (whose builders, cell division and
 /// density continuum do so) and the public [`Line::edit_fields`] does it itself.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -156,7 +163,7 @@ pub(crate) struct UniformFields {
     k_face: Option<f64>,
     p_ext: Option<f64>,
     /// Whether a cell needs [`Line::extended_stress`] (a Maxwell branch or a non-zero
-    /// external pressure); set by [`Line::refresh_uniform_fields`].
+    /// external pressure); set by `Line::refresh_uniform_fields`.
     extended: bool,
 }
 
@@ -385,7 +392,7 @@ pub struct Line<E: StrainEnergy> {
     pub energy: E,
     /// Per-cell data (read it with [`Line::cells`], change it with [`Line::edit_fields`]).
     /// Private to the crate: the residual caches which of its fields are uniform, so every
-    /// change must be followed by [`Line::rebuild_layout`] (the builders, cell division and
+    /// change must be followed by `Line::rebuild_layout` (the builders, cell division and
     /// the density continuum do so).
     pub(crate) cells: Cells,
     /// Drag per boundary `K_j` (`j = 0..=N`), already multiplied by `h/L̄` on a continuum grid
@@ -422,10 +429,10 @@ pub struct Line<E: StrainEnergy> {
     /// Absolute tolerance in cell units (positions: times the local reference cell length).
     pub atol_cell: f64,
     /// Unknown layout (read it with [`Line::layout`]; derived from `cells`, `right` and
-    /// `growth` by [`Line::rebuild_layout`]).
+    /// `growth` by `Line::rebuild_layout`).
     pub(crate) layout: Layout,
     /// The per-cell fields that hold one value for every cell (detected by
-    /// [`Line::rebuild_layout`]).
+    /// `Line::rebuild_layout`).
     pub(crate) uniform: UniformFields,
     /// Threads of the residual sweep (1 unless the solver passes more through
     /// [`CellArray::set_threads`]); two halves from [`PAR_MIN_CELLS`] cells when ≥ 2.
@@ -434,11 +441,30 @@ pub struct Line<E: StrainEnergy> {
 
 impl<E: StrainEnergy> Line<E> {
     /// Number of cells `N`.
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(5))?;
+    /// assert_eq!((line.n_cells(), line.l0_total()), (5, 5.0));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn n_cells(&self) -> usize {
         self.cells.len()
     }
 
     /// Whether `g` is part of the state.
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// let mut p = LineParams::unit_cells(3);
+    /// p.right = celltissue::boundary::RightEnd::Free(None);
+    /// p.growth = Some(std::sync::Arc::new(celltissue::cell::TanhGrowth::default()));
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &p)?;
+    /// // a growing line carries each cell's growth stretch g_j: three more unknowns
+    /// assert!(line.is_growing() && line.growth().is_some());
+    /// assert_eq!(line.layout().dim, 3 + 3); // x₁, x₂, x₃ (free end) and g₁, g₂, g₃
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn is_growing(&self) -> bool {
         self.growth.is_some()
     }
@@ -450,6 +476,15 @@ impl<E: StrainEnergy> Line<E> {
 
     /// The drag per boundary `K_j`, `j = 0..=N` (read-only: change it with
     /// [`Line::edit_fields`]).
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// let mut p = LineParams::unit_cells(4);
+    /// p.k = 0.5.into();
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &p)?;
+    /// assert_eq!(line.k_face(), [0.5; 5]); // one per boundary, j = 0..=N
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn k_face(&self) -> &[f64] {
         &self.k_face
     }
@@ -460,6 +495,14 @@ impl<E: StrainEnergy> Line<E> {
     }
 
     /// The right-end condition.
+    ///
+    /// ```
+    /// use celltissue::boundary::RightEnd;
+    /// use celltissue::line::{discrete, LineParams};
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(4))?;
+    /// assert!(matches!(line.right(), RightEnd::Prescribed(_))); // held at l₀ = 4
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn right(&self) -> &RightEnd {
         &self.right
     }
@@ -470,6 +513,17 @@ impl<E: StrainEnergy> Line<E> {
     }
 
     /// The Maxwell branch, if any (its viscous stretches are then in the state).
+    ///
+    /// ```
+    /// use celltissue::cell::MaxwellBranch;
+    /// use celltissue::line::{discrete, LineParams};
+    /// let mut p = LineParams::unit_cells(4);
+    /// p.maxwell = Some(MaxwellBranch::maxwell(1.0, 4.0)?);
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &p)?;
+    /// assert_eq!(line.maxwell().map(|b| b.relaxation_time()), Some(1.0)); // η_m/(4μ_m)
+    /// assert_eq!(line.layout().vi.len(), 4); // a viscous stretch per cell
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn maxwell(&self) -> Option<&MaxwellBranch> {
         self.maxwell.as_ref()
     }
@@ -480,6 +534,16 @@ impl<E: StrainEnergy> Line<E> {
     }
 
     /// A ring's circumference `x_N − x₀` (the initial `Σ L₀,j`; division does not change it).
+    ///
+    /// ```
+    /// use celltissue::boundary::RightEnd;
+    /// use celltissue::line::{discrete, LineParams};
+    /// let mut p = LineParams::unit_cells(6);
+    /// p.right = RightEnd::Periodic { gauge: true };
+    /// let ring = discrete(celltissue::NeoHookean::new(1.0)?, &p)?;
+    /// assert_eq!(ring.period(), 6.0); // x_N ≡ x₀ + 6
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn period(&self) -> f64 {
         self.period
     }
@@ -547,20 +611,20 @@ impl<E: StrainEnergy> Line<E> {
 
     /// Re-detects which per-cell fields (`L₀`, `μ`, `η`) and the face drag `K_j` hold one
     /// value for every cell, after they were changed in place without changing `N` (a change
-    /// of `N` goes through [`rebuild_layout`](Line::rebuild_layout), which calls this). The
+    /// of `N` goes through `rebuild_layout`, which calls this). The
     /// residual reads such a field's value instead of streaming its vector, so a stale
     /// detection would give a wrong residual: every in-place change must be followed by this.
-    pub fn refresh_uniform_fields(&mut self) {
+    pub(crate) fn refresh_uniform_fields(&mut self) {
         self.uniform = UniformFields::of(&self.cells, &self.k_face);
         self.uniform.extended = self.maxwell.is_some() || self.uniform.p_ext != Some(0.0);
     }
 
     /// Recomputes the unknown layout from `N`, the right end and the growth flag (call after
     /// inserting or removing cells, or after changing the per-cell fields or `k_face`: it also
-    /// re-detects the fields shared by every cell, as [`Line::refresh_uniform_fields`]).
+    /// re-detects the fields shared by every cell, as `Line::refresh_uniform_fields`).
     /// Ordering: ring: `x₀` first; then per cell `g_j` (growth) followed by `x_j` when
     /// boundary `j` is free; a Maxwell branch puts `a_v,j` after `g_j`.
-    pub fn rebuild_layout(&mut self) {
+    pub(crate) fn rebuild_layout(&mut self) {
         self.refresh_uniform_fields();
         let n = self.n_cells();
         let mut gi = vec![NONE; n];
@@ -590,6 +654,19 @@ impl<E: StrainEnergy> Line<E> {
     }
 
     /// Initial state: `x_j = Σ_{i≤j} L₀,i`, `g = 1`, `a_v = 1`.
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// let mut p = LineParams::unit_cells(3);
+    /// p.right = celltissue::boundary::RightEnd::Free(None);
+    /// p.growth = Some(std::sync::Arc::new(celltissue::cell::TanhGrowth::default()));
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &p)?;
+    /// let y = line.initial_state();
+    /// let l = line.layout();
+    /// // boundaries at Σ L₀ and unit growth stretches
+    /// assert_eq!((y[l.xi[3]], y[l.gi[0]]), (3.0, 1.0));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn initial_state(&self) -> Vec<f64> {
         let mut y = vec![0.0; self.layout.dim];
         let mut x = 0.0;
@@ -614,6 +691,18 @@ impl<E: StrainEnergy> Line<E> {
     }
 
     /// Initial guess for `ẏ` (0 for positions, ½G_m-ish 0.5 for `g`).
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// let mut p = LineParams::unit_cells(3);
+    /// p.right = celltissue::boundary::RightEnd::Free(None);
+    /// p.growth = Some(std::sync::Arc::new(celltissue::cell::TanhGrowth::default()));
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &p)?;
+    /// let yp = line.initial_derivative_guess();
+    /// let l = line.layout();
+    /// assert_eq!((yp[l.xi[1]], yp[l.gi[1]]), (0.0, 0.5)); // at rest, growing at about G_m/2
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn initial_derivative_guess(&self) -> Vec<f64> {
         let mut yp = vec![0.0; self.layout.dim];
         if let Some(law) = &self.growth {
@@ -626,6 +715,16 @@ impl<E: StrainEnergy> Line<E> {
     }
 
     /// Position and velocity of boundary `j` at `(t, y, ẏ)`.
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(4))?;
+    /// let (y, yp) = (line.initial_state(), [0.1, 0.2, 0.3]);
+    /// assert_eq!(line.boundary(2, 0.0, &y, &yp), (2.0, 0.2)); // an unknown
+    /// assert_eq!(line.boundary(0, 0.0, &y, &yp), (0.0, 0.0)); // the wall
+    /// assert_eq!(line.boundary(4, 0.0, &y, &yp), (4.0, 0.0)); // the held end
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     #[inline(always)]
     pub fn boundary<S: Scalar>(&self, j: usize, t: f64, y: &[S], yp: &[S]) -> (S, S) {
         self.boundary_in(Indexed(&self.layout), j, t, y, yp)
@@ -672,7 +771,19 @@ impl<E: StrainEnergy> Line<E> {
     }
 
     /// Human-readable name of unknown `k`: `"x_j (boundary between cells j and j+1)"` or
-    /// `"g_j (growth of cell j)"`.
+    /// `"g_j (growth stretch of cell j)"`.
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// let mut p = LineParams::unit_cells(3);
+    /// p.right = celltissue::boundary::RightEnd::Free(None);
+    /// p.growth = Some(std::sync::Arc::new(celltissue::cell::TanhGrowth::default()));
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &p)?;
+    /// let l = line.layout();
+    /// assert_eq!(line.unknown_name(l.xi[2]), "x_2 (boundary between cells 2 and 3)");
+    /// assert_eq!(line.unknown_name(l.gi[0]), "g_1 (growth stretch of cell 1)");
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn unknown_name(&self, k: usize) -> String {
         let n = self.n_cells();
         if let Some(j) = self.layout.gi.iter().position(|&g| g == k) {

@@ -149,7 +149,7 @@ impl<E: StrainEnergy> Line<E> {
     /// The layout of a line without growth that is not a ring, if `self.layout` is that of
     /// the current `N` and right end: boundary `j`'s unknown is `j − 1` (the wall `x₀` is not
     /// an unknown), so the residual need not stream `layout.xi` and `layout.gi`. Derived from
-    /// the same inputs as [`Line::rebuild_layout`] and checked against the layout's size in
+    /// the same inputs as `Line::rebuild_layout` and checked against the layout's size in
     /// O(1), so it is never out of step with the layout itself.
     #[inline]
     pub(super) fn contiguous(&self) -> Option<Contiguous> {
