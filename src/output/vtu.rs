@@ -173,7 +173,18 @@ pub fn write_vtu(path: &Path, t: f64, grid: &Grid) -> io::Result<()> {
 
 /// Writes a ParaView collection (`.pvd`) listing `(time, file name relative to the .pvd)`,
 /// atomically.
-pub(crate) fn write_pvd(path: &Path, entries: &[(f64, String)]) -> io::Result<()> {
+///
+/// ```
+/// use celltissue::output::vtu::write_pvd;
+/// let dir = std::env::temp_dir().join(format!("ct_pvd_doc_{}", std::process::id()));
+/// std::fs::create_dir_all(&dir).unwrap();
+/// let entries = [(0.0, "run_0000.vtu".to_string()), (2.5, "run_0001.vtu".to_string())];
+/// write_pvd(&dir.join("run.pvd"), &entries).unwrap();
+/// let pvd = std::fs::read_to_string(dir.join("run.pvd")).unwrap();
+/// assert!(pvd.contains("timestep=\"2.5e0\"") && pvd.contains("file=\"run_0001.vtu\""));
+/// # std::fs::remove_dir_all(&dir).unwrap();
+/// ```
+pub fn write_pvd(path: &Path, entries: &[(f64, String)]) -> io::Result<()> {
     let mut s = String::from(
         "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n",
     );

@@ -36,7 +36,15 @@ pub const SHEET_BYTES_PER_CELL: f64 = 8000.0;
 /// Checks a size: `count` (as given; may be huge or fractional before conversion) must be at
 /// most `max`, and `count · bytes_per_cell` must fit the machine's available memory. The error
 /// names `key`, the limit and the memory the run would need.
-pub(crate) fn check_cells(
+///
+/// ```
+/// use celltissue::scenario::limits::{check_cells, MAX_SHEET_CELLS, SHEET_BYTES_PER_CELL};
+/// // a 4096 × 4096 sheet is past the fixed limit of 10⁷ cells, whatever the machine
+/// let e = check_cells("model.cells_x", 4096.0 * 4096.0, SHEET_BYTES_PER_CELL, MAX_SHEET_CELLS)
+///     .unwrap_err();
+/// assert_eq!(e.key_name(), Some("model.cells_x"));
+/// ```
+pub fn check_cells(
     key: &str,
     count: f64,
     bytes_per_cell: f64,
