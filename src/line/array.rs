@@ -16,6 +16,11 @@
 //! A non-periodic line also provides its own iteration matrix ([`Line::jacobian_into`]): one
 //! streaming sweep that differentiates the residual's own cell and row expressions locally in
 //! dual numbers, instead of the integrators' coloured sweeps of the whole residual.
+//!
+//! Here: the line's data ([`Cells`], [`Layout`], [`Line`]), its accessors, field edits, layout
+//! and initial state. Submodules: `eval` (one cell's state, [`CellEval`]), `residual` (the
+//! rows), `jacobian` (the streaming iteration matrix), `cell_array` (the [`CellArray`]
+//! interface the integrators see).
 
 use crate::array::CellArray;
 use crate::boundary::RightEnd;
@@ -279,96 +284,6 @@ pub struct CellEval<S> {
     pub vr: S,
     /// Growth stretch `g` (1 without growth).
     pub g: S,
-}
-
-/// A cell evaluated in dual numbers for [`Line::jacobian_into`]: `s` seeded along its right
-/// boundary (`x_j` with derivative 1, `v_j` with `c`), `g` seeded along its growth stretch
-/// (`g_j` with 1, `ġ_j` with `c`; all derivatives zero when `g` is not an unknown).
-#[derive(Clone, Copy)]
-struct LocalCell {
-    s: CellEval<Dual64>,
-    g: CellEval<Dual64>,
-}
-
-impl Default for LocalCell {
-    fn default() -> Self {
-        let z = Dual64::new(0.0, 0.0);
-        let e = CellEval {
-            lam: z,
-            alpha: z,
-            alpha_dot: z,
-            sigma_el: z,
-            sigma: z,
-            w: z,
-            kappa: z,
-            vl: z,
-            vr: z,
-            g: z,
-        };
-        Self { s: e, g: e }
-    }
-}
-
-/// The unknown a cell's derivatives are projected on in [`Line::jacobian_into`].
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Dir {
-    /// An unknown the cell does not depend on.
-    Zero,
-    /// Its left boundary `x_{j−1}`.
-    Left,
-    /// Its right boundary `x_j`.
-    Right,
-    /// Its growth stretch `g_j`.
-    Growth,
-}
-
-impl CellEval<Dual64> {
-    /// The same values with every derivative multiplied by `k`.
-    #[inline(always)]
-    fn scaled(&self, k: f64) -> Self {
-        let f = |v: Dual64| Dual64::new(v.re, k * v.eps);
-        CellEval {
-            lam: f(self.lam),
-            alpha: f(self.alpha),
-            alpha_dot: f(self.alpha_dot),
-            sigma_el: f(self.sigma_el),
-            sigma: f(self.sigma),
-            w: f(self.w),
-            kappa: f(self.kappa),
-            vl: f(self.vl),
-            vr: f(self.vr),
-            g: f(self.g),
-        }
-    }
-
-    /// Seeded along the right boundary, projected on `dir` (the growth direction is not
-    /// derivable from this seed: see [`LocalCell::along`]).
-    #[inline(always)]
-    fn along(&self, dir: Dir, c: f64) -> Self {
-        match dir {
-            Dir::Right => *self,
-            Dir::Left => {
-                // x_{j−1} enters only through x_j − x_{j−1} and v_j − v_{j−1}: negate, and
-                // move the velocity seed from v_j to v_{j−1}
-                let mut e = self.scaled(-1.0);
-                e.vl = Dual64::new(self.vl.re, c);
-                e.vr = Dual64::new(self.vr.re, 0.0);
-                e
-            }
-            Dir::Zero | Dir::Growth => self.scaled(0.0),
-        }
-    }
-}
-
-impl LocalCell {
-    /// The cell's values with derivatives along `dir`.
-    #[inline(always)]
-    fn along(&self, dir: Dir, c: f64) -> CellEval<Dual64> {
-        match dir {
-            Dir::Growth => self.g,
-            _ => self.s.along(dir, c),
-        }
-    }
 }
 
 /// The line of cells (docs/model.md §2), generic over the strain energy `E`.
@@ -814,162 +729,10 @@ impl<E: StrainEnergy> Line<E> {
     }
 }
 
+mod cell_array;
 mod eval;
 mod jacobian;
 mod residual;
-
-impl<E: StrainEnergy> CellArray for Line<E> {
-    fn dim(&self) -> usize {
-        self.layout.dim
-    }
-
-    fn set_threads(&mut self, threads: usize) {
-        self.threads = threads.max(1);
-    }
-
-    fn pattern(&self) -> Pattern {
-        if self.right.is_periodic() {
-            return Pattern::Sparse(Arc::new(SparsityPattern::from_entries(
-                self.layout.dim,
-                &self.jacobian_entries(),
-            )));
-        }
-        // `rebuild_layout` numbers every cell's unknowns alike (g, a_v, then x), so the rows of
-        // an interior cell are a shift of its neighbour's and only the ends can widen the band:
-        // the first and last `BAND_WINDOW` cells and boundaries give the whole line's band,
-        // without a walk over all N cells at every division (tested against the full walk)
-        const BAND_WINDOW: usize = 4;
-        let n = self.n_cells();
-        let (mut lower, mut upper) = (0, 0);
-        let mut widen = |i: usize, j: usize| {
-            if i > j {
-                lower = lower.max(i - j);
-            } else {
-                upper = upper.max(j - i);
-            }
-        };
-        if n <= 2 * BAND_WINDOW + 2 {
-            self.for_each_jacobian_entry(widen);
-        } else {
-            let tail = n - BAND_WINDOW;
-            self.for_each_jacobian_entry_in(1..=BAND_WINDOW, 0..=BAND_WINDOW, &mut widen);
-            self.for_each_jacobian_entry_in(tail..=n, tail..=n, &mut widen);
-        }
-        Pattern::Banded { lower, upper }
-    }
-
-    fn residual<S: Scalar>(
-        &self,
-        t: f64,
-        y: &[S],
-        yp: &[S],
-        r: &mut [S],
-    ) -> Result<(), ResidualError> {
-        let n = self.n_cells();
-        if n >= PAR_MIN_CELLS && self.threads >= 2 {
-            if let Some(res) = self.residual_two_threads(t, y, yp, r, n / 2) {
-                return res;
-            }
-        }
-        self.residual_cells(t, y, yp, r, 0, 1, n)
-    }
-
-    fn jacobian(
-        &self,
-        t: f64,
-        y: &[f64],
-        yp: &[f64],
-        c: f64,
-        jac: &mut JacobianSink,
-    ) -> Result<bool, ResidualError> {
-        self.jacobian_into(t, y, yp, c, jac)
-    }
-
-    fn atol(&self) -> Option<Vec<f64>> {
-        let n = self.n_cells();
-        let lay = &self.layout;
-        let mut a = vec![self.atol_cell; lay.dim];
-        for b in 0..=n {
-            let k = lay.xi[b];
-            if k == NONE {
-                continue;
-            }
-            let left = if b >= 1 {
-                self.cells.l0[b - 1]
-            } else {
-                self.cells.l0[n - 1]
-            };
-            let right = if b < n { self.cells.l0[b] } else { left };
-            a[k] = self.atol_cell * left.min(right);
-        }
-        Some(a)
-    }
-
-    /// Positions tested through their cell's stretch (docs/model.md §8.1): boundary `b` is
-    /// differenced with boundary `b − 1` when both are unknowns; the first free boundary is an
-    /// anchor measured in lengths of its cell, and the last free boundary before a prescribed
-    /// end also on its own (the stretch error of that end's cell); growth stretches keep their
-    /// own test.
-    fn error_map(&self) -> Option<integrators::ErrorMap> {
-        use integrators::Row;
-        let n = self.n_cells();
-        let lay = &self.layout;
-        let mut rows = vec![Row::Own; lay.dim];
-        for b in 0..=n {
-            let k = lay.xi[b];
-            if k == NONE {
-                continue;
-            }
-            rows[k] = match b.checked_sub(1).map(|c| (c, lay.xi[c])) {
-                Some((_, p)) if p != NONE => Row::Difference { partner: p },
-                Some((c, _)) => Row::Anchor {
-                    size: self.cells.l0[c],
-                },
-                None => Row::Anchor {
-                    size: self.cells.l0[0],
-                },
-            };
-        }
-        let mut map = integrators::ErrorMap::from_rows(rows).ok()?;
-        // the last free boundary before a prescribed one: its cell's stretch error is its own
-        for b in 0..n {
-            let k = lay.xi[b];
-            if k != NONE && lay.xi[b + 1] == NONE && !self.right.is_periodic() {
-                map = map.with_end(k, self.cells.l0[b]).ok()?;
-            }
-        }
-        Some(map)
-    }
-
-    fn algebraic(&self) -> Vec<bool> {
-        let n = self.n_cells();
-        let lay = &self.layout;
-        let mut alg = vec![false; lay.dim];
-        let periodic = self.right.is_periodic();
-        let eta_at = |c: usize| -> f64 {
-            if c >= 1 && c <= n {
-                self.cells.eta[c - 1]
-            } else if periodic {
-                self.cells.eta[if c == 0 { n - 1 } else { 0 }]
-            } else {
-                0.0
-            }
-        };
-        for b in 0..=n {
-            let k = lay.xi[b];
-            if k == NONE {
-                continue;
-            }
-            let drag = match self.form {
-                DragForm::Boundary => self.k_face[b],
-                DragForm::Centre => self.cells.k_cell[b.max(1) - 1],
-            };
-            let visc = eta_at(b) != 0.0 || eta_at(b + 1) != 0.0;
-            alg[k] = drag == 0.0 && !visc;
-        }
-        alg
-    }
-}
 
 #[cfg(test)]
 mod tests;

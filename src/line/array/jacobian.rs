@@ -5,6 +5,96 @@
 
 use super::*;
 
+/// A cell evaluated in dual numbers for [`Line::jacobian_into`]: `s` seeded along its right
+/// boundary (`x_j` with derivative 1, `v_j` with `c`), `g` seeded along its growth stretch
+/// (`g_j` with 1, `ġ_j` with `c`; all derivatives zero when `g` is not an unknown).
+#[derive(Clone, Copy)]
+struct LocalCell {
+    s: CellEval<Dual64>,
+    g: CellEval<Dual64>,
+}
+
+impl Default for LocalCell {
+    fn default() -> Self {
+        let z = Dual64::new(0.0, 0.0);
+        let e = CellEval {
+            lam: z,
+            alpha: z,
+            alpha_dot: z,
+            sigma_el: z,
+            sigma: z,
+            w: z,
+            kappa: z,
+            vl: z,
+            vr: z,
+            g: z,
+        };
+        Self { s: e, g: e }
+    }
+}
+
+/// The unknown a cell's derivatives are projected on in [`Line::jacobian_into`].
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Dir {
+    /// An unknown the cell does not depend on.
+    Zero,
+    /// Its left boundary `x_{j−1}`.
+    Left,
+    /// Its right boundary `x_j`.
+    Right,
+    /// Its growth stretch `g_j`.
+    Growth,
+}
+
+impl CellEval<Dual64> {
+    /// The same values with every derivative multiplied by `k`.
+    #[inline(always)]
+    fn scaled(&self, k: f64) -> Self {
+        let f = |v: Dual64| Dual64::new(v.re, k * v.eps);
+        CellEval {
+            lam: f(self.lam),
+            alpha: f(self.alpha),
+            alpha_dot: f(self.alpha_dot),
+            sigma_el: f(self.sigma_el),
+            sigma: f(self.sigma),
+            w: f(self.w),
+            kappa: f(self.kappa),
+            vl: f(self.vl),
+            vr: f(self.vr),
+            g: f(self.g),
+        }
+    }
+
+    /// Seeded along the right boundary, projected on `dir` (the growth direction is not
+    /// derivable from this seed: see [`LocalCell::along`]).
+    #[inline(always)]
+    fn along(&self, dir: Dir, c: f64) -> Self {
+        match dir {
+            Dir::Right => *self,
+            Dir::Left => {
+                // x_{j−1} enters only through x_j − x_{j−1} and v_j − v_{j−1}: negate, and
+                // move the velocity seed from v_j to v_{j−1}
+                let mut e = self.scaled(-1.0);
+                e.vl = Dual64::new(self.vl.re, c);
+                e.vr = Dual64::new(self.vr.re, 0.0);
+                e
+            }
+            Dir::Zero | Dir::Growth => self.scaled(0.0),
+        }
+    }
+}
+
+impl LocalCell {
+    /// The cell's values with derivatives along `dir`.
+    #[inline(always)]
+    fn along(&self, dir: Dir, c: f64) -> CellEval<Dual64> {
+        match dir {
+            Dir::Growth => self.g,
+            _ => self.s.along(dir, c),
+        }
+    }
+}
+
 impl<E: StrainEnergy> Line<E> {
     /// The iteration matrix `J = ∂F/∂y + c·∂F/∂ẏ` of a non-periodic line, added into `jac`
     /// (zeroed by the caller, shaped by [`CellArray::pattern`]), in one streaming sweep over
@@ -183,7 +273,7 @@ impl<E: StrainEnergy> Line<E> {
     /// boundaries `first − 1 ..= first + Q − 1` and, when growing, their `g` — with every
     /// cell's derivatives projected on that unknown; the dual part is the entry.
     #[inline(always)]
-    pub(super) fn emit<const Q: usize>(
+    fn emit<const Q: usize>(
         &self,
         jac: &mut JacobianSink,
         row: usize,
