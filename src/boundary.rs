@@ -65,6 +65,13 @@ impl fmt::Debug for Ramp {
 impl Ramp {
     /// Times where `l` is not smooth (the polynomial ramp's end, where `l̈` jumps). Integrators
     /// must not step across them: [`crate::line::run::integrate`] restarts there.
+    ///
+    /// ```
+    /// use celltissue::boundary::Ramp;
+    /// let poly = Ramp::Polynomial { l0: 10.0, k1: 0.1, t_ramp: 2.0 };
+    /// assert_eq!(poly.breakpoints(), [2.0]); // l̈ jumps where the ramp ends
+    /// assert!(Ramp::Exponential { l0: 10.0, k1: 0.1, t_ramp: 2.0 }.breakpoints().is_empty());
+    /// ```
     pub fn breakpoints(&self) -> Vec<f64> {
         match self {
             Ramp::Polynomial { t_ramp, .. } => vec![*t_ramp],
@@ -73,6 +80,14 @@ impl Ramp {
     }
 
     /// `(l(t), l̇(t))`.
+    ///
+    /// ```
+    /// use celltissue::boundary::Ramp;
+    /// // (2.80): l = l₀(1 − k₁ + k₁e^{−t/t_r}), l̇ = −l₀k₁e^{−t/t_r}/t_r
+    /// let (l, v) = Ramp::Exponential { l0: 10.0, k1: 0.1, t_ramp: 1.0 }.eval(0.0);
+    /// assert_eq!((l, v), (10.0, -1.0));
+    /// assert_eq!(Ramp::Constant(7.0).eval(3.0), (7.0, 0.0));
+    /// ```
     #[inline]
     pub fn eval(&self, t: f64) -> (f64, f64) {
         match self {
@@ -162,10 +177,22 @@ impl fmt::Debug for RightEnd {
 
 impl RightEnd {
     /// Whether the line is a ring.
+    ///
+    /// ```
+    /// use celltissue::boundary::{Ramp, RightEnd};
+    /// assert!(RightEnd::Periodic { gauge: false }.is_periodic());
+    /// assert!(!RightEnd::Prescribed(Ramp::Constant(1.0)).is_periodic());
+    /// ```
     pub fn is_periodic(&self) -> bool {
         matches!(self, RightEnd::Periodic { .. })
     }
     /// Whether boundary `N` is an unknown.
+    ///
+    /// ```
+    /// use celltissue::boundary::{Ramp, RightEnd};
+    /// assert!(RightEnd::Free(None).is_free());
+    /// assert!(!RightEnd::Prescribed(Ramp::Constant(1.0)).is_free());
+    /// ```
     pub fn is_free(&self) -> bool {
         matches!(self, RightEnd::Free(_))
     }

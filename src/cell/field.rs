@@ -329,6 +329,14 @@ fn splitmix64(state: &mut u64) -> u64 {
 
 impl Field {
     /// The stiff-cluster bump `base + amplitude·exp(−(X − centre·l₀)²/(2(width·l₀)²))`.
+    ///
+    /// ```
+    /// use celltissue::cell::Field;
+    /// // a stiff cluster: μ = 1 + 4 at the middle of a line of length 100, width 5 % of it
+    /// let mu = Field::gaussian_bump(1.0, 4.0, 0.5, 0.05);
+    /// assert_eq!(mu.eval(50.0, 100.0), 5.0);
+    /// assert!((mu.eval(0.0, 100.0) - 1.0).abs() < 1e-20);
+    /// ```
     pub fn gaussian_bump(base: f64, amplitude: f64, centre: f64, width: f64) -> Self {
         Field::Gaussian {
             base,
@@ -352,6 +360,12 @@ impl Field {
     /// Value at one point `X` for a line of reference length `l0`. `PerCell` and `Random`
     /// have no pointwise value: they return the first value / the midpoint of the range (use
     /// [`Field::sample`]).
+    ///
+    /// ```
+    /// use celltissue::cell::Field;
+    /// assert_eq!(Field::Constant(2.0).eval(3.0, 10.0), 2.0);
+    /// assert_eq!(Field::closure(|x, l0| x / l0).eval(2.5, 10.0), 0.25);
+    /// ```
     pub fn eval(&self, x: f64, l0: f64) -> f64 {
         match self {
             Field::Constant(v) => *v,
@@ -379,6 +393,13 @@ impl Field {
     /// Samples the field at the points `xs` (one per cell) of a line of length `l0`.
     /// `PerCell` values are resampled (nearest cell by centre) if their count differs from
     /// `xs.len()` — so a per-cell list given for N cells also drives a continuum grid.
+    ///
+    /// ```
+    /// use celltissue::cell::Field;
+    /// // per-cell values given for 2 cells drive a 4-segment continuum grid by nearest centre
+    /// let f = Field::PerCell { values: vec![1.0, 3.0] };
+    /// assert_eq!(f.sample(&[0.25, 0.75, 1.25, 1.75], 2.0), [1.0, 1.0, 3.0, 3.0]);
+    /// ```
     pub fn sample(&self, xs: &[f64], l0: f64) -> Vec<f64> {
         match self {
             Field::PerCell { values } => {

@@ -89,12 +89,27 @@ pub struct ViscosityError {
 
 impl MaxwellBranch {
     /// Maxwell cell: the branch alone (`μ_m > 0`, `η_m > 0`, finite).
+    ///
+    /// ```
+    /// use celltissue::cell::MaxwellBranch;
+    /// let b = MaxwellBranch::maxwell(0.5, 1.0)?;
+    /// assert!(!b.elastic); // the branch alone
+    /// assert_eq!(MaxwellBranch::maxwell(1.0, -1.0).unwrap_err().key, "eta_m");
+    /// # Ok::<(), celltissue::cell::ViscosityError>(())
+    /// ```
     pub fn maxwell(mu_m: f64, eta_m: f64) -> Result<Self, ViscosityError> {
         Self::checked(mu_m, eta_m, false)
     }
 
     /// Standard linear solid: the cell's law plus the branch (`μ_m ≥ 0`, `η_m > 0`, finite;
     /// `μ_m = 0` is the elastic cell).
+    ///
+    /// ```
+    /// use celltissue::cell::MaxwellBranch;
+    /// // μ_m = 0 is allowed for a standard linear solid (the elastic cell), not for a Maxwell cell
+    /// assert!(MaxwellBranch::standard_linear_solid(0.0, 1.0).is_ok());
+    /// assert!(MaxwellBranch::maxwell(0.0, 1.0).is_err());
+    /// ```
     pub fn standard_linear_solid(mu_m: f64, eta_m: f64) -> Result<Self, ViscosityError> {
         Self::checked(mu_m, eta_m, true)
     }
@@ -127,17 +142,39 @@ impl MaxwellBranch {
     }
 
     /// Small-strain relaxation time `τ = η_m / (4 μ_m)` (`E = 4μ` on the line, §1.2).
+    ///
+    /// ```
+    /// use celltissue::cell::MaxwellBranch;
+    /// assert_eq!(MaxwellBranch::maxwell(0.5, 2.0)?.relaxation_time(), 1.0); // η_m/(4μ_m)
+    /// # Ok::<(), celltissue::cell::ViscosityError>(())
+    /// ```
     pub fn relaxation_time(&self) -> f64 {
         self.eta_m / (4.0 * self.mu_m)
     }
 
     /// The branch's modulus relative to the cell law's own, `μ_m / μ`: the factor on the law's
     /// stresses at the elastic stretch.
+    ///
+    /// ```
+    /// use celltissue::cell::MaxwellBranch;
+    /// let b = MaxwellBranch::standard_linear_solid(0.5, 2.0)?;
+    /// assert_eq!(b.modulus_ratio(&celltissue::NeoHookean::new(2.0).unwrap()), 0.25);
+    /// # Ok::<(), celltissue::cell::ViscosityError>(())
+    /// ```
     pub fn modulus_ratio<E: StrainEnergy>(&self, law: &E) -> f64 {
         self.mu_m / law.shear_modulus()
     }
 
     /// Branch pressure `μ_m/μ · p_el(a_e)` at `a_e = α / a_v` (in `f64`, for observers).
+    ///
+    /// ```
+    /// use celltissue::cell::MaxwellBranch;
+    /// let law = celltissue::NeoHookean::new(1.0).unwrap();
+    /// let b = MaxwellBranch::maxwell(0.5, 2.0)?;
+    /// // a relaxed branch (a_v = α) keeps its rest pressure μ_m
+    /// assert!((b.pressure(&law, 1.3, 1.3) - 0.5).abs() < 1e-15);
+    /// # Ok::<(), celltissue::cell::ViscosityError>(())
+    /// ```
     pub fn pressure<E: StrainEnergy>(&self, law: &E, alpha: f64, av: f64) -> f64 {
         self.mu_m / law.shear_modulus() * law.line(alpha / av).pressure
     }
@@ -252,6 +289,14 @@ pub enum ViscosityModel {
 
 impl ViscosityModel {
     /// The Maxwell branch of this model (`None` for Kelvin–Voigt), or the invalid key.
+    ///
+    /// ```
+    /// use celltissue::cell::ViscosityModel;
+    /// assert_eq!(ViscosityModel::KelvinVoigt { eta: 1.0 }.branch(), Ok(None)); // no internal variable
+    /// let sls = ViscosityModel::StandardLinearSolid { mu_m: 0.5, eta_m: 2.0 }.branch().unwrap().unwrap();
+    /// assert!(sls.elastic);
+    /// assert_eq!(ViscosityModel::KelvinVoigt { eta: -1.0 }.branch().unwrap_err().key, "eta");
+    /// ```
     pub fn branch(&self) -> Result<Option<MaxwellBranch>, ViscosityError> {
         match *self {
             Self::KelvinVoigt { eta } => {

@@ -22,6 +22,14 @@ pub struct DivisionLog {
 
 impl DivisionLog {
     /// Appends a record.
+    ///
+    /// ```
+    /// use celltissue::events::DivisionLog;
+    /// use celltissue::observe::DivisionRecord;
+    /// let mut log = DivisionLog::default();
+    /// log.push(DivisionRecord { t: 1.0, parent: 3, x: 4.0, x_over_length: 0.8, cells_after: 11 });
+    /// assert_eq!((log.len(), log.is_empty()), (1, false));
+    /// ```
     pub fn push(&mut self, r: DivisionRecord) {
         self.records.push(r);
     }
@@ -37,11 +45,32 @@ impl DivisionLog {
     }
 
     /// Number of cells at time `t` (right-continuous: divisions at `t` count), given `n0`.
+    ///
+    /// ```
+    /// use celltissue::events::DivisionLog;
+    /// use celltissue::observe::DivisionRecord;
+    /// let mut log = DivisionLog::default();
+    /// for (i, t) in [1.0, 2.0, 2.0].into_iter().enumerate() {
+    ///     log.push(DivisionRecord { t, parent: 1, x: 1.0, x_over_length: 0.5, cells_after: 11 + i });
+    /// }
+    /// assert_eq!((log.cells_at(10, 0.5), log.cells_at(10, 1.0), log.cells_at(10, 2.0)), (10, 11, 13));
+    /// ```
     pub fn cells_at(&self, n0: usize, t: f64) -> usize {
         cells_at(&self.records, n0, t)
     }
 
     /// Median of `x_d/l` over the divisions with `t_d ∈ [t0, t1]` (`None` if there are none).
+    ///
+    /// ```
+    /// use celltissue::events::DivisionLog;
+    /// use celltissue::observe::DivisionRecord;
+    /// let mut log = DivisionLog::default();
+    /// for (t, f) in [(1.0, 0.2), (2.0, 0.9), (3.0, 0.95)] {
+    ///     log.push(DivisionRecord { t, parent: 1, x: f, x_over_length: f, cells_after: 2 });
+    /// }
+    /// assert_eq!(log.median_x_over_length(1.5, 3.0), Some(0.925)); // late divisions at the rim
+    /// assert_eq!(log.median_x_over_length(5.0, 6.0), None);
+    /// ```
     pub fn median_x_over_length(&self, t0: f64, t1: f64) -> Option<f64> {
         median_x_over_length(&self.records, t0, t1)
     }

@@ -34,6 +34,11 @@ impl Default for Ramp {
 
 impl Ramp {
     /// The ramp time.
+    ///
+    /// ```
+    /// use celltissue::sheet::Ramp;
+    /// assert_eq!(Ramp::Polynomial { t_ramp: 3.0 }.t_ramp(), 3.0);
+    /// ```
     pub fn t_ramp(&self) -> f64 {
         match *self {
             Ramp::Exponential { t_ramp } | Ramp::Polynomial { t_ramp } => t_ramp,
@@ -56,6 +61,12 @@ impl Ramp {
     }
 
     /// Fraction `s(t) ∈ [0, 1]` of the final shortening applied at time `t`.
+    ///
+    /// ```
+    /// use celltissue::sheet::Ramp;
+    /// let r = Ramp::Polynomial { t_ramp: 2.0 };
+    /// assert_eq!((r.fraction(0.0), r.fraction(1.0), r.fraction(5.0)), (0.0, 0.5, 1.0));
+    /// ```
     pub fn fraction(&self, t: f64) -> f64 {
         match *self {
             Ramp::Exponential { t_ramp } => 1.0 - (-t / t_ramp).exp(),
@@ -96,6 +107,12 @@ impl Ramp {
     }
 
     /// `l'(t) = −l₀ k₁ s'(t)`.
+    ///
+    /// ```
+    /// use celltissue::sheet::Ramp;
+    /// // the exponential ramp starts at l' = −l₀k₁/t_ramp
+    /// assert_eq!(Ramp::Exponential { t_ramp: 2.0 }.length_rate(10.0, 0.1, 0.0), -0.5);
+    /// ```
     pub fn length_rate(&self, l0: f64, k1: f64, t: f64) -> f64 {
         -l0 * k1 * self.fraction_rate(t)
     }
