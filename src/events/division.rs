@@ -384,6 +384,14 @@ impl std::fmt::Display for DivisionError {
 
 impl DivisionError {
     /// The key inside the `division` table (`ratio`, `period`, `max_cells`, …).
+    ///
+    /// ```
+    /// use celltissue::events::DivisionConfig;
+    /// let v: toml::Value = toml::from_str("rule = \"area\"\nmax_cells = 0").unwrap();
+    /// assert_eq!(DivisionConfig::from_value(v).unwrap_err().key(), "max_cells");
+    /// let v: toml::Value = toml::from_str("max_cells = 10").unwrap(); // no rule named
+    /// assert_eq!(DivisionConfig::from_value(v).unwrap_err().key(), "rule");
+    /// ```
     pub fn key(&self) -> &str {
         &self.0.key
     }
@@ -429,6 +437,13 @@ impl DivisionConfig {
 
     /// Checks what parsing does not: `max_cells ≥ 1` (the rule's parameters are checked when
     /// it is built).
+    ///
+    /// ```
+    /// use celltissue::events::DivisionConfig;
+    /// let cfg = DivisionConfig { max_cells: Some(0), ..Default::default() };
+    /// assert_eq!(cfg.validate().unwrap_err().key(), "max_cells");
+    /// assert!(DivisionConfig::default().validate().is_ok());
+    /// ```
     pub fn validate(&self) -> Result<(), DivisionError> {
         match self.max_cells {
             Some(0) => Err(DivisionError(ParamError::range("max_cells", 0, ">= 1"))),
@@ -437,17 +452,37 @@ impl DivisionConfig {
     }
 
     /// The rule object.
+    ///
+    /// ```
+    /// use celltissue::events::DivisionConfig;
+    /// let rule = DivisionConfig::default().build();
+    /// assert_eq!(rule.name(), "area ratio 2"); // cells divide when their area has doubled
+    /// ```
     pub fn build(&self) -> Box<dyn DivisionRule> {
         Box::new(self.rule.law().clone())
     }
 
     /// RNG seed of the rule (0 if it draws nothing).
+    ///
+    /// ```
+    /// use celltissue::events::DivisionConfig;
+    /// let v: toml::Value = toml::from_str("rule = \"random_area\"\nspread = 0.2\nseed = 9").unwrap();
+    /// assert_eq!(DivisionConfig::from_value(v).unwrap().seed(), 9);
+    /// assert_eq!(DivisionConfig::default().seed(), 0); // the area rule draws nothing
+    /// ```
     pub fn seed(&self) -> u64 {
         self.rule.law().seed()
     }
 
     /// The division area ratio when the rule is the area rule (the only rule the
     /// proliferating continuum supports), `None` otherwise.
+    ///
+    /// ```
+    /// use celltissue::events::DivisionConfig;
+    /// assert_eq!(DivisionConfig::default().area_ratio(), Some(2.0));
+    /// let age: toml::Value = toml::from_str("rule = \"age\"\nperiod = 1.0").unwrap();
+    /// assert_eq!(DivisionConfig::from_value(age).unwrap().area_ratio(), None);
+    /// ```
     pub fn area_ratio(&self) -> Option<f64> {
         match self.rule.name() {
             "area" => self.rule.params().get("ratio").and_then(|v| v.as_f64()),
@@ -474,10 +509,22 @@ pub struct SplitMix64 {
 
 impl SplitMix64 {
     /// A generator from a seed.
+    ///
+    /// ```
+    /// use celltissue::events::SplitMix64;
+    /// assert_ne!(SplitMix64::new(1).next_u64(), SplitMix64::new(2).next_u64());
+    /// ```
     pub fn new(seed: u64) -> Self {
         Self { state: seed }
     }
     /// Next 64 random bits.
+    ///
+    /// ```
+    /// use celltissue::events::SplitMix64;
+    /// let mut g = SplitMix64::new(0);
+    /// let (a, b) = (g.next_u64(), g.next_u64());
+    /// assert_ne!(a, b);
+    /// ```
     pub fn next_u64(&mut self) -> u64 {
         self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.state;
@@ -486,6 +533,13 @@ impl SplitMix64 {
         z ^ (z >> 31)
     }
     /// Uniform in `[0, 1)` (53 random bits).
+    ///
+    /// ```
+    /// use celltissue::events::SplitMix64;
+    /// let mut g = SplitMix64::new(42);
+    /// let mean = (0..10_000).map(|_| g.next_f64()).sum::<f64>() / 1e4;
+    /// assert!((mean - 0.5).abs() < 0.01);
+    /// ```
     pub fn next_f64(&mut self) -> f64 {
         (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
     }

@@ -188,11 +188,25 @@ fn finite_pos(key: &str, v: f64) -> Result<(), LineError> {
 
 impl LineConfig {
     /// Number of cells (from `ref_lengths` if given).
+    ///
+    /// ```
+    /// use celltissue::line::LineConfig;
+    /// let cfg: LineConfig = toml::from_str("ref_lengths = [1.0, 2.0, 0.5]")?;
+    /// assert_eq!((cfg.n_cells(), cfg.lengths(), cfg.l0()), (3, vec![1.0, 2.0, 0.5], 3.5));
+    /// # Ok::<(), toml::de::Error>(())
+    /// ```
     pub fn n_cells(&self) -> usize {
         self.ref_lengths.as_ref().map_or(self.cells, |v| v.len())
     }
 
     /// Reference lengths of the cells.
+    ///
+    /// ```
+    /// use celltissue::line::LineConfig;
+    /// let cfg: LineConfig = toml::from_str("cells = 3\ncell_length = 2.0")?;
+    /// assert_eq!(cfg.lengths(), [2.0; 3]);
+    /// # Ok::<(), toml::de::Error>(())
+    /// ```
     pub fn lengths(&self) -> Vec<f64> {
         self.ref_lengths
             .clone()
@@ -200,6 +214,13 @@ impl LineConfig {
     }
 
     /// `l₀`.
+    ///
+    /// ```
+    /// use celltissue::line::LineConfig;
+    /// let cfg: LineConfig = toml::from_str("cells = 1000000\ncell_length = 0.5")?;
+    /// assert_eq!(cfg.l0(), 5e5); // without building a 10⁶-vector
+    /// # Ok::<(), toml::de::Error>(())
+    /// ```
     pub fn l0(&self) -> f64 {
         // no `lengths()` here: a uniform line of N cells needs no N-vector to know its length
         match &self.ref_lengths {
@@ -209,6 +230,14 @@ impl LineConfig {
     }
 
     /// Checks every key; the error names the key and its valid range.
+    ///
+    /// ```
+    /// use celltissue::line::LineConfig;
+    /// let cfg: LineConfig = toml::from_str("cells = 10\nK = -1.0")?;
+    /// let e = cfg.validate().unwrap_err();
+    /// assert!(e.to_string().contains("K"), "{e}");
+    /// # Ok::<(), toml::de::Error>(())
+    /// ```
     pub fn validate(&self) -> Result<(), LineError> {
         if self.n_cells() == 0 {
             return Err(LineError::invalid("cells", 0, "an integer >= 1"));
@@ -336,6 +365,14 @@ impl LineConfig {
     }
 
     /// The prescribed length `l(t)`.
+    ///
+    /// ```
+    /// use celltissue::line::LineConfig;
+    /// let cfg: LineConfig = toml::from_str("cells = 10\nk1 = 0.2")?;
+    /// let (l, _) = cfg.ramp().eval(1e3); // the exponential ramp, long after
+    /// assert!((l - 8.0).abs() < 1e-12);
+    /// # Ok::<(), toml::de::Error>(())
+    /// ```
     pub fn ramp(&self) -> Ramp {
         let l0 = self.l0();
         match self.ramp {
@@ -353,6 +390,15 @@ impl LineConfig {
     }
 
     /// The builders' description (validate first).
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineConfig};
+    /// let cfg: LineConfig = toml::from_str("cells = 10\nK = 0.5\neta = 0.2")?;
+    /// cfg.validate()?;
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &cfg.params(1e-8))?;
+    /// assert_eq!((line.n_cells(), line.k_face()[3], line.cells().eta[2]), (10, 0.5, 0.2));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn params(&self, atol_cell: f64) -> LineParams {
         let right = match self.right_end {
             RightEndKind::Prescribed => RightEnd::Prescribed(self.ramp()),

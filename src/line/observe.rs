@@ -55,15 +55,47 @@ pub struct Snapshot {
 
 impl Snapshot {
     /// Current length `l = x_N − x₀`.
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// // four unit cells between a wall and an end held at 4; the first cell stretched to 1.2
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(4))?;
+    /// let s = line.snapshot(0.0, &[1.2, 2.0, 3.0], &[0.0; 3])?;
+    /// assert_eq!(s.length(), 4.0);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn length(&self) -> f64 {
         self.x[self.x.len() - 1] - self.x[0]
     }
     /// End reaction `W_N σ_N` (force needed to hold the right end).
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// // four unit cells between a wall and an end held at 4; the first cell stretched to 1.2
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(4))?;
+    /// let s = line.snapshot(0.0, &[1.2, 2.0, 3.0], &[0.0; 3])?;
+    /// // the last cell (x₃ = 3 to the end at 4) is at its rest length: nothing pulls the end
+    /// assert_eq!(s.end_reaction(), 0.0);
+    /// // compressed to 0.8, it pushes: W σ = (1/0.8)(0.8² − 0.8⁻²)
+    /// let c = line.snapshot(0.0, &[1.0, 2.0, 3.2], &[0.0; 3])?;
+    /// assert!((c.end_reaction() - 1.25 * (0.64 - 1.0 / 0.64)).abs() < 1e-12);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn end_reaction(&self) -> f64 {
         let n = self.sigma.len();
         self.width[n - 1] * self.sigma[n - 1]
     }
     /// Maximum pressure.
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// // four unit cells between a wall and an end held at 4; the first cell stretched to 1.2
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(4))?;
+    /// let s = line.snapshot(0.0, &[1.2, 2.0, 3.0], &[0.0; 3])?;
+    /// // p = μα⁻²: the compressed second cell (α = 0.8) has the largest
+    /// assert!((s.max_pressure() - 1.0 / 0.64).abs() < 1e-12);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn max_pressure(&self) -> f64 {
         self.pressure
             .iter()
@@ -71,20 +103,59 @@ impl Snapshot {
             .fold(f64::NEG_INFINITY, f64::max)
     }
     /// Minimum pressure.
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// // four unit cells between a wall and an end held at 4; the first cell stretched to 1.2
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(4))?;
+    /// let s = line.snapshot(0.0, &[1.2, 2.0, 3.0], &[0.0; 3])?;
+    /// assert!((s.min_pressure() - 1.0 / 1.44).abs() < 1e-12); // the stretched first cell
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn min_pressure(&self) -> f64 {
         self.pressure.iter().copied().fold(f64::INFINITY, f64::min)
     }
     /// Maximum elastic stretch.
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// // four unit cells between a wall and an end held at 4; the first cell stretched to 1.2
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(4))?;
+    /// let s = line.snapshot(0.0, &[1.2, 2.0, 3.0], &[0.0; 3])?;
+    /// assert!((s.max_stretch() - 1.2).abs() < 1e-15);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn max_stretch(&self) -> f64 {
         self.alpha.iter().copied().fold(f64::NEG_INFINITY, f64::max)
     }
     /// Minimum elastic stretch.
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// // four unit cells between a wall and an end held at 4; the first cell stretched to 1.2
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(4))?;
+    /// let s = line.snapshot(0.0, &[1.2, 2.0, 3.0], &[0.0; 3])?;
+    /// assert!((s.min_stretch() - 0.8).abs() < 1e-15);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn min_stretch(&self) -> f64 {
         self.alpha.iter().copied().fold(f64::INFINITY, f64::min)
     }
 
     /// The profile record (X, x = current centres, stretch = α, pressure, plus `g`, `sigma`,
     /// `width`, `lambda`, `kappa`, `mu` in `extra`).
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// // four unit cells between a wall and an end held at 4; the first cell stretched to 1.2
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(4))?;
+    /// let s = line.snapshot(0.0, &[1.2, 2.0, 3.0], &[0.0; 3])?;
+    /// let p = s.profile();
+    /// assert_eq!(p.x_ref, [0.5, 1.5, 2.5, 3.5]); // reference centres
+    /// assert!((p.x[0] - 0.6).abs() < 1e-15); // current centre of the first cell
+    /// assert!(p.extra.contains_key("sigma") && !p.extra.contains_key("g")); // g only when growing
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn profile(&self) -> Profile {
         let mut extra = BTreeMap::new();
         extra.insert("sigma".to_string(), self.sigma.clone());
@@ -177,11 +248,25 @@ impl<E: StrainEnergy> Line<E> {
     }
 
     /// Whether the right end is prescribed (then [`Snapshot::end_reaction`] is the holding force).
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(4))?;
+    /// assert!(line.has_prescribed_end());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn has_prescribed_end(&self) -> bool {
         matches!(self.right, RightEnd::Prescribed(_))
     }
 
     /// `dim()` shortcut usable without importing [`CellArray`].
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(4))?;
+    /// assert_eq!(line.num_unknowns(), 3); // x₁, x₂, x₃
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn num_unknowns(&self) -> usize {
         CellArray::dim(self)
     }

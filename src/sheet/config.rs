@@ -81,6 +81,12 @@ pub enum GrowthDirections {
 
 impl GrowthDirections {
     /// Whether direction `i` (0 = x, 1 = y) grows.
+    ///
+    /// ```
+    /// use celltissue::sheet::GrowthDirections;
+    /// assert!(GrowthDirections::X.grows(0) && !GrowthDirections::X.grows(1));
+    /// assert!(GrowthDirections::Both.grows(1));
+    /// ```
     pub fn grows(self, i: usize) -> bool {
         matches!(
             (self, i),
@@ -255,11 +261,26 @@ impl Default for SheetConfig {
 
 impl SheetConfig {
     /// Boundary-form drag `K` (`k_th/2`, or `drag`, default ½).
+    ///
+    /// ```
+    /// use celltissue::sheet::SheetConfig;
+    /// let thesis: SheetConfig = toml::from_str("k_th = 1.0")?;
+    /// assert_eq!(thesis.drag(), 0.5); // the boundary form K = K_th/2
+    /// assert_eq!(SheetConfig::default().drag(), 0.5);
+    /// # Ok::<(), toml::de::Error>(())
+    /// ```
     pub fn drag(&self) -> f64 {
         drag_from(self.k_th, self.drag)
     }
 
     /// Checks every key; the error names the key and its valid range.
+    ///
+    /// ```
+    /// use celltissue::sheet::SheetConfig;
+    /// let cfg: SheetConfig = toml::from_str("k1 = 1.5")?;
+    /// assert_eq!(cfg.validate().unwrap_err().key, "k1");
+    /// # Ok::<(), toml::de::Error>(())
+    /// ```
     pub fn validate(&self) -> Result<(), ConfigError> {
         need(self.cells_x >= 1, "cells_x", self.cells_x, "must be >= 1")?;
         need(self.cells_y >= 1, "cells_y", self.cells_y, "must be >= 1")?;
@@ -323,6 +344,14 @@ impl SheetConfig {
     }
 
     /// The model parameters.
+    ///
+    /// ```
+    /// use celltissue::sheet::SheetConfig;
+    /// let cfg: SheetConfig = toml::from_str("cells_x = 4\nviscosity = { model = \"kelvin_voigt\", eta = 0.3 }")?;
+    /// let p = cfg.params();
+    /// assert_eq!((p.cells_x, p.eta, p.branch), (4, 0.3, None));
+    /// # Ok::<(), toml::de::Error>(())
+    /// ```
     pub fn params(&self) -> SheetParams {
         SheetParams {
             cells_x: self.cells_x,
@@ -400,11 +429,25 @@ impl Default for ShearConfig {
 
 impl ShearConfig {
     /// Edge-form drag `K`.
+    ///
+    /// ```
+    /// use celltissue::sheet::ShearConfig;
+    /// let cfg: ShearConfig = toml::from_str("drag = 0.2")?;
+    /// assert_eq!(cfg.drag(), 0.2);
+    /// # Ok::<(), toml::de::Error>(())
+    /// ```
     pub fn drag(&self) -> f64 {
         drag_from(self.k_th, self.drag)
     }
 
     /// Checks every key; the error names the key and its valid range.
+    ///
+    /// ```
+    /// use celltissue::sheet::ShearConfig;
+    /// let cfg: ShearConfig = toml::from_str("cells = 0")?;
+    /// assert_eq!(cfg.validate().unwrap_err().key, "cells");
+    /// # Ok::<(), toml::de::Error>(())
+    /// ```
     pub fn validate(&self) -> Result<(), ConfigError> {
         need(self.cells >= 1, "cells", self.cells, "must be >= 1")?;
         pos("gamma0", self.gamma0)?;
@@ -438,6 +481,14 @@ impl ShearConfig {
     }
 
     /// The model parameters.
+    ///
+    /// ```
+    /// use celltissue::sheet::ShearConfig;
+    /// let cfg: ShearConfig = toml::from_str("cells = 5\nforce = 0.5\nk_th = 1.0")?;
+    /// let p = cfg.params();
+    /// assert_eq!((p.cells, p.force, p.drag, p.eta), (5, 0.5, 0.5, 0.0));
+    /// # Ok::<(), toml::de::Error>(())
+    /// ```
     pub fn params(&self) -> ShearParams {
         ShearParams {
             cells: self.cells,
