@@ -218,6 +218,14 @@ pub struct ShearDiscreteExact {
 
 impl ShearDiscreteExact {
     /// `M` cells, `γ₀`, `β₀`, `μ`, edge drag `K`, force `F_A`.
+    ///
+    /// ```
+    /// use celltissue::sheet::exact::ShearDiscreteExact;
+    /// // M = 4, F_A = β₀μ: the column tends to tan θ = 1 in every cell, the top at x = 4
+    /// let ex = ShearDiscreteExact::new(4, 1.0, 1.0, 1.0, 0.5, 1.0);
+    /// let late = ex.edges(1e3);
+    /// assert!((late[3] - 4.0).abs() < 1e-12);
+    /// ```
     pub fn new(m: usize, gamma0: f64, beta0: f64, mu: f64, drag: f64, force: f64) -> Self {
         let delta = gamma0 * force / (beta0 * mu);
         let c = beta0 * mu / (gamma0 * drag);
@@ -245,12 +253,27 @@ impl ShearDiscreteExact {
     }
 
     /// The same column with Kelvin–Voigt cells of viscosity `η` (`τ = μT + (η/2)Ṫ`).
+    ///
+    /// ```
+    /// use celltissue::sheet::exact::ShearDiscreteExact;
+    /// let elastic = ShearDiscreteExact::new(4, 1.0, 1.0, 1.0, 0.5, 1.0);
+    /// let viscous = elastic.clone().with_viscosity(0.0);
+    /// assert_eq!(elastic.edges(2.0), viscous.edges(2.0)); // η = 0 is the elastic column
+    /// ```
     pub fn with_viscosity(mut self, eta: f64) -> Self {
         self.v = self.beta0 * eta / (2.0 * self.gamma0 * self.drag);
         self
     }
 
     /// Edge positions `x_{e,1..M}` at time `t`.
+    ///
+    /// ```
+    /// use celltissue::sheet::exact::ShearDiscreteExact;
+    /// let ex = ShearDiscreteExact::new(3, 1.0, 1.0, 1.0, 0.5, 1.0);
+    /// let x = ex.edges(1.0);
+    /// assert_eq!(x.len(), 3);
+    /// assert!(x.windows(2).all(|w| w[1] > w[0])); // the top moves most
+    /// ```
     pub fn edges(&self, t: f64) -> Vec<f64> {
         (1..=self.m)
             .map(|k| {

@@ -231,6 +231,17 @@ pub struct SheetColumns {
 
 impl SheetColumns {
     /// The columns a sheet has.
+    ///
+    /// ```
+    /// use celltissue::cell::MaxwellBranch;
+    /// use celltissue::sheet::observe::SheetColumns;
+    /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+    /// let p = SheetParams { branch: Some(MaxwellBranch::maxwell(1.0, 1.0)?), ..Default::default() };
+    /// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &p)?;
+    /// let c = SheetColumns::of(&sheet);
+    /// assert!(c.viscous && !c.growth);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn of<E: StrainEnergy>(sheet: &UniaxialSheet<E>) -> Self {
         Self {
             viscous: sheet.branch().is_some(),

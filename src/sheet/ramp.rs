@@ -102,6 +102,12 @@ impl Ramp {
     }
 
     /// `l(t) = l₀(1 − k₁ s(t))`.
+    ///
+    /// ```
+    /// use celltissue::sheet::Ramp;
+    /// let r = Ramp::Polynomial { t_ramp: 1.0 };
+    /// assert_eq!((r.length(10.0, 0.1, 0.0), r.length(10.0, 0.1, 0.5), r.length(10.0, 0.1, 2.0)), (10.0, 9.5, 9.0));
+    /// ```
     pub fn length(&self, l0: f64, k1: f64, t: f64) -> f64 {
         l0 * (1.0 - k1 * self.fraction(t))
     }

@@ -243,18 +243,51 @@ impl<E: StrainEnergy> ShearColumn<E> {
     }
 
     /// The physical parameters.
+    ///
+    /// ```
+    /// use celltissue::sheet::shear::{ShearColumn, ShearParams};
+    /// let p = ShearParams { cells: 5, gamma0: 2.0, ..Default::default() };
+    /// let col = ShearColumn::continuum(celltissue::NeoHookean::new(1.5)?, &p, 20)?;
+    /// assert_eq!(col.params().cells, 5);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn params(&self) -> &ShearParams {
         &self.params
     }
     /// Number of cells or segments.
+    ///
+    /// ```
+    /// use celltissue::sheet::shear::{ShearColumn, ShearParams};
+    /// let p = ShearParams { cells: 5, gamma0: 2.0, ..Default::default() };
+    /// let col = ShearColumn::continuum(celltissue::NeoHookean::new(1.5)?, &p, 20)?;
+    /// assert_eq!(col.segments(), 20);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn segments(&self) -> usize {
         self.m
     }
     /// Segment height `h`.
+    ///
+    /// ```
+    /// use celltissue::sheet::shear::{ShearColumn, ShearParams};
+    /// let p = ShearParams { cells: 5, gamma0: 2.0, ..Default::default() };
+    /// let col = ShearColumn::continuum(celltissue::NeoHookean::new(1.5)?, &p, 20)?;
+    /// assert_eq!(col.spacing(), 0.5); // Mγ₀/m
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn spacing(&self) -> f64 {
         self.h
     }
     /// The law.
+    ///
+    /// ```
+    /// use celltissue::sheet::shear::{ShearColumn, ShearParams};
+    /// let p = ShearParams { cells: 5, gamma0: 2.0, ..Default::default() };
+    /// let col = ShearColumn::continuum(celltissue::NeoHookean::new(1.5)?, &p, 20)?;
+    /// use celltissue::StrainEnergy;
+    /// assert_eq!(col.law().shear_modulus(), 1.5);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn law(&self) -> &E {
         &self.law
     }
@@ -272,6 +305,14 @@ impl<E: StrainEnergy> ShearColumn<E> {
 
     /// Per-cell fields from the edge state `y = x_{e,1..m}` and its rate `yp` (which enters
     /// only through the Kelvin–Voigt stress).
+    ///
+    /// ```
+    /// use celltissue::sheet::shear::{ShearColumn, ShearParams};
+    /// let col = ShearColumn::discrete(celltissue::NeoHookean::new(1.0)?, &ShearParams { cells: 2, ..Default::default() })?;
+    /// let f = col.fields(&[0.5, 0.5], &[0.0, 0.0]); // the top cell unsheared
+    /// assert_eq!((f.tan_theta[0], f.tan_theta[1]), (0.5, 0.0));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn fields(&self, y: &[f64], yp: &[f64]) -> ShearFields {
         let with_base = |v: &[f64]| [&[0.0], v].concat();
         let mut f = fields_from_edges(&self.law, &with_base(y), self.h);
@@ -422,11 +463,25 @@ impl<E: StrainEnergy> ShearCellCentre<E> {
     }
 
     /// The thesis drag coefficient `K_th`.
+    ///
+    /// ```
+    /// use celltissue::sheet::shear::{ShearCellCentre, ShearParams};
+    /// let col = ShearCellCentre::new(celltissue::NeoHookean::new(1.0)?, &ShearParams { cells: 3, ..Default::default() })?;
+    /// assert_eq!(col.k_th(), 1.0); // 2K with the default K = ½
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn k_th(&self) -> f64 {
         self.k_th
     }
 
     /// Initial state `x_c ≡ 0` ((4.89); the thesis's (4.98f) `x_c = ½` is inconsistent, §7).
+    ///
+    /// ```
+    /// use celltissue::sheet::shear::{ShearCellCentre, ShearParams};
+    /// let col = ShearCellCentre::new(celltissue::NeoHookean::new(1.0)?, &ShearParams { cells: 3, ..Default::default() })?;
+    /// assert_eq!(col.initial_state(), [0.0; 3]);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn initial_state(&self) -> Vec<f64> {
         vec![0.0; self.params.cells]
     }
@@ -452,6 +507,16 @@ impl<E: StrainEnergy> ShearCellCentre<E> {
 
     /// Per-cell fields from the centre state `xc` and its rate `xc_rate` (which enters only
     /// through the Kelvin–Voigt stress).
+    ///
+    /// ```
+    /// use celltissue::sheet::shear::{ShearCellCentre, ShearParams};
+    /// let col = ShearCellCentre::new(celltissue::NeoHookean::new(1.0)?, &ShearParams { cells: 3, ..Default::default() })?;
+    /// // centres 0.5, 1.5, 2.5: edges at 1, 2, 3, every cell sheared by tan θ = 1
+    /// let f = col.fields(&[0.5, 1.5, 2.5], &[0.0; 3]);
+    /// assert_eq!(f.x_edge, [0.0, 1.0, 2.0, 3.0]);
+    /// assert!(f.tan_theta.iter().all(|&t| t == 1.0));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn fields(&self, xc: &[f64], xc_rate: &[f64]) -> ShearFields {
         let h = self.params.gamma0;
         let mut f = fields_from_edges(&self.law, &Self::edges(xc), h);

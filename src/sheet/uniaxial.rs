@@ -386,26 +386,75 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
     }
 
     /// The strain-energy law.
+    ///
+    /// ```
+    /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+    /// let p = SheetParams { cells_x: 6, cells_y: 3, gamma0: 0.5, ..Default::default() };
+    /// let sheet = UniaxialSheet::continuum(celltissue::NeoHookean::new(2.0)?, &p, 12, 3)?;
+    /// use celltissue::StrainEnergy;
+    /// assert_eq!(sheet.law().shear_modulus(), 2.0);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn law(&self) -> &E {
         &self.law
     }
     /// The physical parameters.
+    ///
+    /// ```
+    /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+    /// let p = SheetParams { cells_x: 6, cells_y: 3, gamma0: 0.5, ..Default::default() };
+    /// let sheet = UniaxialSheet::continuum(celltissue::NeoHookean::new(2.0)?, &p, 12, 3)?;
+    /// assert_eq!((sheet.params().cells_x, sheet.params().gamma0), (6, 0.5));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn params(&self) -> &SheetParams {
         &self.params
     }
     /// Grid size `(n, m)` (cells or continuum segments in x and y).
+    ///
+    /// ```
+    /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+    /// let p = SheetParams { cells_x: 6, cells_y: 3, gamma0: 0.5, ..Default::default() };
+    /// let sheet = UniaxialSheet::continuum(celltissue::NeoHookean::new(2.0)?, &p, 12, 3)?;
+    /// assert_eq!(sheet.grid(), (12, 3)); // the continuum grid, not the cells
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn grid(&self) -> (usize, usize) {
         (self.n, self.m)
     }
     /// Reference cell size `(h_X, h_Y)`.
+    ///
+    /// ```
+    /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+    /// let p = SheetParams { cells_x: 6, cells_y: 3, gamma0: 0.5, ..Default::default() };
+    /// let sheet = UniaxialSheet::continuum(celltissue::NeoHookean::new(2.0)?, &p, 12, 3)?;
+    /// assert_eq!(sheet.spacing(), (0.5, 0.5)); // h_X = N/n, h_Y = Mγ₀/m
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn spacing(&self) -> (f64, f64) {
         (self.hx, self.hy)
     }
     /// Reference length `l₀ = N`.
+    ///
+    /// ```
+    /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+    /// let p = SheetParams { cells_x: 6, cells_y: 3, gamma0: 0.5, ..Default::default() };
+    /// let sheet = UniaxialSheet::continuum(celltissue::NeoHookean::new(2.0)?, &p, 12, 3)?;
+    /// assert_eq!(sheet.l0(), 6.0); // N cells of unit length
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn l0(&self) -> f64 {
         self.params.cells_x as f64
     }
     /// Reference width `w₀ = M γ₀`.
+    ///
+    /// ```
+    /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+    /// let p = SheetParams { cells_x: 6, cells_y: 3, gamma0: 0.5, ..Default::default() };
+    /// let sheet = UniaxialSheet::continuum(celltissue::NeoHookean::new(2.0)?, &p, 12, 3)?;
+    /// assert_eq!(sheet.w0(), 1.5); // M rows of width γ₀
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn w0(&self) -> f64 {
         self.params.cells_y as f64 * self.params.gamma0
     }
@@ -467,11 +516,35 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
     }
     /// Index of cell `(j, k)`'s viscous stretch `a₁` (`a₂` is the next unknown), with a
     /// Maxwell branch (`j = 1..n`, `k = 1..m`).
+    ///
+    /// ```
+    /// use celltissue::cell::MaxwellBranch;
+    /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+    /// let p = SheetParams { cells_x: 2, cells_y: 2, branch: Some(MaxwellBranch::maxwell(1.0, 1.0)?), ..Default::default() };
+    /// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &p)?;
+    /// // each column block starts with its cells' viscous stretches (a₁, a₂)
+    /// assert_eq!((sheet.iq(1, 1), sheet.iq(1, 2), sheet.iq(2, 1)), (0, 2, sheet.iq(1, 1) + 4 + 4));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn iq(&self, j: usize, k: usize) -> usize {
         (j - 1) * self.block + 2 * (k - 1)
     }
     /// Index of cell `(j, k)`'s growth stretch `g₁` (`g₂` is the next unknown), when the
     /// sheet grows.
+    ///
+    /// ```
+    /// use celltissue::cell::TanhGrowth;
+    /// use celltissue::sheet::uniaxial::{SheetGrowth, SheetParams, UniaxialSheet};
+    /// use celltissue::sheet::GrowthDirections;
+    /// let p = SheetParams {
+    ///     growth: Some(SheetGrowth { law: std::sync::Arc::new(TanhGrowth::default()), directions: GrowthDirections::Both }),
+    ///     ..Default::default()
+    /// };
+    /// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &p)?;
+    /// let y = sheet.initial_state();
+    /// assert_eq!((y[sheet.ig(3, 4)], y[sheet.ig(3, 4) + 1]), (1.0, 1.0)); // g₁, g₂ at rest
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn ig(&self, j: usize, k: usize) -> usize {
         (j - 1) * self.block + self.growth_at + 2 * (k - 1)
     }
@@ -484,6 +557,14 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
         j >= 1 && (j < self.n || self.free_right())
     }
     /// The growth, if any.
+    ///
+    /// ```
+    /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+    /// let p = SheetParams { cells_x: 6, cells_y: 3, gamma0: 0.5, ..Default::default() };
+    /// let sheet = UniaxialSheet::continuum(celltissue::NeoHookean::new(2.0)?, &p, 12, 3)?;
+    /// assert!(sheet.growth().is_none());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn growth(&self) -> Option<&SheetGrowth> {
         self.params.growth.as_ref()
     }
@@ -505,10 +586,26 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
             / self.m as f64
     }
     /// The Maxwell branch, if any.
+    ///
+    /// ```
+    /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+    /// let p = SheetParams { cells_x: 6, cells_y: 3, gamma0: 0.5, ..Default::default() };
+    /// let sheet = UniaxialSheet::continuum(celltissue::NeoHookean::new(2.0)?, &p, 12, 3)?;
+    /// assert!(sheet.branch().is_none());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn branch(&self) -> Option<&MaxwellBranch> {
         self.params.branch.as_ref()
     }
     /// The sampled external pressure of each column (index `j − 1`).
+    ///
+    /// ```
+    /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+    /// let p = SheetParams { cells_x: 6, cells_y: 3, gamma0: 0.5, ..Default::default() };
+    /// let sheet = UniaxialSheet::continuum(celltissue::NeoHookean::new(2.0)?, &p, 12, 3)?;
+    /// assert_eq!(sheet.external_pressure(), [0.0; 12]); // one per column of the grid
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn external_pressure(&self) -> &[f64] {
         &self.p_ext
     }

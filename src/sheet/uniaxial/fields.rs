@@ -11,6 +11,18 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
     /// Per-cell fields at state `y` with rates `yp`, time `t` (column-major: index
     /// `(j−1)·m + (k−1)`). The stresses and the pressure include the branch, the Kelvin–Voigt
     /// stress (the only use of `yp`) and the external pressure.
+    ///
+    /// ```
+    /// use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};
+    /// let p = SheetParams { cells_x: 2, cells_y: 1, ..Default::default() };
+    /// let sheet = UniaxialSheet::discrete(celltissue::NeoHookean::new(1.0)?, &p)?;
+    /// let mut y = sheet.initial_state();
+    /// y[sheet.ix(1, 1)] = 1.2; // the first cell stretched by 20 %, the second compressed
+    /// let c = sheet.cells(0.0, &y, &vec![0.0; y.len()]);
+    /// assert!((c[0].stretch[0] - 1.2).abs() < 1e-15 && (c[1].stretch[0] - 0.8).abs() < 1e-15);
+    /// assert!(c[0].s11 > 0.0 && c[1].s11 < 0.0); // tension, compression
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn cells(&self, t: f64, y: &[f64], yp: &[f64]) -> Vec<SheetCell> {
         let (lt, ldot) = (self.length(t), self.length_rate(t));
         let branch = self.params.branch.as_ref();
