@@ -190,6 +190,15 @@ pub struct ArrayProblem<A: CellArray> {
 
 impl<A: CellArray> ArrayProblem<A> {
     /// Wraps a cell array.
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// use celltissue::{ArrayProblem, CellArray};
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(4))?;
+    /// let prob = ArrayProblem::new(line); // an integrators::Problem
+    /// assert_eq!(prob.array.dim(), 3);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn new(array: A) -> Self {
         Self {
             array,

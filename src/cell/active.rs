@@ -29,12 +29,23 @@ fn default_beta() -> f64 {
 
 impl Active {
     /// `b(t) = 1 + sin(2πωt − t_R)`.
+    ///
+    /// ```
+    /// let a = celltissue::cell::Active { beta: -1.0, omega: 0.25 };
+    /// assert!((a.b(1.0, 0.0) - 2.0).abs() < 1e-15); // 1 + sin(π/2): the peak
+    /// ```
     #[inline]
     pub fn b(&self, t: f64, phase: f64) -> f64 {
         1.0 + (2.0 * std::f64::consts::PI * self.omega * t - phase).sin()
     }
 
     /// `C_a = amplitude·b(t)·(1 + β/2·(λ − 1))` in `f64`.
+    ///
+    /// ```
+    /// let a = celltissue::cell::Active { beta: -1.0, omega: 0.25 };
+    /// // at the peak b = 2, a cell stretched to λ = 1.2 with β = −1: C_a = 2·(1 − 0.1)
+    /// assert!((a.stress(1.0, 0.0, 1.0, 1.2) - 1.8).abs() < 1e-12);
+    /// ```
     #[inline]
     pub fn stress(&self, t: f64, phase: f64, amplitude: f64, lambda: f64) -> f64 {
         amplitude * self.b(t, phase) * (1.0 + 0.5 * self.beta * (lambda - 1.0))

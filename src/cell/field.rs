@@ -452,6 +452,14 @@ impl Field {
 
     /// Checks the field's own parameters; `key` names it in the message. `positive` demands
     /// every sampled value be `> 0` (else `≥ 0`).
+    ///
+    /// ```
+    /// use celltissue::cell::Field;
+    /// let bad = Field::gaussian_bump(1.0, 1.0, f64::NAN, 0.1);
+    /// assert_eq!(bad.validate("mu", true).unwrap_err().key, "mu.centre");
+    /// assert!(Field::Constant(0.0).validate("eta", false).is_ok());
+    /// assert!(Field::Constant(0.0).validate("mu", true).is_err()); // μ must be > 0
+    /// ```
     pub fn validate(&self, key: &str, positive: bool) -> Result<(), FieldError> {
         let err = |sub: &str, message: String| FieldError {
             key: if sub.is_empty() {

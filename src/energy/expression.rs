@@ -288,11 +288,25 @@ impl Expression {
     }
 
     /// The formula as written.
+    ///
+    /// ```
+    /// use celltissue::energy::Expression;
+    /// let e = Expression::new("mu/2*(I1 - 3)", [("mu", 1.0)])?;
+    /// assert_eq!(e.formula(), "mu/2*(I1 - 3)");
+    /// # Ok::<(), celltissue::energy::ExpressionError>(())
+    /// ```
     pub fn formula(&self) -> &str {
         &self.source
     }
 
     /// The parameters by name.
+    ///
+    /// ```
+    /// use celltissue::energy::Expression;
+    /// let e = Expression::new("c1*(I1 - 3) + c2*(I2 - 3)", [("c1", 0.3), ("c2", 0.2)])?;
+    /// assert_eq!(e.params()["c2"], 0.2);
+    /// # Ok::<(), celltissue::energy::ExpressionError>(())
+    /// ```
     pub fn params(&self) -> &BTreeMap<String, f64> {
         &self.params
     }

@@ -59,6 +59,11 @@ impl Gent {
     }
 
     /// The locking parameter `J_m`.
+    ///
+    /// ```
+    /// assert_eq!(celltissue::Gent::new(1.0, 30.0)?.jm(), 30.0);
+    /// # Ok::<(), celltissue::EnergyError>(())
+    /// ```
     pub fn jm(&self) -> f64 {
         self.jm
     }

@@ -298,11 +298,31 @@ impl Registered {
     }
 
     /// The name the law was registered under.
+    ///
+    /// ```
+    /// use celltissue::energy::registry;
+    /// use celltissue::AnyEnergy;
+    /// registry::register::<celltissue::NeoHookean>("nh_again")?;
+    /// let p = serde_json::json!({"mu": 3.0}).as_object().unwrap().clone();
+    /// let AnyEnergy::Registered(r) = registry::build("nh_again", &p)? else { panic!() };
+    /// assert_eq!(r.name(), "nh_again");
+    /// # Ok::<(), celltissue::EnergyError>(())
+    /// ```
     pub fn name(&self) -> &str {
         &self.name
     }
 
     /// The parameters it was built from.
+    ///
+    /// ```
+    /// use celltissue::energy::registry;
+    /// use celltissue::AnyEnergy;
+    /// registry::register::<celltissue::NeoHookean>("nh_again")?;
+    /// let p = serde_json::json!({"mu": 3.0}).as_object().unwrap().clone();
+    /// let AnyEnergy::Registered(r) = registry::build("nh_again", &p)? else { panic!() };
+    /// assert_eq!(r.params()["mu"].as_f64(), Some(3.0));
+    /// # Ok::<(), celltissue::EnergyError>(())
+    /// ```
     pub fn params(&self) -> &Params {
         &self.params
     }

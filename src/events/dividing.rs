@@ -166,6 +166,15 @@ pub struct Dividing<E: StrainEnergy> {
 
 impl<E: StrainEnergy> Dividing<E> {
     /// Wraps a growing line or ring; `seed` seeds the rule's random thresholds.
+    ///
+    /// ```
+    /// use celltissue::events::{AreaDoubling, Dividing};
+    /// use celltissue::line::{discrete, LineParams};
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(4))?;
+    /// // a line that does not grow cannot divide
+    /// assert!(Dividing::new(line, Box::new(AreaDoubling::default()), 0).is_err());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn new(line: Line<E>, rule: Box<dyn DivisionRule>, seed: u64) -> Result<Self, EventError> {
         if !line.is_growing() {
             return Err(EventError::Unsupported(

@@ -75,6 +75,12 @@ impl CellView {
     }
 
     /// Perimeter over area of the cell's 2D shape, `2(1/length + 1/width)`.
+    ///
+    /// ```
+    /// use celltissue::events::CellView;
+    /// let square = CellView { length: 1.0, width: 1.0, ..CellView::growth_only(1.0, 1.0, f64::NAN) };
+    /// assert_eq!(square.surface_to_volume(), 4.0); // perimeter 4 over area 1
+    /// ```
     pub fn surface_to_volume(&self) -> f64 {
         2.0 * (1.0 / self.length + 1.0 / self.width)
     }

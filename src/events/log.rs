@@ -35,11 +35,19 @@ impl DivisionLog {
     }
 
     /// Number of divisions.
+    ///
+    /// ```
+    /// assert_eq!(celltissue::events::DivisionLog::default().len(), 0);
+    /// ```
     pub fn len(&self) -> usize {
         self.records.len()
     }
 
     /// Whether no division happened.
+    ///
+    /// ```
+    /// assert!(celltissue::events::DivisionLog::default().is_empty());
+    /// ```
     pub fn is_empty(&self) -> bool {
         self.records.is_empty()
     }

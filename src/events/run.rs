@@ -93,6 +93,14 @@ pub struct ProliferationConfig {
 impl ProliferationConfig {
     /// Parses a `[model]`-style table: the `division` key is the rule (default: area
     /// doubling), every other key belongs to [`LineConfig`]. Errors name the key.
+    ///
+    /// ```
+    /// use celltissue::events::run::ProliferationConfig;
+    /// let t: toml::Table = toml::from_str("cells = 10\nK = 1e-3\nright_end = \"free\"\ngrowth = { sigma0 = 0.1 }")?;
+    /// let cfg = ProliferationConfig::from_table(&t)?;
+    /// assert_eq!((cfg.line.cells, cfg.division.area_ratio()), (10, Some(2.0))); // the default rule
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn from_table(table: &toml::Table) -> Result<Self, ProliferationError> {
         let mut rest = table.clone();
         let division = match rest.remove("division") {
@@ -106,6 +114,14 @@ impl ProliferationConfig {
     }
 
     /// Validates the line and the rule; division needs growth.
+    ///
+    /// ```
+    /// use celltissue::events::run::ProliferationConfig;
+    /// let t: toml::Table = toml::from_str("cells = 10\nright_end = \"free\"")?;
+    /// // division needs growth
+    /// assert!(ProliferationConfig::from_table(&t)?.validate().is_err());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn validate(&self) -> Result<(), ProliferationError> {
         self.line.validate()?;
         self.division.validate()?;
@@ -116,6 +132,14 @@ impl ProliferationConfig {
     }
 
     /// What the proliferating continuum needs besides [`Self::validate`]: a line, not a ring.
+    ///
+    /// ```
+    /// use celltissue::events::run::ProliferationConfig;
+    /// let t: toml::Table = toml::from_str("cells = 10\nK = 1.0\nright_end = \"periodic\"\ngrowth = { sigma0 = 0.1 }")?;
+    /// // the proliferating continuum is a line, not a ring
+    /// assert!(ProliferationConfig::from_table(&t)?.validate_continuum().is_err());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn validate_continuum(&self) -> Result<(), ProliferationError> {
         if self.line.right_end == RightEndKind::Periodic {
             return Err(ProliferationError::Ring);

@@ -44,6 +44,11 @@ pub enum Reference {
 
 impl Reference {
     /// Legend text.
+    ///
+    /// ```
+    /// use celltissue::line::analytic::Reference;
+    /// assert_eq!(Reference::UniformK0.label(), "exact (K = 0, uniform)");
+    /// ```
     pub fn label(self) -> &'static str {
         match self {
             Reference::UniformK0 => "exact (K = 0, uniform)",

@@ -91,6 +91,13 @@ impl Cells {
         self.l0.len()
     }
     /// Whether there are no cells.
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(4))?;
+    /// assert!(!line.cells().is_empty());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn is_empty(&self) -> bool {
         self.l0.is_empty()
     }
@@ -385,6 +392,13 @@ impl<E: StrainEnergy> Line<E> {
     }
 
     /// The per-cell data (read-only: change it with [`Line::edit_fields`]).
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(4))?;
+    /// assert_eq!((line.cells().l0.as_slice(), line.cells().mu[0]), (&[1.0; 4][..], 1.0));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn cells(&self) -> &Cells {
         &self.cells
     }
@@ -405,6 +419,13 @@ impl<E: StrainEnergy> Line<E> {
     }
 
     /// Where each `g_j` and `x_j` live in the unknown vector.
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(4))?;
+    /// assert_eq!(line.layout().dim, 3);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn layout(&self) -> &Layout {
         &self.layout
     }
@@ -423,6 +444,13 @@ impl<E: StrainEnergy> Line<E> {
     }
 
     /// The growth law, if growing.
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(4))?;
+    /// assert!(line.growth().is_none() && !line.is_growing());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn growth(&self) -> Option<&Arc<dyn GrowthLaw>> {
         self.growth.as_ref()
     }
@@ -444,6 +472,16 @@ impl<E: StrainEnergy> Line<E> {
     }
 
     /// Reference length `l₀ = Σ L₀,j`.
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// let mut p = LineParams::unit_cells(3);
+    /// p.ref_lengths = vec![1.0, 2.0, 0.5];
+    /// p.right = celltissue::boundary::RightEnd::Prescribed(celltissue::boundary::Ramp::Constant(3.5));
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &p)?;
+    /// assert_eq!(line.l0_total(), 3.5);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn l0_total(&self) -> f64 {
         self.l0_total
     }

@@ -70,6 +70,12 @@ pub struct LineParams {
 
 impl LineParams {
     /// `n` unit cells, μ = 1, η = 0, K = 0, m = 0, γ₀ = g₂ = 1, wall + fixed length `n`.
+    ///
+    /// ```
+    /// use celltissue::line::LineParams;
+    /// let p = LineParams::unit_cells(8);
+    /// assert_eq!((p.ref_lengths.len(), p.total_length()), (8, 8.0));
+    /// ```
     pub fn unit_cells(n: usize) -> Self {
         Self {
             ref_lengths: vec![1.0; n],
@@ -93,6 +99,12 @@ impl LineParams {
     }
 
     /// `l₀ = Σ L₀,j`.
+    ///
+    /// ```
+    /// let mut p = celltissue::line::LineParams::unit_cells(2);
+    /// p.ref_lengths = vec![0.5, 1.5];
+    /// assert_eq!(p.total_length(), 2.0);
+    /// ```
     pub fn total_length(&self) -> f64 {
         sum_and_check(&self.ref_lengths).0
     }

@@ -87,6 +87,11 @@ impl LineError {
     }
 
     /// An [`LineError::Invalid`] from displayable parts.
+    ///
+    /// ```
+    /// let e = celltissue::line::LineError::invalid("cells", 0, "an integer >= 1");
+    /// assert_eq!(e.to_string(), "invalid `cells` = 0: must be an integer >= 1");
+    /// ```
     pub fn invalid(key: &str, value: impl std::fmt::Display, range: &str) -> Self {
         LineError::Invalid {
             key: key.to_string(),

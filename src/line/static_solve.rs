@@ -152,6 +152,15 @@ pub struct StaticSolution {
 
 impl StaticSolution {
     /// Maximum pressure.
+    ///
+    /// ```
+    /// use celltissue::line::static_solve::static_equilibrium;
+    /// use celltissue::line::{discrete, LineParams};
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(10))?;
+    /// let s = static_equilibrium(&line, 9.0)?; // uniform line held 10 % short
+    /// assert!((s.max_pressure() - 1.0 / 0.81).abs() < 1e-9); // μ/λ²
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn max_pressure(&self) -> f64 {
         self.pressure
             .iter()
@@ -159,6 +168,15 @@ impl StaticSolution {
             .fold(f64::NEG_INFINITY, f64::max)
     }
     /// Minimum stretch.
+    ///
+    /// ```
+    /// use celltissue::line::static_solve::static_equilibrium;
+    /// use celltissue::line::{discrete, LineParams};
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(10))?;
+    /// let s = static_equilibrium(&line, 9.0)?; // uniform line held 10 % short
+    /// assert!((s.min_stretch() - 0.9).abs() < 1e-12);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn min_stretch(&self) -> f64 {
         self.lambda.iter().copied().fold(f64::INFINITY, f64::min)
     }

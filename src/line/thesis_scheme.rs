@@ -50,6 +50,15 @@ pub struct ThesisLine<E: StrainEnergy> {
 impl<E: StrainEnergy> ThesisLine<E> {
     /// Builds the scheme on `n ≥ 3` nodes from the line description (fields sampled at the
     /// nodes; `K` is used as the drag per unit reference length of unit cells, as in the thesis).
+    ///
+    /// ```
+    /// use celltissue::line::thesis_scheme::ThesisLine;
+    /// use celltissue::line::LineParams;
+    /// let p = LineParams::unit_cells(10);
+    /// assert!(ThesisLine::new(celltissue::NeoHookean::new(1.0)?, &p, 2).is_err()); // needs n ≥ 3
+    /// assert_eq!(ThesisLine::new(celltissue::NeoHookean::new(1.0)?, &p, 21)?.nodes(), 21);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn new(energy: E, p: &LineParams, n: usize) -> Result<Self, LineError> {
         if n < 3 {
             return Err(LineError::invalid("nodes", n, ">= 3 for the thesis scheme"));
@@ -102,6 +111,14 @@ impl<E: StrainEnergy> ThesisLine<E> {
     }
 
     /// Number of nodes `n`.
+    ///
+    /// ```
+    /// use celltissue::line::thesis_scheme::ThesisLine;
+    /// use celltissue::line::LineParams;
+    /// let th = ThesisLine::new(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(10), 11)?;
+    /// assert_eq!(th.nodes(), 11);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn nodes(&self) -> usize {
         self.x_ref.len()
     }

@@ -8,6 +8,15 @@ use super::*;
 impl<E: StrainEnergy> Line<E> {
     /// Evaluates cell `j` (1-based). Rejects non-positive or non-finite stretch with a
     /// recoverable error naming the cell and the unknown.
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(4))?;
+    /// // cell 2 compressed to 0.8 between x₁ = 1 and x₂ = 1.8
+    /// let c = line.eval_cell(2, 0.0, &[1.0, 1.8, 3.0], &[0.0; 3])?;
+    /// assert!((c.alpha - 0.8).abs() < 1e-15 && c.sigma < 0.0);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     #[inline]
     pub fn eval_cell<S: Scalar>(
         &self,

@@ -320,7 +320,19 @@ impl<E: StrainEnergy> Line<E> {
         }
     }
 
-    /// Structural entries `(row, col)` of the Jacobian, from the stencil.
+    /// Structural entries `(row, col)` of the Jacobian, from the stencil (an entry may be
+    /// listed more than once).
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(4))?;
+    /// // x₁, x₂, x₃ each couple to their neighbours: a tridiagonal 3 × 3 pattern
+    /// let mut e = line.jacobian_entries();
+    /// e.sort();
+    /// e.dedup(); // an entry may be listed more than once
+    /// assert_eq!(e, [(0, 0), (0, 1), (1, 0), (1, 1), (1, 2), (2, 1), (2, 2)]);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn jacobian_entries(&self) -> Vec<(usize, usize)> {
         let mut entries = Vec::new();
         self.for_each_jacobian_entry(|i, j| entries.push((i, j)));
@@ -330,6 +342,15 @@ impl<E: StrainEnergy> Line<E> {
     /// Calls `f(row, col)` for every structural entry of the Jacobian (with repeats), without
     /// storing them: the banded pattern of a long line needs only the widest offsets, and a
     /// list of the 10⁷ entries of a 10⁶-cell line would be 100+ MB of fresh memory.
+    ///
+    /// ```
+    /// use celltissue::line::{discrete, LineParams};
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &LineParams::unit_cells(4))?;
+    /// let mut count = 0;
+    /// line.for_each_jacobian_entry(|_, _| count += 1);
+    /// assert_eq!(count, line.jacobian_entries().len());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn for_each_jacobian_entry(&self, f: impl FnMut(usize, usize)) {
         let n = self.n_cells();
         self.for_each_jacobian_entry_in(1..=n, 0..=n, f);
