@@ -56,6 +56,16 @@ pub struct Series {
 impl Series {
     /// Appends the values of one series time (see [`crate::runner::SeriesRow`] for an
     /// example); an extra series first seen here starts at this row.
+    ///
+    /// ```
+    /// use celltissue::observe::Series;
+    /// use celltissue::runner::SeriesRow;
+    /// let mut s = Series::default();
+    /// s.push_row(0.0, &SeriesRow { length: 10.0, ..Default::default() });
+    /// s.push_row(1.0, &SeriesRow { length: 9.5, extra: vec![("cells".into(), 12.0)], ..Default::default() });
+    /// assert_eq!(s.length, [10.0, 9.5]);
+    /// assert_eq!(s.extra["cells"], [12.0]); // starts at the row it first appears in
+    /// ```
     pub fn push_row(&mut self, t: f64, row: &crate::runner::SeriesRow) {
         self.t.push(t);
         self.length.push(row.length);

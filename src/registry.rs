@@ -132,6 +132,11 @@ impl ParamError {
     }
 
     /// Everything after the key (" = 0.5: must be …" or ": …").
+    ///
+    /// ```
+    /// let e = celltissue::registry::ParamError::range("ratio", 0.5, "finite and > 1");
+    /// assert_eq!(e.detail(), " = 0.5: must be finite and > 1");
+    /// ```
     pub fn detail(&self) -> &str {
         &self.detail
     }
@@ -277,11 +282,29 @@ impl<T: 'static, E: From<UnknownName> + 'static> Registry<T, E> {
     }
 
     /// What the registry holds, e.g. "division rule".
+    ///
+    /// ```
+    /// use celltissue::registry::{Params, Registry};
+    /// use std::sync::Arc;
+    /// static SHAPES: Registry<u32> = Registry::new("shape", "shape", || {
+    ///     vec![("square", Arc::new(|p: &Params| Ok((4, p.clone()))))]
+    /// });
+    /// assert_eq!(SHAPES.what(), "shape");
+    /// ```
     pub fn what(&self) -> &'static str {
         self.what
     }
 
     /// The key that names the law in a table (`rule`, `law`).
+    ///
+    /// ```
+    /// use celltissue::registry::{Params, Registry};
+    /// use std::sync::Arc;
+    /// static SHAPES: Registry<u32> = Registry::new("shape", "shape", || {
+    ///     vec![("square", Arc::new(|p: &Params| Ok((4, p.clone()))))]
+    /// });
+    /// assert_eq!(SHAPES.key(), "shape");
+    /// ```
     pub fn key(&self) -> &'static str {
         self.key
     }
@@ -302,11 +325,33 @@ impl<T: 'static, E: From<UnknownName> + 'static> Registry<T, E> {
     }
 
     /// The registered names, sorted.
+    ///
+    /// ```
+    /// use celltissue::registry::{Params, Registry};
+    /// use std::sync::Arc;
+    /// static SHAPES: Registry<u32> = Registry::new("shape", "shape", || {
+    ///     vec![("square", Arc::new(|p: &Params| Ok((4, p.clone()))))]
+    /// });
+    /// SHAPES.register("triangle", Arc::new(|p: &Params| Ok((3, p.clone())))).unwrap();
+    /// assert_eq!(SHAPES.names(), ["square", "triangle"]);
+    /// ```
     pub fn names(&self) -> Vec<String> {
         self.read().keys().cloned().collect()
     }
 
     /// Builds the law `name` from its parameters; an unknown name lists the registered ones.
+    ///
+    /// ```
+    /// use celltissue::registry::{Params, Registry};
+    /// use std::sync::Arc;
+    /// static SHAPES: Registry<u32> = Registry::new("shape", "shape", || {
+    ///     vec![("square", Arc::new(|p: &Params| Ok((4, p.clone()))))]
+    /// });
+    /// assert_eq!(SHAPES.build("square", &Params::new())?.0, 4);
+    /// let e = SHAPES.build("circle", &Params::new()).unwrap_err();
+    /// assert!(e.to_string().contains("not a registered shape (square)"), "{e}");
+    /// # Ok::<(), celltissue::registry::ParamError>(())
+    /// ```
     pub fn build(&self, name: &str, params: &Params) -> Result<(T, Params), E> {
         let ctor = self.read().get(name).cloned();
         match ctor {
@@ -321,6 +366,17 @@ impl<T: 'static, E: From<UnknownName> + 'static> Registry<T, E> {
     }
 
     /// Registers `ctor` under `name` (`[a-z0-9_]+`, not already taken).
+    ///
+    /// ```
+    /// use celltissue::registry::{Params, Registry};
+    /// use std::sync::Arc;
+    /// static SHAPES: Registry<u32> = Registry::new("shape", "shape", || {
+    ///     vec![("square", Arc::new(|p: &Params| Ok((4, p.clone()))))]
+    /// });
+    /// SHAPES.register("hexagon", Arc::new(|p: &Params| Ok((6, p.clone())))).unwrap();
+    /// assert_eq!(SHAPES.build("hexagon", &Params::new()).unwrap().0, 6);
+    /// assert!(SHAPES.register("hexagon", Arc::new(|p: &Params| Ok((6, p.clone())))).is_err());
+    /// ```
     pub fn register(&self, name: &str, ctor: Constructor<T, E>) -> Result<(), RegistryError> {
         let valid = !name.is_empty()
             && name
@@ -379,6 +435,16 @@ pub struct Named<K: Kind> {
 
 impl<K: Kind> Named<K> {
     /// Builds the law `name` from `params` in `K`'s registry.
+    ///
+    /// ```
+    /// use celltissue::events::rules::RuleSpec;
+    /// use celltissue::registry::Params;
+    /// let mut p = Params::new();
+    /// p.insert("period".into(), 2.0.into());
+    /// let spec = RuleSpec::build("age", &p)?;
+    /// assert_eq!(spec.name(), "age");
+    /// # Ok::<(), celltissue::registry::ParamError>(())
+    /// ```
     pub fn build(name: &str, params: &Params) -> Result<Self, ParamError> {
         let (law, params) = K::registry().build(name, params)?;
         Ok(Self {
@@ -389,16 +455,46 @@ impl<K: Kind> Named<K> {
     }
 
     /// The name the law is registered under.
+    ///
+    /// ```
+    /// use celltissue::events::rules::RuleSpec;
+    /// use celltissue::registry::Params;
+    /// let mut p = Params::new();
+    /// p.insert("period".into(), 2.0.into());
+    /// let spec = RuleSpec::build("age", &p)?;
+    /// assert_eq!(spec.name(), "age");
+    /// # Ok::<(), celltissue::registry::ParamError>(())
+    /// ```
     pub fn name(&self) -> &str {
         &self.name
     }
 
     /// The resolved parameters.
+    ///
+    /// ```
+    /// use celltissue::events::rules::RuleSpec;
+    /// use celltissue::registry::Params;
+    /// let mut p = Params::new();
+    /// p.insert("period".into(), 2.0.into());
+    /// let spec = RuleSpec::build("age", &p)?;
+    /// assert_eq!(spec.params()["period"].as_f64(), Some(2.0));
+    /// # Ok::<(), celltissue::registry::ParamError>(())
+    /// ```
     pub fn params(&self) -> &Params {
         &self.params
     }
 
     /// The built law.
+    ///
+    /// ```
+    /// use celltissue::events::rules::RuleSpec;
+    /// use celltissue::registry::Params;
+    /// let mut p = Params::new();
+    /// p.insert("period".into(), 2.0.into());
+    /// let spec = RuleSpec::build("age", &p)?;
+    /// assert_eq!(spec.law().name(), "age 2");
+    /// # Ok::<(), celltissue::registry::ParamError>(())
+    /// ```
     pub fn law(&self) -> &K::Law {
         &self.law
     }

@@ -36,6 +36,12 @@ pub struct OutputTimes {
 
 impl OutputTimes {
     /// Series at `series`, no profiles.
+    ///
+    /// ```
+    /// use celltissue::runner::OutputTimes;
+    /// let o = OutputTimes::at(&[0.0, 1.0]);
+    /// assert_eq!((o.series.as_slice(), o.profiles.is_empty()), (&[0.0, 1.0][..], true));
+    /// ```
     pub fn at(series: &[f64]) -> Self {
         Self {
             series: series.to_vec(),
@@ -44,6 +50,12 @@ impl OutputTimes {
     }
 
     /// Every time finite and `≥ 0`; else the message naming the first that is not.
+    ///
+    /// ```
+    /// use celltissue::runner::OutputTimes;
+    /// assert!(OutputTimes::at(&[0.0, 1.0]).check().is_ok());
+    /// assert!(OutputTimes::at(&[-1.0]).check().is_err());
+    /// ```
     pub fn check(&self) -> Result<(), String> {
         match self
             .series
@@ -57,6 +69,12 @@ impl OutputTimes {
     }
 
     /// Sorted, deduplicated union of both lists (finite times only).
+    ///
+    /// ```
+    /// use celltissue::runner::OutputTimes;
+    /// let o = OutputTimes { series: vec![2.0, 0.0, 1.0], profiles: vec![1.0, 5.0] };
+    /// assert_eq!(o.merged(), [0.0, 1.0, 2.0, 5.0]);
+    /// ```
     pub fn merged(&self) -> Vec<f64> {
         let mut t: Vec<f64> = self
             .series

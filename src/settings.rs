@@ -65,6 +65,14 @@ impl Default for SolveSettings {
 impl SolveSettings {
     /// The integrators' options for these settings (their other fields at their defaults),
     /// checked: a tolerance or thread count out of range is an error naming it.
+    ///
+    /// ```
+    /// use celltissue::SolveSettings;
+    /// let o = SolveSettings { rtol: 1e-8, ..Default::default() }.options()?;
+    /// assert_eq!(o.rtol, 1e-8);
+    /// assert!(SolveSettings { rtol: 0.0, ..Default::default() }.options().is_err());
+    /// # Ok::<(), integrators::OptionsError>(())
+    /// ```
     pub fn options(&self) -> Result<Options, OptionsError> {
         let opts = Options {
             rtol: self.rtol,

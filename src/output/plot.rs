@@ -125,6 +125,12 @@ pub struct Curve {
 
 impl Curve {
     /// A curve from its parts.
+    ///
+    /// ```
+    /// use celltissue::output::plot::{Curve, Style};
+    /// let c = Curve::new("K = 0.01", Style::Markers, 1, vec![(0.0, 1.0), (1.0, 0.9)]);
+    /// assert_eq!((c.label.as_str(), c.color, c.points.len()), ("K = 0.01", 1, 2));
+    /// ```
     pub fn new(
         label: impl Into<String>,
         style: Style,

@@ -55,6 +55,18 @@ pub struct DensityContinuum<E: StrainEnergy> {
 impl<E: StrainEnergy> DensityContinuum<E> {
     /// Wraps a growing continuum line built for `n0` initial cells; segments divide when
     /// `g g₂` reaches `ratio`.
+    ///
+    /// ```
+    /// use celltissue::proliferation::DensityContinuum;
+    /// use celltissue::line::{continuum, LineParams};
+    /// let mut p = LineParams::unit_cells(10);
+    /// p.right = celltissue::boundary::RightEnd::Free(None);
+    /// p.growth = Some(std::sync::Arc::new(celltissue::cell::TanhGrowth::default()));
+    /// let line = continuum(celltissue::NeoHookean::new(1.0)?, &p, 5)?;
+    /// let model = DensityContinuum::new(line, 10, 2.0)?;
+    /// assert_eq!(model.cells(), 10.0); // 5 segments of 2 cells each
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn new(line: Line<E>, n0: usize, ratio: f64) -> Result<Self, EventError> {
         if !line.is_growing() {
             return Err(EventError::Unsupported(
@@ -86,11 +98,35 @@ impl<E: StrainEnergy> DensityContinuum<E> {
     }
 
     /// Number of cells `N = ∫ρ dX = Σ r_i N₀/n`.
+    ///
+    /// ```
+    /// use celltissue::proliferation::DensityContinuum;
+    /// use celltissue::line::{continuum, LineParams};
+    /// let mut p = LineParams::unit_cells(10);
+    /// p.right = celltissue::boundary::RightEnd::Free(None);
+    /// p.growth = Some(std::sync::Arc::new(celltissue::cell::TanhGrowth::default()));
+    /// let line = continuum(celltissue::NeoHookean::new(1.0)?, &p, 5)?;
+    /// let model = DensityContinuum::new(line, 10, 2.0)?;
+    /// assert_eq!(model.cells(), 10.0);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn cells(&self) -> f64 {
         self.density.iter().sum::<f64>() * self.cells_per_segment
     }
 
     /// `N(t)` from the history (right-continuous).
+    ///
+    /// ```
+    /// use celltissue::proliferation::DensityContinuum;
+    /// use celltissue::line::{continuum, LineParams};
+    /// let mut p = LineParams::unit_cells(10);
+    /// p.right = celltissue::boundary::RightEnd::Free(None);
+    /// p.growth = Some(std::sync::Arc::new(celltissue::cell::TanhGrowth::default()));
+    /// let line = continuum(celltissue::NeoHookean::new(1.0)?, &p, 5)?;
+    /// let model = DensityContinuum::new(line, 10, 2.0)?;
+    /// assert_eq!(model.cells_at(0.0), 10.0); // nothing divided yet
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn cells_at(&self, t: f64) -> f64 {
         self.history
             .iter()

@@ -55,6 +55,12 @@ pub enum ScenarioError {
 impl ScenarioError {
     /// A [`ScenarioError::Key`] from displayable parts.
     /// The message is put in a researcher's words and shortened ([`researcher_words`]).
+    ///
+    /// ```
+    /// use celltissue::scenario::ScenarioError;
+    /// let e = ScenarioError::key("model.K", "must be >= 0");
+    /// assert_eq!((e.key_name(), e.to_string().as_str()), (Some("model.K"), "`model.K`: must be >= 0"));
+    /// ```
     pub fn key(key: impl Into<String>, message: impl Into<String>) -> Self {
         ScenarioError::Key {
             key: shorten(&key.into()),
@@ -63,6 +69,12 @@ impl ScenarioError {
     }
 
     /// A [`ScenarioError::Set`] (argument and message shortened).
+    ///
+    /// ```
+    /// use celltissue::scenario::ScenarioError;
+    /// let e = ScenarioError::set("model.K=abc", "not a number");
+    /// assert_eq!(e.key_name(), Some("model.K")); // the key before `=`
+    /// ```
     pub fn set(arg: &str, message: impl Into<String>) -> Self {
         ScenarioError::Set {
             arg: shorten(arg),
@@ -71,6 +83,13 @@ impl ScenarioError {
     }
 
     /// A [`ScenarioError::Syntax`] (the parser's message shortened: it quotes the line).
+    ///
+    /// ```
+    /// use celltissue::scenario::ScenarioError;
+    /// let e = ScenarioError::syntax("run.toml".as_ref(), "expected `=`");
+    /// assert!(e.to_string().starts_with("`run.toml` is not valid TOML"), "{e}");
+    /// assert_eq!(e.key_name(), None);
+    /// ```
     pub fn syntax(path: &std::path::Path, message: &str) -> Self {
         ScenarioError::Syntax {
             path: path.to_path_buf(),
@@ -79,6 +98,11 @@ impl ScenarioError {
     }
 
     /// The offending key, if the error names one.
+    ///
+    /// ```
+    /// use celltissue::scenario::ScenarioError;
+    /// assert_eq!(ScenarioError::key("output.series", "empty").key_name(), Some("output.series"));
+    /// ```
     pub fn key_name(&self) -> Option<&str> {
         match self {
             ScenarioError::Key { key, .. } => Some(key),
@@ -90,6 +114,12 @@ impl ScenarioError {
 
     /// Appends a parenthesised note to a key error's message.
     /// Both are shortened (a note may quote user input, e.g. a `--set` argument).
+    ///
+    /// ```
+    /// use celltissue::scenario::ScenarioError;
+    /// let e = ScenarioError::key("model.K", "must be >= 0").with_note("from --set model.K=-1");
+    /// assert!(e.to_string().ends_with("(from --set model.K=-1)"), "{e}");
+    /// ```
     pub fn with_note(self, note: &str) -> Self {
         match self {
             ScenarioError::Key { key, message } => ScenarioError::Key {
@@ -104,6 +134,12 @@ impl ScenarioError {
     }
 
     /// Prefixes the message with the run it came from (used for sweep values).
+    ///
+    /// ```
+    /// use celltissue::scenario::ScenarioError;
+    /// let e = ScenarioError::key("model.K", "must be >= 0").in_run("discrete K=-1");
+    /// assert!(e.to_string().ends_with("(in run `discrete K=-1`)"), "{e}");
+    /// ```
     pub fn in_run(self, run: &str) -> Self {
         match self {
             ScenarioError::Key { key, message } => ScenarioError::Key {

@@ -64,6 +64,14 @@ pub enum ModelConfig {
 
 impl ModelConfig {
     /// The `kind` string.
+    ///
+    /// ```
+    /// use celltissue::scenario::model::parse_model;
+    /// let t: toml::Table = toml::from_str("kind = \"shear\"\ncells = 4")?;
+    /// let m = parse_model(&t)?;
+    /// assert_eq!(m.config.kind(), "shear");
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn kind(&self) -> &str {
         match self {
             ModelConfig::Line(_) | ModelConfig::Proliferating(_) => "line",
@@ -74,6 +82,16 @@ impl ModelConfig {
     }
 
     /// The configuration as JSON (for `summary.json` `"parameters"`).
+    ///
+    /// ```
+    /// use celltissue::scenario::model::parse_model;
+    /// let t: toml::Table = toml::from_str("kind = \"shear\"\ncells = 4")?;
+    /// let m = parse_model(&t)?;
+    /// let j = m.config.to_json();
+    /// assert_eq!(j["cells"], 4);
+    /// assert!(j.get("law").is_some()); // the law, once
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn to_json(&self) -> serde_json::Value {
         // the law is the config's own `law` key (the `AnyEnergy` beside a sheet/shear config is
         // a copy of it), so it appears once

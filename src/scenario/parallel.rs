@@ -63,6 +63,12 @@ pub struct Shard {
 
 impl Shard {
     /// Shard `index` of `count`, checked.
+    ///
+    /// ```
+    /// use celltissue::scenario::parallel::Shard;
+    /// assert!(Shard::new(1, 3).is_ok());
+    /// assert!(Shard::new(3, 3).is_err()); // 0-based: 0, 1, 2
+    /// ```
     pub fn new(index: usize, count: usize) -> Result<Shard, ParallelError> {
         if count == 0 {
             return Err(ParallelError::Shard(format!(
@@ -81,6 +87,20 @@ impl Shard {
     /// The shard of a SLURM job array task, from `SLURM_ARRAY_TASK_ID` and
     /// `SLURM_ARRAY_TASK_COUNT` (with `--array=0-(n-1)`; the task id is taken relative to
     /// `SLURM_ARRAY_TASK_MIN` when that is set, so `--array=1-n` works as well).
+    ///
+    /// ```
+    /// use celltissue::scenario::parallel::Shard;
+    /// // `sbatch --array=1-4`: task 3 of 4, ids from 1
+    /// let env = |k: &str| match k {
+    ///     "SLURM_ARRAY_TASK_ID" => Some("3".to_string()),
+    ///     "SLURM_ARRAY_TASK_COUNT" => Some("4".to_string()),
+    ///     "SLURM_ARRAY_TASK_MIN" => Some("1".to_string()),
+    ///     _ => None,
+    /// };
+    /// assert_eq!(Shard::from_slurm(env)?, Shard { index: 2, count: 4 });
+    /// assert!(Shard::from_slurm(|_| None).is_err());
+    /// # Ok::<(), celltissue::scenario::parallel::ParallelError>(())
+    /// ```
     pub fn from_slurm(var: impl Fn(&str) -> Option<String>) -> Result<Shard, ParallelError> {
         let get = |name: &str| -> Result<usize, ParallelError> {
             let v = var(name).ok_or_else(|| {
@@ -103,6 +123,12 @@ impl Shard {
 
     /// The indices (in scenario order) of the runs of a scenario with `total` runs that
     /// belong to this shard.
+    ///
+    /// ```
+    /// use celltissue::scenario::parallel::Shard;
+    /// assert_eq!(Shard::new(1, 3)?.indices(8), [1, 4, 7]);
+    /// # Ok::<(), celltissue::scenario::parallel::ParallelError>(())
+    /// ```
     pub fn indices(&self, total: usize) -> Vec<usize> {
         (self.index..total).step_by(self.count).collect()
     }

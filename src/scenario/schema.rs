@@ -88,6 +88,15 @@ impl Default for SolverSection {
 
 impl SolverSection {
     /// Checks the method name and tolerance ranges.
+    ///
+    /// ```
+    /// use celltissue::scenario::schema::SolverSection;
+    /// let s: SolverSection = toml::from_str("method = \"radau\"\nrtol = 1e-8")?;
+    /// assert_eq!(s.validate()?.rtol, 1e-8);
+    /// let bad: SolverSection = toml::from_str("method = \"euler\"")?;
+    /// assert!(bad.validate().is_err());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn validate(&self) -> Result<SolveSettings, ScenarioError> {
         // built-in names and the methods registered with `integrators::method::register`
         let method: MethodChoice =

@@ -169,6 +169,13 @@ pub struct SweepPoint {
 
 impl SweepPoint {
     /// `"K=0.01"`, or `"k1=0.1 drag_exponent=0"` for several parameters (used in run labels).
+    ///
+    /// ```
+    /// use celltissue::scenario::sweep::{expand, SweepSection};
+    /// let sw: SweepSection = toml::from_str(r#"zip = [{ parameter = "K", values = [0.01] }, { parameter = "eta", values = [2] }]"#)?;
+    /// assert_eq!(expand(&sw)?[0].assignment(), "K=0.01 eta=2");
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn assignment(&self) -> String {
         self.parts
             .iter()

@@ -64,6 +64,13 @@ pub struct TimeRange {
 
 impl TimeRange {
     /// The times, after checking the range (errors name `key.start` etc.).
+    ///
+    /// ```
+    /// use celltissue::scenario::times::{Spacing, TimeRange};
+    /// let r = TimeRange { start: 0.0, stop: 1.0, count: 5, spacing: Spacing::Linear, zero: false };
+    /// assert_eq!(r.expand("output.series")?, [0.0, 0.25, 0.5, 0.75, 1.0]);
+    /// # Ok::<(), celltissue::scenario::ScenarioError>(())
+    /// ```
     pub fn expand(&self, key: &str) -> Result<Vec<f64>, ScenarioError> {
         let bad = |k: &str, m: String| ScenarioError::key(format!("{key}.{k}"), m);
         if !(self.start.is_finite() && self.start >= 0.0) {
