@@ -63,20 +63,24 @@ struct OnOutput<F> {
     refusal: Option<String>,
 }
 
+/// What an output closure given to [`drive`] returns to refuse an output: any error
+/// (`Err("why".into())` for a message).
+pub type Refusal = Box<dyn std::error::Error + Send + Sync>;
+
 impl<P, F> Observer<P> for OnOutput<F>
 where
-    F: FnMut(&P, f64, &[f64], &[f64]) -> Result<(), String>,
+    F: FnMut(&P, f64, &[f64], &[f64]) -> Result<(), Refusal>,
 {
     fn output(&mut self, problem: &P, t: f64, y: &[f64], yp: &[f64]) {
-        if let Err(m) = (self.observe)(problem, t, y, yp) {
-            self.refusal = Some(m);
+        if let Err(e) = (self.observe)(problem, t, y, yp) {
+            self.refusal = Some(e.to_string());
         }
     }
 }
 
 impl<P, F> DriveObserver<P> for OnOutput<F>
 where
-    F: FnMut(&P, f64, &[f64], &[f64]) -> Result<(), String>,
+    F: FnMut(&P, f64, &[f64], &[f64]) -> Result<(), Refusal>,
 {
     fn take_refusal(&mut self) -> Option<String> {
         self.refusal.take()
@@ -127,7 +131,7 @@ impl<P, O: DriveObserver<P>> Observer<P> for Piece<'_, O> {
 /// assert!(d.error.unwrap().to_string().starts_with("solver.rtol"));
 /// // an observer that refuses stops the run at that output
 /// let d = drive(&mut p, &SolveSettings::default(), &y0, &[0.5, 1.0], &[],
-///               |_, t, _, _| if t > 0.7 { Err(format!("no output at {t}")) } else { Ok(()) });
+///               |_, t, _, _| if t > 0.7 { Err(format!("no output at {t}").into()) } else { Ok(()) });
 /// assert_eq!(d.error.unwrap().to_string(), "no output at 1");
 /// ```
 #[derive(Debug)]
@@ -202,7 +206,7 @@ pub fn drive<P: Problem>(
     y0: &[f64],
     t_out: &[f64],
     breakpoints: &[f64],
-    observe: impl FnMut(&P, f64, &[f64], &[f64]) -> Result<(), String>,
+    observe: impl FnMut(&P, f64, &[f64], &[f64]) -> Result<(), Refusal>,
 ) -> Driven {
     let observer = OnOutput {
         observe,

@@ -16,7 +16,7 @@ use crate::array::{ArrayProblem, CellArray};
 use crate::observe::{ModelKind, Profile, RunRecord, Series};
 use crate::registry::{checked, Constructor, Kind, Named, ParamError, Registry, RegistryError};
 use crate::runner::OutputTimes;
-use crate::runner::{run_recorded, Recorder, SeriesRow};
+use crate::runner::{run_recorded, ObservationError, Recorder, SeriesRow};
 use crate::settings::SolveSettings;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
@@ -275,7 +275,7 @@ pub fn run_mode<M: Mode>(
         reference: None,
     };
     if let Err(e) = out.check() {
-        rec.error = Some(e);
+        rec.error = Some(e.to_string());
         return rec;
     }
     let (array, y0) = match M::build(config, model, nodes) {
@@ -312,7 +312,7 @@ impl<M: Mode> Recorder<M::Array> for ModeRecorder<M> {
         t: f64,
         y: &[f64],
         _: &[f64],
-    ) -> Result<SeriesRow, String> {
+    ) -> Result<SeriesRow, ObservationError> {
         let mut row = SeriesRow::from_profile(&M::observe(array, t, y), M::length(array, t, y));
         row.extra = M::extra_series(array, t, y);
         Ok(row)
@@ -324,7 +324,7 @@ impl<M: Mode> Recorder<M::Array> for ModeRecorder<M> {
         t: f64,
         y: &[f64],
         _: &[f64],
-    ) -> Result<Profile, String> {
+    ) -> Result<Profile, ObservationError> {
         Ok(M::observe(array, t, y))
     }
 }

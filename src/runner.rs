@@ -24,7 +24,7 @@ use std::time::Instant;
 /// let t = OutputTimes { series: vec![0.0, 1.0, 2.0], profiles: vec![1.0, 5.0] };
 /// assert_eq!(t.merged(), [0.0, 1.0, 2.0, 5.0]); // the integrator's output times
 /// assert!(OutputTimes::at(&[1.0]).profiles.is_empty());
-/// assert_eq!(OutputTimes::at(&[-1.0]).check().unwrap_err(), "output time -1 must be finite and >= 0");
+/// assert_eq!(OutputTimes::at(&[-1.0]).check().unwrap_err().to_string(), "output time -1 must be finite and >= 0");
 /// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct OutputTimes {
@@ -32,6 +32,60 @@ pub struct OutputTimes {
     pub series: Vec<f64>,
     /// Times of the profiles.
     pub profiles: Vec<f64>,
+}
+
+/// An output time that is negative or not finite ([`OutputTimes::check`]).
+///
+/// ```
+/// use celltissue::runner::OutputTimeError;
+/// let e = OutputTimeError { time: f64::NAN };
+/// assert_eq!(e.to_string(), "output time NaN must be finite and >= 0");
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+#[error("output time {time} must be finite and >= 0")]
+pub struct OutputTimeError {
+    /// The first such time.
+    pub time: f64,
+}
+
+/// Why a [`Recorder`] could not observe a state, in the model's terms (a cell out of its
+/// domain, an observation the model cannot make there).
+///
+/// ```
+/// use celltissue::runner::ObservationError;
+/// use integrators::ResidualError;
+/// let e = ObservationError::from(ResidualError::Recoverable {
+///     reason: "cell 3 has non-positive stretch".into(),
+///     component: Some(2),
+/// });
+/// assert_eq!(e.to_string(), "cell 3 has non-positive stretch");
+/// ```
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{reason}")]
+pub struct ObservationError {
+    /// The model's reason.
+    pub reason: String,
+}
+
+impl From<integrators::ResidualError> for ObservationError {
+    fn from(e: integrators::ResidualError) -> Self {
+        let reason = match e {
+            integrators::ResidualError::Recoverable { reason, .. } => reason,
+            integrators::ResidualError::Fatal(m) => m,
+        };
+        Self { reason }
+    }
+}
+
+/// Why a state was not recorded (the run stops there with this message).
+#[derive(Debug, thiserror::Error)]
+enum RecordError {
+    /// The recorder could not observe the state.
+    #[error("observation at t = {t} failed: {source}")]
+    Observation { t: f64, source: ObservationError },
+    /// What was observed holds a NaN or an infinity.
+    #[error("non-finite state at t = {t} ({what})")]
+    NonFinite { t: f64, what: String },
 }
 
 impl OutputTimes {
@@ -49,21 +103,21 @@ impl OutputTimes {
         }
     }
 
-    /// Every time finite and `≥ 0`; else the message naming the first that is not.
+    /// Every time finite and `≥ 0`; else the first that is not.
     ///
     /// ```
-    /// use celltissue::runner::OutputTimes;
+    /// use celltissue::runner::{OutputTimeError, OutputTimes};
     /// assert!(OutputTimes::at(&[0.0, 1.0]).check().is_ok());
-    /// assert!(OutputTimes::at(&[-1.0]).check().is_err());
+    /// assert_eq!(OutputTimes::at(&[1.0, -1.0]).check(), Err(OutputTimeError { time: -1.0 }));
     /// ```
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), OutputTimeError> {
         match self
             .series
             .iter()
             .chain(&self.profiles)
             .find(|t| !(t.is_finite() && **t >= 0.0))
         {
-            Some(bad) => Err(format!("output time {bad} must be finite and >= 0")),
+            Some(&time) => Err(OutputTimeError { time }),
             None => Ok(()),
         }
     }
@@ -168,17 +222,17 @@ impl SeriesRow {
 /// use celltissue::line::build::{discrete, LineParams};
 /// use celltissue::line::{Line, OutputTimes};
 /// use celltissue::observe::Profile;
-/// use celltissue::runner::{run_recorded, Recorder, SeriesRow};
+/// use celltissue::runner::{run_recorded, ObservationError, Recorder, SeriesRow};
 /// use celltissue::{ArrayProblem, NeoHookean, SolveSettings};
 /// /// Records only the first free boundary's position x₁ (the state's first unknown).
 /// struct FirstBoundary;
 /// impl Recorder<Line<NeoHookean>> for FirstBoundary {
 ///     fn series_row(&mut self, _: &Line<NeoHookean>, _t: f64, y: &[f64], _: &[f64])
-///         -> Result<SeriesRow, String> {
+///         -> Result<SeriesRow, ObservationError> {
 ///         Ok(SeriesRow { length: y[0], ..Default::default() })
 ///     }
 ///     fn profile(&mut self, _: &Line<NeoHookean>, t: f64, y: &[f64], _: &[f64])
-///         -> Result<Profile, String> {
+///         -> Result<Profile, ObservationError> {
 ///         Ok(Profile { t, x: y.to_vec(), ..Default::default() })
 ///     }
 /// }
@@ -193,11 +247,22 @@ impl SeriesRow {
 /// ```
 pub trait Recorder<A> {
     /// The series values of the state at `t`.
-    fn series_row(&mut self, array: &A, t: f64, y: &[f64], yp: &[f64])
-        -> Result<SeriesRow, String>;
+    fn series_row(
+        &mut self,
+        array: &A,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+    ) -> Result<SeriesRow, ObservationError>;
 
     /// The profile of the state at `t`.
-    fn profile(&mut self, array: &A, t: f64, y: &[f64], yp: &[f64]) -> Result<Profile, String>;
+    fn profile(
+        &mut self,
+        array: &A,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+    ) -> Result<Profile, ObservationError>;
 
     /// The message of a failed solve, in the model's terms; `rejected` is the last step the
     /// model itself rejected (its own reason), if any. Default: the solver's message, with
@@ -291,17 +356,17 @@ pub struct Recording {
 /// use celltissue::line::build::{discrete, LineParams};
 /// use celltissue::line::Line;
 /// use celltissue::observe::Profile;
-/// use celltissue::runner::{run_recorded, OutputTimes, Recorder, SeriesRow};
+/// use celltissue::runner::{run_recorded, ObservationError, OutputTimes, Recorder, SeriesRow};
 /// use celltissue::{ArrayProblem, NeoHookean, SolveSettings};
 /// /// A length that is NaN from t = 1 on.
 /// struct Broken;
 /// impl Recorder<Line<NeoHookean>> for Broken {
 ///     fn series_row(&mut self, _: &Line<NeoHookean>, t: f64, _: &[f64], _: &[f64])
-///         -> Result<SeriesRow, String> {
+///         -> Result<SeriesRow, ObservationError> {
 ///         Ok(SeriesRow { length: if t < 1.0 { 1.0 } else { f64::NAN }, ..Default::default() })
 ///     }
 ///     fn profile(&mut self, _: &Line<NeoHookean>, t: f64, _: &[f64], _: &[f64])
-///         -> Result<Profile, String> { Ok(Profile { t, ..Default::default() }) }
+///         -> Result<Profile, ObservationError> { Ok(Profile { t, ..Default::default() }) }
 /// }
 /// let line = discrete(NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(4)).unwrap();
 /// let y0 = line.initial_state();
@@ -368,18 +433,19 @@ impl<R> Watch<'_, R> {
         t: f64,
         y: &[f64],
         yp: &[f64],
-    ) -> Result<(), String>
+    ) -> Result<(), RecordError>
     where
         R: Recorder<A>,
     {
-        let failed = |e: String| format!("observation at t = {t} failed: {e}");
+        let failed = |source| RecordError::Observation { t, source };
         if self.series_at.hit(t) {
             let row = self
                 .recorder
                 .series_row(&p.array, t, y, yp)
                 .map_err(failed)?;
             if let Some(k) = row.non_finite() {
-                return Err(format!("non-finite state at t = {t} (series `{k}`)"));
+                let what = format!("series `{k}`");
+                return Err(RecordError::NonFinite { t, what });
             }
             self.series.push_row(t, &row);
         }
@@ -393,7 +459,8 @@ impl<R> Watch<'_, R> {
             ];
             let finite = fields.into_iter().chain(profile.extra.values()).flatten();
             if !finite.copied().all(f64::is_finite) {
-                return Err(format!("non-finite state at t = {t} (profile)"));
+                let what = "profile".to_string();
+                return Err(RecordError::NonFinite { t, what });
             }
             self.profiles.push(profile);
         }
@@ -403,8 +470,8 @@ impl<R> Watch<'_, R> {
 
 impl<A: CellArray, R: Recorder<A>> Observer<ArrayProblem<A>> for Watch<'_, R> {
     fn output(&mut self, p: &ArrayProblem<A>, t: f64, y: &[f64], yp: &[f64]) {
-        if let Err(m) = self.record(p, t, y, yp) {
-            self.refusal = Some(m);
+        if let Err(e) = self.record(p, t, y, yp) {
+            self.refusal = Some(e.to_string());
         }
     }
 

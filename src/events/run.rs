@@ -197,7 +197,7 @@ pub fn run_proliferation(
         return rec;
     }
     if let Err(e) = times.check() {
-        rec.error = Some(e);
+        rec.error = Some(e.to_string());
         return rec;
     }
     with_law(

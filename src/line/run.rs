@@ -20,7 +20,7 @@ use crate::array::{ArrayProblem, CellArray};
 use crate::drive::{drive_observed, DriveError, DriveObserver};
 use crate::energy::StrainEnergy;
 use crate::observe::{ModelKind, Profile, RunRecord, RunStats, Series};
-use crate::runner::{run_recorded, Recorder, SeriesRow};
+use crate::runner::{run_recorded, ObservationError, Recorder, SeriesRow};
 use integrators::observer::{Observer, RejectedStep};
 use integrators::{ResidualError, SolveFailure, Stats};
 
@@ -313,7 +313,7 @@ pub fn run_line(
         return rec;
     }
     if let Err(e) = times.check() {
-        rec.error = Some(e);
+        rec.error = Some(e.to_string());
         return rec;
     }
     run_with_law(cfg, cfg.law.clone(), model, nodes, solver, times, &mut rec);
@@ -432,8 +432,8 @@ impl<A: LineModel> Recorder<A> for LineRecorder {
         t: f64,
         y: &[f64],
         yp: &[f64],
-    ) -> Result<SeriesRow, String> {
-        let snap = array.observe(t, y, yp).map_err(|e| reason(&e))?;
+    ) -> Result<SeriesRow, ObservationError> {
+        let snap = array.observe(t, y, yp)?;
         let n = snap.alpha.len() as f64;
         let extra = [
             ("end_reaction", snap.end_reaction()),
@@ -456,8 +456,14 @@ impl<A: LineModel> Recorder<A> for LineRecorder {
         })
     }
 
-    fn profile(&mut self, array: &A, t: f64, y: &[f64], yp: &[f64]) -> Result<Profile, String> {
-        let snap = array.observe(t, y, yp).map_err(|e| reason(&e))?;
+    fn profile(
+        &mut self,
+        array: &A,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+    ) -> Result<Profile, ObservationError> {
+        let snap = array.observe(t, y, yp)?;
         Ok(snap.profile())
     }
 

@@ -26,7 +26,9 @@ use crate::array::{ArrayProblem, CellArray};
 use crate::energy::StrainEnergy;
 use crate::observe::{ModelKind, Profile, RunRecord};
 use crate::runner::OutputTimes;
-use crate::runner::{run_recorded, Recorder, Recording, SeriesRow};
+use crate::runner::{
+    run_recorded, ObservationError, OutputTimeError, Recorder, Recording, SeriesRow,
+};
 use crate::settings::SolveSettings;
 
 /// Why a run could not start. (Integrator failures do not raise this: they are reported in
@@ -50,7 +52,7 @@ pub enum RunError {
     Config(#[from] ConfigError),
     /// Invalid output request.
     #[error("invalid output request: {0}")]
-    Outputs(String),
+    Outputs(#[from] OutputTimeError),
 }
 
 fn cfg_err(key: &str, value: impl ToString, expected: &str) -> RunError {
@@ -72,7 +74,7 @@ impl<E: StrainEnergy> Recorder<UniaxialSheet<E>> for SheetRecorder {
         t: f64,
         y: &[f64],
         yp: &[f64],
-    ) -> Result<SeriesRow, String> {
+    ) -> Result<SeriesRow, ObservationError> {
         let cells = sheet.cells(t, y, yp);
         Ok(sheet_series_row(&sheet_observables(sheet, t, y, &cells)))
     }
@@ -83,7 +85,7 @@ impl<E: StrainEnergy> Recorder<UniaxialSheet<E>> for SheetRecorder {
         t: f64,
         y: &[f64],
         yp: &[f64],
-    ) -> Result<Profile, String> {
+    ) -> Result<Profile, ObservationError> {
         Ok(sheet_profile(t, &sheet.cells(t, y, yp), self.0))
     }
 }
@@ -126,14 +128,26 @@ fn record_column<A: CellArray + ShearFieldsOf>(
 struct ShearRecorder;
 
 impl<A: ShearFieldsOf> Recorder<A> for ShearRecorder {
-    fn series_row(&mut self, col: &A, t: f64, y: &[f64], yp: &[f64]) -> Result<SeriesRow, String> {
+    fn series_row(
+        &mut self,
+        col: &A,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+    ) -> Result<SeriesRow, ObservationError> {
         Ok(shear_series_row(&shear_observables(
             t,
             &col.shear_fields(y, yp),
         )))
     }
 
-    fn profile(&mut self, col: &A, t: f64, y: &[f64], yp: &[f64]) -> Result<Profile, String> {
+    fn profile(
+        &mut self,
+        col: &A,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+    ) -> Result<Profile, ObservationError> {
         Ok(shear_profile(t, &col.shear_fields(y, yp)))
     }
 }
@@ -194,7 +208,7 @@ pub fn run_sheet<E: StrainEnergy>(
             return Err(cfg_err("grid", format!("{g:?}"), "both sizes must be >= 1"))
         }
     };
-    out.check().map_err(RunError::Outputs)?;
+    out.check()?;
     let sheet = UniaxialSheet::continuum(law, &cfg.params(), n, m)
         .map_err(|e| cfg_err("sheet", "", &e.to_string()))?
         .with_cell_atol(solver.atol);
@@ -270,7 +284,7 @@ pub fn run_shear<E: StrainEnergy>(
     solver
         .options()
         .map_err(|e| cfg_err("solver", "options", &e.to_string()))?;
-    out.check().map_err(RunError::Outputs)?;
+    out.check()?;
     let params = cfg.params();
     let m = match (model, grid, cfg.form) {
         (ModelKind::Continuum, _, ShearForm::CellCentre) => {
