@@ -236,6 +236,24 @@ pub trait OdeProblem {
 
 /// Residual-form wrapper of an [`OdeProblem`]: `F = ẏ − f(t, y)`. The wrapped problem is
 /// public (`ode.0`) so that callers and observers can read model state.
+///
+/// ```
+/// use integrators::adapters::{Ode, OdeProblem};
+/// use integrators::{Problem, ResidualError};
+/// struct Decay;
+/// impl OdeProblem for Decay {
+///     fn dim(&self) -> usize { 1 }
+///     fn rhs(&mut self, _t: f64, y: &[f64], f: &mut [f64]) -> Result<(), ResidualError> {
+///         f[0] = -2.0 * y[0];
+///         Ok(())
+///     }
+/// }
+/// // the residual form F = ẏ − f(t, y): zero on the solution
+/// let mut p = Ode(Decay);
+/// let mut r = [0.0];
+/// p.residual(0.0, &[1.0], &[-2.0], &mut r).unwrap();
+/// assert_eq!(r, [0.0]);
+/// ```
 #[derive(Clone, Debug, Default)]
 pub struct Ode<P>(pub P);
 
@@ -389,6 +407,31 @@ pub trait MassProblem {
 }
 
 /// Residual-form wrapper of a [`MassProblem`]: `F = M(t, y)·ẏ − f(t, y)`.
+///
+/// ```
+/// use integrators::adapters::{Mass, MassProblem};
+/// use integrators::{MethodKind, Options, ResidualError, Solver};
+/// /// ẏ₁ = −y₁ with the algebraic row 0 = y₂ − y₁ (M = diag(1, 0)).
+/// struct Dae;
+/// impl MassProblem for Dae {
+///     fn dim(&self) -> usize { 2 }
+///     fn rhs(&mut self, _t: f64, y: &[f64], f: &mut [f64]) -> Result<(), ResidualError> {
+///         f[0] = -y[0];
+///         f[1] = y[1] - y[0];
+///         Ok(())
+///     }
+///     fn mass_times(&mut self, _t: f64, _y: &[f64], v: &[f64], out: &mut [f64]) -> Result<(), ResidualError> {
+///         out[0] = v[0];
+///         out[1] = 0.0;
+///         Ok(())
+///     }
+///     fn algebraic(&self) -> Vec<bool> { vec![false, true] }
+/// }
+/// let sol = Solver::new(MethodKind::Radau, Options { rtol: 1e-8, atol: 1e-10, ..Default::default() })
+///     .solve(&mut Mass::new(Dae), 0.0, &[1.0, 1.0], &[1.0])
+///     .unwrap();
+/// assert!((sol.y[0][1] - (-1.0f64).exp()).abs() < 1e-6); // y₂ follows y₁
+/// ```
 #[derive(Clone, Debug, Default)]
 pub struct Mass<P> {
     /// The wrapped problem.
@@ -399,6 +442,29 @@ pub struct Mass<P> {
 
 impl<P: MassProblem> Mass<P> {
     /// Wraps `inner`.
+    ///
+    /// ```
+    /// use integrators::adapters::{Mass, MassProblem};
+    /// use integrators::{MethodKind, Options, ResidualError, Solver};
+    /// /// ẏ₁ = −y₁ with the algebraic row 0 = y₂ − y₁ (M = diag(1, 0)).
+    /// struct Dae;
+    /// impl MassProblem for Dae {
+    ///     fn dim(&self) -> usize { 2 }
+    ///     fn rhs(&mut self, _t: f64, y: &[f64], f: &mut [f64]) -> Result<(), ResidualError> {
+    ///         f[0] = -y[0];
+    ///         f[1] = y[1] - y[0];
+    ///         Ok(())
+    ///     }
+    ///     fn mass_times(&mut self, _t: f64, _y: &[f64], v: &[f64], out: &mut [f64]) -> Result<(), ResidualError> {
+    ///         out[0] = v[0];
+    ///         out[1] = 0.0;
+    ///         Ok(())
+    ///     }
+    ///     fn algebraic(&self) -> Vec<bool> { vec![false, true] }
+    /// }
+    /// let m = Mass::new(Dae);
+    /// assert_eq!(m.inner.dim(), 2);
+    /// ```
     pub fn new(inner: P) -> Self {
         Self {
             inner,

@@ -47,6 +47,17 @@
 use crate::options::ErrorNorm;
 
 /// How one component enters the local-error and Newton tests (see the [module](self) docs).
+///
+/// ```
+/// use integrators::{ErrorMap, Row};
+/// // three boundaries of a line of cells: x₀ anchored (cell size 1), x₁ and x₂ through their cells
+/// let map = ErrorMap::from_rows(vec![
+///     Row::Anchor { size: 1.0 },
+///     Row::Difference { partner: 0 },
+///     Row::Difference { partner: 1 },
+/// ]).unwrap();
+/// assert_eq!(map.len(), 3);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Row {
     /// Measured on its own against `rtol·|y_i| + atol_i` (the default).
@@ -96,6 +107,12 @@ pub struct ErrorMap {
 }
 
 /// Why rows do not make an [`ErrorMap`].
+///
+/// ```
+/// use integrators::{ErrorMap, ErrorMapError, Row};
+/// let e = ErrorMap::from_rows(vec![Row::Difference { partner: 0 }]).unwrap_err();
+/// assert_eq!(e, ErrorMapError::Partner { row: 0, partner: 0, n: 1 }); // a row cannot partner itself
+/// ```
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ErrorMapError {
     /// A difference row names itself or a component outside the problem.

@@ -248,6 +248,14 @@ impl std::fmt::Display for MethodChoice {
 }
 
 /// An unknown method name, or a registration under a name already taken.
+///
+/// ```
+/// use integrators::method::MethodError;
+/// use integrators::MethodKind;
+/// let e = "euler".parse::<MethodKind>().unwrap_err();
+/// assert!(matches!(e, MethodError::Unknown { .. }));
+/// assert_eq!(e.to_string(), "unknown method `euler`; valid: bdf, esdirk, radau, dopri");
+/// ```
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum MethodError {
@@ -295,6 +303,18 @@ fn registry() -> &'static std::sync::RwLock<Vec<CustomMethod>> {
 
 /// Makes `method` selectable by name ([`MethodChoice`]'s `FromStr`, so scenario files too).
 /// Fails if the name is a built-in name or alias or already registered.
+///
+/// ```
+/// use integrators::method::{register, registered, CustomMethod};
+/// use integrators::{MethodChoice, MethodKind};
+/// // BDF under a name of one's own, selectable by name from then on
+/// let mine = CustomMethod { name: "my_bdf", build: || integrators::methods::build(MethodKind::Bdf), stiff: true };
+/// register(mine).unwrap();
+/// assert_eq!("my_bdf".parse::<MethodChoice>().unwrap(), MethodChoice::Custom(mine));
+/// assert!(registered().contains(&mine));
+/// // a built-in name is taken
+/// assert!(register(CustomMethod { name: "radau", ..mine }).is_err());
+/// ```
 pub fn register(method: CustomMethod) -> Result<(), MethodError> {
     if method.name.parse::<MethodKind>().is_ok() {
         return Err(MethodError::Taken(method.name.to_string()));
@@ -308,6 +328,11 @@ pub fn register(method: CustomMethod) -> Result<(), MethodError> {
 }
 
 /// The registered methods, in registration order.
+///
+/// ```
+/// // nothing registered in this program
+/// assert!(integrators::method::registered().is_empty());
+/// ```
 pub fn registered() -> Vec<CustomMethod> {
     registry().read().unwrap_or_else(|e| e.into_inner()).clone()
 }

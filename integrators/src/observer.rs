@@ -87,6 +87,12 @@ impl<P: ?Sized, F: FnMut(&P, f64, &[f64], &[f64])> Observer<P> for Outputs<F> {
 }
 
 /// An accepted step from `t_prev` to `t`.
+///
+/// ```
+/// use integrators::observer::AcceptedStep;
+/// let s = AcceptedStep { t_prev: 0.5, t: 0.75, substeps: 1 };
+/// assert_eq!(s.t - s.t_prev, 0.25); // the step size taken
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AcceptedStep {
     /// Start of the step.
@@ -139,6 +145,12 @@ impl std::fmt::Display for RejectedStep {
 }
 
 /// Why an attempted step was rejected.
+///
+/// ```
+/// use integrators::observer::RejectCause;
+/// assert_eq!(RejectCause::ErrorTest.to_string(), "local error test failed");
+/// assert_eq!(RejectCause::Newton.to_string(), "Newton iteration did not converge");
+/// ```
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum RejectCause {
     /// The local error estimate exceeded the tolerance.

@@ -113,6 +113,13 @@ impl Parallelism {
 }
 
 /// An option outside its valid range: the message names the field and the range.
+///
+/// ```
+/// use integrators::Options;
+/// let bad = Options { rtol: -1.0, ..Default::default() };
+/// let e = bad.validate().unwrap_err();
+/// assert!(e.to_string().starts_with("rtol = -1 must be"), "{e}");
+/// ```
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum OptionsError {

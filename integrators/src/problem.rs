@@ -48,6 +48,13 @@ pub enum ResidualError {
 }
 
 /// What the driver does after an event function changes sign.
+///
+/// ```
+/// use integrators::EventAction;
+/// // a division that added a cell: the problem resized, the driver restarts on the new layout
+/// let a = EventAction::Resized;
+/// assert_ne!(a, EventAction::Continue);
+/// ```
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum EventAction {
     /// Nothing changed; keep integrating.

@@ -57,6 +57,12 @@ mod events;
 use events::{eval_events, fires, locate, mask_fired, Located};
 
 /// One handled event.
+///
+/// ```
+/// use integrators::{EventAction, EventRecord};
+/// let e = EventRecord { t: 1.5, fired: vec![0], action: EventAction::Stop, dim_after: 2 };
+/// assert_eq!((e.fired.as_slice(), &e.action), (&[0][..], &EventAction::Stop));
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct EventRecord {
     /// Located event time.
