@@ -85,7 +85,7 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
     /// `ldot` enter only through the Kelvin–Voigt stress.
     #[allow(clippy::too_many_arguments)]
     #[inline]
-    fn cell_s<S: Scalar>(
+    fn cell_s<S: Scalar, const KV: bool>(
         &self,
         y: &[S],
         yp: &[S],
@@ -185,7 +185,7 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
             s22 += sb[1];
             rates.push(br.sheet_rate(av, sb));
         }
-        if self.params.eta > 0.0 {
+        if KV {
             let rate = self.stretch_rates(y, yp, ldot, j, k, [al1, al2]);
             let [v11, v22, _] = kelvin_voigt_sheet(self.params.eta, [al1, al2], rate);
             s11 += v11;
@@ -213,18 +213,9 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
             s22,
         })
     }
-}
 
-impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
-    fn dim(&self) -> usize {
-        self.n * self.block - if self.free_right() { 0 } else { self.m }
-    }
-
-    fn pattern(&self) -> Pattern {
-        self.pattern.clone()
-    }
-
-    fn residual<S: Scalar>(
+    /// The residual; `KV`: whether cells carry the Kelvin–Voigt stress.
+    fn residual_with<S: Scalar, const KV: bool>(
         &self,
         t: f64,
         y: &[S],
@@ -240,7 +231,7 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
         // the viscous stretches' rates of the current and next column (with a branch)
         let (mut cur_rates, mut next_rates) = (Vec::new(), Vec::new());
         for k in 1..=m {
-            cur.push(self.cell_s(y, yp, lt, ldot, 1, k, &mut cur_rates)?);
+            cur.push(self.cell_s::<S, KV>(y, yp, lt, ldot, 1, k, &mut cur_rates)?);
         }
         for j in 1..=n {
             // viscous stretches of column j
@@ -289,7 +280,7 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
                 next.clear();
                 next_rates.clear();
                 for k in 1..=m {
-                    next.push(self.cell_s(y, yp, lt, ldot, j + 1, k, &mut next_rates)?);
+                    next.push(self.cell_s::<S, KV>(y, yp, lt, ldot, j + 1, k, &mut next_rates)?);
                 }
                 for k in 1..=m {
                     let (a, b) = (&cur[k - 1], &next[k - 1]);
@@ -311,6 +302,31 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
             }
         }
         Ok(())
+    }
+}
+
+impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
+    fn dim(&self) -> usize {
+        self.n * self.block - if self.free_right() { 0 } else { self.m }
+    }
+
+    fn pattern(&self) -> Pattern {
+        self.pattern.clone()
+    }
+
+    fn residual<S: Scalar>(
+        &self,
+        t: f64,
+        y: &[S],
+        yp: &[S],
+        r: &mut [S],
+    ) -> Result<(), ResidualError> {
+        // the elastic path is compiled without the rate terms (no cost for them)
+        if self.params.eta > 0.0 {
+            self.residual_with::<S, true>(t, y, yp, r)
+        } else {
+            self.residual_with::<S, false>(t, y, yp, r)
+        }
     }
 
     fn atol(&self) -> Option<Vec<f64>> {
