@@ -4,6 +4,12 @@
 use crate::solver::Solution;
 
 /// What went wrong.
+///
+/// ```
+/// use integrators::ErrorKind;
+/// assert_eq!(ErrorKind::SingularMatrix { column: 3 }.to_string(), "singular iteration matrix (zero pivot in column 3)");
+/// assert_eq!(ErrorKind::StepSizeTooSmall { h: 1e-14 }.to_string(), "step size 1e-14 too small");
+/// ```
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum ErrorKind {
@@ -95,6 +101,12 @@ impl From<RecoverableCause> for ErrorKind {
 }
 
 /// A solver error with its location in time and state.
+///
+/// ```
+/// use integrators::{ErrorKind, SolverError};
+/// let e = SolverError::new(ErrorKind::NewtonFailure, 2.5, Some(7));
+/// assert_eq!(e.to_string(), "at t = 2.5: Newton iteration failed to converge (worst component 7)");
+/// ```
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error("at t = {t}: {kind}{}", component.map(|c| format!(" (worst component {c})")).unwrap_or_default())]
 pub struct SolverError {

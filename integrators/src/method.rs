@@ -8,6 +8,13 @@ use crate::system::System;
 /// One time-stepping scheme. A method owns its step-size/order state and history, not the
 /// problem; the driver ([`crate::Solver`]) owns the loop, output, and events, and restarts the
 /// method with [`start`](Method::start) after every event (possibly with a new dimension).
+///
+/// ```
+/// use integrators::{methods, MethodKind};
+/// // the built-in methods are `Method` objects; a solver drives one through start/step/interpolate
+/// let radau = methods::build(MethodKind::Radau);
+/// assert_eq!(radau.name(), "radau");
+/// ```
 pub trait Method {
     /// Short name (`"bdf"`, `"esdirk"`, `"radau"`, `"dopri"`).
     fn name(&self) -> &'static str;
@@ -139,6 +146,13 @@ impl std::fmt::Display for MethodKind {
 /// constructor of fresh method objects.
 ///
 /// Compared, hashed and printed by name (names are unique in the registry).
+///
+/// ```
+/// use integrators::{CustomMethod, MethodKind};
+/// let m = CustomMethod { name: "stiff_bdf", build: || integrators::methods::build(MethodKind::Bdf), stiff: true };
+/// assert_eq!(format!("{m:?}"), "CustomMethod(\"stiff_bdf\")"); // printed and compared by name
+/// assert_eq!((m.build)().name(), "bdf");
+/// ```
 #[derive(Clone, Copy)]
 pub struct CustomMethod {
     /// The name scenarios and [`std::str::FromStr`] use (not a built-in name or alias).

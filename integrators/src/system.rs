@@ -17,6 +17,14 @@ use crate::problem::{Problem, ResidualError};
 use crate::stats::Stats;
 
 /// Why a step attempt failed in a way the method may recover from by reducing the step.
+///
+/// ```
+/// use integrators::system::StepFailure;
+/// use integrators::{ErrorKind, SolverError};
+/// // a failure the method cannot recover from carries the solver's error
+/// let f = StepFailure::Fatal(SolverError::new(ErrorKind::NonFinite, 1.0, None));
+/// assert!(matches!(f, StepFailure::Fatal(ref e) if e.t == 1.0));
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub enum StepFailure {
     /// Residual reported `ResidualError::Recoverable`, a non-finite value appeared, or a
@@ -32,6 +40,28 @@ pub enum StepFailure {
 }
 
 /// Problem plus shared workspaces and counters, handed to a [`crate::Method`] on every call.
+///
+/// ```
+/// use integrators::{Problem, ResidualError};
+/// /// ẏ = −y in residual form.
+/// struct Decay;
+/// impl Problem for Decay {
+///     fn dim(&self) -> usize { 1 }
+///     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+///         r[0] = yp[0] + y[0];
+///         Ok(())
+///     }
+/// }
+/// use integrators::system::SystemCache;
+/// use integrators::{Options, Stats, System};
+/// let (mut p, opts, mut stats) = (Decay, Options::default(), Stats::default());
+/// let mut cache = SystemCache::default();
+/// cache.rebuild(&p, &opts).unwrap();
+/// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+/// let mut r = [0.0];
+/// sys.residual(0.0, &[1.0], &[-1.0], &mut r).unwrap(); // counted in the statistics
+/// assert_eq!((r[0], sys.dim(), sys.stats.residual_calls), (0.0, 1, 1));
+/// ```
 pub struct System<'a> {
     /// The user's problem.
     pub problem: &'a mut dyn Problem,
@@ -44,6 +74,24 @@ pub struct System<'a> {
 }
 
 /// Per-dimension data cached by the driver; rebuilt after a resize by [`SystemCache::rebuild`].
+///
+/// ```
+/// use integrators::{Problem, ResidualError};
+/// /// ẏ = −y in residual form.
+/// struct Decay;
+/// impl Problem for Decay {
+///     fn dim(&self) -> usize { 1 }
+///     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+///         r[0] = yp[0] + y[0];
+///         Ok(())
+///     }
+/// }
+/// use integrators::system::SystemCache;
+/// use integrators::Options;
+/// let mut cache = SystemCache::default();
+/// cache.rebuild(&Decay, &Options::default()).unwrap();
+/// assert_eq!(cache.colour_count(), 1); // one Jacobian colour for one unknown
+/// ```
 #[derive(Default)]
 pub struct SystemCache {
     pub(crate) n: usize,

@@ -85,6 +85,15 @@ pub struct LinearTolerance<'a> {
 
 /// Counters of the Krylov iterations made by one [`super::LinearSolver`] (for statistics and
 /// performance reports).
+///
+/// ```
+/// use integrators::linalg::LinearSolver;
+/// use integrators::Pattern;
+/// // a direct solver makes no Krylov iterations
+/// let lu = LinearSolver::new(3, &Pattern::Dense);
+/// let k = lu.krylov_counters();
+/// assert_eq!((k.solves, k.iterations, k.failures), (0, 0, 0));
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct KrylovCounters {
     /// Solves attempted.

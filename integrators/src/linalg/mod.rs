@@ -43,6 +43,15 @@ use std::sync::Arc;
 use crate::pattern::Pattern;
 
 /// Iteration-matrix storage shaped by a [`Pattern`].
+///
+/// ```
+/// use integrators::linalg::Matrix;
+/// use integrators::Pattern;
+/// let mut m = Matrix::zeros(3, &Pattern::Banded { lower: 1, upper: 1 });
+/// m.add(1, 0, 2.0);
+/// m.add(1, 0, 0.5); // adds, as a Jacobian assembly does
+/// assert_eq!((m.get(1, 0), m.get(0, 2), m.n()), (2.5, 0.0, 3));
+/// ```
 #[derive(Clone, Debug)]
 pub enum Matrix {
     /// Column-major dense `n × n`.
@@ -54,6 +63,15 @@ pub enum Matrix {
 }
 
 /// Dense column-major matrix.
+///
+/// ```
+/// use integrators::linalg::Matrix;
+/// use integrators::Pattern;
+/// let mut m = Matrix::zeros(2, &Pattern::Dense);
+/// m.set(0, 1, 4.0);
+/// let Matrix::Dense(d) = &m else { unreachable!() };
+/// assert_eq!(d.data, [0.0, 0.0, 4.0, 0.0]); // column-major: (0, 1) is the third value
+/// ```
 #[derive(Clone, Debug)]
 pub struct DenseMatrix {
     /// Dimension.
@@ -64,6 +82,14 @@ pub struct DenseMatrix {
 
 /// Band matrix with `lower` sub- and `upper` super-diagonals (storage layout is the
 /// implementation's; use [`Matrix::add`] / [`Matrix::get`]).
+///
+/// ```
+/// use integrators::linalg::Matrix;
+/// use integrators::Pattern;
+/// let m = Matrix::zeros(5, &Pattern::Banded { lower: 2, upper: 1 });
+/// let Matrix::Banded(b) = &m else { unreachable!() };
+/// assert_eq!((b.n, b.lower, b.upper), (5, 2, 1));
+/// ```
 #[derive(Clone, Debug)]
 pub struct BandMatrix {
     /// Dimension.
@@ -77,6 +103,15 @@ pub struct BandMatrix {
 }
 
 /// Sparse matrix: values over a shared pattern.
+///
+/// ```
+/// use integrators::linalg::Matrix;
+/// use integrators::{Pattern, SparsityPattern};
+/// let p = SparsityPattern::from_entries(3, &[(0, 0), (1, 1), (2, 2), (2, 0)]);
+/// let m = Matrix::zeros(3, &Pattern::Sparse(std::sync::Arc::new(p)));
+/// let Matrix::Sparse(s) = &m else { unreachable!() };
+/// assert_eq!(s.values.len(), 4); // one value per stored entry
+/// ```
 #[derive(Clone, Debug)]
 pub struct SparseMatrix {
     /// The pattern.
@@ -89,6 +124,23 @@ pub struct SparseMatrix {
 ///
 /// Zero (or non-finite) pivots and non-finite matrix entries are reported as `Err(column)`;
 /// nothing here panics on singular or NaN input.
+///
+/// ```
+/// use integrators::linalg::{LinearSolver, Matrix};
+/// use integrators::Pattern;
+/// let p = Pattern::Banded { lower: 1, upper: 1 };
+/// // [[2, 1, 0], [1, 2, 1], [0, 1, 2]] x = [3, 4, 3]  ⇒  x = [1, 1, 1]
+/// let mut a = Matrix::zeros(3, &p);
+/// for i in 0..3 { a.add(i, i, 2.0); }
+/// for i in 0..2 { a.add(i, i + 1, 1.0); a.add(i + 1, i, 1.0); }
+/// let mut lu = LinearSolver::new(3, &p);
+/// lu.factor(&a).unwrap();
+/// let mut x = vec![3.0, 4.0, 3.0];
+/// lu.solve_in_place(&mut x);
+/// assert!(x.iter().all(|v| (v - 1.0).abs() < 1e-14));
+/// // a zero pivot is an error naming a column, not a panic
+/// assert!(lu.factor(&Matrix::zeros(3, &p)).is_err());
+/// ```
 pub struct LinearSolver {
     pub(crate) inner: Inner,
 }
@@ -104,6 +156,17 @@ pub(crate) enum Inner {
 /// ([`LinearSolver::solve_in_place_map`]). A trait rather than a closure so that an
 /// implementation can mark [`map`](SolutionMap::map) `#[inline(always)]`: the solver's loops
 /// call it once per component, and a call there costs more than a small update.
+///
+/// ```
+/// use integrators::linalg::SolutionMap;
+/// /// Stores `x + offset_j` (e.g. a Newton update applied as the solution is produced).
+/// struct Shift<'a>(&'a [f64]);
+/// impl SolutionMap for Shift<'_> {
+///     fn map(&mut self, j: usize, x: f64) -> f64 { x + self.0[j] }
+/// }
+/// let mut s = Shift(&[1.0, 2.0]);
+/// assert_eq!(s.map(1, 0.5), 2.5);
+/// ```
 pub trait SolutionMap {
     /// The value stored for solution component `j`, given its value `x`.
     fn map(&mut self, j: usize, x: f64) -> f64;
@@ -391,6 +454,19 @@ pub fn complex_pair_pattern(n: usize, pattern: &Pattern) -> Pattern {
 ///
 /// A complex right-hand side `b = p + i·q` is passed interleaved (`[p0, q0, p1, q1, …]`) and
 /// the solution comes back interleaved the same way.
+///
+/// ```
+/// use integrators::linalg::{complex_pair_pattern, fill_complex_pair, Matrix};
+/// use integrators::Pattern;
+/// // 1 × 1: J0 = 2, J1 = 1, α + iβ = 3 + 4i gives [[5, −4], [4, 5]]
+/// let p = Pattern::Dense;
+/// let (mut j0, mut j1) = (Matrix::zeros(1, &p), Matrix::zeros(1, &p));
+/// j0.add(0, 0, 2.0);
+/// j1.add(0, 0, 1.0);
+/// let mut out = Matrix::zeros(2, &complex_pair_pattern(1, &p));
+/// fill_complex_pair(&j0, &j1, 3.0, 4.0, &mut out);
+/// assert_eq!((out.get(0, 0), out.get(0, 1), out.get(1, 0), out.get(1, 1)), (5.0, -4.0, 4.0, 5.0));
+/// ```
 pub fn fill_complex_pair(j0: &Matrix, j1: &Matrix, alpha: f64, beta: f64, out: &mut Matrix) {
     complex_pair::fill(j0, j1, alpha, beta, out)
 }

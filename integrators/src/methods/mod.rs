@@ -17,6 +17,13 @@ pub(crate) mod one_step;
 pub mod radau;
 
 /// A fresh method object of the given kind.
+///
+/// ```
+/// use integrators::{methods, MethodKind};
+/// for kind in [MethodKind::Bdf, MethodKind::Esdirk, MethodKind::Radau, MethodKind::Dopri] {
+///     assert_eq!(methods::build(kind).name(), kind.name());
+/// }
+/// ```
 pub fn build(kind: MethodKind) -> Box<dyn Method> {
     match kind {
         MethodKind::Bdf => Box::new(bdf::Bdf::new()),
