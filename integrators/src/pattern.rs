@@ -47,6 +47,13 @@ pub struct SparsityPattern {
 impl SparsityPattern {
     /// Builds a pattern from `(row, col)` pairs; duplicates are merged and the diagonal is
     /// always added (iteration matrices need it).
+    ///
+    /// ```
+    /// use integrators::SparsityPattern;
+    /// // a 3 × 3 pattern with one off-diagonal entry (2, 0); the diagonal is always added
+    /// let p = SparsityPattern::from_entries(3, &[(2, 0), (2, 0)]);
+    /// assert_eq!((p.n(), p.nnz()), (3, 4)); // duplicates merged
+    /// ```
     pub fn from_entries(n: usize, entries: &[(usize, usize)]) -> Self {
         let mut cols: Vec<Vec<usize>> = vec![Vec::new(); n];
         for &(i, j) in entries {
@@ -73,26 +80,68 @@ impl SparsityPattern {
     }
 
     /// Matrix dimension.
+    ///
+    /// ```
+    /// use integrators::SparsityPattern;
+    /// // a 3 × 3 pattern with one off-diagonal entry (2, 0); the diagonal is always added
+    /// let p = SparsityPattern::from_entries(3, &[(2, 0), (2, 0)]);
+    /// assert_eq!(p.n(), 3);
+    /// ```
     pub fn n(&self) -> usize {
         self.n
     }
     /// Number of structural nonzeros.
+    ///
+    /// ```
+    /// use integrators::SparsityPattern;
+    /// // a 3 × 3 pattern with one off-diagonal entry (2, 0); the diagonal is always added
+    /// let p = SparsityPattern::from_entries(3, &[(2, 0), (2, 0)]);
+    /// assert_eq!(p.nnz(), 4);
+    /// ```
     pub fn nnz(&self) -> usize {
         self.row_idx.len()
     }
     /// Column pointers (length `n + 1`).
+    ///
+    /// ```
+    /// use integrators::SparsityPattern;
+    /// // a 3 × 3 pattern with one off-diagonal entry (2, 0); the diagonal is always added
+    /// let p = SparsityPattern::from_entries(3, &[(2, 0), (2, 0)]);
+    /// assert_eq!(p.col_ptr(), [0, 2, 3, 4]); // column 0 holds rows 0 and 2
+    /// ```
     pub fn col_ptr(&self) -> &[usize] {
         &self.col_ptr
     }
     /// Row indices, column by column, sorted within each column.
+    ///
+    /// ```
+    /// use integrators::SparsityPattern;
+    /// // a 3 × 3 pattern with one off-diagonal entry (2, 0); the diagonal is always added
+    /// let p = SparsityPattern::from_entries(3, &[(2, 0), (2, 0)]);
+    /// assert_eq!(p.row_idx(), [0, 2, 1, 2]);
+    /// ```
     pub fn row_idx(&self) -> &[usize] {
         &self.row_idx
     }
     /// Rows of column `j`.
+    ///
+    /// ```
+    /// use integrators::SparsityPattern;
+    /// // a 3 × 3 pattern with one off-diagonal entry (2, 0); the diagonal is always added
+    /// let p = SparsityPattern::from_entries(3, &[(2, 0), (2, 0)]);
+    /// assert_eq!(p.column(0), [0, 2]);
+    /// ```
     pub fn column(&self, j: usize) -> &[usize] {
         &self.row_idx[self.col_ptr[j]..self.col_ptr[j + 1]]
     }
     /// Position of entry `(i, j)` in the value array, if structurally present.
+    ///
+    /// ```
+    /// use integrators::SparsityPattern;
+    /// // a 3 × 3 pattern with one off-diagonal entry (2, 0); the diagonal is always added
+    /// let p = SparsityPattern::from_entries(3, &[(2, 0), (2, 0)]);
+    /// assert_eq!((p.position(2, 0), p.position(0, 2)), (Some(1), None));
+    /// ```
     pub fn position(&self, i: usize, j: usize) -> Option<usize> {
         let c = self.column(j);
         c.binary_search(&i).ok().map(|k| self.col_ptr[j] + k)
@@ -102,6 +151,13 @@ impl SparsityPattern {
 impl Pattern {
     /// Number of colours (residual or directional-derivative evaluations) needed to build the
     /// Jacobian of an `n`-dimensional problem with this pattern.
+    ///
+    /// ```
+    /// use integrators::Pattern;
+    /// // a tridiagonal Jacobian of any size costs three evaluations
+    /// assert_eq!(Pattern::Banded { lower: 1, upper: 1 }.colour_count(1000), 3);
+    /// assert_eq!(Pattern::Dense.colour_count(7), 7);
+    /// ```
     pub fn colour_count(&self, n: usize) -> usize {
         self.colouring(n).1
     }
@@ -110,6 +166,12 @@ impl Pattern {
     /// colour share no row, so one evaluation recovers all of them.
     /// Dense: every column its own colour. Banded: `j mod (lower+upper+1)`. Sparse: greedy
     /// colouring of the column-intersection graph.
+    ///
+    /// ```
+    /// use integrators::Pattern;
+    /// let (colour, count) = Pattern::Banded { lower: 1, upper: 1 }.colouring(5);
+    /// assert_eq!((colour, count), (vec![0, 1, 2, 0, 1], 3));
+    /// ```
     pub fn colouring(&self, n: usize) -> (Vec<usize>, usize) {
         match self {
             Pattern::Dense => ((0..n).collect(), n),
@@ -122,6 +184,12 @@ impl Pattern {
     }
 
     /// Whether `(i, j)` is structurally nonzero.
+    ///
+    /// ```
+    /// use integrators::Pattern;
+    /// let p = Pattern::Banded { lower: 1, upper: 0 };
+    /// assert!(p.contains(3, 2) && !p.contains(2, 3));
+    /// ```
     pub fn contains(&self, i: usize, j: usize) -> bool {
         match self {
             Pattern::Dense => true,
@@ -133,6 +201,12 @@ impl Pattern {
     }
 
     /// Rows that may be nonzero in column `j` of an `n × n` matrix.
+    ///
+    /// ```
+    /// use integrators::Pattern;
+    /// assert_eq!(Pattern::Banded { lower: 1, upper: 1 }.column_rows(4, 0), [0, 1]);
+    /// assert_eq!(Pattern::Dense.column_rows(3, 1), [0, 1, 2]);
+    /// ```
     pub fn column_rows(&self, n: usize, j: usize) -> Vec<usize> {
         match self {
             Pattern::Dense => (0..n).collect(),
