@@ -148,6 +148,14 @@ pub enum ErrorMapError {
 
 impl ErrorMap {
     /// A map from one [`Row`] per component.
+    ///
+    /// ```
+    /// use integrators::{ErrorMap, Row};
+    /// // boundaries x₁, x₂ of a line whose wall x₀ = 0 is fixed: x₁ anchored in cells of size 1,
+    /// // x₂ through its cell x₂ − x₁
+    /// let map = ErrorMap::from_rows(vec![Row::Anchor { size: 1.0 }, Row::Difference { partner: 0 }]).unwrap();
+    /// assert_eq!((map.row(0), map.row(1)), (Row::Anchor { size: 1.0 }, Row::Difference { partner: 0 }));
+    /// ```
     pub fn from_rows(rows: Vec<Row>) -> Result<Self, ErrorMapError> {
         let n = rows.len();
         if n > i32::MAX as usize {
@@ -186,6 +194,17 @@ impl ErrorMap {
     /// its row's quantity: the far end of a cell whose other end is prescribed (no unknown), so
     /// that the cell's stretch error (the row's own error over `size`) is controlled too. The
     /// norm then has one more term (an RMS norm still divides by the number of rows).
+    ///
+    /// ```
+    /// use integrators::{ErrorMap, Row};
+    /// // boundaries x₁, x₂ of a line whose wall x₀ = 0 is fixed: x₁ anchored in cells of size 1,
+    /// // x₂ through its cell x₂ − x₁
+    /// let map = ErrorMap::from_rows(vec![Row::Anchor { size: 1.0 }, Row::Difference { partner: 0 }]).unwrap();
+    /// // x₂'s far cell ends at a prescribed end: test x₂'s own error against that cell's size too
+    /// let map = map.with_end(1, 1.0).unwrap();
+    /// assert_eq!(map.len(), 2);
+    /// assert!(ErrorMap::from_rows(vec![Row::Own]).unwrap().with_end(5, 1.0).is_err()); // no row 5
+    /// ```
     pub fn with_end(mut self, row: usize, size: f64) -> Result<Self, ErrorMapError> {
         if row >= self.back.len() {
             return Err(ErrorMapError::Partner {
@@ -202,16 +221,41 @@ impl ErrorMap {
     }
 
     /// Number of rows (0 for the identity map).
+    ///
+    /// ```
+    /// use integrators::{ErrorMap, Row};
+    /// // boundaries x₁, x₂ of a line whose wall x₀ = 0 is fixed: x₁ anchored in cells of size 1,
+    /// // x₂ through its cell x₂ − x₁
+    /// let map = ErrorMap::from_rows(vec![Row::Anchor { size: 1.0 }, Row::Difference { partner: 0 }]).unwrap();
+    /// assert_eq!(map.len(), 2);
+    /// ```
     pub fn len(&self) -> usize {
         self.back.len()
     }
 
     /// Whether this is the identity map (every row [`Row::Own`], the default test).
+    ///
+    /// ```
+    /// use integrators::{ErrorMap, Row};
+    /// // boundaries x₁, x₂ of a line whose wall x₀ = 0 is fixed: x₁ anchored in cells of size 1,
+    /// // x₂ through its cell x₂ − x₁
+    /// let map = ErrorMap::from_rows(vec![Row::Anchor { size: 1.0 }, Row::Difference { partner: 0 }]).unwrap();
+    /// assert!(!map.is_empty());
+    /// assert!(ErrorMap::default().is_empty()); // the identity map
+    /// ```
     pub fn is_empty(&self) -> bool {
         self.back.is_empty()
     }
 
     /// The row of component `i`.
+    ///
+    /// ```
+    /// use integrators::{ErrorMap, Row};
+    /// // boundaries x₁, x₂ of a line whose wall x₀ = 0 is fixed: x₁ anchored in cells of size 1,
+    /// // x₂ through its cell x₂ − x₁
+    /// let map = ErrorMap::from_rows(vec![Row::Anchor { size: 1.0 }, Row::Difference { partner: 0 }]).unwrap();
+    /// assert_eq!(map.row(1), Row::Difference { partner: 0 });
+    /// ```
     pub fn row(&self, i: usize) -> Row {
         match self.back[i] {
             OWN => Row::Own,
@@ -243,6 +287,16 @@ impl ErrorMap {
 
     /// The tolerances the weights add to `rtol·|…|`: `atol_i` for own and difference rows,
     /// `rtol·size + atol_i` for anchors (so that an anchor's weight is `1/eatol_i`).
+    ///
+    /// ```
+    /// use integrators::{ErrorMap, Row};
+    /// // boundaries x₁, x₂ of a line whose wall x₀ = 0 is fixed: x₁ anchored in cells of size 1,
+    /// // x₂ through its cell x₂ − x₁
+    /// let map = ErrorMap::from_rows(vec![Row::Anchor { size: 1.0 }, Row::Difference { partner: 0 }]).unwrap();
+    /// let mut map = map;
+    /// // an anchor adds rtol·size to its tolerance
+    /// assert_eq!(map.effective_atol(&[1e-8, 1e-8], 1e-6), [1e-6 + 1e-8, 1e-8]);
+    /// ```
     pub fn effective_atol(&mut self, atol: &[f64], rtol: f64) -> Vec<f64> {
         self.end_w = self
             .ends
@@ -284,6 +338,19 @@ impl ErrorMap {
 
     /// Weights of components `lo..lo + w.len()` at state `y` (whole vector), with `eatol`
     /// (whole vector) from [`effective_atol`](Self::effective_atol).
+    ///
+    /// ```
+    /// use integrators::{ErrorMap, Row};
+    /// // boundaries x₁, x₂ of a line whose wall x₀ = 0 is fixed: x₁ anchored in cells of size 1,
+    /// // x₂ through its cell x₂ − x₁
+    /// let map = ErrorMap::from_rows(vec![Row::Anchor { size: 1.0 }, Row::Difference { partner: 0 }]).unwrap();
+    /// let mut map = map;
+    /// let eatol = map.effective_atol(&[1e-8, 1e-8], 1e-6);
+    /// let mut w = [0.0; 2];
+    /// map.weights(&[1.0, 2.5], &eatol, 1e-6, 0, &mut w);
+    /// // x₂ is weighted by its cell's length 1.5, not by |x₂| = 2.5
+    /// assert!((1.0 / w[1] - (1e-6 * 1.5 + 1e-8)).abs() < 1e-20);
+    /// ```
     pub fn weights(&self, y: &[f64], eatol: &[f64], rtol: f64, lo: usize, w: &mut [f64]) {
         for (k, wk) in w.iter_mut().enumerate() {
             let i = lo + k;
@@ -313,6 +380,18 @@ impl ErrorMap {
 
     /// The norm of the weighted quantities `q_i·w_i` of error vector `v` (whole vectors):
     /// for the identity map exactly [`ErrorNorm::of`].
+    ///
+    /// ```
+    /// use integrators::{ErrorMap, Row};
+    /// // boundaries x₁, x₂ of a line whose wall x₀ = 0 is fixed: x₁ anchored in cells of size 1,
+    /// // x₂ through its cell x₂ − x₁
+    /// let map = ErrorMap::from_rows(vec![Row::Anchor { size: 1.0 }, Row::Difference { partner: 0 }]).unwrap();
+    /// use integrators::ErrorNorm;
+    /// // equal errors at both ends of a cell leave its length unchanged: x₂'s row sees 0
+    /// let v = [1e-3, 1e-3];
+    /// assert_eq!(map.norm(&v, &[1.0, 1.0], ErrorNorm::Max), 1e-3);
+    /// assert_eq!(map.norm(&[0.0, 1e-3], &[1.0, 1.0], ErrorNorm::Max), 1e-3);
+    /// ```
     pub fn norm(&self, v: &[f64], w: &[f64], norm: ErrorNorm) -> f64 {
         if self.is_empty() {
             return norm.of(v, w);
@@ -362,6 +441,15 @@ impl ErrorMap {
 
     /// The component with the largest weighted quantity (the first NaN if any), for failure
     /// reports.
+    ///
+    /// ```
+    /// use integrators::{ErrorMap, Row};
+    /// // boundaries x₁, x₂ of a line whose wall x₀ = 0 is fixed: x₁ anchored in cells of size 1,
+    /// // x₂ through its cell x₂ − x₁
+    /// let map = ErrorMap::from_rows(vec![Row::Anchor { size: 1.0 }, Row::Difference { partner: 0 }]).unwrap();
+    /// // the second cell's length error is the largest
+    /// assert_eq!(map.worst(&[1e-4, 5e-3], &[1.0, 1.0]), Some(1));
+    /// ```
     pub fn worst(&self, v: &[f64], w: &[f64]) -> Option<usize> {
         let mut best: Option<(usize, f64)> = None;
         for i in 0..v.len() {
