@@ -120,6 +120,12 @@ pub struct SolverError {
 
 impl SolverError {
     /// Creates an error at time `t`.
+    ///
+    /// ```
+    /// use integrators::{ErrorKind, SolverError};
+    /// let e = SolverError::new(ErrorKind::NonFinite, 0.5, None);
+    /// assert_eq!(e.to_string(), "at t = 0.5: non-finite value");
+    /// ```
     pub fn new(kind: ErrorKind, t: f64, component: Option<usize>) -> Self {
         Self { kind, t, component }
     }

@@ -100,6 +100,11 @@ impl MethodKind {
     ];
 
     /// The name accepted by [`std::str::FromStr`].
+    ///
+    /// ```
+    /// use integrators::MethodKind;
+    /// assert_eq!(MethodKind::Radau.name().parse::<MethodKind>().unwrap(), MethodKind::Radau);
+    /// ```
     pub fn name(self) -> &'static str {
         match self {
             MethodKind::Bdf => "bdf",
@@ -110,11 +115,21 @@ impl MethodKind {
     }
 
     /// Whether the method is implicit (handles stiffness and algebraic components).
+    ///
+    /// ```
+    /// use integrators::MethodKind;
+    /// assert!(MethodKind::Bdf.is_stiff() && !MethodKind::Dopri.is_stiff());
+    /// ```
     pub fn is_stiff(self) -> bool {
         !matches!(self, MethodKind::Dopri)
     }
 
     /// A fresh method object.
+    ///
+    /// ```
+    /// use integrators::MethodKind;
+    /// assert_eq!(MethodKind::Esdirk.build().name(), "esdirk"); // a fresh method object
+    /// ```
     pub fn build(self) -> Box<dyn Method> {
         crate::methods::build(self)
     }
@@ -231,6 +246,11 @@ impl PartialEq<MethodKind> for MethodChoice {
 
 impl MethodChoice {
     /// The name [`std::str::FromStr`] accepts.
+    ///
+    /// ```
+    /// use integrators::{MethodChoice, MethodKind};
+    /// assert_eq!(MethodChoice::from(MethodKind::Bdf).name(), "bdf");
+    /// ```
     pub fn name(self) -> &'static str {
         match self {
             MethodChoice::Builtin(k) => k.name(),
@@ -239,6 +259,11 @@ impl MethodChoice {
     }
 
     /// Whether the method is implicit (handles stiffness and algebraic components).
+    ///
+    /// ```
+    /// use integrators::{MethodChoice, MethodKind};
+    /// assert!(!MethodChoice::from(MethodKind::Dopri).is_stiff());
+    /// ```
     pub fn is_stiff(self) -> bool {
         match self {
             MethodChoice::Builtin(k) => k.is_stiff(),
@@ -247,6 +272,11 @@ impl MethodChoice {
     }
 
     /// A fresh method object.
+    ///
+    /// ```
+    /// use integrators::{MethodChoice, MethodKind};
+    /// assert_eq!(MethodChoice::default().build().name(), "bdf");
+    /// ```
     pub fn build(self) -> Box<dyn Method> {
         match self {
             MethodChoice::Builtin(k) => k.build(),

@@ -85,6 +85,12 @@ impl Parallelism {
     /// From a thread count: 1 → [`Parallelism::Serial`], 2 → [`Parallelism::Halves`] at
     /// [`Parallelism::DEFAULT_MIN_LEN`]; anything else is an error (passes split in two
     /// halves at most, so more threads would be silently unused).
+    ///
+    /// ```
+    /// use integrators::Parallelism;
+    /// assert_eq!(Parallelism::from_threads(1).unwrap(), Parallelism::Serial);
+    /// assert!(Parallelism::from_threads(4).is_err()); // passes split in two halves at most
+    /// ```
     pub fn from_threads(threads: usize) -> Result<Self, OptionsError> {
         match threads {
             1 => Ok(Parallelism::Serial),
@@ -96,6 +102,11 @@ impl Parallelism {
     }
 
     /// Workers a pass may use: 1 or 2.
+    ///
+    /// ```
+    /// use integrators::Parallelism;
+    /// assert_eq!(Parallelism::from_threads(2).unwrap().threads(), 2);
+    /// ```
     pub fn threads(self) -> usize {
         match self {
             Parallelism::Serial => 1,
@@ -104,6 +115,12 @@ impl Parallelism {
     }
 
     /// Whether a pass over `n` components is split.
+    ///
+    /// ```
+    /// use integrators::Parallelism;
+    /// let p = Parallelism::Halves { min_len: 1000 };
+    /// assert!(p.splits(1000) && !p.splits(999) && !Parallelism::Serial.splits(1 << 30));
+    /// ```
     pub fn splits(self, n: usize) -> bool {
         match self {
             Parallelism::Serial => false,
@@ -306,6 +323,13 @@ pub enum ErrorNorm {
 
 impl ErrorNorm {
     /// The norm of `(v_i·w_i)` (0 for empty vectors; NaN propagates).
+    ///
+    /// ```
+    /// use integrators::ErrorNorm;
+    /// let (v, w) = ([3.0, 4.0], [1.0, 1.0]);
+    /// assert_eq!(ErrorNorm::Max.of(&v, &w), 4.0);
+    /// assert!((ErrorNorm::Rms.of(&v, &w) - 12.5f64.sqrt()).abs() < 1e-15);
+    /// ```
     pub fn of(self, v: &[f64], w: &[f64]) -> f64 {
         debug_assert_eq!(v.len(), w.len(), "norm: length mismatch");
         if v.is_empty() {
@@ -375,6 +399,14 @@ impl Default for Options {
 impl Options {
     /// Rejects settings that belong to another method than `method` (today: non-default
     /// [`BdfOptions`] with a method other than BDF), naming the setting.
+    ///
+    /// ```
+    /// use integrators::{BdfOptions, MethodChoice, MethodKind, Options};
+    /// // a BDF-only setting with another method is refused, naming it
+    /// let o = Options { bdf: BdfOptions { max_order: 2, ..Default::default() }, ..Default::default() };
+    /// assert!(o.check_method(MethodChoice::Builtin(MethodKind::Bdf)).is_ok());
+    /// assert!(o.check_method(MethodChoice::Builtin(MethodKind::Radau)).is_err());
+    /// ```
     pub fn check_method(&self, method: crate::MethodChoice) -> Result<(), OptionsError> {
         self.check_method_name(method.name())
     }

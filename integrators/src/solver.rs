@@ -147,6 +147,12 @@ impl std::fmt::Debug for Solver {
 impl Solver {
     /// A solver using a built-in ([`crate::MethodKind`]) or registered method
     /// ([`MethodChoice`]); a fresh method object per solve.
+    ///
+    /// ```
+    /// use integrators::{MethodKind, Options, Solver};
+    /// let s = Solver::new(MethodKind::Esdirk, Options::default());
+    /// assert_eq!(s.method_name(), "esdirk");
+    /// ```
     pub fn new(method: impl Into<MethodChoice>, opts: Options) -> Self {
         Self {
             opts,
@@ -157,6 +163,23 @@ impl Solver {
     /// A solver using the caller's own [`Method`] implementation. The method object is reused
     /// (restarted with [`Method::start`]) by every solve; a solve started from inside the
     /// observer of another solve with the same `Solver` fails with `InvalidInput`.
+    ///
+    /// ```
+    /// use integrators::{MethodKind, Options, Problem, ResidualError, Solver};
+    /// /// ẏ = −y in residual form.
+    /// struct Decay;
+    /// impl Problem for Decay {
+    ///     fn dim(&self) -> usize { 1 }
+    ///     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    ///         r[0] = yp[0] + y[0];
+    ///         Ok(())
+    ///     }
+    /// }
+    /// // the caller's own method object (here a built-in one), reused by every solve
+    /// let s = Solver::with_method(integrators::methods::build(MethodKind::Radau), Options::default());
+    /// let sol = s.solve(&mut Decay, 0.0, &[1.0], &[1.0]).unwrap();
+    /// assert!((sol.y[0][0] - (-1.0f64).exp()).abs() < 1e-5);
+    /// ```
     pub fn with_method(method: Box<dyn Method>, opts: Options) -> Self {
         Self {
             opts,
@@ -165,11 +188,22 @@ impl Solver {
     }
 
     /// The options.
+    ///
+    /// ```
+    /// use integrators::{MethodKind, Options, Solver};
+    /// let s = Solver::new(MethodKind::Bdf, Options { rtol: 1e-9, ..Default::default() });
+    /// assert_eq!(s.options().rtol, 1e-9);
+    /// ```
     pub fn options(&self) -> &Options {
         &self.opts
     }
 
     /// Name of the method (`"bdf"`, …, or the custom method's name).
+    ///
+    /// ```
+    /// use integrators::{MethodKind, Options, Solver};
+    /// assert_eq!(Solver::new(MethodKind::Dopri, Options::default()).method_name(), "dopri");
+    /// ```
     pub fn method_name(&self) -> &'static str {
         match &self.source {
             MethodSource::Kind(k) => k.name(),
@@ -179,6 +213,23 @@ impl Solver {
 
     /// Integrates `problem` from `(t0, y0)` and returns the state at every time of `t_out`
     /// (sorted, `≥ t0`; the last one is the end of the integration).
+    ///
+    /// ```
+    /// use integrators::{MethodKind, Options, Problem, ResidualError, Solver};
+    /// /// ẏ = −y in residual form.
+    /// struct Decay;
+    /// impl Problem for Decay {
+    ///     fn dim(&self) -> usize { 1 }
+    ///     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    ///         r[0] = yp[0] + y[0];
+    ///         Ok(())
+    ///     }
+    /// }
+    /// let opts = Options { rtol: 1e-8, atol: 1e-10, ..Default::default() };
+    /// let sol = Solver::new(MethodKind::Bdf, opts).solve(&mut Decay, 0.0, &[1.0], &[0.5, 2.0]).unwrap();
+    /// assert_eq!(sol.t, [0.5, 2.0]);
+    /// assert!((sol.y[1][0] - (-2.0f64).exp()).abs() < 1e-6);
+    /// ```
     pub fn solve<P: Problem>(
         &self,
         problem: &mut P,
@@ -192,6 +243,24 @@ impl Solver {
     /// As [`solve`](Solver::solve), calling `observer(problem, t, y, ẏ)` at every output (after
     /// it is stored) — the place to record model observables such as the number of cells after
     /// resizes.
+    ///
+    /// ```
+    /// use integrators::{MethodKind, Options, Problem, ResidualError, Solver};
+    /// /// ẏ = −y in residual form.
+    /// struct Decay;
+    /// impl Problem for Decay {
+    ///     fn dim(&self) -> usize { 1 }
+    ///     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    ///         r[0] = yp[0] + y[0];
+    ///         Ok(())
+    ///     }
+    /// }
+    /// let mut seen = Vec::new();
+    /// Solver::new(MethodKind::Bdf, Options::default())
+    ///     .solve_with(&mut Decay, 0.0, &[1.0], &[0.5, 1.0], |_, t, y, _| seen.push((t, y[0])))
+    ///     .unwrap();
+    /// assert_eq!(seen.len(), 2);
+    /// ```
     pub fn solve_with<P, O>(
         &self,
         problem: &mut P,
@@ -209,6 +278,29 @@ impl Solver {
 
     /// As [`solve`](Solver::solve), reporting outputs, accepted and rejected steps and events
     /// to `observer` as they happen (see [`Observer`] for an example).
+    ///
+    /// ```
+    /// use integrators::{MethodKind, Options, Problem, ResidualError, Solver};
+    /// /// ẏ = −y in residual form.
+    /// struct Decay;
+    /// impl Problem for Decay {
+    ///     fn dim(&self) -> usize { 1 }
+    ///     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    ///         r[0] = yp[0] + y[0];
+    ///         Ok(())
+    ///     }
+    /// }
+    /// use integrators::observer::{AcceptedStep, Observer};
+    /// struct Count(usize);
+    /// impl<P> Observer<P> for Count {
+    ///     fn accepted(&mut self, _: &P, _: &AcceptedStep, _: &[f64]) { self.0 += 1; }
+    /// }
+    /// let mut count = Count(0);
+    /// let sol = Solver::new(MethodKind::Bdf, Options::default())
+    ///     .solve_observed(&mut Decay, 0.0, &[1.0], &[1.0], &mut count)
+    ///     .unwrap();
+    /// assert_eq!(count.0, sol.stats.steps);
+    /// ```
     pub fn solve_observed<P, O>(
         &self,
         problem: &mut P,

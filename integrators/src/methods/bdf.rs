@@ -210,6 +210,12 @@ impl Default for Bdf {
 
 impl Bdf {
     /// A BDF method; state is set by [`Method::start`].
+    ///
+    /// ```
+    /// use integrators::Method;
+    /// let m = integrators::methods::bdf::Bdf::new();
+    /// assert_eq!(m.name(), "bdf");
+    /// ```
     pub fn new() -> Self {
         Self {
             n: 0,
@@ -258,6 +264,11 @@ impl Bdf {
     }
 
     /// Order used for the last accepted step.
+    ///
+    /// ```
+    /// let m = integrators::methods::bdf::Bdf::new();
+    /// assert!(m.order() <= 5);
+    /// ```
     pub fn order(&self) -> usize {
         self.k_last
     }

@@ -138,6 +138,12 @@ impl Default for Dopri5 {
 
 impl Dopri5 {
     /// A fresh Dormand–Prince integrator (call [`Method::start`] before stepping).
+    ///
+    /// ```
+    /// use integrators::Method;
+    /// let m = integrators::methods::dopri::Dopri5::new();
+    /// assert_eq!(m.name(), "dopri");
+    /// ```
     pub fn new() -> Self {
         Self {
             started: false,

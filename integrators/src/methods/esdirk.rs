@@ -124,6 +124,12 @@ fn tab() -> Tab {
 
 impl Esdirk {
     /// A fresh TR-BDF2 integrator (call [`Method::start`] before stepping).
+    ///
+    /// ```
+    /// use integrators::Method;
+    /// let m = integrators::methods::esdirk::Esdirk::new();
+    /// assert_eq!(m.name(), "esdirk");
+    /// ```
     pub fn new() -> Self {
         Self {
             started: false,

@@ -244,6 +244,12 @@ impl Default for Radau5 {
 
 impl Radau5 {
     /// A fresh Radau IIA integrator (call [`Method::start`] before stepping).
+    ///
+    /// ```
+    /// use integrators::Method;
+    /// let m = integrators::methods::radau::Radau5::new();
+    /// assert_eq!(m.name(), "radau");
+    /// ```
     pub fn new() -> Self {
         Self {
             k: Consts::new(),
