@@ -76,6 +76,12 @@ impl BandMatrix {
     }
 
     /// A zero `n × n` band matrix; `lower`/`upper` are clamped to `n − 1`.
+    ///
+    /// ```
+    /// use integrators::linalg::BandMatrix;
+    /// let b = BandMatrix::zeros(3, 5, 1); // lower clamped to n − 1 = 2
+    /// assert_eq!((b.lower, b.upper, b.data.len()), (2, 1, b.ld() * 3));
+    /// ```
     pub fn zeros(n: usize, lower: usize, upper: usize) -> Self {
         let (lower, upper) = clamped(n, lower, upper);
         let ld = 2 * lower + upper + 1;
@@ -101,11 +107,22 @@ impl BandMatrix {
     }
 
     /// Slots per column of the storage (`2·lower + upper + 1`).
+    ///
+    /// ```
+    /// use integrators::linalg::BandMatrix;
+    /// assert_eq!(BandMatrix::zeros(10, 1, 1).ld(), 4); // room for the pivoting fill
+    /// ```
     pub fn ld(&self) -> usize {
         2 * self.lower + self.upper + 1
     }
 
     /// Storage index of `(i, j)`, or `None` outside the band.
+    ///
+    /// ```
+    /// use integrators::linalg::BandMatrix;
+    /// let b = BandMatrix::zeros(10, 1, 1);
+    /// assert!(b.index(4, 3).is_some() && b.index(4, 6).is_none());
+    /// ```
     #[inline]
     pub fn index(&self, i: usize, j: usize) -> Option<usize> {
         if i >= self.n || j >= self.n || i > j + self.lower || j > i + self.upper {

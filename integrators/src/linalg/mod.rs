@@ -233,6 +233,16 @@ pub(crate) fn check_sparse_values(
 
 impl Matrix {
     /// A zero `n × n` matrix with the given pattern (band widths are clamped to `n − 1`).
+    ///
+    /// ```
+    /// use integrators::linalg::Matrix;
+    /// use integrators::Pattern;
+    /// let p = Pattern::Banded { lower: 1, upper: 1 };
+    /// let mut m = Matrix::zeros(3, &p);
+    /// for i in 0..3 { m.add(i, i, 2.0); }
+    /// m.add(0, 1, -1.0);
+    /// assert_eq!((m.n(), m.get(0, 1)), (3, -1.0));
+    /// ```
     pub fn zeros(n: usize, pattern: &Pattern) -> Self {
         match pattern {
             Pattern::Dense => Matrix::Dense(DenseMatrix {
@@ -258,6 +268,16 @@ impl Matrix {
         }
     }
     /// Dimension.
+    ///
+    /// ```
+    /// use integrators::linalg::Matrix;
+    /// use integrators::Pattern;
+    /// let p = Pattern::Banded { lower: 1, upper: 1 };
+    /// let mut m = Matrix::zeros(3, &p);
+    /// for i in 0..3 { m.add(i, i, 2.0); }
+    /// m.add(0, 1, -1.0);
+    /// assert_eq!(m.n(), 3);
+    /// ```
     pub fn n(&self) -> usize {
         match self {
             Matrix::Dense(m) => m.n,
@@ -306,6 +326,17 @@ impl Matrix {
     }
 
     /// Sets every stored value to zero (keeps the pattern).
+    ///
+    /// ```
+    /// use integrators::linalg::Matrix;
+    /// use integrators::Pattern;
+    /// let p = Pattern::Banded { lower: 1, upper: 1 };
+    /// let mut m = Matrix::zeros(3, &p);
+    /// for i in 0..3 { m.add(i, i, 2.0); }
+    /// m.add(0, 1, -1.0);
+    /// m.set_zero();
+    /// assert_eq!(m.get(0, 0), 0.0);
+    /// ```
     pub fn set_zero(&mut self) {
         let d = match self {
             Matrix::Dense(m) => &mut m.data,
@@ -340,6 +371,17 @@ impl Matrix {
     /// Adds `v` to entry `(i, j)`. Entries outside the pattern are a programmer error (panics in
     /// debug builds, ignored in release). Inlinable across crates: user Jacobians call it once
     /// per entry.
+    ///
+    /// ```
+    /// use integrators::linalg::Matrix;
+    /// use integrators::Pattern;
+    /// let p = Pattern::Banded { lower: 1, upper: 1 };
+    /// let mut m = Matrix::zeros(3, &p);
+    /// for i in 0..3 { m.add(i, i, 2.0); }
+    /// m.add(0, 1, -1.0);
+    /// m.add(0, 1, -1.0);
+    /// assert_eq!(m.get(0, 1), -2.0);
+    /// ```
     #[inline]
     pub fn add(&mut self, i: usize, j: usize, v: f64) {
         match self.position(i, j) {
@@ -348,6 +390,17 @@ impl Matrix {
         }
     }
     /// Overwrites entry `(i, j)` with `v` (same pattern rules as [`add`](Matrix::add)).
+    ///
+    /// ```
+    /// use integrators::linalg::Matrix;
+    /// use integrators::Pattern;
+    /// let p = Pattern::Banded { lower: 1, upper: 1 };
+    /// let mut m = Matrix::zeros(3, &p);
+    /// for i in 0..3 { m.add(i, i, 2.0); }
+    /// m.add(0, 1, -1.0);
+    /// m.set(0, 1, 5.0);
+    /// assert_eq!(m.get(0, 1), 5.0);
+    /// ```
     #[inline]
     pub fn set(&mut self, i: usize, j: usize, v: f64) {
         match self.position(i, j) {
@@ -356,6 +409,16 @@ impl Matrix {
         }
     }
     /// Entry `(i, j)` (0 outside the pattern).
+    ///
+    /// ```
+    /// use integrators::linalg::Matrix;
+    /// use integrators::Pattern;
+    /// let p = Pattern::Banded { lower: 1, upper: 1 };
+    /// let mut m = Matrix::zeros(3, &p);
+    /// for i in 0..3 { m.add(i, i, 2.0); }
+    /// m.add(0, 1, -1.0);
+    /// assert_eq!((m.get(1, 1), m.get(2, 0)), (2.0, 0.0)); // outside the band: 0
+    /// ```
     #[inline]
     pub fn get(&self, i: usize, j: usize) -> f64 {
         match (self.position(i, j), self) {
@@ -366,6 +429,16 @@ impl Matrix {
         }
     }
     /// Rows that are structurally present in column `j`.
+    ///
+    /// ```
+    /// use integrators::linalg::Matrix;
+    /// use integrators::Pattern;
+    /// let p = Pattern::Banded { lower: 1, upper: 1 };
+    /// let mut m = Matrix::zeros(3, &p);
+    /// for i in 0..3 { m.add(i, i, 2.0); }
+    /// m.add(0, 1, -1.0);
+    /// assert_eq!(m.column_rows(0), [0, 1]);
+    /// ```
     pub fn column_rows(&self, j: usize) -> Vec<usize> {
         match self {
             Matrix::Dense(m) => (0..m.n).collect(),
@@ -377,6 +450,18 @@ impl Matrix {
         }
     }
     /// `out = self · x`.
+    ///
+    /// ```
+    /// use integrators::linalg::Matrix;
+    /// use integrators::Pattern;
+    /// let p = Pattern::Banded { lower: 1, upper: 1 };
+    /// let mut m = Matrix::zeros(3, &p);
+    /// for i in 0..3 { m.add(i, i, 2.0); }
+    /// m.add(0, 1, -1.0);
+    /// let mut out = [0.0; 3];
+    /// m.mul_vec(&[1.0, 1.0, 1.0], &mut out);
+    /// assert_eq!(out, [1.0, 2.0, 2.0]);
+    /// ```
     pub fn mul_vec(&self, x: &[f64], out: &mut [f64]) {
         let n = self.n();
         assert!(x.len() == n && out.len() == n, "mul_vec dimension mismatch");
@@ -412,6 +497,18 @@ impl Matrix {
         }
     }
     /// `self = a·self + b·other` (same pattern).
+    ///
+    /// ```
+    /// use integrators::linalg::Matrix;
+    /// use integrators::Pattern;
+    /// let p = Pattern::Banded { lower: 1, upper: 1 };
+    /// let mut m = Matrix::zeros(3, &p);
+    /// for i in 0..3 { m.add(i, i, 2.0); }
+    /// m.add(0, 1, -1.0);
+    /// let other = m.clone();
+    /// m.axpby(2.0, -1.0, &other); // 2m − m
+    /// assert_eq!((m.get(0, 0), m.get(0, 1)), (2.0, -1.0));
+    /// ```
     pub fn axpby(&mut self, a: f64, b: f64, other: &Matrix) {
         let same = match (&*self, other) {
             (Matrix::Dense(p), Matrix::Dense(q)) => p.n == q.n,
@@ -482,6 +579,13 @@ impl LinearSolver {
     }
 
     /// A solver for `n × n` matrices with this pattern.
+    ///
+    /// ```
+    /// use integrators::linalg::LinearSolver;
+    /// use integrators::Pattern;
+    /// let lu = LinearSolver::new(100, &Pattern::Banded { lower: 1, upper: 1 });
+    /// assert_eq!(lu.krylov_counters().solves, 0);
+    /// ```
     pub fn new(n: usize, pattern: &Pattern) -> Self {
         let inner = match pattern {
             Pattern::Dense => Inner::Dense(dense::DenseLu::new(n)),
@@ -563,6 +667,12 @@ impl LinearSolver {
         }
     }
     /// Krylov iteration counters (all zero for a direct solver).
+    ///
+    /// ```
+    /// use integrators::linalg::LinearSolver;
+    /// use integrators::Pattern;
+    /// assert_eq!(LinearSolver::new(4, &Pattern::Dense).krylov_counters().iterations, 0); // direct
+    /// ```
     pub fn krylov_counters(&self) -> KrylovCounters {
         match &self.inner {
             Inner::Iterative(s) => s.counters(),
@@ -574,6 +684,20 @@ impl LinearSolver {
     /// error the solver holds no valid factorisation until the next successful `factor`.
     ///
     /// Panics if `m` does not have the solver's pattern (programmer error).
+    ///
+    /// ```
+    /// use integrators::linalg::Matrix;
+    /// use integrators::Pattern;
+    /// let p = Pattern::Banded { lower: 1, upper: 1 };
+    /// let mut m = Matrix::zeros(3, &p);
+    /// for i in 0..3 { m.add(i, i, 2.0); }
+    /// m.add(0, 1, -1.0);
+    /// use integrators::linalg::LinearSolver;
+    /// let mut lu = LinearSolver::new(3, &p);
+    /// assert!(lu.factor(&m).is_ok());
+    /// m.set(2, 2, f64::NAN);
+    /// assert!(lu.factor(&m).is_err()); // a non-finite entry is refused
+    /// ```
     pub fn factor(&mut self, m: &Matrix) -> Result<(), usize> {
         match (&mut self.inner, m) {
             (Inner::Dense(lu), Matrix::Dense(a)) => lu.factor(&a.data),
@@ -619,12 +743,42 @@ impl LinearSolver {
     /// its tolerance answers NaN in every component (a recoverable failure for the methods).
     ///
     /// Panics if there is no successful factorisation (programmer error).
+    ///
+    /// ```
+    /// use integrators::linalg::Matrix;
+    /// use integrators::Pattern;
+    /// let p = Pattern::Banded { lower: 1, upper: 1 };
+    /// let mut m = Matrix::zeros(3, &p);
+    /// for i in 0..3 { m.add(i, i, 2.0); }
+    /// m.add(0, 1, -1.0);
+    /// use integrators::linalg::LinearSolver;
+    /// let mut lu = LinearSolver::new(3, &p);
+    /// lu.factor(&m).unwrap();
+    /// let mut b = [1.0, 2.0, 2.0];
+    /// lu.solve_in_place(&mut b);
+    /// assert!(b.iter().all(|x| (x - 1.0).abs() < 1e-15));
+    /// ```
     pub fn solve_in_place(&self, b: &mut [f64]) {
         self.solve_in_place_to(b, None);
     }
     /// As [`solve_in_place`](Self::solve_in_place), telling an iterative solver how accurate
     /// the solution must be for the caller's Newton iteration (see [`LinearTolerance`] and
     /// [`crate::IterativeSettings`]); direct solvers ignore `tol`.
+    ///
+    /// ```
+    /// use integrators::linalg::Matrix;
+    /// use integrators::Pattern;
+    /// let p = Pattern::Banded { lower: 1, upper: 1 };
+    /// let mut m = Matrix::zeros(3, &p);
+    /// for i in 0..3 { m.add(i, i, 2.0); }
+    /// m.add(0, 1, -1.0);
+    /// use integrators::linalg::LinearSolver;
+    /// let mut lu = LinearSolver::new(3, &p);
+    /// lu.factor(&m).unwrap();
+    /// let mut b = [1.0, 2.0, 2.0];
+    /// lu.solve_in_place_to(&mut b, None); // a direct solve ignores the tolerance
+    /// assert!(b.iter().all(|x| (x - 1.0).abs() < 1e-15));
+    /// ```
     pub fn solve_in_place_to(&self, b: &mut [f64], tol: Option<&LinearTolerance<'_>>) {
         match &self.inner {
             Inner::Dense(lu) => lu.solve(b),
@@ -677,6 +831,19 @@ impl LinearSolver {
         map
     }
     /// Whether the last `factor` created a new symbolic factorisation (for statistics).
+    ///
+    /// ```
+    /// use integrators::linalg::Matrix;
+    /// use integrators::Pattern;
+    /// let p = Pattern::Banded { lower: 1, upper: 1 };
+    /// let mut m = Matrix::zeros(3, &p);
+    /// for i in 0..3 { m.add(i, i, 2.0); }
+    /// m.add(0, 1, -1.0);
+    /// use integrators::linalg::LinearSolver;
+    /// let mut lu = LinearSolver::new(3, &p);
+    /// lu.factor(&m).unwrap();
+    /// assert!(!lu.last_factor_was_symbolic()); // only sparse factorisations have a symbolic phase
+    /// ```
     pub fn last_factor_was_symbolic(&self) -> bool {
         match &self.inner {
             Inner::Sparse(lu) => lu.last_symbolic,
@@ -686,6 +853,22 @@ impl LinearSolver {
     }
     /// Multiply–add count of the last banded factorisation (0 for other patterns); lets tests
     /// check the O(n·l·(l+u)) cost without timing.
+    ///
+    /// ```
+    /// use integrators::linalg::{LinearSolver, Matrix};
+    /// use integrators::Pattern;
+    /// // a tridiagonal LU costs O(n): doubling n doubles the work
+    /// let p = Pattern::Banded { lower: 1, upper: 1 };
+    /// let flops = |n: usize| {
+    ///     let mut m = Matrix::zeros(n, &p);
+    ///     for i in 0..n { m.add(i, i, 4.0); }
+    ///     for i in 1..n { m.add(i, i - 1, 1.0); m.add(i - 1, i, 1.0); }
+    ///     let mut lu = LinearSolver::new(n, &p);
+    ///     lu.factor(&m).unwrap();
+    ///     lu.last_factor_flops()
+    /// };
+    /// assert!((flops(2000) as f64 / flops(1000) as f64 - 2.0).abs() < 0.01);
+    /// ```
     pub fn last_factor_flops(&self) -> usize {
         match &self.inner {
             Inner::Banded(lu) => lu.flops,
