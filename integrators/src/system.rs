@@ -139,6 +139,19 @@ pub(crate) struct Spares {
 impl SystemCache {
     /// Re-reads dimension, pattern, colouring, tolerances and algebraic flags from the problem
     /// (at the start and after every resize). Errors if the problem's declared sizes disagree.
+    ///
+    /// ```
+    /// use integrators::system::SystemCache;
+    /// use integrators::{Options, Problem, ResidualError};
+    /// /// Declares 3 unknowns but 2 tolerances: rebuild refuses it.
+    /// struct Bad;
+    /// impl Problem for Bad {
+    ///     fn dim(&self) -> usize { 3 }
+    ///     fn residual(&mut self, _: f64, _: &[f64], _: &[f64], _: &mut [f64]) -> Result<(), ResidualError> { Ok(()) }
+    ///     fn atol(&self) -> Option<Vec<f64>> { Some(vec![1e-8; 2]) }
+    /// }
+    /// assert!(SystemCache::default().rebuild(&Bad, &Options::default()).is_err());
+    /// ```
     pub fn rebuild(&mut self, problem: &dyn Problem, opts: &Options) -> Result<(), ErrorKind> {
         let n = problem.dim();
         let pattern = problem.pattern();
@@ -244,6 +257,25 @@ impl SystemCache {
 
     /// Number of colours of the current pattern (= residual calls per finite-difference
     /// Jacobian when the base residual is supplied).
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    ///
+    /// assert_eq!(cache.colour_count(), 1);
+    /// ```
     pub fn colour_count(&self) -> usize {
         self.ncolours
     }
@@ -251,6 +283,25 @@ impl SystemCache {
 
 impl<'a> System<'a> {
     /// Bundles the pieces (the driver calls this).
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// assert_eq!(sys.dim(), 1);
+    /// ```
     pub fn new(
         problem: &'a mut dyn Problem,
         opts: &'a Options,
@@ -266,6 +317,25 @@ impl<'a> System<'a> {
     }
 
     /// How this solve may split its vector passes ([`Options::parallel`]).
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// assert_eq!(sys.parallel(), integrators::Parallelism::Serial);
+    /// ```
     pub fn parallel(&self) -> crate::Parallelism {
         self.opts.parallel
     }
@@ -275,11 +345,49 @@ impl<'a> System<'a> {
     pub const PARALLEL_MIN: usize = crate::Parallelism::DEFAULT_MIN_LEN;
 
     /// Problem dimension (as cached at the last rebuild).
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// assert_eq!(sys.dim(), 1);
+    /// ```
     pub fn dim(&self) -> usize {
         self.cache.n
     }
 
     /// Declared pattern.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// assert_eq!(*sys.pattern(), integrators::Pattern::Dense);
+    /// ```
     pub fn pattern(&self) -> &Pattern {
         self.cache
             .pattern
@@ -288,17 +396,74 @@ impl<'a> System<'a> {
     }
 
     /// Absolute tolerances per component.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// assert_eq!(sys.atol(), [1e-8]); // the scalar atol, per component
+    /// ```
     pub fn atol(&self) -> &[f64] {
         &self.cache.atol
     }
 
     /// The problem's error map (empty: the identity; see [`crate::error_map`]).
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// assert!(sys.error_map().is_empty()); // no map: the identity
+    /// ```
     pub fn error_map(&self) -> &ErrorMap {
         &self.cache.map
     }
 
     /// The tolerances the weights add to `rtol·|…|`: [`atol`](Self::atol), with an anchor's
     /// `rtol·size` included when the problem has an error map.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// assert_eq!(sys.weight_atol(), [1e-8]);
+    /// ```
     pub fn weight_atol(&self) -> &[f64] {
         if self.cache.map.is_empty() {
             &self.cache.atol
@@ -309,6 +474,27 @@ impl<'a> System<'a> {
 
     /// Newton weights at `y`: [`error_weights`](Self::error_weights) without the suppression
     /// of algebraic components (algebraic unknowns must converge too).
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// let mut w = [0.0];
+    /// sys.newton_weights(&[2.0], &mut w);
+    /// assert!((w[0] - 1.0 / (1e-6 * 2.0 + 1e-8)).abs() < 1e-3);
+    /// ```
     pub fn newton_weights(&self, y: &[f64], w: &mut [f64]) {
         assert!(
             y.len() == self.dim() && w.len() == self.dim(),
@@ -327,27 +513,124 @@ impl<'a> System<'a> {
     /// The norm ([`Options::norm`]) of the weighted error vector `v` through the problem's
     /// error map: `ErrorNorm::of(v, w)` without a map, the norm of the weighted cell-level
     /// quantities with one. The local-error and Newton tests of every method use it.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// assert_eq!(sys.norm(&[0.5], &[2.0]), 1.0); // RMS of v·w
+    /// ```
     pub fn norm(&self, v: &[f64], w: &[f64]) -> f64 {
         self.norm_with(self.opts.norm, v, w)
     }
 
     /// [`norm`](Self::norm) with a given kind of norm.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// assert_eq!(sys.norm_with(integrators::ErrorNorm::Max, &[-0.5], &[2.0]), 1.0);
+    /// ```
     pub fn norm_with(&self, norm: ErrorNorm, v: &[f64], w: &[f64]) -> f64 {
         self.cache.map.norm(v, w, norm)
     }
 
     /// The component with the largest weighted (cell-level) error, for failure reports.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// assert_eq!(sys.worst(&[3.0], &[1.0]), Some(0));
+    /// ```
     pub fn worst(&self, v: &[f64], w: &[f64]) -> Option<usize> {
         self.cache.map.worst(v, w)
     }
 
     /// Algebraic-component flags.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// assert_eq!(sys.algebraic(), [false]);
+    /// ```
     pub fn algebraic(&self) -> &[bool] {
         &self.cache.algebraic
     }
 
     /// Counted residual evaluation; non-finite output becomes a recoverable failure naming the
     /// component.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// let mut r = [0.0];
+    /// sys.residual(0.0, &[1.0], &[-1.0], &mut r).unwrap();
+    /// assert_eq!((r[0], sys.stats.residual_calls), (0.0, 1)); // counted
+    /// ```
     pub fn residual(
         &mut self,
         t: f64,
@@ -387,6 +670,26 @@ impl<'a> System<'a> {
     /// Counts a rejected step attempt (from `t` with size `h`) and hands it to the solve's
     /// [`crate::observer::Observer`] once the method's step returns. A [`crate::Method`]
     /// calls this for every attempt it retries.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// sys.reject_step(0.0, 0.1, integrators::observer::RejectCause::ErrorTest, Some(0));
+    /// assert_eq!(sys.stats.rejected_steps, 1);
+    /// ```
     pub fn reject_step(
         &mut self,
         t: f64,
@@ -404,12 +707,50 @@ impl<'a> System<'a> {
     }
 
     /// A zeroed matrix shaped by the current pattern.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// assert_eq!(sys.new_matrix().n(), 1);
+    /// ```
     pub fn new_matrix(&self) -> Matrix {
         Matrix::zeros(self.dim(), self.pattern())
     }
 
     /// A linear solver for the current pattern (symbolic analysis happens at first factor),
     /// direct or iterative as [`Options::linear_solver`] says.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// assert_eq!(sys.new_linear_solver().krylov_counters().solves, 0);
+    /// ```
     pub fn new_linear_solver(&self) -> LinearSolver {
         let mut lin =
             LinearSolver::with_choice(self.dim(), self.pattern(), self.opts.linear_solver);
@@ -477,6 +818,29 @@ impl<'a> System<'a> {
     /// Evaluates `J = ∂F/∂y + c·∂F/∂ẏ` at `(t, y, ẏ)` into `jac` (zeroed first): the problem's
     /// own Jacobian if it provides one, else exact coloured directional derivatives, else
     /// coloured finite differences. Counted as one Jacobian evaluation.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// // the iteration matrix ∂F/∂y + c·∂F/∂ẏ = 1 + c
+    /// let mut j = sys.new_matrix();
+    /// sys.jacobian(0.0, &[1.0], &[-1.0], 10.0, &mut j).unwrap();
+    /// assert!((j.get(0, 0) - 11.0).abs() < 1e-6);
+    /// assert_eq!(sys.stats.jacobian_evals, 1);
+    /// ```
     pub fn jacobian(
         &mut self,
         t: f64,
@@ -492,6 +856,27 @@ impl<'a> System<'a> {
     /// As [`jacobian`](System::jacobian), for a caller that already holds `r0 = F(t, y, ẏ)`:
     /// finite differences then cost exactly one residual call per colour
     /// ([`SystemCache::colour_count`]; bandwidth+1 for banded) instead of one more.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// let mut j = sys.new_matrix();
+    /// sys.jacobian_with_residual(0.0, &[1.0], &[-1.0], 10.0, &[0.0], &mut j).unwrap();
+    /// assert!((j.get(0, 0) - 11.0).abs() < 1e-6);
+    /// ```
     pub fn jacobian_with_residual(
         &mut self,
         t: f64,
@@ -506,6 +891,29 @@ impl<'a> System<'a> {
     }
 
     /// Counted factorisation; a zero pivot is a recoverable failure.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// let (mut j, mut lu) = (sys.new_matrix(), sys.new_linear_solver());
+    /// j.add(0, 0, 4.0);
+    /// sys.factor(&mut lu, &j).unwrap();
+    /// assert_eq!(sys.stats.factorizations, 1);
+    /// assert!(sys.factor(&mut lu, &sys.new_matrix()).is_err()); // singular: recoverable, not a panic
+    /// ```
     pub fn factor(&mut self, solver: &mut LinearSolver, m: &Matrix) -> Result<(), StepFailure> {
         self.stats.factorizations += 1;
         let res = solver.factor(m);
@@ -520,6 +928,32 @@ impl<'a> System<'a> {
 
     /// Counted factorisation of `a + beta·b` (see [`LinearSolver::factor_combination`]: banded
     /// matrices skip the scratch matrix); a zero pivot is a recoverable failure.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// let (mut a, mut b, mut s) = (sys.new_matrix(), sys.new_matrix(), sys.new_matrix());
+    /// a.add(0, 0, 1.0);
+    /// b.add(0, 0, 1.0);
+    /// let mut lu = sys.new_linear_solver();
+    /// sys.factor_combination(&mut lu, &a, 3.0, &b, &mut s).unwrap(); // 1 + 3·1
+    /// let mut x = [8.0];
+    /// sys.solve(&lu, &mut x);
+    /// assert_eq!(x, [2.0]);
+    /// ```
     pub fn factor_combination(
         &mut self,
         solver: &mut LinearSolver,
@@ -540,6 +974,30 @@ impl<'a> System<'a> {
     }
 
     /// Counted in-place solve with the last factorisation.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// let (mut j, mut lu) = (sys.new_matrix(), sys.new_linear_solver());
+    /// j.add(0, 0, 4.0);
+    /// sys.factor(&mut lu, &j).unwrap();
+    /// let mut b = [2.0];
+    /// sys.solve(&lu, &mut b);
+    /// assert_eq!((b[0], sys.stats.linear_solves), (0.5, 1));
+    /// ```
     pub fn solve(&mut self, solver: &LinearSolver, b: &mut [f64]) {
         self.stats.linear_solves += 1;
         let before = solver.krylov_counters();
@@ -556,6 +1014,33 @@ impl<'a> System<'a> {
     /// Counted in-place solve that also maps every solution component (see
     /// [`LinearSolver::solve_in_place_map`]: the banded tridiagonal solver fuses the map into
     /// its backward sweep), with the caller's Newton tolerance for an iterative solver.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// use integrators::linalg::SolutionMap;
+    /// struct Plus(f64);
+    /// impl SolutionMap for Plus { fn map(&mut self, _: usize, x: f64) -> f64 { x + self.0 } }
+    /// let (mut j, mut lu) = (sys.new_matrix(), sys.new_linear_solver());
+    /// j.add(0, 0, 4.0);
+    /// sys.factor(&mut lu, &j).unwrap();
+    /// let mut b = [2.0];
+    /// sys.solve_map(&lu, &mut b, None, Plus(1.0)); // the solution 0.5, stored plus 1
+    /// assert_eq!(b, [1.5]);
+    /// ```
     pub fn solve_map<M: crate::linalg::SolutionMap + Send>(
         &mut self,
         solver: &LinearSolver,
@@ -573,6 +1058,27 @@ impl<'a> System<'a> {
     /// Error weights `w_i = 1/(rtol·|y_i| + atol_i)` — or, with an error map, the weights of
     /// the cell-level quantities (`1/(rtol·|y_i − y_p| + atol_i)` for a difference row, see
     /// [`crate::error_map`]) — zero for algebraic components when `opts.suppress_algebraic`.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// let mut w = [0.0];
+    /// sys.error_weights(&[0.0], &mut w);
+    /// assert!((w[0] - 1e8).abs() < 1e-3); // 1/(rtol·|y| + atol) at y = 0
+    /// ```
     pub fn error_weights(&self, y: &[f64], w: &mut [f64]) {
         self.newton_weights(y, w);
         if self.opts.suppress_algebraic {
@@ -585,6 +1091,11 @@ impl<'a> System<'a> {
     }
 
     /// Weighted RMS norm `sqrt(mean((v_i·w_i)²))`.
+    ///
+    /// ```
+    /// use integrators::System;
+    /// assert!((System::wrms(&[3.0, 4.0], &[1.0, 1.0]) - 12.5f64.sqrt()).abs() < 1e-15);
+    /// ```
     pub fn wrms(v: &[f64], w: &[f64]) -> f64 {
         assert_eq!(v.len(), w.len(), "wrms: length mismatch");
         if v.is_empty() {
@@ -595,6 +1106,12 @@ impl<'a> System<'a> {
     }
 
     /// Index of the component with the largest `|v_i·w_i|` (for error messages).
+    ///
+    /// ```
+    /// use integrators::System;
+    /// assert_eq!(System::worst_component(&[1.0, -5.0, 2.0], &[1.0; 3]), Some(1));
+    /// assert_eq!(System::worst_component(&[1.0, f64::NAN], &[1.0; 2]), Some(1)); // a NaN first
+    /// ```
     pub fn worst_component(v: &[f64], w: &[f64]) -> Option<usize> {
         assert_eq!(v.len(), w.len(), "worst_component: length mismatch");
         if let Some(i) = v.iter().zip(w).position(|(a, b)| (a * b).is_nan()) {
@@ -613,6 +1130,28 @@ impl<'a> System<'a> {
     /// Consistent initialisation at `t`: given `y`, solves `F(t, y, ẏ) = 0` for `ẏ` of the
     /// differential components and for the algebraic components of `y` (IDA's YA_YDP), by
     /// damped Newton with the pattern's factorisation. `yp` holds the initial guess on entry.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// // ẏ from F(t, y, ẏ) = 0 at y = 2: ẏ = −2
+    /// let (mut y, mut yp) = ([2.0], [0.0]);
+    /// sys.consistent_init(0.0, &mut y, &mut yp).unwrap();
+    /// assert!((yp[0] + 2.0).abs() < 1e-10);
+    /// ```
     pub fn consistent_init(
         &mut self,
         t: f64,
