@@ -94,7 +94,15 @@ enum Command {
 }
 
 /// Parses the process's command line and runs the command; returns the exit code
-/// ([`OK`], [`RUN_FAILED`] or [`BAD_INPUT`]).
+/// ([`OK`], [`RUN_FAILED`] or [`BAD_INPUT`]). A binary of one's own registers its laws, then
+/// hands over:
+///
+/// ```no_run
+/// fn main() {
+///     celltissue::energy::registry::register::<celltissue::NeoHookean>("my_law").unwrap();
+///     std::process::exit(celltissue::cli::main());
+/// }
+/// ```
 pub fn main() -> i32 {
     main_from(std::env::args_os())
 }
