@@ -98,10 +98,9 @@ enum Command {
 /// hands over:
 ///
 /// ```no_run
-/// fn main() {
-///     celltissue::energy::registry::register::<celltissue::NeoHookean>("my_law").unwrap();
-///     std::process::exit(celltissue::cli::main());
-/// }
+/// // the body of the binary's `main`
+/// celltissue::energy::registry::register::<celltissue::NeoHookean>("my_law").unwrap();
+/// std::process::exit(celltissue::cli::main());
 /// ```
 pub fn main() -> i32 {
     main_from(std::env::args_os())
