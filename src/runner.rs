@@ -68,12 +68,11 @@ pub struct ObservationError {
 }
 
 impl From<integrators::ResidualError> for ObservationError {
+    /// The residual error's message is its reason.
     fn from(e: integrators::ResidualError) -> Self {
-        let reason = match e {
-            integrators::ResidualError::Recoverable { reason, .. } => reason,
-            integrators::ResidualError::Fatal(m) => m,
-        };
-        Self { reason }
+        Self {
+            reason: e.to_string(),
+        }
     }
 }
 

@@ -464,12 +464,7 @@ impl<O> Run<'_, O> {
 }
 
 fn residual_error_kind(e: ResidualError) -> ErrorKind {
-    match e {
-        ResidualError::Recoverable { reason, .. } => {
-            ErrorKind::Residual(format!("event handler: {reason}"))
-        }
-        ResidualError::Fatal(msg) => ErrorKind::Residual(format!("event handler: {msg}")),
-    }
+    ErrorKind::Residual(format!("event handler: {e}"))
 }
 
 #[allow(clippy::too_many_arguments)]

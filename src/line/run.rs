@@ -197,7 +197,7 @@ impl<A: LineModel> Observer<ArrayProblem<A>> for Watch {
     fn output(&mut self, p: &ArrayProblem<A>, t: f64, y: &[f64], yp: &[f64]) {
         match p.array.observe(t, y, yp) {
             Ok(s) => self.snapshots.push(s),
-            Err(e) => self.refusal = Some(format!("observation at t = {t} failed: {}", reason(&e))),
+            Err(e) => self.refusal = Some(format!("observation at t = {t} failed: {e}")),
         }
     }
 
@@ -255,13 +255,6 @@ fn failure_message<A: LineModel>(
         }
     }
     parts.join("; ")
-}
-
-fn reason(e: &ResidualError) -> String {
-    match e {
-        ResidualError::Recoverable { reason, .. } => reason.clone(),
-        ResidualError::Fatal(m) => m.clone(),
-    }
 }
 
 /// Runs one line model and fills a [`RunRecord`]: the scalar series (`length`, pressure and

@@ -223,7 +223,8 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
         r: &mut [S],
     ) -> Result<(), ResidualError> {
         let (n, m) = (self.n, self.m);
-        let (lt, ldot) = (self.length(t), self.length_rate(t));
+        let lt = self.length(t);
+        let ldot = if KV { self.length_rate(t) } else { 0.0 };
         let d = self.face_drag;
         let periodic = self.params.top == TopBoundary::Periodic;
         let mut cur: Vec<CellS<S>> = Vec::with_capacity(m);
