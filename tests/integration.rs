@@ -19,6 +19,7 @@ mod energy_expression_fig2_5;
 mod energy_serde;
 mod ensemble_statistics;
 mod external_pressure;
+mod growth_newton_matrix_condenses;
 mod growth_proliferating_continuum;
 mod growth_thesis;
 mod line_active_ring;

@@ -14,11 +14,16 @@
 //! their own compact, two-ended factorisation with partial pivoting ([`TriLu`]: two independent
 //! dependency chains, and a third of the memory traffic of the band layout);
 //! [`BandLu::factor_combination`] builds `A + β·B` straight into the factor storage (the BDF's
-//! iteration matrix `∂F/∂y + α·∂F/∂ẏ`) in the same pass that checks finiteness.
+//! iteration matrix `∂F/∂y + α·∂F/∂ẏ`) in the same pass that checks finiteness; a `(2, 2)`
+//! band whose alternate unknowns couple only to their two neighbours (a growing line) is
+//! condensed to a tridiagonal Schur complement ([`condensed`]) instead of eliminated as a
+//! pentadiagonal band.
 
 use super::{BandMatrix, SolutionMap};
 
+mod condensed;
 mod tridiagonal;
+use condensed::{Condensed, Entries};
 use tridiagonal::{BandColumns, CombinedColumns, Identity, TriColumns, TriLu};
 
 #[cfg(test)]
@@ -163,6 +168,11 @@ pub(crate) struct BandLu {
     /// [`crate::Parallelism::Halves`]' `min_len` unknowns). Set by
     /// [`super::LinearSolver::set_parallelism`].
     pub(crate) parallel: crate::Parallelism,
+    /// The condensed factors of a `(2, 2)` band whose alternate unknowns separate (see
+    /// [`condensed`]); created by the first factorisation that condenses.
+    cond: Option<Box<Condensed>>,
+    /// Whether the last successful factorisation is `cond` (else `ab`).
+    condensed: bool,
 }
 
 impl BandLu {
@@ -180,6 +190,8 @@ impl BandLu {
                 tri: Some(TriLu::new(n)),
                 flops: 0,
                 parallel: crate::Parallelism::Serial,
+                cond: None,
+                condensed: false,
             };
         }
         Self {
@@ -193,6 +205,8 @@ impl BandLu {
             tri: None,
             flops: 0,
             parallel: crate::Parallelism::Serial,
+            cond: None,
+            condensed: false,
         }
     }
 
@@ -213,10 +227,14 @@ impl BandLu {
                 self.ab.resize((2 * self.l + self.u + 1) * n, 0.0);
                 self.ipiv.resize(n, 0);
                 self.dinv.resize(n, 0.0);
+                if let Some(c) = &mut self.cond {
+                    c.reserve(n);
+                }
             }
         }
         self.n = n;
         self.factored = false;
+        self.condensed = false;
         true
     }
 
@@ -242,6 +260,10 @@ impl BandLu {
             // band column j: [fill, A(j−1, j), A(j, j), A(j+1, j)]
             return self.factor_tri(&BandColumns(&m.data[..4 * self.n]));
         }
+        let data = &m.data[..];
+        if self.factor_condensed(data, 0.0, data) {
+            return Ok(());
+        }
         self.ab.copy_from_slice(&m.data);
         self.factor_loaded()
     }
@@ -266,6 +288,9 @@ impl BandLu {
                 b: &b.data[..4 * self.n],
             });
         }
+        if self.factor_condensed(&a.data, beta, &b.data) {
+            return Ok(());
+        }
         self.factored = false;
         self.flops = 0;
         // one pass: combine, zero the fill slots, check finiteness
@@ -288,6 +313,41 @@ impl BandLu {
             }
         }
         self.eliminate()
+    }
+
+    /// Factorises `a + beta·b` by static condensation ([`Condensed`]) when the band is
+    /// `(2, 2)` and the matrix condenses; `false` (nothing factorised) otherwise.
+    fn factor_condensed(&mut self, a: &[f64], beta: f64, b: &[f64]) -> bool {
+        self.factored = false;
+        self.condensed = false;
+        if (self.l, self.u) != (2, 2) || self.n < 4 {
+            return false;
+        }
+        let e = Entries {
+            a,
+            beta,
+            b,
+            n: self.n,
+        };
+        let two = self.parallel.splits(self.n / 2);
+        let cond = self.cond.get_or_insert_with(|| Box::new(Condensed::new()));
+        if !cond.factor(&e, two) {
+            return false;
+        }
+        self.flops = cond.flops;
+        self.factored = true;
+        self.condensed = true;
+        true
+    }
+
+    /// Whether the last factorisation condensed ([`condensed`]).
+    pub(crate) fn is_condensed(&self) -> bool {
+        self.factored && self.condensed
+    }
+
+    /// The condensed factors, when the last factorisation condensed.
+    fn active_condensed(&self) -> Option<&Condensed> {
+        self.cond.as_deref().filter(|_| self.condensed)
     }
 
     fn check_shape(&self, m: &BandMatrix) {
@@ -399,6 +459,10 @@ impl BandLu {
             "LinearSolver::solve_in_place before a successful factor"
         );
         assert_eq!(b.len(), self.n, "right-hand side length mismatch");
+        if let Some(c) = self.active_condensed() {
+            c.solve_map(b, Identity);
+            return;
+        }
         match (self.l, self.u, &self.tri) {
             (_, _, Some(tri)) => {
                 tri.solve_map(b, Identity);
@@ -426,6 +490,9 @@ impl BandLu {
                 }
             }
             None => {
+                if let Some(c) = self.active_condensed() {
+                    return c.solve_map(b, map);
+                }
                 self.solve(b);
                 for (j, v) in b.iter_mut().enumerate() {
                     *v = map.map(j, *v);

@@ -851,6 +851,38 @@ impl LinearSolver {
             _ => false,
         }
     }
+    /// Whether the last successful factorisation condensed a `(2, 2)` band whose alternate
+    /// unknowns couple only to their two neighbours (a line of cells each carrying one
+    /// internal variable, as growth) to a tridiagonal Schur complement; see the banded
+    /// solver's module documentation. Lets a caller check that its matrices take that path.
+    ///
+    /// ```
+    /// use integrators::linalg::{LinearSolver, Matrix};
+    /// use integrators::Pattern;
+    /// let p = Pattern::Banded { lower: 2, upper: 2 };
+    /// let n = 9;
+    /// let mut m = Matrix::zeros(n, &p);
+    /// for i in 0..n {
+    ///     m.add(i, i, 4.0);
+    ///     if i > 0 { m.add(i, i - 1, -1.0); m.add(i - 1, i, -1.0); }
+    ///     // only the odd unknowns couple two apart: the even ones are eliminated first
+    ///     if i >= 2 && i % 2 == 1 { m.add(i, i - 2, 0.5); m.add(i - 2, i, 0.5); }
+    /// }
+    /// let mut lu = LinearSolver::new(n, &p);
+    /// lu.factor(&m).unwrap();
+    /// assert!(lu.last_factor_condensed());
+    /// let mut x = vec![1.0; n];
+    /// lu.solve_in_place(&mut x);
+    /// let mut back = vec![0.0; n];
+    /// m.mul_vec(&x, &mut back);
+    /// assert!(back.iter().all(|v| (v - 1.0).abs() < 1e-14));
+    /// ```
+    pub fn last_factor_condensed(&self) -> bool {
+        match &self.inner {
+            Inner::Banded(lu) => lu.is_condensed(),
+            _ => false,
+        }
+    }
     /// Multiply–add count of the last banded factorisation (0 for other patterns); lets tests
     /// check the O(n·l·(l+u)) cost without timing.
     ///

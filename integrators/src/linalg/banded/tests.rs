@@ -156,3 +156,142 @@ fn two_thread_tridiagonal_solve_is_the_one_thread_solve() {
         }
     }
 }
+
+/// A `(2, 2)` band matrix whose unknowns of parity `p0` couple only to their two neighbours
+/// (zeros two off the diagonal in their rows), as a growing line's `g` rows; not diagonally
+/// dominant in the kept rows, so the Schur complement's factorisation pivots.
+fn separable(n: usize, p0: usize, seed: f64) -> BandMatrix {
+    let mut m = BandMatrix::zeros(n, 2, 2);
+    for i in 0..n {
+        for j in i.saturating_sub(2)..(i + 3).min(n) {
+            let off = j as isize - i as isize;
+            if i % 2 == p0 && off.abs() == 2 {
+                continue;
+            }
+            let f = (3 * i + 7 * j) as f64 + seed;
+            let v = if off == 0 {
+                if i % 2 == p0 {
+                    2.0 + f.sin()
+                } else {
+                    0.2 * f.cos()
+                }
+            } else {
+                (1.7 * f).sin()
+            };
+            let k = m.index(i, j).unwrap();
+            m.data[k] = v;
+        }
+    }
+    m
+}
+
+/// `‖A x − b‖∞` for band storage.
+fn band_residual(m: &BandMatrix, x: &[f64], b: &[f64]) -> f64 {
+    (0..m.n)
+        .map(|i| {
+            let ax: f64 = (0..m.n)
+                .filter_map(|j| m.index(i, j).map(|k| m.data[k] * x[j]))
+                .sum();
+            (ax - b[i]).abs()
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn condensed_solves_match_the_pivoted_band_lu_for_either_parity_and_length() {
+    for n in [4, 5, 8, 9, 31, 200] {
+        for p0 in [0, 1] {
+            let m = separable(n, p0, 0.3 * n as f64);
+            let mut lu = BandLu::new(n, 2, 2);
+            lu.factor(&m).unwrap();
+            assert!(lu.condensed, "n = {n}, p0 = {p0}: should condense");
+            let b: Vec<f64> = (0..n).map(|i| (0.9 * i as f64).cos() + 0.5).collect();
+            let mut x = b.clone();
+            lu.solve(&mut x);
+            let r = band_residual(&m, &x, &b);
+            assert!(r < 1e-11, "n = {n}, p0 = {p0}: residual {r}");
+            // against the pivoted dgbtf2 path on the same matrix (forced by a far entry of
+            // 1e-300, which changes no solution digit)
+            let mut g = m.clone();
+            let k = g.index(p0, p0 + 2).unwrap();
+            g.data[k] = 1e-300;
+            let mut general = BandLu::new(n, 2, 2);
+            general.factor(&g).unwrap();
+            assert!(!general.condensed);
+            let mut y = b.clone();
+            general.solve(&mut y);
+            let gap = x
+                .iter()
+                .zip(&y)
+                .map(|(a, c)| (a - c).abs())
+                .fold(0.0, f64::max);
+            let size = y.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            assert!(gap <= 1e-12 * size, "n = {n}, p0 = {p0}: {gap} of {size}");
+        }
+    }
+}
+
+#[test]
+fn condensed_combination_and_map_are_those_of_the_sum() {
+    let n = 41;
+    let (a, bm) = (separable(n, 1, 0.1), separable(n, 1, 2.9));
+    let beta = 3.7;
+    let mut sum = a.clone();
+    for (s, v) in sum.data.iter_mut().zip(&bm.data) {
+        *s += beta * v;
+    }
+    let mut lu = BandLu::new(n, 2, 2);
+    lu.factor_combination(&a, beta, &bm).unwrap();
+    assert!(lu.condensed);
+    let rhs: Vec<f64> = (0..n).map(|i| 1.0 - 0.01 * (i * i) as f64).collect();
+    let mut out = vec![None; n];
+    let mut x = rhs.clone();
+    let rec = lu.solve_map(
+        &mut x,
+        Record {
+            off: 0,
+            out: &mut out,
+            calls: 0,
+        },
+    );
+    assert_eq!(rec.calls, n);
+    let sol: Vec<f64> = out.iter().map(|v| v.unwrap()).collect();
+    assert!(
+        x.iter().zip(&sol).all(|(m, s)| *m == -s),
+        "the map's value is stored"
+    );
+    assert!(band_residual(&sum, &sol, &rhs) < 1e-11);
+}
+
+#[test]
+fn a_negligible_eliminated_pivot_takes_the_pivoted_path() {
+    let n = 12;
+    let mut m = separable(n, 0, 0.0);
+    // row 4's pivot is 1e-12 of its couplings: eliminating it first is refused
+    let k = m.index(4, 4).unwrap();
+    m.data[k] = 1e-12;
+    let mut lu = BandLu::new(n, 2, 2);
+    lu.factor(&m).unwrap();
+    assert!(!lu.condensed);
+    let b = vec![1.0; n];
+    let mut x = b.clone();
+    lu.solve(&mut x);
+    assert!(band_residual(&m, &x, &b) < 1e-10);
+    // a zero pivot in the kept rows' Schur complement is still reported by its column
+    let z = BandMatrix::zeros(n, 2, 2);
+    assert!(lu.factor(&z).is_err());
+}
+
+#[test]
+fn condensed_storage_grows_in_place() {
+    let mut lu = BandLu::new(9, 2, 2);
+    lu.factor(&separable(9, 1, 0.5)).unwrap();
+    assert!(lu.grow(30));
+    let m = separable(30, 1, 0.5);
+    lu.factor(&m).unwrap();
+    assert!(lu.condensed);
+    let b = vec![0.25; 30];
+    let mut x = b.clone();
+    lu.solve(&mut x);
+    assert!(band_residual(&m, &x, &b) < 1e-11);
+}

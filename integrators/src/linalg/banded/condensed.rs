@@ -1,0 +1,259 @@
+//! Static condensation of a pentadiagonal matrix whose every other unknown couples only to its
+//! two neighbours ([`Condensed`]), reducing it to a tridiagonal Schur complement solved by the
+//! compact [`TriLu`].
+//!
+//! *Why*: a line whose cells carry an internal variable (growth `g`, interleaved with the
+//! boundary positions) has a `(2, 2)` band, but the internal variable's row touches only the
+//! cell's two boundaries: in the alternate ordering the matrix is
+//! `[[D, C], [B, A]]` with `D` diagonal (the internal rows), `A` tridiagonal (the boundaries)
+//! and the Schur complement `S = A − B D⁻¹ C` tridiagonal again. Eliminating the internal
+//! unknowns first turns a pivoted `(2, 2)` band LU on `n` unknowns into a division per internal
+//! row and a twisted tridiagonal LU on the `n/2` others: half the length of the serial
+//! recurrence that bounds a narrow band's solve, no pivot search on the internal rows, and
+//! the two-ended factorisation's two dependency chains. [`super::BandLu`] takes this path
+//! whenever the values allow it (the alternate rows have zeros two off the diagonal and
+//! pivots that are not negligible against their couplings) and the general `dgbtf2` path
+//! otherwise, so the answer is the same linear solve up to rounding.
+
+use std::sync::Mutex;
+
+use super::tridiagonal::{flush_subnormal, Identity, TriColumns, TriLu};
+use crate::linalg::SolutionMap;
+
+/// Smallest `|D_p|` accepted, relative to the sum of its row's and column's coupling
+/// magnitudes: eliminating a pivot that small first could amplify rounding where partial
+/// pivoting would not, so such a matrix takes the pivoted band LU instead.
+const MIN_PIVOT_RATIO: f64 = 1e-8;
+
+/// Band storage of a `(2, 2)` matrix: `ld = 2·2 + 2 + 1` slots per column, entry `(i, j)` at
+/// `j·7 + 4 + i − j`.
+const LD: usize = 7;
+const KV: usize = 4;
+
+/// The entries `a + β·b` of one or two `(2, 2)` band storages (`b = a`, `β = 0` for one).
+#[derive(Clone, Copy)]
+pub(super) struct Entries<'a> {
+    pub(super) a: &'a [f64],
+    pub(super) beta: f64,
+    pub(super) b: &'a [f64],
+    pub(super) n: usize,
+}
+
+impl Entries<'_> {
+    /// `A(i, j)`, or 0 outside the matrix (the caller stays within the band).
+    #[inline(always)]
+    fn get(&self, i: usize, j: usize) -> f64 {
+        if i >= self.n || j >= self.n {
+            return 0.0;
+        }
+        let k = j * LD + KV + i - j;
+        self.a[k] + self.beta * self.b[k]
+    }
+
+    /// `A(i, j)` for `i` or `j` possibly one or two before the start (as `isize`).
+    #[inline(always)]
+    fn at(&self, i: isize, j: isize) -> f64 {
+        if i < 0 || j < 0 {
+            return 0.0;
+        }
+        self.get(i as usize, j as usize)
+    }
+}
+
+/// The Schur complement's columns `[S(m−1, m), S(m, m), S(m+1, m)]`, for [`TriLu::factor`].
+struct SchurColumns<'a>(&'a [[f64; 3]]);
+
+impl TriColumns for SchurColumns<'_> {
+    #[inline(always)]
+    fn col(&self, j: usize) -> [f64; 3] {
+        self.0[j]
+    }
+}
+
+/// Factors of a condensed `(2, 2)` band matrix: the eliminated ("P") unknowns are
+/// `p = p0 + 2m`, the kept ("Q") unknowns `q = q0 + 2m` with `q0 = 1 − p0`.
+#[derive(Debug)]
+pub(super) struct Condensed {
+    /// Parity of the eliminated unknowns (0 or 1).
+    p0: usize,
+    /// Dimension of the full matrix.
+    n: usize,
+    /// Per eliminated unknown `p`: `[A(p, p−1)/D_p, A(p, p+1)/D_p, 1/D_p]`.
+    prow: Vec<[f64; 3]>,
+    /// Per kept unknown `q`: `[A(q, q−1), A(q, q+1)]`.
+    qrow: Vec<[f64; 2]>,
+    /// The Schur complement's columns (read by the factorisation).
+    cols: Vec<[f64; 3]>,
+    tri: TriLu,
+    /// The reduced right-hand side of a solve (one buffer reused; a solve takes `&self`).
+    scratch: Mutex<Vec<f64>>,
+    /// Multiply–add count of the last factorisation.
+    pub(super) flops: usize,
+}
+
+impl Condensed {
+    pub(super) fn new() -> Self {
+        Self {
+            p0: 0,
+            n: 0,
+            prow: Vec::new(),
+            qrow: Vec::new(),
+            cols: Vec::new(),
+            tri: TriLu::new(0),
+            scratch: Mutex::new(Vec::new()),
+            flops: 0,
+        }
+    }
+
+    /// Number of kept unknowns for dimension `n` and eliminated parity `p0`.
+    fn kept(n: usize, p0: usize) -> usize {
+        (n + p0) / 2
+    }
+
+    /// Condenses and factorises the matrix `e` (dimension ≥ 4). `false` when it does not
+    /// condense (no separable parity, a negligible or non-finite pivot of an eliminated row, a
+    /// non-finite entry, or a singular Schur complement): the caller then factorises the
+    /// band as it is, which also reports the failing column.
+    pub(super) fn factor(&mut self, e: &Entries<'_>, two_threads: bool) -> bool {
+        // the parity that condensed last time first; the other fails at its first row
+        let first = self.p0;
+        self.factor_parity(e, first, two_threads) || self.factor_parity(e, 1 - first, two_threads)
+    }
+
+    /// [`factor`](Self::factor) with the unknowns of parity `p0` eliminated: `false` when one
+    /// of their rows couples to another unknown of their parity (a non-zero two off the
+    /// diagonal) or the factorisation fails.
+    fn factor_parity(&mut self, e: &Entries<'_>, p0: usize, two_threads: bool) -> bool {
+        let n = e.n;
+        let nq = Self::kept(n, p0);
+        let np = n - nq;
+        if nq < 2 {
+            return false;
+        }
+        self.p0 = p0;
+        self.n = n;
+        self.prow.resize(np, [0.0; 3]);
+        self.qrow.resize(nq, [0.0; 2]);
+        self.cols.resize(nq, [0.0; 3]);
+        self.reserve(n);
+        for (m, pr) in self.prow.iter_mut().enumerate() {
+            let p = (p0 + 2 * m) as isize;
+            if e.at(p, p - 2) != 0.0 || e.at(p, p + 2) != 0.0 {
+                return false;
+            }
+            let (left, right, d) = (e.at(p, p - 1), e.at(p, p + 1), e.at(p, p));
+            let scale = left.abs() + right.abs() + e.at(p - 1, p).abs() + e.at(p + 1, p).abs();
+            if !(d.abs() > MIN_PIVOT_RATIO * scale && d.is_finite() && scale.is_finite()) {
+                return false;
+            }
+            let inv = 1.0 / d;
+            *pr = [left * inv, right * inv, inv];
+        }
+        let q0 = 1 - p0;
+        let prow = &self.prow;
+        // the eliminated neighbour of a kept unknown (zeros past either end)
+        let p_of = |p: isize| -> [f64; 3] {
+            if p < 0 || p as usize >= n {
+                [0.0; 3]
+            } else {
+                prow[(p as usize - p0) / 2]
+            }
+        };
+        let mut finite = true;
+        for (m, (qr, col)) in self.qrow.iter_mut().zip(self.cols.iter_mut()).enumerate() {
+            let q = (q0 + 2 * m) as isize;
+            let (pl, pr) = (p_of(q - 1), p_of(q + 1));
+            *qr = [e.at(q, q - 1), e.at(q, q + 1)];
+            // S(q−2, q), S(q, q), S(q+2, q): A minus the couplings through p = q ∓ 1
+            let up = e.at(q - 2, q) - e.at(q - 2, q - 1) * pl[1];
+            let diag = e.at(q, q) - qr[0] * pl[1] - qr[1] * pr[0];
+            let down = e.at(q + 2, q) - e.at(q + 2, q + 1) * pr[0];
+            *col = [up, diag, down];
+            finite &= up.is_finite() && diag.is_finite() && down.is_finite();
+        }
+        if !finite {
+            return false;
+        }
+        match self.tri.factor(nq, &SchurColumns(&self.cols), two_threads) {
+            Ok(f) => {
+                self.flops = f + 3 * np + 6 * nq;
+                true
+            }
+            Err(_) => false,
+        }
+    }
+
+    /// Solves with the last successful [`factor`](Self::factor) and stores `map.map(j, x_j)` in
+    /// `b[j]`, in increasing `j`.
+    pub(super) fn solve_map<M: SolutionMap>(&self, b: &mut [f64], mut map: M) -> M {
+        let (n, p0) = (self.n, self.p0);
+        assert_eq!(b.len(), n, "right-hand side length mismatch");
+        let q0 = 1 - p0;
+        let mut guard = self.scratch.try_lock();
+        let mut own = Vec::new();
+        let s: &mut Vec<f64> = match guard.as_mut() {
+            Ok(g) => g,
+            Err(_) => &mut own,
+        };
+        let nq = self.qrow.len();
+        s.resize(nq, 0.0);
+        // D⁻¹ b_p of the eliminated neighbour (zero past either end)
+        let scaled = |b: &[f64], p: isize| -> f64 {
+            if p < 0 || p as usize >= n {
+                0.0
+            } else {
+                b[p as usize] * self.prow[(p as usize - p0) / 2][2]
+            }
+        };
+        for (m, (sv, qr)) in s.iter_mut().zip(&self.qrow).enumerate() {
+            let q = q0 + 2 * m;
+            let qi = q as isize;
+            *sv = b[q] - qr[0] * scaled(b, qi - 1) - qr[1] * scaled(b, qi + 1);
+        }
+        self.tri.solve_map(&mut s[..nq], Identity);
+        // back: x_q from the reduced solve, x_p = D⁻¹b_p − (A(p,p±1)/D_p)·x_{p±1}
+        let kept = |q: usize| -> f64 {
+            if q >= n {
+                0.0
+            } else {
+                s[(q - q0) / 2]
+            }
+        };
+        for j in 0..n {
+            let x = if j % 2 == q0 {
+                s[(j - q0) / 2]
+            } else {
+                let [l, r, inv] = self.prow[(j - p0) / 2];
+                let left = if j == 0 { 0.0 } else { kept(j - 1) };
+                flush_subnormal(b[j] * inv - l * left - r * kept(j + 1))
+            };
+            b[j] = map.map(j, x);
+        }
+        map
+    }
+
+    /// Keeps the storage for a larger dimension (refilled by the next factorisation).
+    pub(super) fn reserve(&mut self, n: usize) {
+        let nq = n.div_ceil(2);
+        if self.tri.mult.len() < nq {
+            self.tri.mult.resize(nq, 0.0);
+            self.tri.swap.resize(nq, false);
+            self.tri.urow.resize(nq, [0.0; 3]);
+        }
+    }
+}
+
+impl Clone for Condensed {
+    fn clone(&self) -> Self {
+        Self {
+            p0: self.p0,
+            n: self.n,
+            prow: self.prow.clone(),
+            qrow: self.qrow.clone(),
+            cols: self.cols.clone(),
+            tri: self.tri.clone(),
+            scratch: Mutex::new(Vec::new()),
+            flops: self.flops,
+        }
+    }
+}
