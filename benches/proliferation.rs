@@ -11,8 +11,8 @@
 //! resize with BDF's step-doubled first step (`Dividing::carry_history = false`),
 //! `PROLIF_GROWTH_N` the size of the η comparison (default 1e5; 0 skips it),
 //! `PROLIF_LARGE=0` skips the criterion group to 10⁴ cells, `PROLIF_RTOL` tightens the
-//! proliferating run's tolerance (atol = rtol/100; default 1e-6 and 1e-8) to measure the
-//! default run's accuracy by its final length.
+//! tolerance of the report's runs (atol = rtol/100; default 1e-6 and 1e-8) to measure the
+//! default runs' accuracy by their final length.
 //!
 //! Measured numbers and their commands: `BENCHMARKS.md`, section Proliferation.
 
@@ -43,18 +43,22 @@ fn proliferate(k: f64, t_end: f64, cap: Option<usize>, smooth: bool) -> (usize, 
     div.smooth_restart = smooth;
     div.carry_history = std::env::var("PROLIF_CARRY").as_deref() != Ok("0");
     let mut prob = ArrayProblem::new(div);
-    // PROLIF_RTOL: a tighter run (atol = rtol/100) to measure the default run's accuracy
-    let rtol = env("PROLIF_RTOL", 1e-6);
-    let settings = SolveSettings {
-        rtol,
-        atol: rtol / 100.0,
-        ..Default::default()
-    };
-    let traj = integrate(&mut prob, &settings, &[0.0, t_end]);
+    let traj = integrate(&mut prob, &settings(), &[0.0, t_end]);
     if let Some(e) = &traj.error {
         println!("REPORT proliferation K={k:e} failed: {e}");
     }
     (prob.array.line.n_cells(), prob.array.log.len(), traj)
+}
+
+/// The solve settings: the defaults, or with `PROLIF_RTOL` a tighter run (atol = rtol/100) to
+/// measure the default run's accuracy.
+fn settings() -> SolveSettings {
+    let rtol = env("PROLIF_RTOL", 1e-6);
+    SolveSettings {
+        rtol,
+        atol: rtol / 100.0,
+        ..Default::default()
+    }
 }
 
 fn env(name: &str, default: f64) -> f64 {
@@ -67,7 +71,7 @@ fn env(name: &str, default: f64) -> f64 {
 fn grow(n: usize, eta: f64, t_end: f64) -> Trajectory {
     let line = discrete(NeoHookean::new(1.0).unwrap(), &params(n, 1e-3, eta)).unwrap();
     let mut prob = ArrayProblem::new(line);
-    let traj = integrate(&mut prob, &SolveSettings::default(), &[0.0, t_end]);
+    let traj = integrate(&mut prob, &settings(), &[0.0, t_end]);
     assert!(traj.error.is_none(), "{:?}", traj.error);
     traj
 }
@@ -113,8 +117,13 @@ fn report() {
         let wall = start.elapsed().as_secs_f64();
         let s = traj.stats;
         println!(
-            "REPORT growth N={n} K=1e-3 eta={eta} t=[0,10]: {wall:.2} s, {} steps, {} residual calls, {} Jacobians, {} factorizations, {} Newton iterations",
-            s.steps, s.residual_calls, s.jacobian_evals, s.factorizations, s.newton_iterations
+            "REPORT growth N={n} K=1e-3 eta={eta} t=[0,10]: {wall:.2} s, {} steps, {} residual calls, {} Jacobians, {} factorizations, {} Newton iterations, l = {:.12}",
+            s.steps,
+            s.residual_calls,
+            s.jacobian_evals,
+            s.factorizations,
+            s.newton_iterations,
+            traj.snapshots.last().map_or(f64::NAN, |s| s.length())
         );
         walls.push(wall);
     }
