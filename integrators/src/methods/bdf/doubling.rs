@@ -12,7 +12,8 @@ impl Bdf {
     /// difference estimates the halves' error). Unlike the predictor difference it needs no
     /// smoothness before the step, so a kink at the event costs nothing once its transient
     /// is shorter than `h/2`. On rejection `h` shrinks by the usual factor (the Newton
-    /// matrices are kept: `α` changes by a refactorisation); after [`DOUBLING_TRIES`] failed
+    /// matrices are kept: `α` changes by a refactorisation), after the first rejection to at
+    /// most [`RESUME_GROWTH`] times the first step the previous resume accepted; after [`DOUBLING_TRIES`] failed
     /// attempts the ordinary step (error test against the restart's `ẏ`) takes over. On
     /// success the history is the post-event nodes `t + h, t + h/2, t`, from which the
     /// ordinary steps go on.
@@ -135,6 +136,10 @@ impl Bdf {
                     self.pop_accepted(sys, t0);
                 }
                 h = h_try * f;
+                // after the first failure, straight to about where the last resume succeeded
+                if nef + ncf == 1 && self.resume_h > 0.0 {
+                    h = h.min(RESUME_GROWTH * self.resume_h);
+                }
                 if nef >= DOUBLING_ERROR_TRIES || nef + ncf >= DOUBLING_TRIES || h < h_floor {
                     // the transient is not shorter than the step: resolve it with the
                     // ordinary error test from the same restart node
