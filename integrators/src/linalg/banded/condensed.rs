@@ -212,7 +212,7 @@ impl Condensed {
         }
         self.tri.solve_map(&mut s[..nq], Identity);
         // back: x_q from the reduced solve, x_p = D⁻¹b_p − (A(p,p±1)/D_p)·x_{p±1}
-        let kept = |q: usize| -> f64 {
+        let x_kept = |q: usize| -> f64 {
             if q >= n {
                 0.0
             } else {
@@ -224,8 +224,8 @@ impl Condensed {
                 s[(j - q0) / 2]
             } else {
                 let [l, r, inv] = self.prow[(j - p0) / 2];
-                let left = if j == 0 { 0.0 } else { kept(j - 1) };
-                flush_subnormal(b[j] * inv - l * left - r * kept(j + 1))
+                let left = if j == 0 { 0.0 } else { x_kept(j - 1) };
+                flush_subnormal(b[j] * inv - l * left - r * x_kept(j + 1))
             };
             b[j] = map.map(j, x);
         }
