@@ -50,6 +50,14 @@ impl Entries<'_> {
         self.a[k] + self.beta * self.b[k]
     }
 
+    /// `A(i, j)` for `i`, `j` inside the matrix and `|i − j| ≤ 2` (no range checks: the
+    /// interior rows' fast path).
+    #[inline(always)]
+    fn inner(&self, i: usize, j: usize) -> f64 {
+        let k = j * (LD - 1) + KV + i;
+        self.a[k] + self.beta * self.b[k]
+    }
+
     /// `A(i, j)` for `i` or `j` possibly one or two before the start (as `isize`).
     #[inline(always)]
     fn at(&self, i: isize, j: isize) -> f64 {
@@ -137,12 +145,34 @@ impl Condensed {
         self.cols.resize(nq, [0.0; 3]);
         self.reserve(n);
         for (m, pr) in self.prow.iter_mut().enumerate() {
-            let p = (p0 + 2 * m) as isize;
-            if e.at(p, p - 2) != 0.0 || e.at(p, p + 2) != 0.0 {
+            let pu = p0 + 2 * m;
+            // the row's far entries, its couplings, its pivot and its column's couplings
+            let [far_l, far_r, left, right, d, above, below] = if pu >= 2 && pu + 2 < n {
+                [
+                    e.inner(pu, pu - 2),
+                    e.inner(pu, pu + 2),
+                    e.inner(pu, pu - 1),
+                    e.inner(pu, pu + 1),
+                    e.inner(pu, pu),
+                    e.inner(pu - 1, pu),
+                    e.inner(pu + 1, pu),
+                ]
+            } else {
+                let p = pu as isize;
+                [
+                    e.at(p, p - 2),
+                    e.at(p, p + 2),
+                    e.at(p, p - 1),
+                    e.at(p, p + 1),
+                    e.at(p, p),
+                    e.at(p - 1, p),
+                    e.at(p + 1, p),
+                ]
+            };
+            if far_l != 0.0 || far_r != 0.0 {
                 return false;
             }
-            let (left, right, d) = (e.at(p, p - 1), e.at(p, p + 1), e.at(p, p));
-            let scale = left.abs() + right.abs() + e.at(p - 1, p).abs() + e.at(p + 1, p).abs();
+            let scale = left.abs() + right.abs() + above.abs() + below.abs();
             if !(d.abs() > MIN_PIVOT_RATIO * scale && d.is_finite() && scale.is_finite()) {
                 return false;
             }
@@ -161,13 +191,44 @@ impl Condensed {
         };
         let mut finite = true;
         for (m, (qr, col)) in self.qrow.iter_mut().zip(self.cols.iter_mut()).enumerate() {
-            let q = (q0 + 2 * m) as isize;
-            let (pl, pr) = (p_of(q - 1), p_of(q + 1));
-            *qr = [e.at(q, q - 1), e.at(q, q + 1)];
+            let qu = q0 + 2 * m;
+            // A(q, q∓1), A(q−2, q), A(q−2, q−1), A(q, q), A(q+2, q), A(q+2, q+1) and the
+            // eliminated neighbours' rows
+            let ([l, r, a_up, a_upl, a_qq, a_dn, a_dnr], pl, pr) = if qu >= 2 && qu + 2 < n {
+                (
+                    [
+                        e.inner(qu, qu - 1),
+                        e.inner(qu, qu + 1),
+                        e.inner(qu - 2, qu),
+                        e.inner(qu - 2, qu - 1),
+                        e.inner(qu, qu),
+                        e.inner(qu + 2, qu),
+                        e.inner(qu + 2, qu + 1),
+                    ],
+                    prow[(qu - 1 - p0) / 2],
+                    prow[(qu + 1 - p0) / 2],
+                )
+            } else {
+                let q = qu as isize;
+                (
+                    [
+                        e.at(q, q - 1),
+                        e.at(q, q + 1),
+                        e.at(q - 2, q),
+                        e.at(q - 2, q - 1),
+                        e.at(q, q),
+                        e.at(q + 2, q),
+                        e.at(q + 2, q + 1),
+                    ],
+                    p_of(q - 1),
+                    p_of(q + 1),
+                )
+            };
+            *qr = [l, r];
             // S(q−2, q), S(q, q), S(q+2, q): A minus the couplings through p = q ∓ 1
-            let up = e.at(q - 2, q) - e.at(q - 2, q - 1) * pl[1];
-            let diag = e.at(q, q) - qr[0] * pl[1] - qr[1] * pr[0];
-            let down = e.at(q + 2, q) - e.at(q + 2, q + 1) * pr[0];
+            let up = a_up - a_upl * pl[1];
+            let diag = a_qq - qr[0] * pl[1] - qr[1] * pr[0];
+            let down = a_dn - a_dnr * pr[0];
             *col = [up, diag, down];
             finite &= up.is_finite() && diag.is_finite() && down.is_finite();
         }
@@ -205,10 +266,19 @@ impl Condensed {
                 b[p as usize] * self.prow[(p as usize - p0) / 2][2]
             }
         };
+        let prow = &self.prow;
         for (m, (sv, qr)) in s.iter_mut().zip(&self.qrow).enumerate() {
             let q = q0 + 2 * m;
-            let qi = q as isize;
-            *sv = b[q] - qr[0] * scaled(b, qi - 1) - qr[1] * scaled(b, qi + 1);
+            let (bl, br) = if q >= 1 && q + 1 < n {
+                (
+                    b[q - 1] * prow[(q - 1 - p0) / 2][2],
+                    b[q + 1] * prow[(q + 1 - p0) / 2][2],
+                )
+            } else {
+                let qi = q as isize;
+                (scaled(b, qi - 1), scaled(b, qi + 1))
+            };
+            *sv = b[q] - qr[0] * bl - qr[1] * br;
         }
         self.tri.solve_map(&mut s[..nq], Identity);
         // back: x_q from the reduced solve, x_p = D⁻¹b_p − (A(p,p±1)/D_p)·x_{p±1}
@@ -223,9 +293,13 @@ impl Condensed {
             let x = if j % 2 == q0 {
                 s[(j - q0) / 2]
             } else {
-                let [l, r, inv] = self.prow[(j - p0) / 2];
-                let left = if j == 0 { 0.0 } else { x_kept(j - 1) };
-                flush_subnormal(b[j] * inv - l * left - r * x_kept(j + 1))
+                let [l, r, inv] = prow[(j - p0) / 2];
+                let (left, right) = if j >= 1 && j + 1 < n {
+                    (s[(j - 1 - q0) / 2], s[(j + 1 - q0) / 2])
+                } else {
+                    (if j == 0 { 0.0 } else { x_kept(j - 1) }, x_kept(j + 1))
+                };
+                flush_subnormal(b[j] * inv - l * left - r * right)
             };
             b[j] = map.map(j, x);
         }
