@@ -13,10 +13,10 @@ impl Bdf {
     /// smoothness before the step, so a kink at the event costs nothing once its transient
     /// is shorter than `h/2`. On rejection `h` shrinks by the usual factor (the Newton
     /// matrices are kept: `α` changes by a refactorisation), after the first rejection to at
-    /// most [`RESUME_GROWTH`] times the first step the previous resume accepted; after [`DOUBLING_TRIES`] failed
-    /// attempts the ordinary step (error test against the restart's `ẏ`) takes over. On
-    /// success the history is the post-event nodes `t + h, t + h/2, t`, from which the
-    /// ordinary steps go on.
+    /// most [`RESUME_GROWTH`] times the first step the previous resume accepted; after
+    /// [`DOUBLING_TRIES`] failed attempts the ordinary step (error test against the restart's
+    /// `ẏ`) takes over. On success the history is the post-event nodes `t + h, t + h/2, t`,
+    /// from which the ordinary steps go on.
     pub(super) fn step_doubled(
         &mut self,
         sys: &mut System<'_>,
