@@ -73,12 +73,7 @@ pub(super) fn profile_references(g: &Group<'_>, key: &str, times: &[f64]) -> Vec
             _ => continue,
         };
         // one legend entry for all times (the runs' colours give the time)
-        let label = if out.is_empty() {
-            what.to_string()
-        } else {
-            String::new()
-        };
-        out.push(Curve::new(label, Style::Reference, ti, pts));
+        push_reference(&mut out, what, ti, pts);
     }
     out
 }
@@ -116,14 +111,19 @@ pub(super) fn sweep_references(groups: &[Group<'_>], key: &str) -> Vec<Curve> {
             })
             .collect();
         if let (Some(what), false) = (label, pts.is_empty()) {
-            // one legend entry for every time (colour = time, as the runs')
-            let label = if out.is_empty() {
-                what.to_string()
-            } else {
-                String::new()
-            };
-            out.push(Curve::new(label, Style::Reference, ci, pts));
+            push_reference(&mut out, what, ci, pts);
         }
     }
     out
+}
+
+/// Appends a reference curve of colour index `colour`, labelled only if it is the first: one
+/// legend entry for every time (the colour gives the time, as for the runs).
+fn push_reference(out: &mut Vec<Curve>, what: &str, colour: usize, pts: Vec<(f64, f64)>) {
+    let label = if out.is_empty() {
+        what.to_string()
+    } else {
+        String::new()
+    };
+    out.push(Curve::new(label, Style::Reference, colour, pts));
 }

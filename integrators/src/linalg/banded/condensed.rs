@@ -51,7 +51,9 @@ impl Entries<'_> {
     }
 
     /// `A(i, j)` for `i`, `j` inside the matrix and `|i − j| ≤ 2` (no range checks: the
-    /// interior rows' fast path).
+    /// interior rows' fast path). The factorisation spells out each row's entries twice, with
+    /// this and with [`at`](Self::at): one helper mapping an offset list through either was
+    /// measured 6 % slower in instructions on a dividing line (13.79e9 against 12.99e9).
     #[inline(always)]
     fn inner(&self, i: usize, j: usize) -> f64 {
         let k = j * (LD - 1) + KV + i;
