@@ -45,6 +45,7 @@ mod plots;
 mod proliferation_division_cost;
 mod proliferation_division_rules;
 mod proliferation_fig3_3_claims;
+mod proliferation_rim_speed;
 mod proliferation_ring;
 mod scenario_fuzz;
 mod scenario_outputs;

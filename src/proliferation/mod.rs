@@ -1,6 +1,10 @@
 //! A continuum model of the **proliferating** line (beyond the thesis: its §3.4 future work;
 //! docs/model.md §3.1 notes that division "is not represented" by the growth PDE).
 //!
+//! Two models live here: [`DensityContinuum`], a density of cells in the material coordinate
+//! (derived below), and [`travelling_rim`], the long-time rim of a free end under strong drag in
+//! the cell-number coordinate, where the material coordinate fails (module [`rim`]).
+//!
 //! # Derivation
 //!
 //! Label material points by their initial position `X ∈ [0, l₀]`. Division splits a cell at its
@@ -74,11 +78,19 @@
 //!      few cells of the free end; `N` is then an integer of order 100 and a continuum can only
 //!      represent it to ±(cells per segment) — errors of 1–3 % in `N` and `l` for n ≤ 200, and
 //!      the free-end cell (which divides first, at t = 2.5824) is smeared over a segment.
+//!      At long times it fails outright (t = 1000: 419 against 1 637 cells, n = 200): the rim's
+//!      cells all descend from the last initial cell, so the rim lives in a sliver of `X` that
+//!      halves with every division at the tip, and the last segment ends up holding 256 cells
+//!      that share one compressed mean stress and hardly grow. No fixed grid in `X` resolves
+//!      that; in the cell-number coordinate the rim is a travelling wave whose speed
+//!      [`travelling_rim`] predicts to 0.36 % (docs/model.md §8.4).
 //!   3. *Asynchronous populations* (random thresholds, age rules with scattered births) have no
 //!      sharp front; this model would need a size-structured density `n(X, g, t)` (a
 //!      McKendrick–von Foerster equation in `g` coupled to the mechanics) — not implemented;
 //!      the runner rejects non-area rules for the continuum.
 
 mod density;
+pub mod rim;
 
 pub use density::DensityContinuum;
+pub use rim::{travelling_rim, RimError, RimSpeed};
