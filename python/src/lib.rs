@@ -8,6 +8,7 @@
 mod errors;
 mod input;
 mod record;
+mod rim;
 
 use celltissue::output::finite;
 use celltissue::scenario::{execute, parallel};
@@ -98,5 +99,6 @@ fn _celltissue(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scenarios, m)?)?;
     m.add_function(wrap_pyfunction!(scenario_text, m)?)?;
     m.add_function(wrap_pyfunction!(run_from_json, m)?)?;
+    m.add_function(wrap_pyfunction!(rim::travelling_rim, m)?)?;
     Ok(())
 }

@@ -15,6 +15,8 @@ in-memory run records with numpy arrays.
   ``.profile(name)``, ``.divisions``, ``.stats``, ``.error``).
 * :func:`line`, :func:`sheet` — build a model from keyword parameters and ``.solve(times)``.
 * :mod:`celltissue.ensemble` — run parameter grids and seeds on a ``dask.distributed`` client.
+* :func:`travelling_rim` — the long-time speed of a proliferating rim under strong drag
+  (docs/model.md §8.4), to compare with a run's late ``dl/dt``.
 
 Bad input raises :class:`ScenarioError` (a ``ValueError``) with ``.key`` and ``.message``
 before anything runs.
@@ -28,6 +30,7 @@ from ._celltissue import (
     run_from_json,
     scenario_text,
     scenarios,
+    travelling_rim,
     validate,
 )
 from .builders import Line, Sheet, line, sheet
@@ -44,5 +47,6 @@ __all__ = [
     "scenario_text",
     "scenarios",
     "sheet",
+    "travelling_rim",
     "validate",
 ]
