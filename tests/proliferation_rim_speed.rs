@@ -5,7 +5,7 @@
 //! Two things are checked. (1) Why a continuum in the material coordinate fails here: the rim's
 //! cells all descend from the last initial cell, so the rim occupies a vanishing sliver of `X`.
 //! (2) The continuum in the cell-number coordinate predicts the rim's speed, with an error
-//! second order in the per-cell stress drop `ε` at the tip.
+//! second order in the per-cell stress drop `ε` at the tip, and (3) its stress profile.
 
 use celltissue::boundary::RightEnd;
 use celltissue::cell::TanhGrowth;
@@ -13,7 +13,7 @@ use celltissue::events::{AreaDoubling, Dividing};
 use celltissue::line::build::{discrete, LineParams};
 use celltissue::line::observe::Snapshot;
 use celltissue::line::run::{integrate, SolveSettings};
-use celltissue::proliferation::travelling_rim;
+use celltissue::proliferation::{rim_profile, travelling_rim};
 use celltissue::{ArrayProblem, NeoHookean};
 use std::sync::Arc;
 
@@ -70,6 +70,24 @@ fn rim_speed_is_second_order_in_the_tip_stress_drop() {
             let last = b.x_ref.iter().filter(|&&x| x > 99.0).count();
             println!("K = 1e-2, t = 1000: {last} of {n} cells have X in [99, 100]");
             assert!(last as f64 > 0.9 * (n - 99) as f64, "{last} of {n}");
+
+            // (3) the rim's stress profile: the last 25 cells' σ at their centres (depth j − ½)
+            let depths: Vec<f64> = (1..=25).map(|j| j as f64 - 0.5).collect();
+            let e = NeoHookean::new(1.0).unwrap();
+            let theory =
+                rim_profile(&e, &TanhGrowth::default(), k, 1.0, rim.speed, &depths).unwrap();
+            let worst = (1..=25)
+                .map(|j| (theory[j - 1].0 - b.sigma[n - j]).abs())
+                .fold(0.0, f64::max);
+            println!(
+                "K = 1e-2, t = 1000: rim stress profile over the last 25 cells within {worst:.1e} \
+                 (tip cell {:.4} vs {:.4}, 25th {:.4} vs {:.4})",
+                theory[0].0,
+                b.sigma[n - 1],
+                theory[24].0,
+                b.sigma[n - 25]
+            );
+            assert!(worst < 1e-3, "{worst}");
         }
     }
     // (2) the rim's speed: 0.36 % off at K = 1e-2, and the error falls as ε² from K = 1e-1

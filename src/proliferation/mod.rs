@@ -93,4 +93,4 @@ mod density;
 pub mod rim;
 
 pub use density::DensityContinuum;
-pub use rim::{travelling_rim, RimError, RimSpeed};
+pub use rim::{rim_profile, travelling_rim, RimError, RimSpeed};

@@ -182,12 +182,7 @@ fn trial<E: StrainEnergy>(
         speed,
     };
     let depth = search_depth(energy, growth, k, width, speed);
-    let opts = Options {
-        rtol: 1e-10,
-        atol: 1e-12 * speed.max(1.0),
-        ..Options::default()
-    };
-    let sol = Solver::new(MethodKind::Dopri, opts)
+    let sol = Solver::new(MethodKind::Dopri, profile_options(speed))
         .solve(&mut profile, 0.0, &[speed, a0], &[0.0, depth])
         .map_err(|source| RimError::Solve { speed, source })?;
     let outcome = match sol.events.first() {
@@ -214,6 +209,15 @@ fn search_depth<E: StrainEnergy>(
 ) -> f64 {
     let stiffness = energy.line(1.0).dsigma.abs();
     (1e3 * (1.0 + 10.0 * stress_scale(growth)) + 100.0 * stiffness) * width / (k * speed)
+}
+
+/// Tolerances of every integration in `u`.
+fn profile_options(speed: f64) -> Options {
+    Options {
+        rtol: 1e-10,
+        atol: 1e-12 * speed.max(1.0),
+        ..Options::default()
+    }
 }
 
 /// The growth law's stress scale `G(0)/G'(0)` (`σ₀` for [`crate::cell::TanhGrowth`]).
@@ -340,12 +344,7 @@ fn growth_width<E: StrainEnergy>(
     };
     let threshold = 1e-2 * growth.rate(0.0).0;
     let depth = search_depth(energy, growth, k, width, speed);
-    let opts = Options {
-        rtol: 1e-10,
-        atol: 1e-12 * speed.max(1.0),
-        ..Options::default()
-    };
-    let sol = Solver::new(MethodKind::Dopri, opts)
+    let sol = Solver::new(MethodKind::Dopri, profile_options(speed))
         .solve(
             &mut Width(profile, threshold),
             0.0,
@@ -357,6 +356,84 @@ fn growth_width<E: StrainEnergy>(
         .first()
         .map(|e| e.t)
         .ok_or_else(|| RimError::NoRim("growth never falls to 1 % of its unstressed rate".into()))
+}
+
+/// The rim's stress and boundary velocity `(σ, v)` at the given depths (in cells from the tip,
+/// strictly ascending, ≥ 0) for the speed `speed` found by [`travelling_rim`] with the same arguments.
+/// Depth `j − ½` is the `j`-th cell's centre counted from the tip.
+///
+/// ```
+/// use celltissue::proliferation::{rim_profile, travelling_rim};
+/// use celltissue::cell::TanhGrowth;
+/// let (e, g) = (celltissue::NeoHookean::new(1.0)?, TanhGrowth::default());
+/// let rim = travelling_rim(&e, &g, 1e-2, 1.0)?;
+/// let p = rim_profile(&e, &g, 1e-2, 1.0, rim.speed, &[0.0, 0.5, 10.0])?;
+/// assert!((p[0].0 - rim.tip_stress).abs() < 1e-12 && p[0].1 == rim.speed);
+/// assert!(p[2].0 < p[1].0 && p[2].1 < p[1].1); // compressed and slower inside
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn rim_profile<E: StrainEnergy>(
+    energy: &E,
+    growth: &dyn GrowthLaw,
+    k: f64,
+    width: f64,
+    speed: f64,
+    depths: &[f64],
+) -> Result<Vec<(f64, f64)>, RimError> {
+    /// The profile with no events: it runs to the last depth asked for.
+    struct Plain<'a, E: StrainEnergy>(Profile<'a, E>);
+    impl<E: StrainEnergy> Problem for Plain<'_, E> {
+        fn dim(&self) -> usize {
+            2
+        }
+        fn residual(
+            &mut self,
+            u: f64,
+            y: &[f64],
+            yp: &[f64],
+            r: &mut [f64],
+        ) -> Result<(), ResidualError> {
+            self.0.residual(u, y, yp, r)
+        }
+    }
+    if let Some(bad) = depths.iter().find(|d| !(d.is_finite() && **d >= 0.0)) {
+        return Err(RimError::Parameter {
+            key: "depths",
+            value: *bad,
+            range: "finite and >= 0",
+        });
+    }
+    if let Some(w) = depths.windows(2).find(|w| w[1] <= w[0]) {
+        return Err(RimError::Parameter {
+            key: "depths",
+            value: w[1],
+            range: "strictly ascending",
+        });
+    }
+    let a0 = tip_stretch(energy, k * speed / (2.0 * width))?;
+    let profile = Profile {
+        energy,
+        growth,
+        k,
+        width,
+        speed,
+    };
+    let mut times = Vec::with_capacity(depths.len() + 1);
+    times.push(0.0);
+    times.extend(depths.iter().copied().filter(|&d| d > 0.0));
+    let sol = Solver::new(MethodKind::Dopri, profile_options(speed))
+        .solve(&mut Plain(profile), 0.0, &[speed, a0], &times)
+        .map_err(|source| RimError::Solve { speed, source })?;
+    let mut out = Vec::with_capacity(depths.len());
+    let mut next = 0;
+    for &d in depths {
+        if d > 0.0 {
+            next += 1;
+        }
+        let y = &sol.y[next];
+        out.push((energy.line(y[1]).sigma, y[0]));
+    }
+    Ok(out)
 }
 
 #[cfg(test)]
