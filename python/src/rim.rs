@@ -12,8 +12,8 @@ use pyo3::types::PyDict;
 /// The travelling rim of a free end under drag `K` (m = 0), for neo-Hookean cells of modulus
 /// `mu` and width `width` (γ₀g₂) growing by ½(1 + tanh(σ/sigma0)).
 ///
-/// Returns a dict: ``speed`` (dl/dt at long times), ``tip_stress``, ``width`` (cells from the
-/// tip to where growth falls to 1 %) and ``epsilon`` (the per-cell stress drop at the tip over
+/// Returns a dict: ``speed`` (dl/dt at long times), ``cell_rate`` (dN/dt at long times),
+/// ``tip_stress``, ``width`` (cells from the tip to where growth falls to 1 %) and ``epsilon`` (the per-cell stress drop at the tip over
 /// sigma0; the prediction's error is O(epsilon²)). A parameter out of range raises
 /// `ScenarioError` naming it.
 #[pyfunction]
@@ -45,5 +45,6 @@ pub fn travelling_rim<'py>(
     d.set_item("tip_stress", r.tip_stress)?;
     d.set_item("width", r.width)?;
     d.set_item("epsilon", r.epsilon)?;
+    d.set_item("cell_rate", r.cell_rate)?;
     Ok(d)
 }

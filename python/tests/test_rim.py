@@ -24,6 +24,9 @@ def test_rim_speed_matches_a_strong_drag_run():
     assert rim["epsilon"] > 0.5
     assert abs(rim["speed"] / measured - 1) < 0.04, (rim, measured)
     assert rim["speed"] > measured  # the continuum overestimates, at O(epsilon²)
+    cells = run.series["cells"]
+    added = (cells[-1] - cells[-2]) / (t[-1] - t[-2])
+    assert abs(rim["cell_rate"] / added - 1) < 0.04, (rim, added)
 
 
 @pytest.mark.parametrize(

@@ -22,6 +22,16 @@
 //! product is eliminated. It needs `m = 0` (with `m ≠ 0` the drag depends on each cell's phase).
 //! Its error against the discrete line is second order in the per-cell stress drop at the tip
 //! relative to the growth law's stress scale, [`RimSpeed::epsilon`].
+//!
+//! The cell count does depend on the phases: `dN/dt` times the mean growth stretch of the cells
+//! left behind is `∫G du`, and that mean is set by the phases at which cells stop growing. So
+//! [`RimSpeed::cell_rate`] runs the phases cell by cell through the profile's growth rates: the
+//! cell at depth `j` grows at `G(σ(j − ½))`, and the first to reach `g = 2` splits into two
+//! cells of `g = 1` at depths `j` and `j + 1`, pushing every deeper cell one place in. Between
+//! divisions the rates are constant, so this automaton jumps from one division to the next; it
+//! skips 1 000 divisions and times the next 1 000. It keeps the cells down to the rim's end,
+//! where `v` has fallen to its least (the depth where the bisection's last fast trial turned
+//! back up), or down to where `G` falls to 10⁻⁴ of `G(0)` if that comes first.
 
 use crate::cell::GrowthLaw;
 use crate::energy::StrainEnergy;
@@ -81,6 +91,9 @@ pub struct RimSpeed {
     pub tip_stress: f64,
     /// Depth in cells where the growth rate falls to 1 % of its unstressed value.
     pub width: f64,
+    /// Cells added per unit time, `dN/dt` at long times: the cells' phases run exactly, cell by
+    /// cell, through the profile's growth rates (see the [module docs](self)).
+    pub cell_rate: f64,
     /// Per-cell stress drop at the tip over the growth law's stress scale `G(0)/G'(0)`:
     /// `ε = KαV/(w·G(0)/G'(0))`. The continuum holds for `ε ≪ 1`; its error is `O(ε²)`.
     pub epsilon: f64,
@@ -142,10 +155,11 @@ impl<E: StrainEnergy> Problem for Profile<'_, E> {
     }
 }
 
-/// What one trial speed does: `v` reaches zero, or turns back up, at depth `u`.
+/// What one trial speed does: `v` reaches zero, or turns back up (at depth `turn`, where `v`
+/// is least: near the separating speed, the end of the rim).
 enum Trial {
     TooSlow,
-    TooFast,
+    TooFast { turn: f64 },
 }
 
 /// Elastic stretch with `σ_el(α) + cα = 0` (`c ≥ 0`), by Newton from `α = 1`: the tip cell's
@@ -172,7 +186,7 @@ fn trial<E: StrainEnergy>(
     k: f64,
     width: f64,
     speed: f64,
-) -> Result<(Trial, f64), RimError> {
+) -> Result<Trial, RimError> {
     let a0 = tip_stretch(energy, k * speed / (2.0 * width))?;
     let mut profile = Profile {
         energy,
@@ -187,14 +201,14 @@ fn trial<E: StrainEnergy>(
         .map_err(|source| RimError::Solve { speed, source })?;
     let outcome = match sol.events.first() {
         Some(e) if e.fired.contains(&0) => Trial::TooSlow,
-        Some(_) => Trial::TooFast,
+        Some(e) => Trial::TooFast { turn: e.t },
         None => {
             return Err(RimError::NoRim(format!(
                 "at V = {speed}, v neither vanished nor turned back within {depth:e} cells"
             )))
         }
     };
-    Ok((outcome, a0))
+    Ok(outcome)
 }
 
 /// How deep a trial integrates, in units of `w/(KV)` cells: the stress decays over `scale` of
@@ -268,31 +282,29 @@ pub fn travelling_rim<E: StrainEnergy>(
     }
     // bracket: a slow trial, then double until too fast
     let mut lo = 1e-3 * (g0 * stress_scale(growth) * width / k).sqrt();
-    if matches!(trial(energy, growth, k, width, lo)?.0, Trial::TooFast) {
+    if matches!(trial(energy, growth, k, width, lo)?, Trial::TooFast { .. }) {
         return Err(RimError::NoRim(format!(
             "V = {lo} is already too fast: no slow branch"
         )));
     }
-    let mut fast = false;
+    let mut rim_end = None;
     let mut hi = lo;
     for _ in 0..80 {
         hi *= 2.0;
-        match trial(energy, growth, k, width, hi)?.0 {
+        match trial(energy, growth, k, width, hi)? {
             Trial::TooSlow => lo = hi,
-            Trial::TooFast => {
-                fast = true;
+            Trial::TooFast { turn } => {
+                rim_end = Some(turn);
                 break;
             }
         }
     }
-    if !fast {
-        return Err(RimError::NoRim("no speed is fast enough".into()));
-    }
+    let mut rim_end = rim_end.ok_or_else(|| RimError::NoRim("no speed is fast enough".into()))?;
     while hi - lo > 1e-10 * hi {
         let mid = 0.5 * (lo + hi);
-        match trial(energy, growth, k, width, mid)?.0 {
+        match trial(energy, growth, k, width, mid)? {
             Trial::TooSlow => lo = mid,
-            Trial::TooFast => hi = mid,
+            Trial::TooFast { turn } => (hi, rim_end) = (mid, turn),
         }
     }
     let speed = hi;
@@ -300,19 +312,21 @@ pub fn travelling_rim<E: StrainEnergy>(
     Ok(RimSpeed {
         speed,
         tip_stress: energy.line(a0).sigma,
-        width: growth_width(energy, growth, k, width, speed, a0)?,
+        width: growth_depth(energy, growth, k, width, speed, a0, 1e-2)?,
+        cell_rate: cell_rate(energy, growth, k, width, speed, rim_end)?,
         epsilon: k * a0 * speed / (width * stress_scale(growth)),
     })
 }
 
-/// Depth at which `G(σ)` falls to 1 % of `G(0)` along the profile of speed `speed`.
-fn growth_width<E: StrainEnergy>(
+/// Depth at which `G(σ)` falls to `fraction` of `G(0)` along the profile of speed `speed`.
+fn growth_depth<E: StrainEnergy>(
     energy: &E,
     growth: &dyn GrowthLaw,
     k: f64,
     width: f64,
     speed: f64,
     a0: f64,
+    fraction: f64,
 ) -> Result<f64, RimError> {
     struct Width<'a, E: StrainEnergy>(Profile<'a, E>, f64);
     impl<E: StrainEnergy> Problem for Width<'_, E> {
@@ -342,7 +356,7 @@ fn growth_width<E: StrainEnergy>(
         width,
         speed,
     };
-    let threshold = 1e-2 * growth.rate(0.0).0;
+    let threshold = fraction * growth.rate(0.0).0;
     let depth = search_depth(energy, growth, k, width, speed);
     let sol = Solver::new(MethodKind::Dopri, profile_options(speed))
         .solve(
@@ -352,10 +366,11 @@ fn growth_width<E: StrainEnergy>(
             &[0.0, depth],
         )
         .map_err(|source| RimError::Solve { speed, source })?;
-    sol.events
-        .first()
-        .map(|e| e.t)
-        .ok_or_else(|| RimError::NoRim("growth never falls to 1 % of its unstressed rate".into()))
+    sol.events.first().map(|e| e.t).ok_or_else(|| {
+        RimError::NoRim(format!(
+            "growth never falls to {fraction:e} of its unstressed rate"
+        ))
+    })
 }
 
 /// The rim's stress and boundary velocity `(σ, v)` at the given depths (in cells from the tip,
@@ -434,6 +449,55 @@ pub fn rim_profile<E: StrainEnergy>(
         out.push((energy.line(y[1]).sigma, y[0]));
     }
     Ok(out)
+}
+
+/// Divisions at the start of the phase automaton that are not counted (its transient), and
+/// divisions it counts.
+const AUTOMATON_DIVISIONS: (usize, usize) = (1000, 1000);
+
+/// `dN/dt` of the rim of speed `speed`: the phase automaton of the [module docs](self).
+fn cell_rate<E: StrainEnergy>(
+    energy: &E,
+    growth: &dyn GrowthLaw,
+    k: f64,
+    width: f64,
+    speed: f64,
+    rim_end: f64,
+) -> Result<f64, RimError> {
+    // cells growing at under 10⁻⁴ of G(0) do not divide within the automaton's time
+    let a0 = tip_stretch(energy, k * speed / (2.0 * width))?;
+    let slow = growth_depth(energy, growth, k, width, speed, a0, 1e-4).unwrap_or(f64::INFINITY);
+    let depths: Vec<f64> = (1..=rim_end.min(slow).ceil() as usize)
+        .map(|j| j as f64 - 0.5)
+        .collect();
+    let rates: Vec<f64> = rim_profile(energy, growth, k, width, speed, &depths)?
+        .iter()
+        .map(|&(sigma, _)| growth.rate(sigma).0)
+        .collect();
+    let (skip, count) = AUTOMATON_DIVISIONS;
+    let mut g = vec![1.0; rates.len()];
+    let (mut t, mut start) = (0.0, 0.0);
+    for division in 0..skip + count {
+        if division == skip {
+            start = t;
+        }
+        let (cell, wait) = g
+            .iter()
+            .zip(&rates)
+            .enumerate()
+            .filter(|(_, (_, &r))| r > 0.0)
+            .map(|(i, (&gi, &r))| (i, (2.0 - gi) / r))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .ok_or_else(|| RimError::NoRim("no cell in the rim grows".into()))?;
+        for (gi, r) in g.iter_mut().zip(&rates) {
+            *gi += r * wait;
+        }
+        g[cell] = 1.0;
+        g.insert(cell + 1, 1.0);
+        g.truncate(rates.len());
+        t += wait;
+    }
+    Ok(count as f64 / (t - start))
 }
 
 #[cfg(test)]
