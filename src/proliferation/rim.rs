@@ -1,5 +1,6 @@
-//! The travelling proliferating rim: the long-time speed of a free end under strong drag, from a
-//! continuum in the **cell-number** coordinate (docs/model.md §8.4, "The travelling rim").
+//! The travelling proliferating rim: how fast a free end under strong drag advances and adds
+//! cells at long times, from a continuum in the **cell-number** coordinate (docs/model.md §8.4,
+//! "The travelling rim in the cell-number coordinate").
 //!
 //! Under strong drag only the cells within a few stress decay lengths of the free end grow; the
 //! rim they form advances at a constant speed `V` and the line lengthens linearly. Counted in
@@ -99,22 +100,53 @@ pub struct RimSpeed {
     pub epsilon: f64,
 }
 
-/// The rim profile as an explicit ODE in the depth `u`, state `(v, α)`, for a trial speed.
-struct Profile<'a, E: StrainEnergy> {
+/// The rim's inputs: the cells' law, their growth law, the drag `K` and the width `w = γ₀g₂`.
+struct Setup<'a, E: StrainEnergy> {
     energy: &'a E,
     growth: &'a dyn GrowthLaw,
     k: f64,
     width: f64,
+}
+
+// (references and numbers: copyable whatever `E` is, which `derive` would require)
+impl<E: StrainEnergy> Clone for Setup<'_, E> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<E: StrainEnergy> Copy for Setup<'_, E> {}
+
+/// What an integration in `u` stops at.
+#[derive(Clone, Copy)]
+enum Watch {
+    /// `v` reaches zero (event 0: too slow) or `dv/du` turns positive (event 1: too fast).
+    Separation,
+    /// `G(σ)` falls to this rate.
+    GrowthBelow(f64),
+    /// Nothing: the integration runs to the last depth asked for.
+    Nothing,
+}
+
+/// The rim profile as an explicit ODE in the depth `u`, state `(v, α)`, for a trial speed.
+struct Profile<'a, E: StrainEnergy> {
+    setup: Setup<'a, E>,
     speed: f64,
+    watch: Watch,
 }
 
 impl<E: StrainEnergy> Profile<'_, E> {
     /// `(dv/du, dα/du)` at `(v, α)`.
     fn slope(&self, v: f64, a: f64) -> (f64, f64) {
-        let r = self.energy.line(a);
-        let ds = -self.k * v * a / self.width;
+        let Setup {
+            energy,
+            growth,
+            k,
+            width,
+        } = self.setup;
+        let r = energy.line(a);
+        let ds = -k * v * a / width;
         let da = ds / r.dsigma;
-        let dv = -a * self.growth.rate(r.sigma).0 - (self.speed - v) * da / a;
+        let dv = -a * growth.rate(r.sigma).0 - (self.speed - v) * da / a;
         (dv, da)
     }
 }
@@ -142,16 +174,76 @@ impl<E: StrainEnergy> Problem for Profile<'_, E> {
         Ok(())
     }
     fn num_events(&self) -> usize {
-        2
+        match self.watch {
+            Watch::Separation => 2,
+            Watch::GrowthBelow(_) => 1,
+            Watch::Nothing => 0,
+        }
     }
-    /// 0: `v` reaches zero (too slow); 1: `dv/du` turns positive (too fast).
     fn events(&mut self, _u: f64, y: &[f64], g: &mut [f64]) {
-        g[0] = y[0];
-        g[1] = if y[1] > 0.0 {
-            self.slope(y[0], y[1]).0
-        } else {
-            1.0
+        match self.watch {
+            Watch::Separation => {
+                g[0] = y[0];
+                g[1] = if y[1] > 0.0 {
+                    self.slope(y[0], y[1]).0
+                } else {
+                    1.0
+                };
+            }
+            Watch::GrowthBelow(rate) => {
+                let s = self.setup;
+                g[0] = s.growth.rate(s.energy.line(y[1]).sigma).0 - rate;
+            }
+            Watch::Nothing => {}
+        }
+    }
+}
+
+impl<'a, E: StrainEnergy> Setup<'a, E> {
+    /// The tip cell's elastic stretch at speed `speed`: `σ_el(α) + cα = 0` with
+    /// `c = KV/(2w)`, by Newton from `α = 1`.
+    fn tip_stretch(&self, speed: f64) -> Result<f64, RimError> {
+        let c = self.k * speed / (2.0 * self.width);
+        let mut a = 1.0f64;
+        for _ in 0..100 {
+            let r = self.energy.line(a);
+            let step = (r.sigma + c * a) / (r.dsigma + c);
+            a = (a - step).max(0.5 * a);
+            if step.abs() < 1e-15 * a {
+                return Ok(a);
+            }
+        }
+        Err(RimError::NoRim(format!(
+            "no elastic stretch balances the tip drag (σ_el(α) = −{c}·α)"
+        )))
+    }
+
+    /// Integrates the profile of speed `speed` from the tip, with output at `depths` (the
+    /// first is 0) and stopping at what `watch` names.
+    fn integrate(
+        &self,
+        speed: f64,
+        watch: Watch,
+        depths: &[f64],
+    ) -> Result<integrators::Solution, RimError> {
+        let a0 = self.tip_stretch(speed)?;
+        let mut profile = Profile {
+            setup: *self,
+            speed,
+            watch,
         };
+        Solver::new(MethodKind::Dopri, profile_options(speed))
+            .solve(&mut profile, 0.0, &[speed, a0], depths)
+            .map_err(|source| RimError::Solve { speed, source })
+    }
+
+    /// How deep a search integrates, in units of `w/(KV)` cells: the stress decays over
+    /// `scale` of them, and a trial near the separating speed departs from it at a rate of
+    /// order `1/(dσ_el/dα at α = 1)` of them, slowly for stiff cells.
+    fn search_depth(&self, speed: f64) -> f64 {
+        let stiffness = self.energy.line(1.0).dsigma.abs();
+        (1e3 * (1.0 + 10.0 * stress_scale(self.growth)) + 100.0 * stiffness) * self.width
+            / (self.k * speed)
     }
 }
 
@@ -162,67 +254,17 @@ enum Trial {
     TooFast { turn: f64 },
 }
 
-/// Elastic stretch with `σ_el(α) + cα = 0` (`c ≥ 0`), by Newton from `α = 1`: the tip cell's
-/// stretch for `c = KV/(2w)`.
-fn tip_stretch<E: StrainEnergy>(energy: &E, c: f64) -> Result<f64, RimError> {
-    let mut a = 1.0f64;
-    for _ in 0..100 {
-        let r = energy.line(a);
-        let step = (r.sigma + c * a) / (r.dsigma + c);
-        a = (a - step).max(0.5 * a);
-        if step.abs() < 1e-15 * a {
-            return Ok(a);
-        }
+/// Integrates the profile for trial speed `speed` until it separates.
+fn trial<E: StrainEnergy>(setup: &Setup<'_, E>, speed: f64) -> Result<Trial, RimError> {
+    let depth = setup.search_depth(speed);
+    let sol = setup.integrate(speed, Watch::Separation, &[0.0, depth])?;
+    match sol.events.first() {
+        Some(e) if e.fired.contains(&0) => Ok(Trial::TooSlow),
+        Some(e) => Ok(Trial::TooFast { turn: e.t }),
+        None => Err(RimError::NoRim(format!(
+            "at V = {speed}, v neither vanished nor turned back within {depth:e} cells"
+        ))),
     }
-    Err(RimError::NoRim(format!(
-        "no elastic stretch balances the tip drag (σ_el(α) = −{c}·α)"
-    )))
-}
-
-/// Integrates the profile for trial speed `speed`.
-fn trial<E: StrainEnergy>(
-    energy: &E,
-    growth: &dyn GrowthLaw,
-    k: f64,
-    width: f64,
-    speed: f64,
-) -> Result<Trial, RimError> {
-    let a0 = tip_stretch(energy, k * speed / (2.0 * width))?;
-    let mut profile = Profile {
-        energy,
-        growth,
-        k,
-        width,
-        speed,
-    };
-    let depth = search_depth(energy, growth, k, width, speed);
-    let sol = Solver::new(MethodKind::Dopri, profile_options(speed))
-        .solve(&mut profile, 0.0, &[speed, a0], &[0.0, depth])
-        .map_err(|source| RimError::Solve { speed, source })?;
-    let outcome = match sol.events.first() {
-        Some(e) if e.fired.contains(&0) => Trial::TooSlow,
-        Some(e) => Trial::TooFast { turn: e.t },
-        None => {
-            return Err(RimError::NoRim(format!(
-                "at V = {speed}, v neither vanished nor turned back within {depth:e} cells"
-            )))
-        }
-    };
-    Ok(outcome)
-}
-
-/// How deep a trial integrates, in units of `w/(KV)` cells: the stress decays over `scale` of
-/// them, and a trial near the separating speed departs from it at a rate of order
-/// `1/(dσ_el/dα at α = 1)` of them, slowly for stiff cells.
-fn search_depth<E: StrainEnergy>(
-    energy: &E,
-    growth: &dyn GrowthLaw,
-    k: f64,
-    width: f64,
-    speed: f64,
-) -> f64 {
-    let stiffness = energy.line(1.0).dsigma.abs();
-    (1e3 * (1.0 + 10.0 * stress_scale(growth)) + 100.0 * stiffness) * width / (k * speed)
 }
 
 /// Tolerances of every integration in `u`.
@@ -280,9 +322,15 @@ pub fn travelling_rim<E: StrainEnergy>(
              (G(0) = {g0}, G'(0) = {dg0})"
         )));
     }
+    let setup = Setup {
+        energy,
+        growth,
+        k,
+        width,
+    };
     // bracket: a slow trial, then double until too fast
     let mut lo = 1e-3 * (g0 * stress_scale(growth) * width / k).sqrt();
-    if matches!(trial(energy, growth, k, width, lo)?, Trial::TooFast { .. }) {
+    if matches!(trial(&setup, lo)?, Trial::TooFast { .. }) {
         return Err(RimError::NoRim(format!(
             "V = {lo} is already too fast: no slow branch"
         )));
@@ -291,7 +339,7 @@ pub fn travelling_rim<E: StrainEnergy>(
     let mut hi = lo;
     for _ in 0..80 {
         hi *= 2.0;
-        match trial(energy, growth, k, width, hi)? {
+        match trial(&setup, hi)? {
             Trial::TooSlow => lo = hi,
             Trial::TooFast { turn } => {
                 rim_end = Some(turn);
@@ -302,70 +350,31 @@ pub fn travelling_rim<E: StrainEnergy>(
     let mut rim_end = rim_end.ok_or_else(|| RimError::NoRim("no speed is fast enough".into()))?;
     while hi - lo > 1e-10 * hi {
         let mid = 0.5 * (lo + hi);
-        match trial(energy, growth, k, width, mid)? {
+        match trial(&setup, mid)? {
             Trial::TooSlow => lo = mid,
             Trial::TooFast { turn } => (hi, rim_end) = (mid, turn),
         }
     }
     let speed = hi;
-    let a0 = tip_stretch(energy, k * speed / (2.0 * width))?;
+    let a0 = setup.tip_stretch(speed)?;
     Ok(RimSpeed {
         speed,
         tip_stress: energy.line(a0).sigma,
-        width: growth_depth(energy, growth, k, width, speed, a0, 1e-2)?,
-        cell_rate: cell_rate(energy, growth, k, width, speed, rim_end)?,
+        width: growth_depth(&setup, speed, 1e-2)?,
+        cell_rate: cell_rate(&setup, speed, rim_end)?,
         epsilon: k * a0 * speed / (width * stress_scale(growth)),
     })
 }
 
 /// Depth at which `G(σ)` falls to `fraction` of `G(0)` along the profile of speed `speed`.
 fn growth_depth<E: StrainEnergy>(
-    energy: &E,
-    growth: &dyn GrowthLaw,
-    k: f64,
-    width: f64,
+    setup: &Setup<'_, E>,
     speed: f64,
-    a0: f64,
     fraction: f64,
 ) -> Result<f64, RimError> {
-    struct Width<'a, E: StrainEnergy>(Profile<'a, E>, f64);
-    impl<E: StrainEnergy> Problem for Width<'_, E> {
-        fn dim(&self) -> usize {
-            2
-        }
-        fn residual(
-            &mut self,
-            u: f64,
-            y: &[f64],
-            yp: &[f64],
-            r: &mut [f64],
-        ) -> Result<(), ResidualError> {
-            self.0.residual(u, y, yp, r)
-        }
-        fn num_events(&self) -> usize {
-            1
-        }
-        fn events(&mut self, _u: f64, y: &[f64], g: &mut [f64]) {
-            g[0] = self.0.growth.rate(self.0.energy.line(y[1]).sigma).0 - self.1;
-        }
-    }
-    let profile = Profile {
-        energy,
-        growth,
-        k,
-        width,
-        speed,
-    };
-    let threshold = fraction * growth.rate(0.0).0;
-    let depth = search_depth(energy, growth, k, width, speed);
-    let sol = Solver::new(MethodKind::Dopri, profile_options(speed))
-        .solve(
-            &mut Width(profile, threshold),
-            0.0,
-            &[speed, a0],
-            &[0.0, depth],
-        )
-        .map_err(|source| RimError::Solve { speed, source })?;
+    let rate = fraction * setup.growth.rate(0.0).0;
+    let depth = setup.search_depth(speed);
+    let sol = setup.integrate(speed, Watch::GrowthBelow(rate), &[0.0, depth])?;
     sol.events.first().map(|e| e.t).ok_or_else(|| {
         RimError::NoRim(format!(
             "growth never falls to {fraction:e} of its unstressed rate"
@@ -395,22 +404,6 @@ pub fn rim_profile<E: StrainEnergy>(
     speed: f64,
     depths: &[f64],
 ) -> Result<Vec<(f64, f64)>, RimError> {
-    /// The profile with no events: it runs to the last depth asked for.
-    struct Plain<'a, E: StrainEnergy>(Profile<'a, E>);
-    impl<E: StrainEnergy> Problem for Plain<'_, E> {
-        fn dim(&self) -> usize {
-            2
-        }
-        fn residual(
-            &mut self,
-            u: f64,
-            y: &[f64],
-            yp: &[f64],
-            r: &mut [f64],
-        ) -> Result<(), ResidualError> {
-            self.0.residual(u, y, yp, r)
-        }
-    }
     if let Some(bad) = depths.iter().find(|d| !(d.is_finite() && **d >= 0.0)) {
         return Err(RimError::Parameter {
             key: "depths",
@@ -425,20 +418,16 @@ pub fn rim_profile<E: StrainEnergy>(
             range: "strictly ascending",
         });
     }
-    let a0 = tip_stretch(energy, k * speed / (2.0 * width))?;
-    let profile = Profile {
+    let setup = Setup {
         energy,
         growth,
         k,
         width,
-        speed,
     };
     let mut times = Vec::with_capacity(depths.len() + 1);
     times.push(0.0);
     times.extend(depths.iter().copied().filter(|&d| d > 0.0));
-    let sol = Solver::new(MethodKind::Dopri, profile_options(speed))
-        .solve(&mut Plain(profile), 0.0, &[speed, a0], &times)
-        .map_err(|source| RimError::Solve { speed, source })?;
+    let sol = setup.integrate(speed, Watch::Nothing, &times)?;
     let mut out = Vec::with_capacity(depths.len());
     let mut next = 0;
     for &d in depths {
@@ -457,19 +446,21 @@ const AUTOMATON_DIVISIONS: (usize, usize) = (1000, 1000);
 
 /// `dN/dt` of the rim of speed `speed`: the phase automaton of the [module docs](self).
 fn cell_rate<E: StrainEnergy>(
-    energy: &E,
-    growth: &dyn GrowthLaw,
-    k: f64,
-    width: f64,
+    setup: &Setup<'_, E>,
     speed: f64,
     rim_end: f64,
 ) -> Result<f64, RimError> {
     // cells growing at under 10⁻⁴ of G(0) do not divide within the automaton's time
-    let a0 = tip_stretch(energy, k * speed / (2.0 * width))?;
-    let slow = growth_depth(energy, growth, k, width, speed, a0, 1e-4).unwrap_or(f64::INFINITY);
+    let slow = growth_depth(setup, speed, 1e-4).unwrap_or(f64::INFINITY);
     let depths: Vec<f64> = (1..=rim_end.min(slow).ceil() as usize)
         .map(|j| j as f64 - 0.5)
         .collect();
+    let Setup {
+        energy,
+        growth,
+        k,
+        width,
+    } = *setup;
     let rates: Vec<f64> = rim_profile(energy, growth, k, width, speed, &depths)?
         .iter()
         .map(|&(sigma, _)| growth.rate(sigma).0)
