@@ -14,6 +14,8 @@
 //! tolerance of the report's runs (atol = rtol/100; default 1e-6 and 1e-8) to measure the
 //! default runs' accuracy by their final length.
 //!
+//! The group also times `travelling_rim` (the long-time rim at K = 1e-2, no line integrated).
+//!
 //! Measured numbers and their commands: `BENCHMARKS.md`, section Proliferation.
 
 use celltissue::boundary::RightEnd;
@@ -21,6 +23,7 @@ use celltissue::cell::TanhGrowth;
 use celltissue::events::{AreaDoubling, Dividing};
 use celltissue::line::build::{discrete, LineParams};
 use celltissue::line::run::{integrate, SolveSettings, Trajectory};
+use celltissue::proliferation::travelling_rim;
 use celltissue::{ArrayProblem, NeoHookean};
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::sync::Arc;
@@ -151,6 +154,12 @@ fn benches(c: &mut Criterion) {
             })
         });
     }
+    // the long-time rim at K = 1e-2 (speed and dN/dt) without integrating the line: against
+    // the discrete line's slopes after t = 800, +0.36 % and +0.30 % (docs/model.md §8.4)
+    g.bench_function("travelling_rim_K1e-2", |b| {
+        let (energy, growth) = (NeoHookean::new(1.0).unwrap(), TanhGrowth::default());
+        b.iter(|| travelling_rim(&energy, &growth, 1e-2, 1.0).unwrap())
+    });
     g.bench_function("grow_N1e4_eta0", |b| b.iter(|| grow(10_000, 0.0, 10.0)));
     g.bench_function("grow_N1e4_eta1", |b| b.iter(|| grow(10_000, 1.0, 10.0)));
     g.finish();

@@ -20,7 +20,15 @@
 //!
 //! The model needs no closure for the cells' growth phases: the mean phase and the division
 //! rate enter only through `v = V − α·(mean g)·(divisions ahead per unit time)`, and that
-//! product is eliminated. It needs `m = 0` (with `m ≠ 0` the drag depends on each cell's phase).
+//! product is eliminated.
+//!
+//! It assumes what the derivation uses, and nothing checks it for you:
+//! * `m = 0`: with `m ≠ 0` the drag depends on each cell's phase;
+//! * the area rule with ratio 2 on cells of unit reference length, so every daughter again has
+//!   `L₀ = 1` (other rules spread `L₀` and the growth of length per cell depends on it);
+//! * elastic cells (`η = 0`; cells sinking into the compressed bulk have `α̇ ≠ 0`), no active
+//!   stress and no force on the free end.
+//!
 //! Its error against the discrete line is second order in the per-cell stress drop at the tip
 //! relative to the growth law's stress scale, [`RimSpeed::epsilon`].
 //!
@@ -286,7 +294,8 @@ fn stress_scale(growth: &dyn GrowthLaw) -> f64 {
 /// `width = γ₀g₂`, for cells of `energy` growing by `growth` (see the [module docs](self)).
 ///
 /// The growth law must grow unstressed cells (`G(0) > 0`) and slow down under compression
-/// (`G'(0) > 0`).
+/// (`G'(0) > 0`). The line must be what the [module docs](self) assume: `m = 0`, the area rule
+/// with ratio 2 on unit cells, `η = 0`, no active stress, no end force.
 ///
 /// ```
 /// use celltissue::proliferation::travelling_rim;
