@@ -100,8 +100,10 @@ pub struct RimSpeed {
     pub tip_stress: f64,
     /// Depth in cells where the growth rate falls to 1 % of its unstressed value.
     pub width: f64,
-    /// Cells added per unit time, `dN/dt` at long times: the cells' phases run exactly, cell by
-    /// cell, through the profile's growth rates (see the [module docs](self)).
+    /// Cells the rim adds per unit time: the cells' phases run exactly, cell by cell, through
+    /// the profile's growth rates (see the [module docs](self)). This is `dN/dt` at long times
+    /// as long as the compressed cells behind the rim no longer divide. Soft cells still do, in
+    /// proportion to their number: docs/model.md §8.4.
     pub cell_rate: f64,
     /// Per-cell stress drop at the tip over the growth law's stress scale `G(0)/G'(0)`:
     /// `ε = KαV/(w·G(0)/G'(0))`. The continuum holds for `ε ≪ 1`; its error is `O(ε²)`.
