@@ -6,7 +6,8 @@
 //! cells all descend from the last initial cell, so the rim occupies a vanishing sliver of `X`.
 //! (2) The continuum in the cell-number coordinate predicts the rim's speed, with an error
 //! second order in the per-cell stress drop `ε` at the tip, its stress profile, and (with the
-//! cells' phases run through that profile) the rate at which cells are added.
+//! cells' phases run through that profile) the rate at which cells are added and where they
+//! divide.
 
 use celltissue::boundary::RightEnd;
 use celltissue::cell::TanhGrowth;
@@ -18,13 +19,18 @@ use celltissue::proliferation::{rim_profile, travelling_rim};
 use celltissue::{ArrayProblem, NeoHookean};
 use std::sync::Arc;
 
-/// Discrete snapshots at t = 800 and 1000 for drag `k`, and the division times in between.
-fn discrete_late(k: f64) -> (Snapshot, Snapshot, Vec<f64>) {
+/// Discrete snapshots at t = 800 and 1000 for drag `k`, and the divisions in between: time
+/// and depth of the parent from the tip (1 = the tip cell).
+fn discrete_late(k: f64) -> (Snapshot, Snapshot, Vec<(f64, usize)>) {
     discrete_late_with(k, 1.0, TanhGrowth::default())
 }
 
 /// [`discrete_late`] for cells of modulus `mu` growing by `growth`.
-fn discrete_late_with(k: f64, mu: f64, growth: TanhGrowth) -> (Snapshot, Snapshot, Vec<f64>) {
+fn discrete_late_with(
+    k: f64,
+    mu: f64,
+    growth: TanhGrowth,
+) -> (Snapshot, Snapshot, Vec<(f64, usize)>) {
     let mut p = LineParams::unit_cells(100);
     p.right = RightEnd::Free(None);
     p.k = k.into();
@@ -39,20 +45,21 @@ fn discrete_late_with(k: f64, mu: f64, growth: TanhGrowth) -> (Snapshot, Snapsho
     };
     let traj = integrate(&mut prob, &settings, &[0.0, 800.0, 1000.0]);
     assert!(traj.error.is_none(), "{:?}", traj.error);
-    let times = prob.array.log.records.iter().map(|r| r.t);
-    let late = times.filter(|&t| t > 800.0).collect();
+    let late = prob.array.log.records.iter().filter(|r| r.t > 800.0);
+    // the parent was cell `parent` of `cells_after − 1`
+    let late = late.map(|r| (r.t, r.cells_after - r.parent)).collect();
     let mut s = traj.snapshots.into_iter().skip(1);
     (s.next().unwrap(), s.next().unwrap(), late)
 }
 
 #[test]
 fn rim_speed_is_second_order_in_the_tip_stress_drop() {
-    let (mut errors, mut cell_errors) = (Vec::new(), Vec::new());
+    let (mut errors, mut cell_errors, mut depth_checks) = (Vec::new(), Vec::new(), Vec::new());
     for k in [1e-1, 1e-2] {
         let (a, b, late) = discrete_late(k);
         let measured = (b.length() - a.length()) / (b.t - a.t);
         // dN/dt from the first to the last division after t = 800
-        let cells = (late.len() - 1) as f64 / (late[late.len() - 1] - late[0]);
+        let cells = (late.len() - 1) as f64 / (late[late.len() - 1].0 - late[0].0);
         let rim = travelling_rim(
             &NeoHookean::new(1.0).unwrap(),
             &TanhGrowth::default(),
@@ -67,6 +74,25 @@ fn rim_speed_is_second_order_in_the_tip_stress_drop() {
             rim.cell_rate
         );
         cell_errors.push(cells_err);
+
+        // where the rim divides: depth from the tip (1 = tip cell) of each division after
+        // t = 800, against the phase automaton's
+        let n_after = b.alpha.len();
+        let mut counts = std::collections::BTreeMap::new();
+        for &(_, depth) in &late {
+            *counts.entry(depth).or_insert(0usize) += 1;
+        }
+        let total: usize = counts.values().sum();
+        let measured_depths: Vec<(usize, f64)> = counts
+            .iter()
+            .map(|(&d, &c)| (d, c as f64 / total as f64))
+            .collect();
+        println!(
+            "K = {k:e}: division depths after t = 800 (of {n_after} cells): discrete \
+             {measured_depths:.3?}, rim {:.3?}",
+            rim.division_depths
+        );
+        depth_checks.push((measured_depths, rim.division_depths.clone()));
         println!(
             "K = {k:e}: discrete dl/dt = {measured:.5} over t in [800, 1000] \
              (N = {} -> {}), rim V = {:.5} ({err:+.3e}), eps = {:.3}, \
@@ -104,6 +130,18 @@ fn rim_speed_is_second_order_in_the_tip_stress_drop() {
                 b.sigma[n - 25]
             );
             assert!(worst < 1e-3, "{worst}");
+        }
+    }
+    // the rim divides where the automaton says: after t = 800 the discrete rim's divisions fall
+    // at depths 1 and 4 in equal shares (K = 1e-1) and at 1, 3, 7 and 12 (K = 1e-2), and so do
+    // the automaton's
+    for (measured, predicted) in &depth_checks {
+        assert_eq!(
+            measured.iter().map(|d| d.0).collect::<Vec<_>>(),
+            predicted.iter().map(|d| d.0).collect::<Vec<_>>()
+        );
+        for (m, p) in measured.iter().zip(predicted) {
+            assert!((m.1 - p.1).abs() < 0.02, "{measured:?} vs {predicted:?}");
         }
     }
     // (2) the rim's speed: 0.36 % off at K = 1e-2, and the error falls as ε² from K = 1e-1

@@ -13,6 +13,7 @@ use pyo3::types::PyDict;
 /// `mu` and width `width` (γ₀g₂) growing by ½(1 + tanh(σ/sigma0)).
 ///
 /// Returns a dict: ``speed`` (dl/dt at long times), ``cell_rate`` (dN/dt at long times),
+/// ``division_depths`` (``(depth from the tip, fraction of divisions)`` pairs),
 /// ``tip_stress``, ``width`` (cells from the tip to where growth falls to 1 %) and ``epsilon`` (the per-cell stress drop at the tip over
 /// sigma0; the prediction's error is O(epsilon²)). A parameter out of range raises
 /// `ScenarioError` naming it.
@@ -46,5 +47,6 @@ pub fn travelling_rim<'py>(
     d.set_item("width", r.width)?;
     d.set_item("epsilon", r.epsilon)?;
     d.set_item("cell_rate", r.cell_rate)?;
+    d.set_item("division_depths", r.division_depths)?;
     Ok(d)
 }

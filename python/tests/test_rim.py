@@ -27,6 +27,14 @@ def test_rim_speed_matches_a_strong_drag_run():
     cells = run.series["cells"]
     added = (cells[-1] - cells[-2]) / (t[-1] - t[-2])
     assert abs(rim["cell_rate"] / added - 1) < 0.04, (rim, added)
+    # where the rim divides after t = 800: depth from the tip of each division's parent
+    d = run.divisions
+    late = d["t"] > 800
+    depths, counts = np.unique((d["cells_after"] - d["parent"])[late], return_counts=True)
+    assert [int(x) for x in depths] == [depth for depth, _ in rim["division_depths"]]
+    np.testing.assert_allclose(
+        counts / counts.sum(), [share for _, share in rim["division_depths"]], atol=0.02
+    )
 
 
 @pytest.mark.parametrize(

@@ -38,7 +38,8 @@
 //! cell at depth `j` grows at `G(σ(j − ½))`, and the first to reach `g = 2` splits into two
 //! cells of `g = 1` at depths `j` and `j + 1`, pushing every deeper cell one place in. Between
 //! divisions the rates are constant, so this automaton jumps from one division to the next; it
-//! skips 1 000 divisions and times the next 1 000. It keeps the cells down to the rim's end,
+//! skips 1 000 divisions and times the next 1 000, recording the depth of each
+//! ([`RimSpeed::division_depths`]). It keeps the cells down to the rim's end,
 //! where `v` has fallen to its least (the depth where the bisection's last fast trial turned
 //! back up), or down to where `G` falls to 10⁻⁴ of `G(0)` if that comes first.
 
@@ -92,7 +93,7 @@ pub enum RimError {
 /// assert!(rim.speed < leading && rim.speed > 0.85 * leading);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct RimSpeed {
     /// Speed of the free end, `dl/dt` at long times.
     pub speed: f64,
@@ -105,6 +106,10 @@ pub struct RimSpeed {
     /// as long as the compressed cells behind the rim no longer divide. Soft cells still do, in
     /// proportion to their number: docs/model.md §8.4.
     pub cell_rate: f64,
+    /// Where the rim's cells divide: `(depth, fraction)` pairs, the depth counted in cells from
+    /// the tip (1 = the tip cell) and the fraction of the automaton's counted divisions there,
+    /// by increasing depth.
+    pub division_depths: Vec<(usize, f64)>,
     /// Per-cell stress drop at the tip over the growth law's stress scale `G(0)/G'(0)`:
     /// `ε = KαV/(w·G(0)/G'(0))`. The continuum holds for `ε ≪ 1`; its error is `O(ε²)`.
     pub epsilon: f64,
@@ -368,11 +373,13 @@ pub fn travelling_rim<E: StrainEnergy>(
     }
     let speed = hi;
     let a0 = setup.tip_stretch(speed)?;
+    let (cell_rate, division_depths) = phase_automaton(&setup, speed, rim_end)?;
     Ok(RimSpeed {
         speed,
         tip_stress: energy.line(a0).sigma,
         width: growth_depth(&setup, speed, 1e-2)?,
-        cell_rate: cell_rate(&setup, speed, rim_end)?,
+        cell_rate,
+        division_depths,
         epsilon: k * a0 * speed / (width * stress_scale(growth)),
     })
 }
@@ -455,12 +462,16 @@ pub fn rim_profile<E: StrainEnergy>(
 /// divisions it counts.
 const AUTOMATON_DIVISIONS: (usize, usize) = (1000, 1000);
 
-/// `dN/dt` of the rim of speed `speed`: the phase automaton of the [module docs](self).
-fn cell_rate<E: StrainEnergy>(
+/// What the phase automaton measures: `dN/dt`, and where the counted divisions happen (as
+/// [`RimSpeed::division_depths`]).
+type Divisions = (f64, Vec<(usize, f64)>);
+
+/// Runs the phase automaton of the [module docs](self) on the rim of speed `speed`.
+fn phase_automaton<E: StrainEnergy>(
     setup: &Setup<'_, E>,
     speed: f64,
     rim_end: f64,
-) -> Result<f64, RimError> {
+) -> Result<Divisions, RimError> {
     // cells growing at under 10⁻⁴ of G(0) do not divide within the automaton's time
     let slow = growth_depth(setup, speed, 1e-4).unwrap_or(f64::INFINITY);
     let depths: Vec<f64> = (1..=rim_end.min(slow).ceil() as usize)
@@ -479,6 +490,7 @@ fn cell_rate<E: StrainEnergy>(
     let (skip, count) = AUTOMATON_DIVISIONS;
     let mut g = vec![1.0; rates.len()];
     let (mut t, mut start) = (0.0, 0.0);
+    let mut at_depth = vec![0usize; rates.len()];
     for division in 0..skip + count {
         if division == skip {
             start = t;
@@ -498,8 +510,17 @@ fn cell_rate<E: StrainEnergy>(
         g.insert(cell + 1, 1.0);
         g.truncate(rates.len());
         t += wait;
+        if division >= skip {
+            at_depth[cell] += 1;
+        }
     }
-    Ok(count as f64 / (t - start))
+    let depths = at_depth
+        .iter()
+        .enumerate()
+        .filter(|(_, &n)| n > 0)
+        .map(|(i, &n)| (i + 1, n as f64 / count as f64))
+        .collect();
+    Ok((count as f64 / (t - start), depths))
 }
 
 #[cfg(test)]
