@@ -1,4 +1,4 @@
-//! `celltissue.travelling_rim`: the long-time speed of a proliferating rim
+//! `celltissue.travelling_rim`: the long-time rates of a proliferating rim
 //! ([`celltissue::proliferation::travelling_rim`]) for neo-Hookean cells with the tanh growth law.
 
 use crate::errors::scenario_error;
@@ -12,11 +12,18 @@ use pyo3::types::PyDict;
 /// The travelling rim of a free end under drag `K` (m = 0), for neo-Hookean cells of modulus
 /// `mu` and width `width` (γ₀g₂) growing by ½(1 + tanh(σ/sigma0)).
 ///
-/// Returns a dict: ``speed`` (dl/dt at long times), ``cell_rate`` (dN/dt at long times),
-/// ``division_depths`` (``(depth from the tip, fraction of divisions)`` pairs),
-/// ``tip_stress``, ``width`` (cells from the tip to where growth falls to 1 %) and ``epsilon`` (the per-cell stress drop at the tip over
-/// sigma0; the prediction's error is O(epsilon²)). A parameter out of range raises
-/// `ScenarioError` naming it.
+/// Returns a dict:
+/// * ``speed``: dl/dt at long times;
+/// * ``cell_rate``: the cells the rim adds per unit time (dN/dt at long times while the
+///   compressed cells behind it no longer divide);
+/// * ``division_depths``: ``(depth from the tip, fraction of divisions)`` pairs;
+/// * ``tip_stress``;
+/// * ``width``: cells from the tip to where growth falls to 1 %;
+/// * ``epsilon``: the per-cell stress drop at the tip over sigma0; the error of ``speed`` is
+///   O(epsilon²).
+///
+/// It assumes m = 0, the area rule with ratio 2 on unit cells, η = 0, no active stress and no
+/// end force (docs/model.md §8.4). A parameter out of range raises `ScenarioError` naming it.
 #[pyfunction]
 #[pyo3(signature = (K, sigma0 = 0.1, mu = 1.0, width = 1.0))]
 #[allow(non_snake_case)]
