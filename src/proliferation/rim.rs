@@ -252,6 +252,25 @@ impl<'a, E: StrainEnergy> Setup<'a, E> {
             .map_err(|source| RimError::Solve { speed, source })
     }
 
+    /// `(σ, v)` at `depths` (checked by the caller: ≥ 0, strictly ascending) on the profile of
+    /// speed `speed`.
+    fn profile(&self, speed: f64, depths: &[f64]) -> Result<Vec<(f64, f64)>, RimError> {
+        let mut times = Vec::with_capacity(depths.len() + 1);
+        times.push(0.0);
+        times.extend(depths.iter().copied().filter(|&d| d > 0.0));
+        let sol = self.integrate(speed, Watch::Nothing, &times)?;
+        let mut out = Vec::with_capacity(depths.len());
+        let mut next = 0;
+        for &d in depths {
+            if d > 0.0 {
+                next += 1;
+            }
+            let y = &sol.y[next];
+            out.push((self.energy.line(y[1]).sigma, y[0]));
+        }
+        Ok(out)
+    }
+
     /// How deep a search integrates, in units of `w/(KV)` cells: the stress decays over
     /// `scale` of them, and a trial near the separating speed departs from it at a rate of
     /// order `1/(dσ_el/dα at α = 1)` of them, slowly for stiff cells.
@@ -442,20 +461,7 @@ pub fn rim_profile<E: StrainEnergy>(
         k,
         width,
     };
-    let mut times = Vec::with_capacity(depths.len() + 1);
-    times.push(0.0);
-    times.extend(depths.iter().copied().filter(|&d| d > 0.0));
-    let sol = setup.integrate(speed, Watch::Nothing, &times)?;
-    let mut out = Vec::with_capacity(depths.len());
-    let mut next = 0;
-    for &d in depths {
-        if d > 0.0 {
-            next += 1;
-        }
-        let y = &sol.y[next];
-        out.push((energy.line(y[1]).sigma, y[0]));
-    }
-    Ok(out)
+    setup.profile(speed, depths)
 }
 
 /// Divisions at the start of the phase automaton that are not counted (its transient), and
@@ -477,15 +483,10 @@ fn phase_automaton<E: StrainEnergy>(
     let depths: Vec<f64> = (1..=rim_end.min(slow).ceil() as usize)
         .map(|j| j as f64 - 0.5)
         .collect();
-    let Setup {
-        energy,
-        growth,
-        k,
-        width,
-    } = *setup;
-    let rates: Vec<f64> = rim_profile(energy, growth, k, width, speed, &depths)?
+    let rates: Vec<f64> = setup
+        .profile(speed, &depths)?
         .iter()
-        .map(|&(sigma, _)| growth.rate(sigma).0)
+        .map(|&(sigma, _)| setup.growth.rate(sigma).0)
         .collect();
     let (skip, count) = AUTOMATON_DIVISIONS;
     let mut g = vec![1.0; rates.len()];
