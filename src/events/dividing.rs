@@ -203,6 +203,49 @@ impl<E: StrainEnergy> Dividing<E> {
         })
     }
 
+    /// Merges each cell `j` of `firsts` with cell `j + 1` ([`Line::merge_cells`]): birth time
+    /// the earlier, material width the sum, the first's threshold. The integrator's history is
+    /// not carried across this event: the next restart is from a consistent state.
+    ///
+    /// ```
+    /// use celltissue::events::{AreaDoubling, Dividing};
+    /// use celltissue::line::{discrete, LineParams};
+    /// let mut p = LineParams::unit_cells(4);
+    /// p.growth = Some(std::sync::Arc::new(celltissue::cell::TanhGrowth::default()));
+    /// let line = discrete(celltissue::NeoHookean::new(1.0)?, &p)?;
+    /// let mut d = Dividing::new(line, Box::new(AreaDoubling::default()), 0)?;
+    /// let mut y = celltissue::line::run::LineModel::initial_state(&d);
+    /// d.merge(&[1, 3], &mut y)?;
+    /// assert_eq!((d.line.n_cells(), d.dx_ref.clone()), (2, vec![2.0, 2.0]));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn merge(&mut self, firsts: &[usize], y: &mut Vec<f64>) -> Result<(), EventError> {
+        self.line.merge_cells(firsts, y)?;
+        let n_old = self.birth.len();
+        let (mut birth, mut threshold, mut dx_ref) = (Vec::new(), Vec::new(), Vec::new());
+        let mut f = firsts.iter().peekable();
+        let mut i = 0;
+        while i < n_old {
+            if f.next_if(|&&j| j == i + 1).is_some() {
+                birth.push(self.birth[i].min(self.birth[i + 1]));
+                dx_ref.push(self.dx_ref[i] + self.dx_ref[i + 1]);
+                i += 1;
+            } else {
+                birth.push(self.birth[i]);
+                dx_ref.push(self.dx_ref[i]);
+            }
+            threshold.push(self.threshold[i]);
+            i += 1;
+        }
+        self.birth = birth;
+        self.threshold = threshold;
+        self.dx_ref = dx_ref;
+        self.last = None;
+        self.new_boundaries.clear();
+        self.yp_event.clear();
+        Ok(())
+    }
+
     /// Whether the cap on the number of cells has been reached.
     fn capped(&self) -> bool {
         self.max_cells.is_some_and(|m| self.line.n_cells() >= m)

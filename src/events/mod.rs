@@ -40,6 +40,7 @@
 pub mod dividing;
 pub mod division;
 pub mod log;
+pub mod merge;
 #[cfg(feature = "plots")]
 pub(crate) mod plots;
 pub mod reindex;

@@ -1,9 +1,11 @@
 //! A continuum model of the **proliferating** line (beyond the thesis: its §3.4 future work;
 //! docs/model.md §3.1 notes that division "is not represented" by the growth PDE).
 //!
-//! Two models live here: [`DensityContinuum`], a density of cells in the material coordinate
-//! (derived below), and [`travelling_rim`], the long-time rim of a free end under strong drag in
-//! the cell-number coordinate, where the material coordinate fails (module [`rim`]).
+//! Three models live here: [`DensityContinuum`], a density of cells in the material coordinate
+//! (derived below); [`CellGrid`], a grid in the cell-number coordinate whose segments hold whole
+//! cells, which holds where the density fails (see "A grid in the cell-number coordinate"
+//! below); and [`travelling_rim`], the long-time rim of a free end under strong drag as a steady
+//! profile in the cell-number coordinate (module [`rim`]).
 //!
 //! # Derivation
 //!
@@ -88,9 +90,55 @@
 //!      sharp front; this model would need a size-structured density `n(X, g, t)` (a
 //!      McKendrick–von Foerster equation in `g` coupled to the mechanics) — not implemented;
 //!      the runner rejects non-area rules for the continuum.
+//!
+//! # A grid in the cell-number coordinate
+//!
+//! The density continuum fixes the material width of its segments, so the number of cells per
+//! segment doubles with each division there. [`CellGrid`] fixes the number of cells per segment
+//! instead: a segment of `c` cells that reaches `g = 2` splits into two segments of `c` cells
+//! (the discrete model's split, [`crate::events::Dividing`]), so the grid is uniform in the
+//! cell number `u` and follows the rim wherever it goes. A segment stands for `c` boundaries;
+//! lumping their drags on its faces gives `K c` at an interior face and `K (c + 1)/2` at a free
+//! end (the tip boundary itself plus half of the others: the tip's "half a cell" of §8.4).
+//! `c = 1` is the discrete model, step for step.
+//!
+//! Two errors remain, and they differ in kind:
+//!
+//! * A segment's `c` cells divide at one instant. Over `t ≤ 18` that costs little: with
+//!   `c = 2`, `l(t)` is within 3.0e-5 / 1.3e-4 / 8.0e-4 / 3.4e-3 and `N(t)` within 0.4 / 1.1 /
+//!   1.5 / 1.9 % at K = 1e-5 / 1e-4 / 1e-3 / 1e-2, for half the steps
+//!   (`tests/proliferation_cell_grid.rs`).
+//! * Under strong drag the rim's division pattern is a property of single cells (at
+//!   K = 1e-2 the tip divides at depths 1, 3, 7 and 12 in a fixed cycle, docs/model.md §8.4),
+//!   and the phases the cells keep when they stop growing set `N`. With `c = 2` to t = 1000,
+//!   `l` stays within 1.1 % but `N` is off by 21 % (12 % with merging). So the rim needs
+//!   `c = 1` where cells grow.
+//!
+//! What makes `c = 1` affordable is that few cells grow. With [`Coarsening`], segments whose
+//! growth rate has fallen below a fraction θ of `G(0)` merge in pairs of equal cell count
+//! (up to `max_cells`): length and `Σ L₀g` are kept, and the merged growth stretch is the
+//! `L₀`-weighted mean, so the growth of length is too. At K = 1e-2, t ≤ 1000 (1 637 cells):
+//!
+//! | θ | segments at t = 1000 | error in `l(t)` | error in `N(t)` | divisions with `x/l > 0.9` after t = 100 |
+//! |---|---|---|---|---|
+//! | discrete | 1 637 | — | — | 99.86 % |
+//! | 1e-2 | 88 | 5.5e-5 | 1.2 % | 100 % |
+//! | 1e-3 | 236 | 9.4e-7 | 0.14 % | 99.93 % |
+//!
+//! The error falls with θ; θ = 0 is the discrete model. The steps are the discrete model's
+//! (divisions set them), but each costs in proportion to the segments.
+//!
+//! *Where it ends.* Merging pays only where cells stop growing: at small K every cell grows,
+//! nothing merges, and the grid with `c = 1` is the discrete line (use `c = 2`, or the density
+//! continuum early on). Merged segments divide whole, when their mean `g` reaches 2: that
+//! misplaces the rare divisions of compressed cells (they matter for soft cells, μ = 0.5,
+//! §8.4). It is not yet a scenario option: it is built from the library
+//! (`CellGrid::new(continuum(..), n0, rule)`).
 
+mod cell_grid;
 mod density;
 pub mod rim;
 
+pub use cell_grid::{CellGrid, Coarsening};
 pub use density::DensityContinuum;
 pub use rim::{rim_profile, travelling_rim, RimError, RimSpeed};

@@ -1,0 +1,138 @@
+//! Merging pairs of neighbouring cells of a [`Line`] into one segment ([`Line::merge_cells`]):
+//! the inverse of a split, used by the cell-number grid
+//! ([`crate::proliferation::CellGrid`]) to coarsen cells that have stopped growing.
+//!
+//! * the merged segment: reference length `L₀ = L₀,a + L₀,b`, growth stretch the
+//!   `L₀`-weighted mean `g = (L₀,a g_a + L₀,b g_b)/L₀` (so `Σ L₀g` and the growth of length,
+//!   `Σ L₀ G`, are unchanged), drag `k_cell` the sum, the other fields `L₀`-weighted means;
+//! * the boundary between them is removed, and half its drag goes to each neighbouring face
+//!   (the total drag is unchanged);
+//! * every other boundary keeps its position, so `l` is unchanged; the merged segment's
+//!   elastic stretch is the length-weighted mean of the two, exact when they were equal.
+//!
+//! All pairs of one event in one O(N + k) pass, like [`Line::split_cells`].
+
+use super::EventError;
+use crate::energy::StrainEnergy;
+use crate::line::array::NONE;
+use crate::line::Line;
+
+impl<E: StrainEnergy> Line<E> {
+    /// Merges cell `j` with cell `j + 1` for each `j` of `firsts` (1-based, increasing, pairs
+    /// not overlapping) in the state `y`: the line loses one cell per pair, `y` one boundary
+    /// and one `g`.
+    ///
+    /// ```
+    /// use celltissue::line::build::{discrete, LineParams};
+    /// use celltissue::boundary::RightEnd;
+    /// use celltissue::cell::TanhGrowth;
+    /// use celltissue::NeoHookean;
+    /// use std::sync::Arc;
+    /// let mut p = LineParams::unit_cells(4);
+    /// p.right = RightEnd::Free(None);
+    /// p.growth = Some(Arc::new(TanhGrowth::default()));
+    /// let mut line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+    /// let mut y = line.initial_state(); // (g1, x1, g2, x2, g3, x3, g4, x4)
+    /// y[4] = 1.5; // cell 3 has grown
+    /// line.merge_cells(&[2], &mut y).unwrap();
+    /// assert_eq!(line.n_cells(), 3);
+    /// assert_eq!(line.cells().l0, vec![1.0, 2.0, 1.0]);
+    /// // boundary 2 is gone; the merged g is the mean (1 + 1.5)/2
+    /// assert_eq!(y, vec![1.0, 1.0, 1.25, 3.0, 1.0, 4.0]);
+    /// assert_eq!(line.k_face().iter().sum::<f64>(), 5.0); // the drag of 5 faces kept
+    /// ```
+    pub fn merge_cells(&mut self, firsts: &[usize], y: &mut Vec<f64>) -> Result<(), EventError> {
+        let n = self.n_cells();
+        if self.maxwell.is_some() || self.right.is_periodic() {
+            return Err(EventError::Unsupported(
+                "merging cells with a Maxwell branch or on a ring".into(),
+            ));
+        }
+        if y.len() != self.layout.dim {
+            return Err(EventError::StateLength {
+                got: y.len(),
+                expected: self.layout.dim,
+            });
+        }
+        let mut next = 1;
+        for &j in firsts {
+            if j < next || j + 1 > n {
+                return Err(EventError::Unsupported(format!(
+                    "cells to merge must be increasing, not overlapping and not the last \
+                     ({j} of {n})"
+                )));
+            }
+            if self.layout.gi[j - 1] == NONE {
+                return Err(EventError::Unsupported(
+                    "merging cells that do not grow (`g` is not in the state)".into(),
+                ));
+            }
+            next = j + 2;
+        }
+        if firsts.is_empty() {
+            return Ok(());
+        }
+        let k = firsts.len();
+        let c = &mut self.cells;
+        let (mut out, mut l0, mut kc) = (
+            Vec::with_capacity(y.len() - 2 * k),
+            Vec::with_capacity(n - k),
+            Vec::with_capacity(n - k),
+        );
+        let mut means: [Vec<f64>; 6] = Default::default();
+        let mut kf = Vec::with_capacity(self.k_face.len() - k);
+        kf.push(self.k_face[0]);
+        if self.layout.xi[0] != NONE {
+            out.push(y[self.layout.xi[0]]);
+        }
+        let mut f = firsts.iter().peekable();
+        let mut i = 0;
+        while i < n {
+            let merge = f.next_if(|&&j| j == i + 1).is_some();
+            let (a, b) = (i, if merge { i + 1 } else { i });
+            let (la, lb) = (c.l0[a], if merge { c.l0[b] } else { 0.0 });
+            let w = la + lb;
+            let mean = |v: &[f64]| (la * v[a] + lb * v[b]) / w;
+            let ga = y[self.layout.gi[a]];
+            let gb = y[self.layout.gi[b]];
+            out.push((la * ga + lb * gb) / w);
+            let xk = self.layout.xi[b + 1];
+            if xk != NONE {
+                out.push(y[xk]);
+            }
+            l0.push(w);
+            kc.push(c.k_cell[a] + if merge { c.k_cell[b] } else { 0.0 });
+            for (m, v) in
+                means
+                    .iter_mut()
+                    .zip([&c.mu, &c.eta, &c.active_amp, &c.phase, &c.x_ref, &c.p_ext])
+            {
+                m.push(mean(v));
+            }
+            if merge {
+                // the removed face a + 1 gives half its drag to each neighbour
+                let half = 0.5 * self.k_face[a + 1];
+                *kf.last_mut().expect("face 0 is in") += half;
+                kf.push(self.k_face[b + 1] + half);
+            } else {
+                kf.push(self.k_face[a + 1]);
+            }
+            i = b + 1;
+        }
+        let [mu, eta, active_amp, phase, x_ref, p_ext] = means;
+        c.mu = mu;
+        c.eta = eta;
+        c.active_amp = active_amp;
+        c.phase = phase;
+        c.x_ref = x_ref;
+        c.p_ext = p_ext;
+        c.l0 = l0;
+        c.k_cell = kc;
+        self.k_face = kf;
+        self.l0_total = self.cells.l0.iter().sum();
+        *y = out;
+        self.rebuild_layout();
+        debug_assert_eq!(y.len(), self.layout.dim);
+        Ok(())
+    }
+}
