@@ -159,3 +159,56 @@ fn merged_bulk_behind_the_rim_holds_l_and_n_to_t_1000() {
         assert_eq!(g.segments, segments);
     }
 }
+
+/// The scenario path: `division.cell_grid` runs the grid for `models = ["continuum"]`, its
+/// `N(t)` series counts cells (not segments) and matches the discrete run's on a short span;
+/// bad values are rejected before a run, naming the innermost key.
+#[test]
+fn the_cell_grid_runs_from_a_scenario_and_bad_settings_name_their_key() {
+    use celltissue::scenario::load_str;
+    use std::path::Path;
+    let text = |division: &str, nodes: usize| {
+        format!(
+            "name = \"t\"\n[output]\nseries = [0, 3, 6]\nprofiles = [6]\n[model]\nkind = \"line\"\n\
+             models = [\"discrete\", \"continuum\"]\ncells = 20\nnodes = {nodes}\n\
+             right_end = \"free\"\nK = 1e-2\ngrowth = {{ sigma0 = 0.1 }}\ndivision = {division}\n"
+        )
+    };
+    let good = text(
+        "{ rule = \"area\", cell_grid = { merge_below = 1e-3, merge_max = 4 } }",
+        20,
+    );
+    let sc = load_str(&good, Path::new("t.toml"), &[]).unwrap();
+    let d = celltissue::scenario::execute::run_spec(&sc.runs[0]);
+    let c = celltissue::scenario::execute::run_spec(&sc.runs[1]);
+    assert!(
+        d.error.is_none() && c.error.is_none(),
+        "{:?} {:?}",
+        d.error,
+        c.error
+    );
+    let cells = |r: &celltissue::observe::RunRecord| r.series.extra["cells"].clone();
+    assert!(cells(&d)[2] > 20.0);
+    assert_eq!(cells(&c), cells(&d));
+    for (division, nodes, key) in [
+        (
+            "{ rule = \"area\", cell_grid = { merge_below = 1.5 } }",
+            20,
+            "model.division.cell_grid.merge_below",
+        ),
+        (
+            "{ rule = \"area\", cell_grid = { merge_max = 3 } }",
+            20,
+            "model.division.cell_grid.merge_max",
+        ),
+        (
+            "{ rule = \"area\", cell_grid = { merge_after = 3 } }",
+            20,
+            "model.division.cell_grid.merge_after",
+        ),
+        ("{ rule = \"area\", cell_grid = {} }", 8, "model.nodes"),
+    ] {
+        let e = load_str(&text(division, nodes), Path::new("t.toml"), &[]).unwrap_err();
+        assert_eq!(e.key_name(), Some(key), "{e}");
+    }
+}

@@ -347,6 +347,130 @@ pub struct DivisionConfig {
     /// at the cap instead of dividing forever).
     #[serde(default = "default_max_cells")]
     pub max_cells: Option<usize>,
+    /// Run the proliferating continuum (`models = ["continuum"]`) on the cell-number grid
+    /// ([`crate::proliferation::CellGrid`]) instead of the density continuum.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cell_grid: Option<CellGridConfig>,
+}
+
+/// The `division.cell_grid` table: the proliferating continuum on segments of `cells / nodes`
+/// whole cells that split as cells do; with `merge_below`, segments growing at less than that
+/// fraction of the unstressed rate merge in pairs, up to `merge_max` cells, once `merge_batch`
+/// pairs qualify ([`crate::proliferation::Coarsening`]).
+///
+/// ```
+/// use celltissue::events::DivisionConfig;
+/// let v: toml::Value = toml::from_str("rule = \"area\"\ncell_grid = { merge_below = 1e-3 }")?;
+/// let g = DivisionConfig::from_value(v)?.cell_grid.unwrap();
+/// assert_eq!((g.merge_below, g.merge_max, g.merge_batch), (Some(1e-3), 64, 8));
+/// let v: toml::Value = toml::from_str("rule = \"area\"\ncell_grid = { merge_max = 3 }")?;
+/// assert_eq!(DivisionConfig::from_value(v).unwrap_err().key(), "cell_grid.merge_max");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CellGridConfig {
+    /// Merge segments growing below this fraction of `G(0)` (none: never merge).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub merge_below: Option<f64>,
+    /// Largest merged segment, in cells (a power of two, ≥ 2; default 64).
+    pub merge_max: usize,
+    /// Pairs that must qualify before they merge (≥ 1; default 8).
+    pub merge_batch: usize,
+}
+
+impl Default for CellGridConfig {
+    fn default() -> Self {
+        Self {
+            merge_below: None,
+            merge_max: 64,
+            merge_batch: 8,
+        }
+    }
+}
+
+impl CellGridConfig {
+    /// Reads the `cell_grid` table, naming the innermost key on error.
+    fn from_json(v: serde_json::Value) -> Result<Self, ParamError> {
+        let serde_json::Value::Object(t) = v else {
+            return Err(ParamError::new(
+                "cell_grid",
+                "must be a table such as { merge_below = 1e-3 }",
+            ));
+        };
+        let mut cfg = Self::default();
+        for (key, value) in t {
+            let name = format!("cell_grid.{key}");
+            match key.as_str() {
+                "merge_below" => {
+                    cfg.merge_below = Some(
+                        value
+                            .as_f64()
+                            .ok_or_else(|| ParamError::range(&name, &value, "in (0, 1)"))?,
+                    );
+                }
+                "merge_max" | "merge_batch" => {
+                    let n = value
+                        .as_u64()
+                        .and_then(|n| usize::try_from(n).ok())
+                        .ok_or_else(|| ParamError::range(&name, &value, "a positive integer"))?;
+                    if key == "merge_max" {
+                        cfg.merge_max = n;
+                    } else {
+                        cfg.merge_batch = n;
+                    }
+                }
+                _ => {
+                    return Err(ParamError::new(
+                        &name,
+                        "unknown key (cell_grid takes merge_below, merge_max, merge_batch)",
+                    ))
+                }
+            }
+        }
+        cfg.check()?;
+        Ok(cfg)
+    }
+
+    /// Checks the ranges (also for a table deserialized without [`DivisionConfig::from_value`]).
+    fn check(&self) -> Result<(), ParamError> {
+        if let Some(x) = self.merge_below.filter(|x| !(*x > 0.0 && *x < 1.0)) {
+            return Err(ParamError::range("cell_grid.merge_below", x, "in (0, 1)"));
+        }
+        let max = 1usize << 20;
+        if !(self.merge_max >= 2 && self.merge_max <= max && self.merge_max.is_power_of_two()) {
+            return Err(ParamError::range(
+                "cell_grid.merge_max",
+                self.merge_max,
+                "a power of two from 2 to 2^20",
+            ));
+        }
+        if !(1..=max).contains(&self.merge_batch) {
+            return Err(ParamError::range(
+                "cell_grid.merge_batch",
+                self.merge_batch,
+                "an integer from 1 to 2^20",
+            ));
+        }
+        Ok(())
+    }
+
+    /// The merging rule, if any.
+    ///
+    /// ```
+    /// use celltissue::events::CellGridConfig;
+    /// assert!(CellGridConfig::default().coarsening().is_none());
+    /// let c = CellGridConfig { merge_below: Some(1e-3), ..Default::default() };
+    /// assert_eq!(c.coarsening().unwrap().max_cells, 64);
+    /// ```
+    pub fn coarsening(&self) -> Option<crate::proliferation::Coarsening> {
+        self.merge_below
+            .map(|growth_below| crate::proliferation::Coarsening {
+                growth_below,
+                max_cells: self.merge_max,
+                batch: self.merge_batch,
+            })
+    }
 }
 
 /// Default cap on the number of cells of a dividing line: 10 000 (Fig 3.3 reaches 971 at
@@ -363,6 +487,7 @@ impl Default for DivisionConfig {
             rule: RuleSpec::build("area", &Params::new())
                 .expect("the built-in area rule builds from its defaults"),
             max_cells: default_max_cells(),
+            cell_grid: None,
         }
     }
 }
@@ -435,14 +560,23 @@ impl DivisionConfig {
                     })?,
             ),
         };
+        let cell_grid = table
+            .remove("cell_grid")
+            .map(CellGridConfig::from_json)
+            .transpose()
+            .map_err(DivisionError)?;
         let rule = RuleSpec::from_table(table).map_err(DivisionError)?;
-        let cfg = Self { rule, max_cells };
+        let cfg = Self {
+            rule,
+            max_cells,
+            cell_grid,
+        };
         cfg.validate()?;
         Ok(cfg)
     }
 
-    /// Checks what parsing does not: `max_cells ≥ 1` (the rule's parameters are checked when
-    /// it is built).
+    /// Checks what parsing does not: `max_cells ≥ 1` and the `cell_grid` ranges (the rule's
+    /// parameters are checked when it is built).
     ///
     /// ```
     /// use celltissue::events::DivisionConfig;
@@ -451,6 +585,9 @@ impl DivisionConfig {
     /// assert!(DivisionConfig::default().validate().is_ok());
     /// ```
     pub fn validate(&self) -> Result<(), DivisionError> {
+        if let Some(g) = &self.cell_grid {
+            g.check().map_err(DivisionError)?;
+        }
         match self.max_cells {
             Some(0) => Err(DivisionError(ParamError::range("max_cells", 0, ">= 1"))),
             _ => Ok(()),

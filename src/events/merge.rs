@@ -30,6 +30,7 @@ impl<E: StrainEnergy> Line<E> {
     /// use std::sync::Arc;
     /// let mut p = LineParams::unit_cells(4);
     /// p.right = RightEnd::Free(None);
+    /// p.k = 1.0.into();
     /// p.growth = Some(Arc::new(TanhGrowth::default()));
     /// let mut line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
     /// let mut y = line.initial_state(); // (g1, x1, g2, x2, g3, x3, g4, x4)

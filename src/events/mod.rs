@@ -49,8 +49,8 @@ pub mod run;
 
 pub use dividing::{Dividing, InvariantReport};
 pub use division::{
-    AgeRule, AreaDoubling, CellView, DivisionConfig, DivisionError, DivisionRule, RandomThreshold,
-    SplitMix64, SurfaceToVolume, DEFAULT_MAX_CELLS,
+    AgeRule, AreaDoubling, CellGridConfig, CellView, DivisionConfig, DivisionError, DivisionRule,
+    RandomThreshold, SplitMix64, SurfaceToVolume, DEFAULT_MAX_CELLS,
 };
 pub use log::DivisionLog;
 pub use reindex::Split;

@@ -10,7 +10,7 @@ use crate::line::config::RightEndKind;
 use crate::line::run::run_model;
 use crate::line::{LineConfig, OutputTimes, SolveSettings};
 use crate::observe::{ModelKind, RunRecord, RunStats, Series};
-use crate::proliferation::DensityContinuum;
+use crate::proliferation::{CellGrid, DensityContinuum};
 use serde::Serialize;
 
 /// An invalid proliferating line; [`ProliferationError::key`] is the innermost scenario key
@@ -253,6 +253,35 @@ fn with_law<E: StrainEnergy + Clone>(
                 return;
             };
             let n = nodes.unwrap_or(n0);
+            if let Some(grid) = &cfg.division.cell_grid {
+                let built = crate::line::build::continuum(energy, &params, n)
+                    .map_err(|e| e.to_string())
+                    .and_then(|line| {
+                        CellGrid::new(line, n0, cfg.division.build()).map_err(|e| e.to_string())
+                    });
+                match built {
+                    Ok(mut g) => {
+                        g.coarsen = grid.coarsening();
+                        g.max_cells = cfg.division.max_cells;
+                        let prob = run_model(g, solver, times, rec);
+                        let log = &prob.array.log().records;
+                        // N(t) counts cells, not segments
+                        if let Some(cells) = rec.series.extra.get_mut("cells") {
+                            for (c, &t) in cells.iter_mut().zip(&rec.series.t) {
+                                *c = log
+                                    .iter()
+                                    .take_while(|r| r.t <= t)
+                                    .last()
+                                    .map_or(n0, |r| r.cells_after)
+                                    as f64;
+                            }
+                        }
+                        rec.divisions = log.clone();
+                    }
+                    Err(e) => rec.error = Some(e),
+                }
+                return;
+            }
             let built = crate::line::build::continuum(energy, &params, n)
                 .map_err(|e| e.to_string())
                 .and_then(|line| DensityContinuum::new(line, n0, ratio).map_err(|e| e.to_string()));

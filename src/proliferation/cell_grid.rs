@@ -60,6 +60,9 @@ pub struct CellGrid<E: StrainEnergy> {
     pub multiplicity: Vec<usize>,
     /// Merging of segments that no longer grow (default none).
     pub coarsen: Option<Coarsening>,
+    /// No division once the line has this many cells (default none; one event may pass it
+    /// by the cells of the segments it splits).
+    pub max_cells: Option<usize>,
 }
 
 /// When [`CellGrid`] merges two neighbouring segments: both grow at less than
@@ -121,6 +124,7 @@ impl<E: StrainEnergy> CellGrid<E> {
             cells_per_segment: n0 / n,
             multiplicity: vec![n0 / n; n],
             coarsen: None,
+            max_cells: None,
         };
         grid.lump_drags();
         Ok(grid)
@@ -249,6 +253,10 @@ impl<E: StrainEnergy> CellArray for CellGrid<E> {
                 self.multiplicity = m;
             }
             self.lump_drags();
+            // the cap counts cells: once reached, hold `Dividing` at its segment count
+            if self.max_cells.is_some_and(|m| self.cells() >= m) {
+                self.dividing.max_cells = Some(self.segments());
+            }
         }
         Ok(action)
     }

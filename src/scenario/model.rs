@@ -227,6 +227,16 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
             line.validate().map_err(line_error)?;
             if models.contains(&ModelKind::Continuum) {
                 check_continuum_grid(&line, nodes)?;
+                let (cells, n) = (line.n_cells(), nodes.unwrap_or(line.n_cells()));
+                if division.cell_grid.is_some() && (n == 0 || !cells.is_multiple_of(n)) {
+                    return Err(ScenarioError::key(
+                        "model.nodes",
+                        format!(
+                            "{n}: the cell-number grid (division.cell_grid) needs a whole \
+                             number of cells per segment, so nodes must divide cells = {cells}"
+                        ),
+                    ));
+                }
                 if division.area_ratio().is_none() {
                     return Err(ScenarioError::key(
                         "model.division.rule",
