@@ -45,6 +45,11 @@ pub struct SolveSettings {
     /// [`crate::line::array::PAR_MIN_CELLS`] cells split their residual sweep and the
     /// integrator's vector passes and tridiagonal solve in two halves.
     pub threads: usize,
+    /// BDF only: steps after which the Newton matrices are refreshed even though Newton
+    /// converges (≥ 1; default 50, [`integrators::BdfOptions::max_jacobian_age`]). Left out
+    /// of the echo at its default.
+    #[serde(skip_serializing_if = "is_default_age")]
+    pub jacobian_age: usize,
 }
 
 impl Default for SolveSettings {
@@ -58,6 +63,7 @@ impl Default for SolveSettings {
             norm: ErrorNorm::Max,
             linear_solver: LinearSolverChoice::Direct,
             threads: 1,
+            jacobian_age: integrators::BdfOptions::default().max_jacobian_age,
         }
     }
 }
@@ -80,11 +86,19 @@ impl SolveSettings {
             norm: self.norm,
             linear_solver: self.linear_solver,
             parallel: Parallelism::from_threads(self.threads)?,
+            bdf: integrators::BdfOptions {
+                max_jacobian_age: self.jacobian_age,
+                ..Default::default()
+            },
             ..Options::default()
         };
         opts.validate()?;
         Ok(opts)
     }
+}
+
+fn is_default_age(a: &usize) -> bool {
+    *a == integrators::BdfOptions::default().max_jacobian_age
 }
 
 fn linear_solver_fields<S: serde::Serializer>(

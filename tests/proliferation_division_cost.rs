@@ -187,3 +187,32 @@ fn tiny_drag_divisions_cost_a_few_steps() {
 /// takes 11 219 steps (37.4 per division): there the relaxation is above the tolerance and is
 /// resolved. Lengths agree to 6.2e-9 relative.
 const PINNED_TINY: (usize, (usize, usize, usize)) = (300, (812, 13, 22));
+
+/// `solver.jacobian_age = 100` (the Newton matrices refreshed every 100 steps unless Newton
+/// slows, instead of every 50) on both Fig 3.3 cases: under one Jacobian per division, same
+/// divisions and length to the tolerances as the default age, and no more than 1 % more steps.
+/// The bundled `fig3_3.toml` and `fig3_3d.toml` set it.
+#[test]
+fn a_longer_jacobian_age_costs_under_one_jacobian_per_division() {
+    let aged = SolveSettings {
+        jacobian_age: 100,
+        ..Default::default()
+    };
+    // (K, t_end, pinned: divisions, steps, rejected, Jacobians; default age's steps)
+    for (k, t_end, pinned, default_steps) in [
+        (1e-5, 18.0, (871, 31553, 1880, 323), 31499),
+        (1e-2, 300.0, (460, 26261, 1528, 318), 26177),
+    ] {
+        let base = run(k, t_end, true);
+        let new = run_at(k, t_end, true, &aged);
+        assert_eq!(base.steps, default_steps);
+        assert_eq!(
+            (new.divisions, new.steps, new.rejected, new.jacobians),
+            pinned,
+            "K = {k}: counters moved"
+        );
+        assert!(new.jacobians < new.divisions, "K = {k}");
+        assert!(new.steps * 100 <= base.steps * 101, "K = {k}");
+        same_solution(&new, &base, 5e-3, 1e-6);
+    }
+}

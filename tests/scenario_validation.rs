@@ -396,3 +396,16 @@ fn sweep_profiles_need_a_sweep_and_one_of_the_profile_times() {
     let ok = load(&swept.replace("[1, 0.5]", "[1]"), &[]).unwrap();
     assert_eq!(ok.plots.sweep_profiles, [1.0]);
 }
+
+#[test]
+fn the_jacobian_age_is_bdf_only_and_bounded() {
+    let ok = load(&line(""), &["solver.jacobian_age=100"]).unwrap();
+    assert_eq!(ok.runs[0].solver.jacobian_age, 100);
+    rejects(&line(""), &["solver.jacobian_age=0"], "solver.jacobian_age");
+    let m = rejects(
+        &line(""),
+        &["solver.method=\"radau\"", "solver.jacobian_age=10"],
+        "solver.jacobian_age",
+    );
+    assert!(m.contains("bdf"), "{m}");
+}

@@ -200,6 +200,9 @@ fn out_of_range(
 ///     o.check_method(MethodKind::Radau.into()).unwrap_err().to_string(),
 ///     "bdf.fixed_order = 2 applies to method bdf only, not radau"
 /// );
+/// // the Newton matrices must be refreshed at some age
+/// let stale = BdfOptions { max_jacobian_age: 0, ..Default::default() };
+/// assert!(Options { bdf: stale, ..Default::default() }.validate().is_err());
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BdfOptions {
@@ -209,14 +212,20 @@ pub struct BdfOptions {
     /// instead of selecting it; step-size control stays on. `None` (default): variable order
     /// up to `max_order`. Used for tolerance-sweep order studies.
     pub fixed_order: Option<usize>,
+    /// Steps after which the Newton matrices are refreshed even though Newton converges
+    /// (≥ 1; default 50). A slow Newton iteration refreshes them sooner whatever this is; a
+    /// larger age saves Jacobian evaluations on problems whose Jacobian drifts slowly, and
+    /// leaves the accuracy alone (Newton still converges to the same test).
+    pub max_jacobian_age: usize,
 }
 
 impl Default for BdfOptions {
-    /// `max_order = 5`, variable order.
+    /// `max_order = 5`, variable order, Jacobians refreshed at least every 50 steps.
     fn default() -> Self {
         Self {
             max_order: 5,
             fixed_order: None,
+            max_jacobian_age: 50,
         }
     }
 }
@@ -465,6 +474,9 @@ impl Options {
                 self.bdf.max_order,
                 "in 1..=5",
             ));
+        }
+        if self.bdf.max_jacobian_age == 0 {
+            return Err(out_of_range("bdf.max_jacobian_age", 0, "at least 1"));
         }
         if self.max_newton_iters == 0 {
             return Err(out_of_range("max_newton_iters", 0, "at least 1"));

@@ -54,6 +54,7 @@ fn bdf_fixed_order_tolerance_sweep_observed_order() {
                 bdf: integrators::BdfOptions {
                     fixed_order: Some(k),
                     max_order: 5,
+                    ..Default::default()
                 },
                 ..Default::default()
             };

@@ -68,6 +68,9 @@ pub struct SolverSection {
     pub newton_factor: f64,
     /// Threads a run may use, 1 or 2 (default 1; 2 splits the passes of lines with ≥ 2¹⁸ cells).
     pub threads: usize,
+    /// BDF only: steps after which the Newton matrices are refreshed even though Newton
+    /// converges, 1 to 10⁶ (default 50).
+    pub jacobian_age: Option<usize>,
 }
 
 impl Default for SolverSection {
@@ -82,6 +85,7 @@ impl Default for SolverSection {
             krylov_max_iters: IterativeSettings::default().max_iters,
             newton_factor: IterativeSettings::default().newton_factor,
             threads: 1,
+            jacobian_age: None,
         }
     }
 }
@@ -162,6 +166,22 @@ impl SolverSection {
                 ),
             ));
         }
+        let jacobian_age = match self.jacobian_age {
+            None => SolveSettings::default().jacobian_age,
+            Some(a) if !(1..=1_000_000).contains(&a) => {
+                return Err(ScenarioError::key(
+                    "solver.jacobian_age",
+                    format!("= {a} must be from 1 to 1000000 (steps)"),
+                ))
+            }
+            Some(_) if method.name() != "bdf" => {
+                return Err(ScenarioError::key(
+                    "solver.jacobian_age",
+                    format!("applies to method \"bdf\" only, not \"{}\"", method.name()),
+                ))
+            }
+            Some(a) => a,
+        };
         Ok(SolveSettings {
             method,
             rtol: self.rtol,
@@ -169,6 +189,7 @@ impl SolverSection {
             norm,
             linear_solver,
             threads: self.threads,
+            jacobian_age,
         })
     }
 }

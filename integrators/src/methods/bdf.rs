@@ -120,8 +120,6 @@ const DOUBLING_ERROR_TRIES: usize = 3;
 /// K = 1e-5) but cost 26 steps per division at K = 1e-6, where a weak transient then had to
 /// climb back from a short step: 28 % slower there.
 const RESUME_GROWTH: f64 = 2.0;
-/// Steps after which the Jacobian is refreshed even if Newton converges.
-const MAX_JAC_AGE: usize = 50;
 
 /// Why the last attempt failed (for the error reported when retries run out).
 #[derive(Clone, Debug)]

@@ -15,7 +15,7 @@ impl Bdf {
         let n = self.n;
         self.ensure_linalg(sys);
         let mut new_fact = false;
-        if !self.jac_valid || self.steps_since_jac >= MAX_JAC_AGE {
+        if !self.jac_valid || self.steps_since_jac >= sys.opts.bdf.max_jacobian_age {
             let jy = self.jy.as_mut().expect("allocated");
             let jyp = self.jyp.as_mut().expect("allocated");
             let r = sys
