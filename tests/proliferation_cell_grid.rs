@@ -175,7 +175,7 @@ fn the_cell_grid_runs_from_a_scenario_and_bad_settings_name_their_key() {
         )
     };
     let good = text(
-        "{ rule = \"area\", cell_grid = { merge_below = 1e-3, merge_max = 4 } }",
+        "{ rule = \"area\", cell_grid = { merge_below = 0.9, merge_max = 4, merge_batch = 1 } }",
         20,
     );
     let sc = load_str(&good, Path::new("t.toml"), &[]).unwrap();
@@ -190,6 +190,14 @@ fn the_cell_grid_runs_from_a_scenario_and_bad_settings_name_their_key() {
     let cells = |r: &celltissue::observe::RunRecord| r.series.extra["cells"].clone();
     assert!(cells(&d)[2] > 20.0);
     assert_eq!(cells(&c), cells(&d));
+    // segments merged (a loose threshold, for the test), yet N and the means are per cell
+    let last = |r: &celltissue::observe::RunRecord| r.profiles.last().unwrap().x.len();
+    assert!(last(&c) < last(&d), "{} {}", last(&c), last(&d));
+    let mean_g = |r: &celltissue::observe::RunRecord| r.series.extra["mean_g"].clone();
+    for (a, b) in mean_g(&c).iter().zip(&mean_g(&d)) {
+        println!("mean g: grid {a}, discrete {b}");
+        assert!((a - b).abs() < 1e-2, "{a} {b}");
+    }
     for (division, nodes, key) in [
         (
             "{ rule = \"area\", cell_grid = { merge_below = 1.5 } }",

@@ -264,19 +264,8 @@ fn with_law<E: StrainEnergy + Clone>(
                         g.coarsen = grid.coarsening();
                         g.max_cells = cfg.division.max_cells;
                         let prob = run_model(g, solver, times, rec);
-                        let log = &prob.array.log().records;
-                        // N(t) counts cells, not segments
-                        if let Some(cells) = rec.series.extra.get_mut("cells") {
-                            for (c, &t) in cells.iter_mut().zip(&rec.series.t) {
-                                *c = log
-                                    .iter()
-                                    .take_while(|r| r.t <= t)
-                                    .last()
-                                    .map_or(n0, |r| r.cells_after)
-                                    as f64;
-                            }
-                        }
-                        rec.divisions = log.clone();
+                        // N(t) comes from the snapshots' cell counts, not the segments
+                        rec.divisions = prob.array.log().records.clone();
                     }
                     Err(e) => rec.error = Some(e),
                 }
@@ -288,13 +277,8 @@ fn with_law<E: StrainEnergy + Clone>(
             match built {
                 Ok(mut d) => {
                     d.max_cells = cfg.division.max_cells.map(|m| m as f64);
+                    // N(t) = ∫ρ dX comes from the snapshots' cell counts
                     let prob = run_model(d, solver, times, rec);
-                    // N(t) = ∫ρ dX, not the number of segments
-                    if let Some(cells) = rec.series.extra.get_mut("cells") {
-                        for (c, &t) in cells.iter_mut().zip(&rec.series.t) {
-                            *c = prob.array.cells_at(t);
-                        }
-                    }
                     rec.divisions = prob.array.log.records;
                 }
                 Err(e) => rec.error = Some(e),

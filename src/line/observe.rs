@@ -51,6 +51,10 @@ pub struct Snapshot {
     pub g_dot: Vec<f64>,
     /// Energy scale `μ`.
     pub mu: Vec<f64>,
+    /// Cells each entry stands for, where that is not one each: the segments of a
+    /// proliferating continuum (its density, or a cell-number grid's segment sizes). Series
+    /// count `N` and average per cell with these weights.
+    pub cell_counts: Option<Vec<f64>>,
 }
 
 impl Snapshot {
@@ -210,6 +214,7 @@ impl<E: StrainEnergy> Line<E> {
             g: cells(),
             g_dot: cells(),
             mu: self.cells.mu.clone(),
+            cell_counts: None,
         };
         let mut left = self.boundary(0, t, y, yp);
         s.x.push(left.0);

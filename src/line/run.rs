@@ -427,13 +427,19 @@ impl<A: LineModel> Recorder<A> for LineRecorder {
         yp: &[f64],
     ) -> Result<SeriesRow, ObservationError> {
         let snap = array.observe(t, y, yp)?;
-        let n = snap.alpha.len() as f64;
+        // a proliferating continuum's segments stand for several cells each
+        let w = snap.cell_counts.as_deref();
+        let n = w.map_or(snap.alpha.len() as f64, |w| w.iter().sum());
+        let mean = |v: &[f64]| match w {
+            None => v.iter().sum::<f64>() / n,
+            Some(w) => v.iter().zip(w).map(|(v, w)| v * w).sum::<f64>() / n,
+        };
         let extra = [
             ("end_reaction", snap.end_reaction()),
-            ("mean_alpha", snap.alpha.iter().sum::<f64>() / n),
+            ("mean_alpha", mean(&snap.alpha)),
             ("x0", snap.x[0]),
             ("cells", n),
-            ("mean_g", snap.g.iter().sum::<f64>() / n),
+            ("mean_g", mean(&snap.g)),
             (
                 "min_g",
                 snap.g.iter().copied().fold(f64::INFINITY, f64::min),

@@ -264,7 +264,17 @@ impl<E: StrainEnergy> CellArray for CellGrid<E> {
 
 impl<E: StrainEnergy> LineModel for CellGrid<E> {
     crate::line::run::forward_line_model!(dividing: initial_state, initial_derivative_guess,
-        observe, unknown_name, breakpoints);
+        unknown_name, breakpoints);
+    fn observe(
+        &self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+    ) -> Result<crate::line::observe::Snapshot, ResidualError> {
+        let mut s = self.dividing.observe(t, y, yp)?;
+        s.cell_counts = Some(self.multiplicity.iter().map(|&m| m as f64).collect());
+        Ok(s)
+    }
 }
 
 #[cfg(test)]

@@ -207,6 +207,21 @@ impl<E: StrainEnergy> CellArray for DensityContinuum<E> {
 impl<E: StrainEnergy> LineModel for DensityContinuum<E> {
     // `breakpoints` forwarded too: a prescribed polynomial-ramp end has a kink at `t_ramp`,
     // where `integrate` must restart rather than step across it.
-    crate::line::run::forward_line_model!(line: initial_state, initial_derivative_guess, observe,
+    crate::line::run::forward_line_model!(line: initial_state, initial_derivative_guess,
         unknown_name, breakpoints);
+    fn observe(
+        &self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+    ) -> Result<crate::line::observe::Snapshot, ResidualError> {
+        let mut s = self.line.observe(t, y, yp)?;
+        s.cell_counts = Some(
+            self.density
+                .iter()
+                .map(|r| r * self.cells_per_segment)
+                .collect(),
+        );
+        Ok(s)
+    }
 }
