@@ -122,6 +122,24 @@ fn two_cells_per_segment_hold_l_and_n_to_two_percent_up_to_t_18() {
         assert!(el < 0.02 && en < 0.02, "K = {k}: {el} {en}");
         // half the unknowns, and about half the steps (divisions come in pairs)
         assert!(g.steps < d.steps * 6 / 10, "{} {}", g.steps, d.steps);
+        if k == 1e-5 {
+            // convergence in the cells per segment (c = 1 is the discrete line): measured
+            // l 3.0e-5 / 1.3e-4 / 6.5e-4 and N 3.8e-3 / 9.6e-3 / 2.1e-2 for c = 2 / 4 / 10,
+            // about second order in l and first in N (a segment's cells divide at once)
+            let (l4, n4) = errors(&grid_run(k, 4, None, &times, 1e-8), &d);
+            let (l10, n10) = errors(&grid_run(k, 10, None, &times, 1e-8), &d);
+            let order = |a: f64, b: f64, ratio: f64| (b / a).ln() / ratio.ln();
+            println!(
+                "c = 2 / 4 / 10: l {el:.2e} / {l4:.2e} / {l10:.2e}, N {en:.2e} / {n4:.2e} / \
+                 {n10:.2e}; orders l {:.2}, {:.2}, N {:.2}, {:.2}",
+                order(el, l4, 2.0),
+                order(l4, l10, 2.5),
+                order(en, n4, 2.0),
+                order(n4, n10, 2.5)
+            );
+            assert!(order(el, l4, 2.0) > 1.5 && order(l4, l10, 2.5) > 1.5);
+            assert!(order(en, n4, 2.0) > 0.7 && order(n4, n10, 2.5) > 0.7);
+        }
     }
 }
 
