@@ -14,16 +14,19 @@
 //! tolerance of the report's runs (atol = rtol/100; default 1e-6 and 1e-8) to measure the
 //! default runs' accuracy by their final length.
 //!
-//! The group also times `travelling_rim` (the long-time rim at K = 1e-2, no line integrated).
+//! The group also times `travelling_rim` (the long-time rim at K = 1e-2, no line integrated)
+//! and the rim to t = 1000 at K = 1e-2 on the discrete line and on the cell-number grid with
+//! merging below 1e-3 of `G(0)` (`PROLIF_RIM=0` skips those two).
 //!
 //! Measured numbers and their commands: `BENCHMARKS.md`, section Proliferation.
 
 use celltissue::boundary::RightEnd;
 use celltissue::cell::TanhGrowth;
 use celltissue::events::{AreaDoubling, Dividing};
+use celltissue::line::build::continuum;
 use celltissue::line::build::{discrete, LineParams};
 use celltissue::line::run::{integrate, SolveSettings, Trajectory};
-use celltissue::proliferation::travelling_rim;
+use celltissue::proliferation::{travelling_rim, CellGrid, Coarsening};
 use celltissue::{ArrayProblem, NeoHookean};
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::sync::Arc;
@@ -60,6 +63,14 @@ fn settings() -> SolveSettings {
     SolveSettings {
         rtol,
         atol: rtol / 100.0,
+        ..Default::default()
+    }
+}
+
+/// The bundled Fig 3.3d scenarios' solver: rtol 1e-6, atol 1e-8, `jacobian_age = 100`.
+fn rim_settings() -> SolveSettings {
+    SolveSettings {
+        jacobian_age: 100,
         ..Default::default()
     }
 }
@@ -160,6 +171,35 @@ fn benches(c: &mut Criterion) {
         let (energy, growth) = (NeoHookean::new(1.0).unwrap(), TanhGrowth::default());
         b.iter(|| travelling_rim(&energy, &growth, 1e-2, 1.0).unwrap())
     });
+    // Fig 3.3d to t = 1000 (models/fig3_3d.toml and fig3_3d_cell_grid.toml: rtol 1e-6,
+    // jacobian_age 100): the discrete line (1 637 cells at the end) against the cell-number
+    // grid (236 segments; l within 1e-6, N within 0.14 %, tests/proliferation_cell_grid.rs)
+    if std::env::var("PROLIF_RIM").as_deref() != Ok("0") {
+        g.bench_function("rim_t1000_K1e-2_discrete", |b| {
+            b.iter(|| {
+                let line = discrete(NeoHookean::new(1.0).unwrap(), &params(100, 1e-2, 0.0));
+                let div = Dividing::new(line.unwrap(), Box::new(AreaDoubling::default()), 0);
+                let mut prob = ArrayProblem::new(div.unwrap());
+                let traj = integrate(&mut prob, &rim_settings(), &[0.0, 1000.0]);
+                assert!(traj.error.is_none() && prob.array.line.n_cells() == 1637);
+            })
+        });
+        g.bench_function("rim_t1000_K1e-2_cell_grid", |b| {
+            b.iter(|| {
+                let line = continuum(NeoHookean::new(1.0).unwrap(), &params(100, 1e-2, 0.0), 100);
+                let grid = CellGrid::new(line.unwrap(), 100, Box::new(AreaDoubling::default()));
+                let mut grid = grid.unwrap();
+                grid.coarsen = Some(Coarsening {
+                    growth_below: 1e-3,
+                    max_cells: 64,
+                    batch: 8,
+                });
+                let mut prob = ArrayProblem::new(grid);
+                let traj = integrate(&mut prob, &rim_settings(), &[0.0, 1000.0]);
+                assert!(traj.error.is_none() && prob.array.segments() < 300);
+            })
+        });
+    }
     g.bench_function("grow_N1e4_eta0", |b| b.iter(|| grow(10_000, 0.0, 10.0)));
     g.bench_function("grow_N1e4_eta1", |b| b.iter(|| grow(10_000, 1.0, 10.0)));
     g.finish();
