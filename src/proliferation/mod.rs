@@ -133,8 +133,12 @@
 //! *Where it ends.* Merging pays only where cells stop growing: at small K every cell grows,
 //! nothing merges, and the grid with `c = 1` is the discrete line (use `c = 2`, or the density
 //! continuum early on). Merged segments divide whole, when their mean `g` reaches 2: that
-//! misplaces the rare divisions of compressed cells (they matter for soft cells, μ = 0.5,
-//! §8.4). It is not yet a scenario option: it is built from the library
+//! misses the divisions of compressed cells that still grow slowly. At μ = 1 that is one cell
+//! of 1 637 by t = 1000 (a division at x/l = 0.11, t ≈ 400). Soft cells keep growing behind the
+//! rim (§8.4): at μ = 0.5 (`celltissue run models/fig3_3d_cell_grid.toml --set model.mu=0.5`)
+//! θ = 1e-3 ends with 1 970 cells against 2 142 (−8.0 %, `l` within 2e-7); θ = 1e-4 gets all
+//! 2 142, but then 1 815 segments remain and the cost is the discrete model's. The threshold
+//! has to lie below the growth rate of the cells that still divide. It is not yet a scenario option: it is built from the library
 //! (`CellGrid::new(continuum(..), n0, rule)`).
 
 mod cell_grid;
