@@ -246,6 +246,15 @@ impl<E: StrainEnergy> Dividing<E> {
         Ok(())
     }
 
+    /// Drops the last split's map, so the integrator's history is not carried across an
+    /// event that also changed the state in a way the map does not know (the next restart is
+    /// from a consistent state).
+    pub(crate) fn forget_last_split(&mut self) {
+        self.last = None;
+        self.new_boundaries.clear();
+        self.yp_event.clear();
+    }
+
     /// Whether the cap on the number of cells has been reached.
     fn capped(&self) -> bool {
         self.max_cells.is_some_and(|m| self.line.n_cells() >= m)

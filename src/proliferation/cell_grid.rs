@@ -1,6 +1,6 @@
 //! [`CellGrid`]: the proliferating continuum on a grid in the **cell-number** coordinate — every
-//! segment holds the same number `c` of cells for the whole run, so a division splits a
-//! segment in two instead of doubling its density (see the [module docs](super), "A grid in
+//! segment holds a whole number of cells (`c` at the start) that does not change when they
+//! divide together, so a division splits a segment in two instead of doubling its density (see the [module docs](super), "A grid in
 //! the cell-number coordinate").
 //!
 //! It is a [`Dividing`] line (the discrete model's division events, O(N + k) splits, history
@@ -11,14 +11,18 @@
 //!
 //! With [`CellGrid::coarsen`] set, segments that have all but stopped growing (growth rate
 //! below a fraction of the unstressed one, as behind a proliferating rim) are merged in
-//! neighbouring pairs of equal cell count ([`Dividing::merge`]), up to a largest segment, so
-//! the number of segments follows the growing cells rather than all cells.
+//! neighbouring pairs ([`Dividing::merge`]), up to a largest segment, so the number of
+//! segments follows the growing cells rather than all cells. A merged segment keeps its
+//! members' growth stretches (as constant offsets from its own `g`: they share its stress, so
+//! they grow alike) and divides each member when the rule says so, inside the segment: the
+//! segment's reference length and cell count grow, nothing is resized.
 
 use crate::array::CellArray;
 use crate::energy::StrainEnergy;
-use crate::events::{Dividing, DivisionLog, DivisionRule, EventError};
+use crate::events::{CellView, Dividing, DivisionLog, DivisionRule, EventError};
 use crate::line::run::LineModel;
 use crate::line::Line;
+use crate::observe::DivisionRecord;
 use crate::scalar::Scalar;
 use integrators::{EventAction, ResidualError};
 
@@ -56,8 +60,11 @@ pub struct CellGrid<E: StrainEnergy> {
     pub dividing: Dividing<E>,
     /// Cells per segment at the start, `c`.
     pub cells_per_segment: usize,
-    /// Cells in each segment now (`c`, or a power-of-two multiple after merges).
+    /// Cells in each segment now (`c`, or more after merges).
     pub multiplicity: Vec<usize>,
+    /// The members of each merged segment (`None` for a segment of `c` cells that share one
+    /// phase), in order along the line.
+    pub members: Vec<Option<Vec<Member>>>,
     /// Merging of segments that no longer grow (default none).
     pub coarsen: Option<Coarsening>,
     /// No division once the line has this many cells (default none; one event may pass it
@@ -65,9 +72,31 @@ pub struct CellGrid<E: StrainEnergy> {
     pub max_cells: Option<usize>,
 }
 
+/// One of the segments a merged segment was made of: its cells keep their own growth stretch
+/// (they grow at the merged segment's rate, so the offset from its `g` is constant) and divide
+/// by the rule when that reaches it.
+///
+/// ```
+/// use celltissue::proliferation::Member;
+/// let m = Member { l0: 1.0, offset: 0.3, cells: 1, birth: 0.0, threshold: f64::NAN };
+/// assert_eq!(m.l0 * (1.2 + m.offset), 1.5); // its grown length when the segment's g is 1.2
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Member {
+    /// Reference length.
+    pub l0: f64,
+    /// Its growth stretch minus the merged segment's.
+    pub offset: f64,
+    /// Cells it stands for.
+    pub cells: usize,
+    /// Birth time (for age rules).
+    pub birth: f64,
+    /// Threshold drawn at birth (`NaN` for deterministic rules; daughters inherit it).
+    pub threshold: f64,
+}
+
 /// When [`CellGrid`] merges two neighbouring segments: both grow at less than
-/// `growth_below × G(0)`, both hold the same number of cells, and together at most
-/// `max_cells`; merges wait until `batch` pairs qualify (each merging event restarts the
+/// `growth_below × G(0)` and together they hold at most `max_cells` cells; merges wait until `batch` pairs qualify (each merging event restarts the
 /// integrator without its history).
 ///
 /// ```
@@ -123,6 +152,7 @@ impl<E: StrainEnergy> CellGrid<E> {
             dividing: Dividing::new(line, rule, 0)?,
             cells_per_segment: n0 / n,
             multiplicity: vec![n0 / n; n],
+            members: vec![None; n],
             coarsen: None,
             max_cells: None,
         };
@@ -183,7 +213,7 @@ impl<E: StrainEnergy> CellGrid<E> {
         let mut j = 1;
         while j < n {
             let (a, b) = (self.multiplicity[j - 1], self.multiplicity[j]);
-            if a == b && a + b <= rule.max_cells && slow(j) && slow(j + 1) {
+            if a + b <= rule.max_cells && slow(j) && slow(j + 1) {
                 pairs.push(j);
                 j += 2;
             } else {
@@ -197,10 +227,174 @@ impl<E: StrainEnergy> CellGrid<E> {
     }
 }
 
+impl<E: StrainEnergy> CellGrid<E> {
+    /// The members of segment `j` (0-based) as they would enter a merge at state `y`: its own
+    /// list, or the segment itself as one member.
+    fn members_of(&self, j: usize, y: &[f64]) -> Vec<Member> {
+        match &self.members[j] {
+            Some(m) => m.clone(),
+            None => vec![Member {
+                l0: self.dividing.line.cells.l0[j],
+                offset: 0.0,
+                cells: self.multiplicity[j],
+                birth: self.dividing.birth[j],
+                threshold: self.dividing.threshold[j],
+            }],
+        }
+        .into_iter()
+        .map(|mut m| {
+            // offsets are kept relative to the segment's own g until the merge shifts them
+            m.offset += y[self.dividing.line.layout.gi[j]];
+            m
+        })
+        .collect()
+    }
+
+    /// Merges the pairs `(j, j + 1)` for `j` in `pairs` (1-based): the line, `Dividing`'s
+    /// per-cell records, the cell counts and the member lists.
+    fn merge(&mut self, pairs: &[usize], y: &mut Vec<f64>) -> Result<(), ResidualError> {
+        // members with absolute g before the merge
+        let joined: Vec<Vec<Member>> = pairs
+            .iter()
+            .map(|&j| {
+                let mut m = self.members_of(j - 1, y);
+                m.extend(self.members_of(j, y));
+                m
+            })
+            .collect();
+        self.dividing
+            .merge(pairs, y)
+            .map_err(|e| ResidualError::Fatal(e.to_string()))?;
+        let n_old = self.multiplicity.len();
+        let (mut m, mut lists) = (Vec::with_capacity(n_old), Vec::with_capacity(n_old));
+        let mut f = pairs.iter().zip(joined).peekable();
+        let mut i = 0;
+        while i < n_old {
+            if let Some((_, mut members)) = f.next_if(|(&j, _)| j == i + 1) {
+                // absolute growth stretches to offsets from the merged segment's
+                let g = y[self.dividing.line.layout.gi[lists.len()]];
+                members.iter_mut().for_each(|mb| mb.offset -= g);
+                m.push(self.multiplicity[i] + self.multiplicity[i + 1]);
+                lists.push(Some(members));
+                i += 2;
+            } else {
+                m.push(self.multiplicity[i]);
+                lists.push(self.members[i].take());
+                i += 1;
+            }
+        }
+        self.multiplicity = m;
+        self.members = lists;
+        Ok(())
+    }
+}
+
+impl<E: StrainEnergy> CellGrid<E> {
+    /// Divides every member of merged segment `j` (0-based) that has reached the rule: the
+    /// member becomes two of half its grown length at `g = 1`, so the segment's reference
+    /// length and cell count grow while its grown length and every boundary stay; its `g`
+    /// (in `y`) is the new `L₀`-weighted mean. Logs each division at the member's place in the
+    /// segment and pushes the cells it added to `added`.
+    fn divide_members(&mut self, j: usize, t: f64, y: &mut [f64], added: &mut Vec<usize>) {
+        let Some(list) = self.members[j].take() else {
+            return;
+        };
+        let line = &mut self.dividing.line;
+        let (k, g2) = (line.layout.gi[j], line.g2);
+        let g = y[k];
+        let (xl, xr) = (line.boundary(j, t, y, y).0, line.boundary(j + 1, t, y, y).0);
+        let (x0, xn) = (
+            line.boundary(0, t, y, y).0,
+            line.boundary(line.n_cells(), t, y, y).0,
+        );
+        let grown: f64 = list.iter().map(|m| m.l0 * (g + m.offset)).sum();
+        let per_cell_drag = line.cells.k_cell[j] / self.multiplicity[j] as f64;
+        let value = |m: &Member| {
+            self.dividing.rule.event(&CellView::growth_only(
+                (g + m.offset) * g2,
+                t - m.birth,
+                m.threshold,
+            ))
+        };
+        // the member that fired divides even if the located root left it a rounding short
+        let first = (0..list.len())
+            .max_by(|&a, &b| value(&list[a]).total_cmp(&value(&list[b])))
+            .unwrap_or(0);
+        let fires: Vec<bool> = list
+            .iter()
+            .enumerate()
+            .map(|(i, m)| i == first || value(m) >= 0.0)
+            .collect();
+        let (mut out, mut before) = (Vec::with_capacity(list.len() + 1), 0.0);
+        for (m, fires) in list.into_iter().zip(fires) {
+            let gm = g + m.offset;
+            if fires {
+                let x = xl + (xr - xl) * (before + 0.5 * m.l0 * gm) / grown;
+                self.dividing.log.push(DivisionRecord {
+                    t,
+                    parent: j + 1,
+                    x,
+                    x_over_length: (x - x0) / (xn - x0),
+                    cells_after: 0,
+                });
+                added.push(m.cells);
+                self.multiplicity[j] += m.cells;
+                let daughter = Member {
+                    l0: 0.5 * m.l0 * gm,
+                    offset: 1.0,
+                    birth: t,
+                    ..m
+                };
+                out.extend([daughter, daughter]);
+            } else {
+                out.push(Member { offset: gm, ..m });
+            }
+            before += m.l0 * gm;
+        }
+        // the new reference length and mean g; offsets back to relative
+        let l0: f64 = out.iter().map(|m| m.l0).sum();
+        let g_new = grown / l0;
+        out.iter_mut().for_each(|m| m.offset -= g_new);
+        let line = &mut self.dividing.line;
+        line.l0_total += l0 - line.cells.l0[j];
+        line.cells.l0[j] = l0;
+        line.cells.k_cell[j] = per_cell_drag * self.multiplicity[j] as f64;
+        y[k] = g_new;
+        self.members[j] = Some(out);
+    }
+}
+
 impl<E: StrainEnergy> CellArray for CellGrid<E> {
     integrators::forward_problem!(dividing: dim, pattern, residual<S: Scalar>, jacobian(&self),
-        atol, algebraic, set_threads, num_events, events, restart_derivative, map_history,
+        atol, algebraic, set_threads, num_events, restart_derivative, map_history,
         map_jacobian);
+    fn events(&mut self, t: f64, y: &[f64], g: &mut [f64]) {
+        self.dividing.events(t, y, g);
+        if self
+            .dividing
+            .max_cells
+            .is_some_and(|m| self.segments() >= m)
+        {
+            return;
+        }
+        // a merged segment fires when the first of its members reaches the rule
+        let g2 = self.dividing.line.g2;
+        for (j, list) in self.members.iter().enumerate() {
+            if let Some(list) = list {
+                let gj = y[self.dividing.line.layout.gi[j]];
+                g[j] = list
+                    .iter()
+                    .map(|m| {
+                        self.dividing.rule.event(&CellView::growth_only(
+                            (gj + m.offset) * g2,
+                            t - m.birth,
+                            m.threshold,
+                        ))
+                    })
+                    .fold(f64::NEG_INFINITY, f64::max);
+            }
+        }
+    }
     fn handle_event(
         &mut self,
         t: f64,
@@ -209,54 +403,68 @@ impl<E: StrainEnergy> CellArray for CellGrid<E> {
         yp: &[f64],
     ) -> Result<EventAction, ResidualError> {
         let logged = self.dividing.log.records.len();
-        let before = self.cells();
-        let action = self.dividing.handle_event(t, fired, y, yp)?;
-        if matches!(action, EventAction::Resized) {
-            // the records of this event, in decreasing index order: each split parent's cells
-            // are doubled
-            let mut parents: Vec<usize> = Vec::new();
-            let mut cells = before;
-            for r in &mut self.dividing.log.records[logged..] {
-                cells += self.multiplicity[r.parent - 1];
-                r.cells_after = cells;
-                parents.push(r.parent);
-            }
-            parents.reverse();
-            let mut m = Vec::with_capacity(self.multiplicity.len() + parents.len());
-            let mut f = parents.iter().peekable();
-            for (i, &c) in self.multiplicity.iter().enumerate() {
-                m.push(c);
-                if f.next_if(|&&j| j == i + 1).is_some() {
+        let mut added: Vec<usize> = Vec::new();
+        let (merged, plain): (Vec<usize>, Vec<usize>) =
+            fired.iter().partition(|&&j| self.members[j].is_some());
+        // members of merged segments divide inside them: no resize
+        for &j in &merged {
+            self.divide_members(j, t, y, &mut added);
+        }
+        let mut action = if added.is_empty() {
+            EventAction::Continue
+        } else {
+            EventAction::Modified
+        };
+        let member_records = self.dividing.log.records.len();
+        if !plain.is_empty() {
+            let a = self.dividing.handle_event(t, &plain, y, yp)?;
+            if matches!(a, EventAction::Resized) {
+                action = a;
+                // the split records, in decreasing index order: each parent's cells doubled
+                let mut parents: Vec<usize> = self.dividing.log.records[member_records..]
+                    .iter()
+                    .map(|r| r.parent)
+                    .collect();
+                added.extend(parents.iter().map(|&p| self.multiplicity[p - 1]));
+                parents.reverse();
+                let n = self.multiplicity.len() + parents.len();
+                let (mut m, mut lists) = (Vec::with_capacity(n), Vec::with_capacity(n));
+                let mut f = parents.iter().peekable();
+                for (i, &c) in self.multiplicity.iter().enumerate() {
                     m.push(c);
-                }
-            }
-            self.multiplicity = m;
-            // the new state's ẏ is not known here; stresses are elastic enough to choose merges
-            let zero = vec![0.0; y.len()];
-            let pairs = self.pairs_to_merge(t, y, &zero);
-            if !pairs.is_empty() {
-                self.dividing
-                    .merge(&pairs, y)
-                    .map_err(|e| ResidualError::Fatal(e.to_string()))?;
-                let mut m = Vec::with_capacity(self.multiplicity.len() - pairs.len());
-                let mut f = pairs.iter().peekable();
-                let mut i = 0;
-                while i < self.multiplicity.len() {
+                    lists.push(self.members[i].take());
                     if f.next_if(|&&j| j == i + 1).is_some() {
-                        m.push(self.multiplicity[i] + self.multiplicity[i + 1]);
-                        i += 2;
-                    } else {
-                        m.push(self.multiplicity[i]);
-                        i += 1;
+                        m.push(c);
+                        lists.push(None);
                     }
                 }
                 self.multiplicity = m;
+                self.members = lists;
             }
-            self.lump_drags();
-            // the cap counts cells: once reached, hold `Dividing` at its segment count
-            if self.max_cells.is_some_and(|m| self.cells() >= m) {
-                self.dividing.max_cells = Some(self.segments());
-            }
+        }
+        let mut cells = self.cells() - added.iter().sum::<usize>();
+        for (r, a) in self.dividing.log.records[logged..].iter_mut().zip(&added) {
+            cells += a;
+            r.cells_after = cells;
+        }
+        if matches!(action, EventAction::Continue) {
+            return Ok(action);
+        }
+        // the new state's ẏ is not known here; stresses are elastic enough to choose merges
+        let zero = vec![0.0; y.len()];
+        let pairs = self.pairs_to_merge(t, y, &zero);
+        if !pairs.is_empty() {
+            self.merge(&pairs, y)?;
+            action = EventAction::Resized;
+        }
+        if !merged.is_empty() || !pairs.is_empty() {
+            // a member's division changed its segment's g: no history carried across
+            self.dividing.forget_last_split();
+        }
+        self.lump_drags();
+        // the cap counts cells: once reached, hold `Dividing` at its segment count
+        if self.max_cells.is_some_and(|m| self.cells() >= m) {
+            self.dividing.max_cells = Some(self.segments());
         }
         Ok(action)
     }
@@ -317,6 +525,39 @@ mod tests {
         for (a, b) in ct.snapshots.iter().zip(&dt.snapshots) {
             assert_eq!(a.length(), b.length());
         }
+    }
+
+    /// A merged segment's members divide inside it: the cell count and reference length grow,
+    /// `Σ L₀g` and every boundary stay, and the snapshot counts the cells per segment.
+    #[test]
+    fn members_of_a_merged_segment_divide_inside_it() {
+        let line = continuum(NeoHookean::new(1.0).unwrap(), &params(1e-2), 20).unwrap();
+        let mut grid = CellGrid::new(line, 20, Box::new(AreaDoubling::default())).unwrap();
+        let mut y = grid.dividing.line.initial_state();
+        let gi = grid.dividing.line.layout.gi.clone();
+        // cells 3 and 4 at g = 1.9 and 1.5, merged: one segment of two cells, g = 1.7
+        y[gi[2]] = 1.9;
+        y[gi[3]] = 1.5;
+        grid.merge(&[3], &mut y).unwrap();
+        let k = grid.dividing.line.layout.gi[2];
+        assert_eq!((grid.segments(), grid.cells(), y[k]), (19, 20, 1.7));
+        // the first member reaches 2 when the segment's g is 1.8
+        let mut g = vec![0.0; 19];
+        y[k] = 1.8;
+        grid.events(0.0, &y, &mut g);
+        assert!(g[2].abs() < 1e-12, "{}", g[2]);
+        let (l, grown) = (grid.dividing.line.boundary(19, 0.0, &y, &y).0, 2.0 * 1.8);
+        let action = grid.handle_event(1.0, &[2], &mut y, &[]).unwrap();
+        assert!(matches!(action, EventAction::Modified));
+        let k = grid.dividing.line.layout.gi[2];
+        assert_eq!((grid.segments(), grid.cells()), (19, 21));
+        assert_eq!(grid.dividing.line.boundary(19, 1.0, &y, &y).0, l);
+        // reference length 1 + 1 + 1 (two daughters of the member that was at g = 2)
+        assert_eq!(grid.dividing.line.cells.l0[2], 3.0);
+        assert!((3.0 * y[k] - grown).abs() < 1e-12);
+        assert_eq!(grid.log().records.last().unwrap().cells_after, 21);
+        let snap = grid.observe(1.0, &y, &vec![0.0; y.len()]).unwrap();
+        assert_eq!(snap.cell_counts.unwrap()[2], 3.0);
     }
 
     /// A merge keeps every other boundary, `l` and `Σ L₀g`, and the drag summed over faces.

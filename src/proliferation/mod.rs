@@ -116,29 +116,30 @@
 //!   `l` stays within 1.1 % but `N` is off by 21 % (12 % with merging). So the rim needs
 //!   `c = 1` where cells grow.
 //!
-//! What makes `c = 1` affordable is that few cells grow. With [`Coarsening`], segments whose
-//! growth rate has fallen below a fraction θ of `G(0)` merge in pairs of equal cell count
-//! (up to `max_cells`): length and `Σ L₀g` are kept, and the merged growth stretch is the
-//! `L₀`-weighted mean, so the growth of length is too. At K = 1e-2, t ≤ 1000 (1 637 cells):
+//! What makes `c = 1` affordable is that few cells grow. With [`Coarsening`], neighbouring
+//! segments whose growth rate has fallen below a fraction θ of `G(0)` merge (up to
+//! `max_cells` cells). A merged segment keeps its length, `Σ L₀g` and `Σ L₀` (so the growth of
+//! length), and it keeps each member's growth stretch as a constant offset from its own `g`:
+//! the members share its stress, so they grow alike. When a member reaches the rule it divides
+//! inside the segment, whose reference length and cell count grow (no resize). The only
+//! approximation is that shared stress. At K = 1e-2, t ≤ 1000 (1 637 cells):
 //!
 //! | θ | segments at t = 1000 | error in `l(t)` | error in `N(t)` | divisions with `x/l > 0.9` after t = 100 |
 //! |---|---|---|---|---|
 //! | discrete | 1 637 | — | — | 99.86 % |
-//! | 1e-2 | 88 | 5.5e-5 | 1.2 % | 100 % |
-//! | 1e-3 | 236 | 9.4e-7 | 0.14 % | 99.93 % |
+//! | 1e-2 | 87 | 1.0e-4 | 0.40 % | 99.64 % |
+//! | 1e-3 | 236 | 1.2e-6 | 0 (every output time) | 99.86 % |
 //!
 //! The error falls with θ; θ = 0 is the discrete model. The steps are the discrete model's
-//! (divisions set them), but each costs in proportion to the segments.
+//! (divisions set them), but each costs in proportion to the segments. Soft cells (μ = 0.5),
+//! which keep growing and dividing behind the rim: θ = 1e-3 ends with 2 143 cells against
+//! 2 142 and `l` within 2e-7, on 302 segments; θ = 1e-2 with 2 117 (−1.2 %) on 96
+//! (`celltissue run models/fig3_3d_cell_grid.toml --set model.mu=0.5`).
 //!
 //! *Where it ends.* Merging pays only where cells stop growing: at small K every cell grows,
 //! nothing merges, and the grid with `c = 1` is the discrete line (use `c = 2`, or the density
-//! continuum early on). Merged segments divide whole, when their mean `g` reaches 2: that
-//! misses the divisions of compressed cells that still grow slowly. At μ = 1 that is one cell
-//! of 1 637 by t = 1000 (a division at x/l = 0.11, t ≈ 400). Soft cells keep growing behind the
-//! rim (§8.4): at μ = 0.5 (`celltissue run models/fig3_3d_cell_grid.toml --set model.mu=0.5`)
-//! θ = 1e-3 ends with 1 970 cells against 2 142 (−8.0 %, `l` within 2e-7); θ = 1e-4 gets all
-//! 2 142, but then 1 815 segments remain and the cost is the discrete model's. The threshold
-//! has to lie below the growth rate of the cells that still divide. It is not yet a scenario option: it is built from the library
+//! continuum early on). The merged members' shared stress is the error θ controls. It is a
+//! scenario option, `division.cell_grid`, and a library type
 //! (`CellGrid::new(continuum(..), n0, rule)`).
 
 mod cell_grid;
