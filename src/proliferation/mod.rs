@@ -146,6 +146,6 @@ mod cell_grid;
 mod density;
 pub mod rim;
 
-pub use cell_grid::{CellGrid, Coarsening};
+pub use cell_grid::{CellGrid, Coarsening, Member};
 pub use density::DensityContinuum;
 pub use rim::{rim_profile, travelling_rim, RimError, RimSpeed};
