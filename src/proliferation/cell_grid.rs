@@ -102,7 +102,8 @@ pub struct Member {
 /// ```
 /// use celltissue::proliferation::Coarsening;
 /// let c = Coarsening::default();
-/// assert_eq!((c.growth_below, c.max_cells, c.batch), (1e-2, 16, 8));
+/// // θ = 1e-3 holds N exactly on the K = 1e-2 rim to t = 1000 (docs/model.md §8.4)
+/// assert_eq!((c.growth_below, c.max_cells, c.batch), (1e-3, 64, 8));
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Coarsening {
@@ -117,8 +118,8 @@ pub struct Coarsening {
 impl Default for Coarsening {
     fn default() -> Self {
         Self {
-            growth_below: 1e-2,
-            max_cells: 16,
+            growth_below: 1e-3,
+            max_cells: 64,
             batch: 8,
         }
     }
@@ -225,9 +226,7 @@ impl<E: StrainEnergy> CellGrid<E> {
         }
         pairs
     }
-}
 
-impl<E: StrainEnergy> CellGrid<E> {
     /// The members of segment `j` (0-based) as they would enter a merge at state `y`: its own
     /// list, or the segment itself as one member.
     fn members_of(&self, j: usize, y: &[f64]) -> Vec<Member> {
@@ -287,9 +286,7 @@ impl<E: StrainEnergy> CellGrid<E> {
         self.members = lists;
         Ok(())
     }
-}
 
-impl<E: StrainEnergy> CellGrid<E> {
     /// Divides every member of merged segment `j` (0-based) that has reached the rule: the
     /// member becomes two of half its grown length at `g = 1`, so the segment's reference
     /// length and cell count grow while its grown length and every boundary stay; its `g`
