@@ -1,7 +1,8 @@
 //! [`run_proliferation`]: one run of a growing line with division — the discrete
-//! [`Dividing`] line, or the proliferating continuum [`DensityContinuum`] — from a
-//! [`ProliferationConfig`] (a [`LineConfig`] plus a `division` table) to a [`RunRecord`]
-//! with the `"cells"` series (`N` at each output time) and the `"divisions"` list.
+//! [`Dividing`] line, or the proliferating continuum ([`DensityContinuum`], or [`CellGrid`]
+//! with `division.cell_grid`) — from a [`ProliferationConfig`] (a [`LineConfig`] plus a
+//! `division` table) to a [`RunRecord`] with the `"cells"` series (`N` at each output time)
+//! and the `"divisions"` list.
 
 use super::dividing::Dividing;
 use super::division::DivisionConfig;
@@ -265,7 +266,7 @@ fn with_law<E: StrainEnergy + Clone>(
                         g.max_cells = cfg.division.max_cells;
                         let prob = run_model(g, solver, times, rec);
                         // N(t) comes from the snapshots' cell counts, not the segments
-                        rec.divisions = prob.array.log().records.clone();
+                        rec.divisions = prob.array.dividing.log.records;
                     }
                     Err(e) => rec.error = Some(e),
                 }
