@@ -1,7 +1,7 @@
 //! [`CellGrid`]: the proliferating continuum on a grid in the **cell-number** coordinate — every
 //! segment holds a whole number of cells (`c` at the start) that does not change when they
-//! divide together, so a division splits a segment in two instead of doubling its density (see the [module docs](super), "A grid in
-//! the cell-number coordinate").
+//! divide together, so a division splits a segment in two instead of doubling its density
+//! (see the [module docs](super), "A grid in the cell-number coordinate").
 //!
 //! It is a [`Dividing`] line (the discrete model's division events, O(N + k) splits, history
 //! carried across each resize) run on a continuum [`Line`] whose segments are `c` cells wide,
@@ -96,8 +96,8 @@ pub struct Member {
 }
 
 /// When [`CellGrid`] merges two neighbouring segments: both grow at less than
-/// `growth_below × G(0)` and together they hold at most `max_cells` cells; merges wait until `batch` pairs qualify (each merging event restarts the
-/// integrator without its history).
+/// `growth_below × G(0)` and together they hold at most `max_cells` cells; merges wait until
+/// `batch` pairs qualify (each merging event restarts the integrator without its history).
 ///
 /// ```
 /// use celltissue::proliferation::Coarsening;

@@ -132,8 +132,8 @@
 //!
 //! Where the cells are added, counted by tenths of the line, is the discrete line's to 1.3e-3
 //! at θ = 1e-2 and exactly at θ = 1e-3; at t ≤ 18 with `c = 2` to 0.010 and 0.005 at K = 1e-5
-//! and 1e-4. The error falls with θ; θ = 0 is the discrete model. The steps are the discrete model's
-//! (divisions set them), but each costs in proportion to the segments. Soft cells (μ = 0.5),
+//! and 1e-4. The error falls with θ; θ = 0 is the discrete model. The steps are the discrete
+//! model's (divisions set them), but each costs in proportion to the segments. Soft cells (μ = 0.5),
 //! which keep growing and dividing behind the rim: θ = 1e-3 ends with 2 143 cells against
 //! 2 142 and `l` within 2e-7, on 302 segments; θ = 1e-2 with 2 117 (−1.2 %) on 96
 //! (`celltissue run models/fig3_3d_cell_grid.toml --set model.mu=0.5`).
