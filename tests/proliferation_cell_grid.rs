@@ -265,6 +265,18 @@ fn the_cell_grid_runs_from_a_scenario_and_bad_settings_name_their_key() {
         mean_g(&c),
         mean_g(&d)
     );
+    // the cap counts cells, not segments: every run ends (24 cells at t = 6 without it)
+    let capped = text(
+        "{ rule = \"area\", max_cells = 22, cell_grid = { merge_below = 0.9, merge_batch = 1 } }",
+        20,
+    );
+    let sc = load_str(&capped, Path::new("t.toml"), &[]).unwrap();
+    let c = celltissue::scenario::execute::run_spec(&sc.runs[1]);
+    assert!(c.error.is_none(), "{:?}", c.error);
+    let n = cells(&c);
+    println!("capped at 22: N = {n:?}, uncapped {:?}", cells(&d));
+    // (one event may pass the cap by the cells of the segments it splits)
+    assert!(n[2] >= 22.0 && n[2] <= 23.0 && n[2] < cells(&d)[2], "{n:?}");
     for (division, nodes, key) in [
         (
             "{ rule = \"area\", cell_grid = { merge_below = 1.5 } }",
