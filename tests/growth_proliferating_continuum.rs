@@ -2,25 +2,14 @@
 //! division: N₀ = 100, σ₀ = 0.1, free end, m = 0, area rule. Compares `l(t)` and
 //! `N(t) = ∫ρ dX` at several times for n = 50, 100, 200 segments.
 
-use celltissue::boundary::RightEnd;
-use celltissue::cell::TanhGrowth;
+use crate::common::fig3_3_line;
 use celltissue::events::{AreaDoubling, Dividing};
-use celltissue::line::build::{continuum, discrete, LineParams};
+use celltissue::line::build::{continuum, discrete};
 use celltissue::line::run::{integrate, SolveSettings};
 use celltissue::proliferation::DensityContinuum;
 use celltissue::{ArrayProblem, NeoHookean};
-use std::sync::Arc;
 
 const TIMES: [f64; 8] = [0.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0];
-
-fn params(k: f64) -> LineParams {
-    let mut p = LineParams::unit_cells(100);
-    p.right = RightEnd::Free(None);
-    p.k = k.into();
-    p.growth = Some(Arc::new(TanhGrowth::default()));
-    p.atol_cell = 1e-10;
-    p
-}
 
 fn settings() -> SolveSettings {
     SolveSettings {
@@ -32,7 +21,7 @@ fn settings() -> SolveSettings {
 
 /// (l, N) at TIMES for the discrete model.
 fn discrete_run(k: f64) -> Vec<(f64, f64)> {
-    let line = discrete(NeoHookean::new(1.0).unwrap(), &params(k)).unwrap();
+    let line = discrete(NeoHookean::new(1.0).unwrap(), &fig3_3_line(k)).unwrap();
     let mut prob =
         ArrayProblem::new(Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap());
     let traj = integrate(&mut prob, &settings(), &TIMES);
@@ -44,7 +33,7 @@ fn discrete_run(k: f64) -> Vec<(f64, f64)> {
 }
 
 fn continuum_run(k: f64, n: usize) -> Vec<(f64, f64)> {
-    let line = continuum(NeoHookean::new(1.0).unwrap(), &params(k), n).unwrap();
+    let line = continuum(NeoHookean::new(1.0).unwrap(), &fig3_3_line(k), n).unwrap();
     let mut prob = ArrayProblem::new(DensityContinuum::new(line, 100, 2.0).unwrap());
     let traj = integrate(&mut prob, &settings(), &TIMES);
     assert!(traj.error.is_none(), "{:?}", traj.error);
@@ -124,7 +113,7 @@ fn large_drag_rim() {
 #[test]
 fn long_run_drift_at_fixed_n() {
     let times = [0.0, 6.0, 10.0, 14.0, 18.0];
-    let line = discrete(NeoHookean::new(1.0).unwrap(), &params(1e-5)).unwrap();
+    let line = discrete(NeoHookean::new(1.0).unwrap(), &fig3_3_line(1e-5)).unwrap();
     let mut prob =
         ArrayProblem::new(Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap());
     let traj = integrate(&mut prob, &settings(), &times);
@@ -132,7 +121,7 @@ fn long_run_drift_at_fixed_n() {
     let d: Vec<f64> = traj.snapshots.iter().map(|s| s.length()).collect();
     let mut ls = Vec::new();
     for n in [100, 200, 400] {
-        let line = continuum(NeoHookean::new(1.0).unwrap(), &params(1e-5), n).unwrap();
+        let line = continuum(NeoHookean::new(1.0).unwrap(), &fig3_3_line(1e-5), n).unwrap();
         let mut prob = ArrayProblem::new(DensityContinuum::new(line, 100, 2.0).unwrap());
         let traj = integrate(&mut prob, &settings(), &times);
         assert!(traj.error.is_none(), "{:?}", traj.error);

@@ -3,24 +3,13 @@
 //! σ₀ = 0.1, free end, m = 0, area rule — the targets the density continuum misses
 //! (docs/model.md §8.4, "A grid in the cell-number coordinate").
 
-use celltissue::boundary::RightEnd;
-use celltissue::cell::TanhGrowth;
+use crate::common::fig3_3_line;
 use celltissue::events::{AreaDoubling, Dividing};
-use celltissue::line::build::{continuum, discrete, LineParams};
+use celltissue::line::build::{continuum, discrete};
 use celltissue::line::run::{integrate, SolveSettings};
 use celltissue::observe::DivisionRecord;
 use celltissue::proliferation::{CellGrid, Coarsening};
 use celltissue::{ArrayProblem, NeoHookean};
-use std::sync::Arc;
-
-fn params(k: f64) -> LineParams {
-    let mut p = LineParams::unit_cells(100);
-    p.right = RightEnd::Free(None);
-    p.k = k.into();
-    p.growth = Some(Arc::new(TanhGrowth::default()));
-    p.atol_cell = 1e-10;
-    p
-}
 
 fn settings(rtol: f64) -> SolveSettings {
     SolveSettings {
@@ -53,7 +42,7 @@ struct Run {
 }
 
 fn discrete_run(k: f64, times: &[f64], rtol: f64) -> Run {
-    let line = discrete(NeoHookean::new(1.0).unwrap(), &params(k)).unwrap();
+    let line = discrete(NeoHookean::new(1.0).unwrap(), &fig3_3_line(k)).unwrap();
     let mut prob =
         ArrayProblem::new(Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap());
     let traj = integrate(&mut prob, &settings(rtol), times);
@@ -71,7 +60,7 @@ fn discrete_run(k: f64, times: &[f64], rtol: f64) -> Run {
 }
 
 fn grid_run(k: f64, c: usize, coarsen: Option<Coarsening>, times: &[f64], rtol: f64) -> Run {
-    let line = continuum(NeoHookean::new(1.0).unwrap(), &params(k), 100 / c).unwrap();
+    let line = continuum(NeoHookean::new(1.0).unwrap(), &fig3_3_line(k), 100 / c).unwrap();
     let mut grid = CellGrid::new(line, 100, Box::new(AreaDoubling::default())).unwrap();
     grid.coarsen = coarsen;
     let mut prob = ArrayProblem::new(grid);

@@ -162,16 +162,55 @@ impl<E: StrainEnergy> CellGrid<E> {
     }
 
     /// Number of cells `N`, the sum of the segments' cell counts.
+    ///
+    /// ```
+    /// use celltissue::proliferation::CellGrid;
+    /// use celltissue::events::AreaDoubling;
+    /// use celltissue::line::{continuum, LineParams};
+    /// let mut p = LineParams::unit_cells(12);
+    /// p.right = celltissue::boundary::RightEnd::Free(None);
+    /// p.growth = Some(std::sync::Arc::new(celltissue::cell::TanhGrowth::default()));
+    /// let line = continuum(celltissue::NeoHookean::new(1.0)?, &p, 4)?;
+    /// let grid = CellGrid::new(line, 12, Box::new(AreaDoubling::default()))?;
+    /// assert_eq!(grid.cells(), 12); // 4 segments of 3 cells
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn cells(&self) -> usize {
         self.multiplicity.iter().sum()
     }
 
     /// Number of segments.
+    ///
+    /// ```
+    /// use celltissue::proliferation::CellGrid;
+    /// use celltissue::events::AreaDoubling;
+    /// use celltissue::line::{continuum, LineParams};
+    /// let mut p = LineParams::unit_cells(12);
+    /// p.right = celltissue::boundary::RightEnd::Free(None);
+    /// p.growth = Some(std::sync::Arc::new(celltissue::cell::TanhGrowth::default()));
+    /// let line = continuum(celltissue::NeoHookean::new(1.0)?, &p, 4)?;
+    /// let grid = CellGrid::new(line, 12, Box::new(AreaDoubling::default()))?;
+    /// assert_eq!(grid.segments(), 4);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn segments(&self) -> usize {
         self.dividing.line.n_cells()
     }
 
     /// The division log, with `cells_after` counted in cells.
+    ///
+    /// ```
+    /// use celltissue::proliferation::CellGrid;
+    /// use celltissue::events::AreaDoubling;
+    /// use celltissue::line::{continuum, LineParams};
+    /// let mut p = LineParams::unit_cells(12);
+    /// p.right = celltissue::boundary::RightEnd::Free(None);
+    /// p.growth = Some(std::sync::Arc::new(celltissue::cell::TanhGrowth::default()));
+    /// let line = continuum(celltissue::NeoHookean::new(1.0)?, &p, 4)?;
+    /// let grid = CellGrid::new(line, 12, Box::new(AreaDoubling::default()))?;
+    /// assert!(grid.log().records.is_empty()); // nothing divided yet
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn log(&self) -> &DivisionLog {
         &self.dividing.log
     }

@@ -37,3 +37,14 @@ pub fn sheet_solver(rtol: f64, atol: f64) -> celltissue::SolveSettings {
         ..Default::default()
     }
 }
+
+/// The Fig 3.3 line: 100 unit cells, free right end, drag `k`, the tanh growth law (σ₀ = 0.1),
+/// cell-unit atol 1e-10.
+pub fn fig3_3_line(k: f64) -> celltissue::line::build::LineParams {
+    let mut p = celltissue::line::build::LineParams::unit_cells(100);
+    p.right = celltissue::boundary::RightEnd::Free(None);
+    p.k = k.into();
+    p.growth = Some(std::sync::Arc::new(celltissue::cell::TanhGrowth::default()));
+    p.atol_cell = 1e-10;
+    p
+}
