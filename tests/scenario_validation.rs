@@ -252,7 +252,14 @@ fn division_has_a_default_cap_and_a_continuum_only_for_the_area_rule() {
         &[],
         "model.division.rule",
     );
-    assert!(m.contains("area"), "{m}");
+    assert!(m.contains("area") && m.contains("cell_grid"), "{m}");
+    // the cell-number grid takes any rule
+    assert!(load(
+        &div("{ rule = \"age\", period = 2, cell_grid = {} }")
+            .replace("models = [\"discrete\"]", ""),
+        &[]
+    )
+    .is_ok());
 }
 
 #[test]

@@ -27,3 +27,26 @@ def test_cell_grid_follows_the_discrete_rim():
     # fewer segments than cells: the compressed cells behind the rim were merged
     (last_g,), (last_d,) = grid.profiles[-1:], discrete.profiles[-1:]
     assert len(last_g["x"]) < len(last_d["x"]) / 2, (len(last_g["x"]), len(last_d["x"]))
+
+
+def test_cell_grid_takes_a_random_threshold_rule():
+    # the bundled ensemble: thresholds U[1.8, 2.2], four cells per segment dividing one by one
+    runs = celltissue.run(
+        "fig3_3_ensemble",
+        set={"sweep.ensemble.realisations": 2, "output.series": [0, 1.5, 3]},
+    )
+    assert sorted(r.model for r in runs) == ["continuum"] * 2 + ["discrete"] * 2
+    assert all(r.error is None for r in runs)
+    n3 = {
+        m: np.mean([r.series["cells"][-1] for r in runs if r.model == m])
+        for m in ("discrete", "continuum")
+    }
+    # every cell has divided once by t = 3 in either model (measured: about 190 of 200)
+    assert all(150 < n <= 200 for n in n3.values()), n3
+    # cells divide one at a time: a segment of four dividing as one would keep N a multiple
+    # of four (measured: 189 in both realisations), and each division adds one cell
+    cont = [r for r in runs if r.model == "continuum"]
+    assert any(int(r.series["cells"][-1]) % 4 != 0 for r in cont)
+    for r in cont:
+        after = np.asarray(r.divisions["cells_after"])
+        assert np.all(np.diff(after) == 1) and after[-1] == r.series["cells"][-1]

@@ -413,11 +413,33 @@ impl<E: StrainEnergy> Dividing<E> {
     /// the event functions see only `y`).
     fn mechanical_events(&self, t: f64, y: &[f64], g: &mut [f64]) {
         let line = &self.line;
-        let n = line.n_cells();
         let zero = vec![0.0; y.len()];
-        let g2 = line.g2;
-        let mut xs = Vec::with_capacity(n + 1);
-        xs.extend((0..=n).map(|b| line.boundary(b, t, y, &zero).0));
+        let xs = self.boundaries(t, y, &zero);
+        for (i, out) in g.iter_mut().enumerate() {
+            *out = self.rule.event(&self.cell_view(i, t, y, &zero, &xs));
+        }
+        debug_assert_eq!(g.len(), line.n_cells());
+    }
+
+    /// Every boundary position of state `y` (`N + 1` of them).
+    pub(crate) fn boundaries(&self, t: f64, y: &[f64], yp: &[f64]) -> Vec<f64> {
+        let n = self.line.n_cells();
+        (0..=n).map(|b| self.line.boundary(b, t, y, yp).0).collect()
+    }
+
+    /// What the rule sees of cell `i` (0-based) at state `y`, with `xs` its
+    /// [`boundaries`](Self::boundaries): growth, age and threshold, and its geometry and
+    /// elastic mechanics (the viscous stress at rates `zero`).
+    pub(crate) fn cell_view(
+        &self,
+        i: usize,
+        t: f64,
+        y: &[f64],
+        zero: &[f64],
+        xs: &[f64],
+    ) -> CellView {
+        let line = &self.line;
+        let n = line.n_cells();
         let len = |j: usize| -> f64 {
             if (1..=n).contains(&j) {
                 xs[j] - xs[j - 1]
@@ -425,23 +447,28 @@ impl<E: StrainEnergy> Dividing<E> {
                 f64::NAN
             }
         };
-        for (i, out) in g.iter_mut().enumerate() {
-            let j = i + 1;
-            let k = line.layout.gi[i];
-            let gj = if k == NONE { 1.0 } else { y[k] };
-            let mut c = CellView::growth_only(gj * g2, t - self.birth[i], self.threshold[i]);
-            c.length = len(j);
-            c.position = 0.5 * (xs[j - 1] + xs[j]);
-            c.neighbour_lengths = [len(j - 1), len(j + 1)];
-            if let Ok(e) = line.eval_cell(j, t, y, &zero) {
-                c.width = e.w;
-                c.area = c.length * e.w;
-                c.stress = e.sigma;
-                c.pressure =
-                    line.cells.mu[i] * line.energy.line(e.alpha).pressure + line.cells.p_ext[i];
-            }
-            *out = self.rule.event(&c);
+        let j = i + 1;
+        let k = line.layout.gi[i];
+        let gj = if k == NONE { 1.0 } else { y[k] };
+        let mut c = CellView::growth_only(gj * line.g2, t - self.birth[i], self.threshold[i]);
+        c.length = len(j);
+        c.position = 0.5 * (xs[j - 1] + xs[j]);
+        c.neighbour_lengths = [len(j - 1), len(j + 1)];
+        if let Ok(e) = line.eval_cell(j, t, y, zero) {
+            c.width = e.w;
+            c.area = c.length * e.w;
+            c.stress = e.sigma;
+            c.pressure =
+                line.cells.mu[i] * line.energy.line(e.alpha).pressure + line.cells.p_ext[i];
         }
+        c
+    }
+
+    /// A threshold for a cell born now, from the rule's seeded generator (`NaN` for rules that
+    /// draw none): the generator daughters draw from, shared with cells that divide elsewhere
+    /// (the proliferating continuum's members).
+    pub(crate) fn draw_threshold(&mut self) -> f64 {
+        self.rule.draw_threshold(&mut self.rng)
     }
 
     fn record_invariants(

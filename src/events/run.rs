@@ -150,7 +150,8 @@ impl ProliferationConfig {
 }
 
 /// Runs one proliferating line (`model`: discrete with division, or the proliferating
-/// continuum on `nodes` segments — area rule only) and records series, profiles and
+/// continuum on `nodes` segments — the cell-number grid with any rule, the density continuum
+/// with the area rule) and records series, profiles and
 /// divisions. Invalid configuration: a record with `error` naming the key.
 ///
 /// ```
@@ -246,13 +247,6 @@ fn with_law<E: StrainEnergy + Clone>(
                 rec.error = Some(e.to_string());
                 return;
             }
-            let Some(ratio) = cfg.division.area_ratio() else {
-                rec.error = Some(
-                    "invalid `division.rule`: the proliferating continuum supports only \"area\""
-                        .into(),
-                );
-                return;
-            };
             let n = nodes.unwrap_or(n0);
             if let Some(grid) = &cfg.division.cell_grid {
                 let built = crate::line::build::continuum(energy, &params, n)
@@ -272,6 +266,14 @@ fn with_law<E: StrainEnergy + Clone>(
                 }
                 return;
             }
+            let Some(ratio) = cfg.division.area_ratio() else {
+                rec.error = Some(
+                    "invalid `division.rule`: the density continuum supports only \"area\"; \
+                     the cell-number grid (`division.cell_grid`) takes any rule"
+                        .into(),
+                );
+                return;
+            };
             let built = crate::line::build::continuum(energy, &params, n)
                 .map_err(|e| e.to_string())
                 .and_then(|line| DensityContinuum::new(line, n0, ratio).map_err(|e| e.to_string()));

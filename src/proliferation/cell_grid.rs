@@ -19,10 +19,9 @@
 
 use crate::array::CellArray;
 use crate::energy::StrainEnergy;
-use crate::events::{CellView, Dividing, DivisionLog, DivisionRule, EventError};
+use crate::events::{Dividing, DivisionLog, DivisionRule, EventError, SplitMix64};
 use crate::line::run::LineModel;
 use crate::line::Line;
-use crate::observe::DivisionRecord;
 use crate::scalar::Scalar;
 use integrators::{EventAction, ResidualError};
 
@@ -67,6 +66,11 @@ pub struct CellGrid<E: StrainEnergy> {
     pub members: Vec<Option<Vec<Member>>>,
     /// Merging of segments that no longer grow (default none).
     pub coarsen: Option<Coarsening>,
+    /// Whether a segment's cells divide one by one: set when the rule draws a threshold for
+    /// each cell (`random_area`) and segments hold more than one cell. Each segment then
+    /// starts as a list of single-cell [`Member`]s with their own thresholds, and a growing
+    /// segment that has doubled its cells splits in two (see the [module docs](super)).
+    pub asynchronous: bool,
     /// No division once the line has this many cells (default none; one event may pass it
     /// by the cells of the segments it splits).
     pub max_cells: Option<usize>,
@@ -127,7 +131,9 @@ impl Default for Coarsening {
 
 impl<E: StrainEnergy> CellGrid<E> {
     /// Wraps a growing continuum line of `n` segments built for `n0` initial cells (`n` must
-    /// divide `n0`); segments divide by `rule`, all of a segment's cells at once.
+    /// divide `n0`); segments divide by `rule`, all of a segment's cells at once, unless the
+    /// rule draws a threshold per cell ([`CellGrid::asynchronous`]). Random thresholds come
+    /// from the rule's seed ([`DivisionRule::seed`]).
     ///
     /// ```
     /// use celltissue::proliferation::CellGrid;
@@ -149,14 +155,34 @@ impl<E: StrainEnergy> CellGrid<E> {
                  cells per segment (nodes must divide cells)"
             )));
         }
+        let c = n0 / n;
+        let draws = !rule.draw_threshold(&mut SplitMix64::new(0)).is_nan();
+        let seed = rule.seed();
         let mut grid = Self {
-            dividing: Dividing::new(line, rule, 0)?,
-            cells_per_segment: n0 / n,
-            multiplicity: vec![n0 / n; n],
+            dividing: Dividing::new(line, rule, seed)?,
+            cells_per_segment: c,
+            multiplicity: vec![c; n],
             members: vec![None; n],
             coarsen: None,
+            asynchronous: draws && c > 1,
             max_cells: None,
         };
+        if grid.asynchronous {
+            // c single cells per segment, each with its own threshold
+            for j in 0..n {
+                let l0 = grid.dividing.line.cells.l0[j] / c as f64;
+                let list = (0..c)
+                    .map(|_| Member {
+                        l0,
+                        offset: 0.0,
+                        cells: 1,
+                        birth: 0.0,
+                        threshold: grid.dividing.draw_threshold(),
+                    })
+                    .collect();
+                grid.members[j] = Some(list);
+            }
+        }
         grid.lump_drags();
         Ok(grid)
     }
@@ -237,23 +263,33 @@ impl<E: StrainEnergy> CellGrid<E> {
         line.refresh_uniform_fields();
     }
 
+    /// Whether segment `i` (0-based) grows at less than [`CellGrid::coarsen`]'s fraction of
+    /// the unstressed rate (`false` without coarsening).
+    fn grows_slowly(&self, i: usize, t: f64, y: &[f64], yp: &[f64]) -> bool {
+        let (Some(rule), Some(growth)) = (self.coarsen, self.dividing.line.growth()) else {
+            return false;
+        };
+        let limit = rule.growth_below * growth.rate(0.0).0;
+        self.dividing
+            .line
+            .eval_cell(i + 1, t, y, yp)
+            .is_ok_and(|c| growth.rate(c.sigma).0 < limit)
+    }
+
     /// The pairs to merge now (first segment of each, 1-based), under [`CellGrid::coarsen`].
     fn pairs_to_merge(&self, t: f64, y: &[f64], yp: &[f64]) -> Vec<usize> {
-        let (Some(rule), Some(growth)) = (self.coarsen, self.dividing.line.growth()) else {
+        let Some(rule) = self.coarsen else {
             return Vec::new();
         };
-        let line = &self.dividing.line;
-        let limit = rule.growth_below * growth.rate(0.0).0;
-        let slow = |j: usize| {
-            line.eval_cell(j, t, y, yp)
-                .is_ok_and(|c| growth.rate(c.sigma).0 < limit)
-        };
-        let n = line.n_cells();
+        let n = self.segments();
         let mut pairs = Vec::new();
         let mut j = 1;
         while j < n {
             let (a, b) = (self.multiplicity[j - 1], self.multiplicity[j]);
-            if a + b <= rule.max_cells && slow(j) && slow(j + 1) {
+            if a + b <= rule.max_cells
+                && self.grows_slowly(j - 1, t, y, yp)
+                && self.grows_slowly(j, t, y, yp)
+            {
                 pairs.push(j);
                 j += 2;
             } else {
@@ -264,6 +300,23 @@ impl<E: StrainEnergy> CellGrid<E> {
             pairs.clear();
         }
         pairs
+    }
+
+    /// The segments to split now (0-based, decreasing), when cells divide one by one
+    /// ([`CellGrid::asynchronous`]): those that hold at least twice the cells they started
+    /// with and still grow (a segment merged because it stopped growing stays whole).
+    fn segments_to_split(&self, t: f64, y: &[f64], yp: &[f64]) -> Vec<usize> {
+        if !self.asynchronous {
+            return Vec::new();
+        }
+        (0..self.segments())
+            .rev()
+            .filter(|&j| {
+                self.members[j].as_ref().is_some_and(|m| m.len() >= 2)
+                    && self.multiplicity[j] >= 2 * self.cells_per_segment
+                    && !self.grows_slowly(j, t, y, yp)
+            })
+            .collect()
     }
 
     /// The members of segment `j` (0-based) as they would enter a merge at state `y`: its own
@@ -290,7 +343,7 @@ impl<E: StrainEnergy> CellGrid<E> {
 
     /// Merges the pairs `(j, j + 1)` for `j` in `pairs` (1-based): the line, `Dividing`'s
     /// per-cell records, the cell counts and the member lists.
-    fn merge(&mut self, pairs: &[usize], y: &mut Vec<f64>) -> Result<(), ResidualError> {
+    pub(crate) fn merge(&mut self, pairs: &[usize], y: &mut Vec<f64>) -> Result<(), ResidualError> {
         // members with absolute g before the merge
         let joined: Vec<Vec<Member>> = pairs
             .iter()
@@ -325,79 +378,6 @@ impl<E: StrainEnergy> CellGrid<E> {
         self.members = lists;
         Ok(())
     }
-
-    /// Divides every member of merged segment `j` (0-based) that has reached the rule: the
-    /// member becomes two of half its grown length at `g = 1`, so the segment's reference
-    /// length and cell count grow while its grown length and every boundary stay; its `g`
-    /// (in `y`) is the new `L₀`-weighted mean. Logs each division at the member's place in the
-    /// segment and pushes the cells it added to `added`.
-    fn divide_members(&mut self, j: usize, t: f64, y: &mut [f64], added: &mut Vec<usize>) {
-        let Some(list) = self.members[j].take() else {
-            return;
-        };
-        let line = &mut self.dividing.line;
-        let (k, g2) = (line.layout.gi[j], line.g2);
-        let g = y[k];
-        let (xl, xr) = (line.boundary(j, t, y, y).0, line.boundary(j + 1, t, y, y).0);
-        let (x0, xn) = (
-            line.boundary(0, t, y, y).0,
-            line.boundary(line.n_cells(), t, y, y).0,
-        );
-        let grown: f64 = list.iter().map(|m| m.l0 * (g + m.offset)).sum();
-        let per_cell_drag = line.cells.k_cell[j] / self.multiplicity[j] as f64;
-        let value = |m: &Member| {
-            self.dividing.rule.event(&CellView::growth_only(
-                (g + m.offset) * g2,
-                t - m.birth,
-                m.threshold,
-            ))
-        };
-        // the member that fired divides even if the located root left it a rounding short
-        let first = (0..list.len())
-            .max_by(|&a, &b| value(&list[a]).total_cmp(&value(&list[b])))
-            .unwrap_or(0);
-        let fires: Vec<bool> = list
-            .iter()
-            .enumerate()
-            .map(|(i, m)| i == first || value(m) >= 0.0)
-            .collect();
-        let (mut out, mut before) = (Vec::with_capacity(list.len() + 1), 0.0);
-        for (m, fires) in list.into_iter().zip(fires) {
-            let gm = g + m.offset;
-            if fires {
-                let x = xl + (xr - xl) * (before + 0.5 * m.l0 * gm) / grown;
-                self.dividing.log.push(DivisionRecord {
-                    t,
-                    parent: j + 1,
-                    x,
-                    x_over_length: (x - x0) / (xn - x0),
-                    cells_after: 0,
-                });
-                added.push(m.cells);
-                self.multiplicity[j] += m.cells;
-                let daughter = Member {
-                    l0: 0.5 * m.l0 * gm,
-                    offset: 1.0,
-                    birth: t,
-                    ..m
-                };
-                out.extend([daughter, daughter]);
-            } else {
-                out.push(Member { offset: gm, ..m });
-            }
-            before += m.l0 * gm;
-        }
-        // the new reference length and mean g; offsets back to relative
-        let l0: f64 = out.iter().map(|m| m.l0).sum();
-        let g_new = grown / l0;
-        out.iter_mut().for_each(|m| m.offset -= g_new);
-        let line = &mut self.dividing.line;
-        line.l0_total += l0 - line.cells.l0[j];
-        line.cells.l0[j] = l0;
-        line.cells.k_cell[j] = per_cell_drag * self.multiplicity[j] as f64;
-        y[k] = g_new;
-        self.members[j] = Some(out);
-    }
 }
 
 impl<E: StrainEnergy> CellArray for CellGrid<E> {
@@ -413,20 +393,13 @@ impl<E: StrainEnergy> CellArray for CellGrid<E> {
         {
             return;
         }
-        // a merged segment fires when the first of its members reaches the rule
-        let g2 = self.dividing.line.g2;
-        for (j, list) in self.members.iter().enumerate() {
-            if let Some(list) = list {
-                let gj = y[self.dividing.line.layout.gi[j]];
-                g[j] = list
+        // a segment with members fires when the first of them reaches the rule
+        for (j, out) in g.iter_mut().enumerate() {
+            if self.members[j].is_some() {
+                *out = self
+                    .member_views(j, t, y)
                     .iter()
-                    .map(|m| {
-                        self.dividing.rule.event(&CellView::growth_only(
-                            (gj + m.offset) * g2,
-                            t - m.birth,
-                            m.threshold,
-                        ))
-                    })
+                    .map(|v| self.dividing.rule.event(v))
                     .fold(f64::NEG_INFINITY, f64::max);
             }
         }
@@ -486,14 +459,22 @@ impl<E: StrainEnergy> CellArray for CellGrid<E> {
         if matches!(action, EventAction::Continue) {
             return Ok(action);
         }
-        // the new state's ẏ is not known here; stresses are elastic enough to choose merges
+        // the new state's ẏ is not known here; stresses are elastic enough to choose splits
+        // and merges
+        let zero = vec![0.0; y.len()];
+        let full = self.segments_to_split(t, y, &zero);
+        for &j in &full {
+            self.split_full(j, t, y).map_err(ResidualError::Fatal)?;
+        }
         let zero = vec![0.0; y.len()];
         let pairs = self.pairs_to_merge(t, y, &zero);
         if !pairs.is_empty() {
             self.merge(&pairs, y)?;
+        }
+        if !full.is_empty() || !pairs.is_empty() {
             action = EventAction::Resized;
         }
-        if !merged.is_empty() || !pairs.is_empty() {
+        if !merged.is_empty() || !pairs.is_empty() || !full.is_empty() {
             // a member's division changed its segment's g: no history carried across
             self.dividing.forget_last_split();
         }

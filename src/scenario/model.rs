@@ -237,11 +237,12 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
                         ),
                     ));
                 }
-                if division.area_ratio().is_none() {
+                if division.cell_grid.is_none() && division.area_ratio().is_none() {
                     return Err(ScenarioError::key(
                         "model.division.rule",
-                        "the proliferating continuum (model \"continuum\") supports only \
-                         rule = \"area\"; run models = [\"discrete\"] for age or random rules",
+                        "the density continuum (model \"continuum\" without \
+                         division.cell_grid) supports only rule = \"area\"; add \
+                         cell_grid = {} to the division table for other rules",
                     ));
                 }
             }
