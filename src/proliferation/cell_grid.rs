@@ -393,6 +393,18 @@ impl<E: StrainEnergy> CellArray for CellGrid<E> {
         {
             return;
         }
+        // a rule that reads the shape sees one cell of a segment, not the segment
+        let shared = self.multiplicity.iter().any(|&m| m > 1);
+        if self.dividing.rule.needs_mechanics() && shared {
+            let zero = vec![0.0; y.len()];
+            let xs = self.dividing.boundaries(t, y, &zero);
+            for (j, out) in g.iter_mut().enumerate() {
+                if self.members[j].is_none() {
+                    let view = self.segment_cell_view(j, t, y, &zero, &xs);
+                    *out = self.dividing.rule.event(&view);
+                }
+            }
+        }
         // a segment with members fires when the first of them reaches the rule
         for (j, out) in g.iter_mut().enumerate() {
             if self.members[j].is_some() {

@@ -1,5 +1,6 @@
-//! The cells inside a [`CellGrid`] segment that divide one by one: what the rule sees of each
-//! ([`CellGrid::member_views`]), their divisions inside the segment
+//! The cells inside a [`CellGrid`] segment: what the rule sees of one of them
+//! ([`CellGrid::segment_cell_view`] when they are in phase, [`CellGrid::member_views`] when
+//! they divide one by one), their divisions inside the segment
 //! ([`CellGrid::divide_members`]), and the split of a segment that has doubled its cells
 //! ([`CellGrid::split_full`]).
 //!
@@ -70,6 +71,34 @@ impl<E: StrainEnergy> CellGrid<E> {
             left += lengths[i];
         }
         views
+    }
+
+    /// What a rule that reads mechanics sees of one cell of segment `j` (0-based) whose `c`
+    /// cells are in phase: the segment's view with its length and area shared among its
+    /// cells, and the neighbouring segments' mean cell lengths as neighbours. `xs` are the
+    /// boundaries of `y`, `zero` the rates the viscous stress is taken at.
+    pub(crate) fn segment_cell_view(
+        &self,
+        j: usize,
+        t: f64,
+        y: &[f64],
+        zero: &[f64],
+        xs: &[f64],
+    ) -> CellView {
+        let mut v = self.dividing.cell_view(j, t, y, zero, xs);
+        let m = self.multiplicity[j] as f64;
+        let mean_cell = |k: usize| (xs[k + 1] - xs[k]) / self.multiplicity[k] as f64;
+        v.length /= m;
+        v.area /= m;
+        v.neighbour_lengths = [
+            if j > 0 { mean_cell(j - 1) } else { f64::NAN },
+            if j + 1 < self.multiplicity.len() {
+                mean_cell(j + 1)
+            } else {
+                f64::NAN
+            },
+        ];
+        v
     }
 
     /// Divides every member of segment `j` (0-based) that has reached the rule: the member
