@@ -394,14 +394,16 @@ impl<E: StrainEnergy> CellArray for CellGrid<E> {
             return;
         }
         // a rule that reads the shape sees one cell of a segment, not the segment
+        // (and the neighbouring segments' mean cells as its neighbours)
+        let geometry = self.geometry(t, y);
         let shared = self.multiplicity.iter().any(|&m| m > 1);
-        if self.dividing.rule.needs_mechanics() && shared {
-            let zero = vec![0.0; y.len()];
-            let xs = self.dividing.boundaries(t, y, &zero);
+        if let (Some(geo), true) = (&geometry, shared) {
             for (j, out) in g.iter_mut().enumerate() {
                 if self.members[j].is_none() {
-                    let view = self.segment_cell_view(j, t, y, &zero, &xs);
-                    *out = self.dividing.rule.event(&view);
+                    *out = self
+                        .dividing
+                        .rule
+                        .event(&self.segment_cell_view(j, t, y, geo));
                 }
             }
         }
@@ -409,7 +411,7 @@ impl<E: StrainEnergy> CellArray for CellGrid<E> {
         for (j, out) in g.iter_mut().enumerate() {
             if self.members[j].is_some() {
                 *out = self
-                    .member_views(j, t, y)
+                    .member_views(j, t, y, geometry.as_ref())
                     .iter()
                     .map(|v| self.dividing.rule.event(v))
                     .fold(f64::NEG_INFINITY, f64::max);
@@ -428,8 +430,9 @@ impl<E: StrainEnergy> CellArray for CellGrid<E> {
         let (merged, plain): (Vec<usize>, Vec<usize>) =
             fired.iter().partition(|&&j| self.members[j].is_some());
         // members of merged segments divide inside them: no resize
+        let geometry = self.geometry(t, y);
         for &j in &merged {
-            self.divide_members(j, t, y, &mut added);
+            self.divide_members(j, t, y, geometry.as_ref(), &mut added);
         }
         let mut action = if added.is_empty() {
             EventAction::Continue

@@ -18,13 +18,38 @@ use crate::energy::StrainEnergy;
 use crate::events::CellView;
 use crate::observe::DivisionRecord;
 
+/// What a rule that reads mechanics needs of a state, computed once per evaluation of the
+/// event functions (so the views of all segments cost O(n), not O(n) each).
+pub(crate) struct Geometry {
+    /// Zero rates, at which the viscous stress is taken (the event functions see only `y`).
+    zero: Vec<f64>,
+    /// Every boundary position.
+    xs: Vec<f64>,
+}
+
 impl<E: StrainEnergy> CellGrid<E> {
+    /// The [`Geometry`] of state `y`, or `None` when the rule reads only growth and age.
+    pub(crate) fn geometry(&self, t: f64, y: &[f64]) -> Option<Geometry> {
+        if !self.dividing.rule.needs_mechanics() {
+            return None;
+        }
+        let zero = vec![0.0; y.len()];
+        let xs = self.dividing.boundaries(t, y, &zero);
+        Some(Geometry { zero, xs })
+    }
+
     /// What the rule sees of each member of segment `j` (0-based; a member list must exist)
-    /// at state `y`: its own area ratio `(g + offset) g₂`, age and threshold; for a rule that
+    /// at state `y` (with its [`Geometry`] when the rule reads mechanics): its own area ratio `(g + offset) g₂`, age and threshold; for a rule that
     /// reads mechanics also its share of the segment's length (in proportion to `L₀ g`), the
     /// segment's width, stress and pressure, its centre, and its neighbours' lengths (the
     /// neighbouring segments' mean cell length at the segment's ends).
-    pub(crate) fn member_views(&self, j: usize, t: f64, y: &[f64]) -> Vec<CellView> {
+    pub(crate) fn member_views(
+        &self,
+        j: usize,
+        t: f64,
+        y: &[f64],
+        geometry: Option<&Geometry>,
+    ) -> Vec<CellView> {
         let Some(list) = &self.members[j] else {
             return Vec::new();
         };
@@ -35,12 +60,10 @@ impl<E: StrainEnergy> CellGrid<E> {
             .iter()
             .map(|m| CellView::growth_only((g + m.offset) * g2, t - m.birth, m.threshold))
             .collect();
-        if !d.rule.needs_mechanics() {
+        let Some(Geometry { zero, xs }) = geometry else {
             return views;
-        }
-        let zero = vec![0.0; y.len()];
-        let xs = d.boundaries(t, y, &zero);
-        let segment = d.cell_view(j, t, y, &zero, &xs);
+        };
+        let segment = d.cell_view(j, t, y, zero, xs);
         let grown: f64 = list.iter().map(|m| m.l0 * (g + m.offset)).sum();
         let lengths: Vec<f64> = list
             .iter()
@@ -75,16 +98,15 @@ impl<E: StrainEnergy> CellGrid<E> {
 
     /// What a rule that reads mechanics sees of one cell of segment `j` (0-based) whose `c`
     /// cells are in phase: the segment's view with its length and area shared among its
-    /// cells, and the neighbouring segments' mean cell lengths as neighbours. `xs` are the
-    /// boundaries of `y`, `zero` the rates the viscous stress is taken at.
+    /// cells, and the neighbouring segments' mean cell lengths as neighbours.
     pub(crate) fn segment_cell_view(
         &self,
         j: usize,
         t: f64,
         y: &[f64],
-        zero: &[f64],
-        xs: &[f64],
+        geometry: &Geometry,
     ) -> CellView {
+        let Geometry { zero, xs } = geometry;
         let mut v = self.dividing.cell_view(j, t, y, zero, xs);
         let m = self.multiplicity[j] as f64;
         let mean_cell = |k: usize| (xs[k + 1] - xs[k]) / self.multiplicity[k] as f64;
@@ -106,16 +128,18 @@ impl<E: StrainEnergy> CellGrid<E> {
     /// from the rule's generator, so the segment's reference length and cell count grow while
     /// its grown length and every boundary stay; its `g` (in `y`) is the new `L₀`-weighted
     /// mean. Logs each division at the member's place in the segment and pushes the cells it
-    /// added to `added`.
+    /// added to `added`. `geometry` is the state's (boundaries do not move here, so one serves
+    /// every segment of an event).
     pub(crate) fn divide_members(
         &mut self,
         j: usize,
         t: f64,
         y: &mut [f64],
+        geometry: Option<&Geometry>,
         added: &mut Vec<usize>,
     ) {
         let values: Vec<f64> = self
-            .member_views(j, t, y)
+            .member_views(j, t, y, geometry)
             .iter()
             .map(|v| self.dividing.rule.event(v))
             .collect();
@@ -404,7 +428,7 @@ mod tests {
         y[gi[2]] = 1.2;
         y[gi[3]] = 1.6;
         grid.merge(&[3], &mut y).unwrap();
-        let v = grid.member_views(2, 0.0, &y);
+        let v = grid.member_views(2, 0.0, &y, grid.geometry(0.0, &y).as_ref());
         let xs: Vec<f64> = (0..=7)
             .map(|b| grid.dividing.line.boundary(b, 0.0, &y, &y).0)
             .collect();
