@@ -16,13 +16,14 @@
 //!
 //! The group also times `travelling_rim` (the long-time rim at K = 1e-2, no line integrated)
 //! and the rim to t = 1000 at K = 1e-2 on the discrete line and on the cell-number grid with
-//! merging below 1e-3 of `G(0)` (`PROLIF_RIM=0` skips those two).
+//! merging below 1e-3 of `G(0)` (`PROLIF_RIM=0` skips those two), and one realisation of
+//! random division thresholds on the discrete line and on the grid of four cells per segment.
 //!
 //! Measured numbers and their commands: `BENCHMARKS.md`, section Proliferation.
 
 use celltissue::boundary::RightEnd;
 use celltissue::cell::TanhGrowth;
-use celltissue::events::{AreaDoubling, Dividing};
+use celltissue::events::{AreaDoubling, Dividing, RandomThreshold};
 use celltissue::line::build::continuum;
 use celltissue::line::build::{discrete, LineParams};
 use celltissue::line::run::{integrate, SolveSettings, Trajectory};
@@ -80,6 +81,33 @@ fn env(name: &str, default: f64) -> f64 {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(default)
+}
+
+/// One realisation of random thresholds U[1.8, 2.2] (seed 0) at K = 1e-5 to t = 12: the
+/// discrete line (`c = 0`) or the cell-number grid of `c` cells per segment; returns the cells.
+fn random_thresholds(c: usize) -> usize {
+    let rule = || {
+        Box::new(RandomThreshold {
+            mean: 2.0,
+            spread: 0.2,
+            seed: 0,
+        })
+    };
+    let p = params(100, 1e-5, 0.0);
+    let settings = SolveSettings::default();
+    if c == 0 {
+        let line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+        let mut prob = ArrayProblem::new(Dividing::new(line, rule(), 0).unwrap());
+        let traj = integrate(&mut prob, &settings, &[0.0, 12.0]);
+        assert!(traj.error.is_none());
+        prob.array.line.n_cells()
+    } else {
+        let line = continuum(NeoHookean::new(1.0).unwrap(), &p, 100 / c).unwrap();
+        let mut prob = ArrayProblem::new(CellGrid::new(line, 100, rule()).unwrap());
+        let traj = integrate(&mut prob, &settings, &[0.0, 12.0]);
+        assert!(traj.error.is_none());
+        prob.array.cells()
+    }
 }
 
 fn grow(n: usize, eta: f64, t_end: f64) -> Trajectory {
@@ -199,6 +227,16 @@ fn benches(c: &mut Criterion) {
                 assert!(traj.error.is_none() && prob.array.segments() < 300);
             })
         });
+    }
+    // models/fig3_3_ensemble.toml's realisation (thresholds U[1.8, 2.2], K = 1e-5, t ≤ 12,
+    // seed 0): the discrete line against the cell-number grid of four cells per segment,
+    // each cell dividing on its own (ensemble means of N within sampling error and of l
+    // within 1.3e-3, docs/model.md §8.4)
+    for (name, c) in [
+        ("random_thresholds_t12_discrete", 0),
+        ("random_thresholds_t12_cell_grid_c4", 4),
+    ] {
+        g.bench_function(name, |b| b.iter(|| random_thresholds(c)));
     }
     g.bench_function("grow_N1e4_eta0", |b| b.iter(|| grow(10_000, 0.0, 10.0)));
     g.bench_function("grow_N1e4_eta1", |b| b.iter(|| grow(10_000, 1.0, 10.0)));
