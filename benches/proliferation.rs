@@ -84,8 +84,8 @@ fn env(name: &str, default: f64) -> f64 {
 }
 
 /// One realisation of random thresholds U[1.8, 2.2] (seed 0) at K = 1e-5 to t = 12: the
-/// discrete line (`c = 0`) or the cell-number grid of `c` cells per segment; returns the cells.
-fn random_thresholds(c: usize) -> usize {
+/// discrete line (`None`) or the cell-number grid of `c` cells per segment; returns the cells.
+fn random_thresholds(cells_per_segment: Option<usize>) -> usize {
     let rule = || {
         Box::new(RandomThreshold {
             mean: 2.0,
@@ -95,18 +95,18 @@ fn random_thresholds(c: usize) -> usize {
     };
     let p = params(100, 1e-5, 0.0);
     let settings = SolveSettings::default();
-    if c == 0 {
-        let line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
-        let mut prob = ArrayProblem::new(Dividing::new(line, rule(), 0).unwrap());
-        let traj = integrate(&mut prob, &settings, &[0.0, 12.0]);
-        assert!(traj.error.is_none());
-        prob.array.line.n_cells()
-    } else {
+    if let Some(c) = cells_per_segment {
         let line = continuum(NeoHookean::new(1.0).unwrap(), &p, 100 / c).unwrap();
         let mut prob = ArrayProblem::new(CellGrid::new(line, 100, rule()).unwrap());
         let traj = integrate(&mut prob, &settings, &[0.0, 12.0]);
         assert!(traj.error.is_none());
         prob.array.cells()
+    } else {
+        let line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+        let mut prob = ArrayProblem::new(Dividing::new(line, rule(), 0).unwrap());
+        let traj = integrate(&mut prob, &settings, &[0.0, 12.0]);
+        assert!(traj.error.is_none());
+        prob.array.line.n_cells()
     }
 }
 
