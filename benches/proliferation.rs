@@ -233,8 +233,8 @@ fn benches(c: &mut Criterion) {
     // each cell dividing on its own (ensemble means of N within sampling error and of l
     // within 1.3e-3, docs/model.md §8.4)
     for (name, c) in [
-        ("random_thresholds_t12_discrete", 0),
-        ("random_thresholds_t12_cell_grid_c4", 4),
+        ("random_thresholds_t12_discrete", None),
+        ("random_thresholds_t12_cell_grid_c4", Some(4)),
     ] {
         g.bench_function(name, |b| b.iter(|| random_thresholds(c)));
     }
