@@ -10,8 +10,9 @@
 //! closure: each keeps its own growth stretch (as an offset from the segment's `g`, constant
 //! because `ġ = G(σ)` is the same for all), birth time and threshold, and divides when the rule
 //! says so. A member's division adds a cell and reference length to its segment without
-//! resizing the line; once a growing segment holds twice its cells at the start it splits in
-//! two at the member boundary nearest its middle, so the segments keep resolving the line.
+//! resizing the line. When cells divide one by one from the start ([`CellGrid::asynchronous`]),
+//! a growing segment that holds twice its cells at the start splits in two at the member
+//! boundary nearest its middle, so the segments keep resolving the line.
 
 use super::cell_grid::{CellGrid, Member};
 use crate::energy::StrainEnergy;
