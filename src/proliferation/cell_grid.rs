@@ -385,36 +385,34 @@ impl<E: StrainEnergy> CellArray for CellGrid<E> {
         atol, algebraic, set_threads, num_events, restart_derivative, map_history,
         map_jacobian);
     fn events(&mut self, t: f64, y: &[f64], g: &mut [f64]) {
-        self.dividing.events(t, y, g);
-        if self
+        let capped = self
             .dividing
             .max_cells
-            .is_some_and(|m| self.segments() >= m)
-        {
+            .is_some_and(|m| self.segments() >= m);
+        let geometry = self.geometry(t, y);
+        // `Dividing`'s values serve the cap and the in-phase segments of a rule that reads
+        // growth and age only; every other value is computed once, below
+        if capped || (geometry.is_none() && self.members.iter().any(Option::is_none)) {
+            self.dividing.events(t, y, g);
+        }
+        if capped {
             return;
         }
-        // a rule that reads the shape sees one cell of a segment, not the segment
-        // (and the neighbouring segments' mean cells as its neighbours)
-        let geometry = self.geometry(t, y);
-        let shared = self.multiplicity.iter().any(|&m| m > 1);
-        if let (Some(geo), true) = (&geometry, shared) {
-            for (j, out) in g.iter_mut().enumerate() {
-                if self.members[j].is_none() {
-                    *out = self
-                        .dividing
-                        .rule
-                        .event(&self.segment_cell_view(j, t, y, geo));
-                }
-            }
-        }
-        // a segment with members fires when the first of them reaches the rule
         for (j, out) in g.iter_mut().enumerate() {
             if self.members[j].is_some() {
+                // a segment with members fires when the first of them reaches the rule
                 *out = self
                     .member_views(j, t, y, geometry.as_ref())
                     .iter()
                     .map(|v| self.dividing.rule.event(v))
                     .fold(f64::NEG_INFINITY, f64::max);
+            } else if let Some(geo) = &geometry {
+                // a rule that reads the shape sees one cell of a segment, not the segment
+                // (and the neighbouring segments' mean cells as its neighbours)
+                *out = self
+                    .dividing
+                    .rule
+                    .event(&self.segment_cell_view(j, t, y, geo));
             }
         }
     }
