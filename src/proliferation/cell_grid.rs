@@ -474,12 +474,12 @@ impl<E: StrainEnergy> CellArray for CellGrid<E> {
         }
         // the new state's ẏ is not known here; stresses are elastic enough to choose splits
         // and merges
-        let zero = vec![0.0; y.len()];
+        let mut zero = vec![0.0; y.len()];
         let full = self.segments_to_split(t, y, &zero);
         for &j in &full {
             self.split_full(j, t, y).map_err(ResidualError::Fatal)?;
         }
-        let zero = vec![0.0; y.len()];
+        zero.resize(y.len(), 0.0); // each split added two unknowns
         let pairs = self.pairs_to_merge(t, y, &zero);
         if !pairs.is_empty() {
             self.merge(&pairs, y)?;
