@@ -49,12 +49,7 @@ impl<E: StrainEnergy> Line<E> {
                 "merging cells with a Maxwell branch or on a ring".into(),
             ));
         }
-        if y.len() != self.layout.dim {
-            return Err(EventError::StateLength {
-                got: y.len(),
-                expected: self.layout.dim,
-            });
-        }
+        self.check_state_length(y)?;
         let mut next = 1;
         for &j in firsts {
             if j < next || j + 1 > n {

@@ -82,12 +82,7 @@ impl<E: StrainEnergy> Line<E> {
                 "division without growth (`g` is not in the state)".into(),
             ));
         }
-        if y.len() != self.layout.dim {
-            return Err(EventError::StateLength {
-                got: y.len(),
-                expected: self.layout.dim,
-            });
-        }
+        self.check_state_length(y)?;
         let (xl, _) = self.boundary(j - 1, t, y, y);
         let (xr, _) = self.boundary(j, t, y, y);
         let g = y[gk];
@@ -167,12 +162,7 @@ impl<E: StrainEnergy> Line<E> {
                 "division of cells with a Maxwell branch (the viscous stretch is not split)".into(),
             ));
         }
-        if y.len() != self.layout.dim {
-            return Err(EventError::StateLength {
-                got: y.len(),
-                expected: self.layout.dim,
-            });
-        }
+        self.check_state_length(y)?;
         let mut splits = Vec::with_capacity(cells.len());
         let mut prev = 0;
         for &j in cells {
@@ -262,6 +252,21 @@ impl<E: StrainEnergy> Line<E> {
         self.rebuild_layout();
         debug_assert_eq!(y.len(), self.layout.dim);
         Ok(splits)
+    }
+}
+
+impl<E: StrainEnergy> Line<E> {
+    /// `Ok` when `y` has this line's number of unknowns (the check before a split or merge
+    /// rewrites it).
+    pub(crate) fn check_state_length(&self, y: &[f64]) -> Result<(), EventError> {
+        if y.len() == self.layout.dim {
+            Ok(())
+        } else {
+            Err(EventError::StateLength {
+                got: y.len(),
+                expected: self.layout.dim,
+            })
+        }
     }
 }
 
