@@ -42,6 +42,7 @@ mod mode_tethered_line;
 mod output_hdf5;
 mod output_integrity;
 mod plots;
+mod proliferation_batched_divisions;
 mod proliferation_cell_grid;
 mod proliferation_division_cost;
 mod proliferation_division_rules;

@@ -263,6 +263,58 @@ fn division_has_a_default_cap_and_a_continuum_only_for_the_area_rule() {
 }
 
 #[test]
+fn division_window_is_read_checked_and_refused_by_the_continuum() {
+    let div = |d: &str, models: &str| {
+        line(&format!(
+            "right_end = \"free\"\ngrowth = {{ sigma0 = 0.1 }}\ndivision = {d}\nmodels = {models}"
+        ))
+    };
+    let s = load(
+        &div("{ rule = \"area\", batch_within = 1e-3 }", "[\"discrete\"]"),
+        &[],
+    )
+    .unwrap();
+    let ModelConfig::Proliferating(cfg) = &s.runs[0].config else {
+        panic!("a proliferating line")
+    };
+    assert_eq!(cfg.division.batch_within, 1e-3);
+    // echoed only when set
+    assert_eq!(s.runs[0].config.to_json()["division"]["batch_within"], 1e-3);
+    let plain = load(&div("{ rule = \"area\" }", "[\"discrete\"]"), &[]).unwrap();
+    assert!(plain.runs[0].config.to_json()["division"]
+        .get("batch_within")
+        .is_none());
+    for (bad, says) in [
+        ("-1e-3", ">= 0"),
+        ("inf", ">= 0"),
+        ("\"soon\"", "expected a number"),
+    ] {
+        let m = rejects(
+            &div(
+                &format!("{{ rule = \"area\", batch_within = {bad} }}"),
+                "[\"discrete\"]",
+            ),
+            &[],
+            "model.division.batch_within",
+        );
+        assert!(m.contains(says), "{bad}: {m}");
+    }
+    for models in ["[\"continuum\"]", "[\"discrete\", \"continuum\"]"] {
+        for grid in ["", ", cell_grid = {}"] {
+            let m = rejects(
+                &div(
+                    &format!("{{ rule = \"area\", batch_within = 1e-3{grid} }}"),
+                    models,
+                ),
+                &[],
+                "model.division.batch_within",
+            );
+            assert!(m.contains("discrete line only"), "{m}");
+        }
+    }
+}
+
+#[test]
 fn shear_cell_centre_form_with_the_continuum_is_rejected_before_the_run() {
     let shear = "name = \"s\"\n[output]\nseries = [0, 1]\n[model]\nkind = \"shear\"\nform = \"cell_centre\"\n";
     rejects(shear, &[], "model.form");

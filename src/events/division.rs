@@ -351,6 +351,14 @@ pub struct DivisionConfig {
     /// ([`crate::proliferation::CellGrid`]) instead of the density continuum.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cell_grid: Option<CellGridConfig>,
+    /// Divisions due within this time after an event are brought forward to it (default 0:
+    /// each at its own time; [`crate::events::Dividing::batch_within`]).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub batch_within: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 /// The `division.cell_grid` table: the proliferating continuum on segments of `cells / nodes`
@@ -488,6 +496,7 @@ impl Default for DivisionConfig {
                 .expect("the built-in area rule builds from its defaults"),
             max_cells: default_max_cells(),
             cell_grid: None,
+            batch_within: 0.0,
         }
     }
 }
@@ -565,28 +574,44 @@ impl DivisionConfig {
             .map(CellGridConfig::from_json)
             .transpose()
             .map_err(DivisionError)?;
+        let batch_within = match table.remove("batch_within") {
+            None => 0.0,
+            Some(v) => v.as_f64().ok_or_else(|| {
+                DivisionError(ParamError::range("batch_within", &v, "a number >= 0"))
+            })?,
+        };
         let rule = RuleSpec::from_table(table).map_err(DivisionError)?;
         let cfg = Self {
             rule,
             max_cells,
             cell_grid,
+            batch_within,
         };
         cfg.validate()?;
         Ok(cfg)
     }
 
-    /// Checks what parsing does not: `max_cells ≥ 1` and the `cell_grid` ranges (the rule's
-    /// parameters are checked when it is built).
+    /// Checks what parsing does not: `max_cells ≥ 1`, `batch_within ≥ 0` and the `cell_grid`
+    /// ranges (the rule's parameters are checked when it is built).
     ///
     /// ```
     /// use celltissue::events::DivisionConfig;
     /// let cfg = DivisionConfig { max_cells: Some(0), ..Default::default() };
     /// assert_eq!(cfg.validate().unwrap_err().key(), "max_cells");
+    /// let cfg = DivisionConfig { batch_within: -1e-3, ..Default::default() };
+    /// assert_eq!(cfg.validate().unwrap_err().key(), "batch_within");
     /// assert!(DivisionConfig::default().validate().is_ok());
     /// ```
     pub fn validate(&self) -> Result<(), DivisionError> {
         if let Some(g) = &self.cell_grid {
             g.check().map_err(DivisionError)?;
+        }
+        if !(self.batch_within >= 0.0 && self.batch_within.is_finite()) {
+            return Err(DivisionError(ParamError::range(
+                "batch_within",
+                self.batch_within,
+                "finite and >= 0",
+            )));
         }
         match self.max_cells {
             Some(0) => Err(DivisionError(ParamError::range("max_cells", 0, ">= 1"))),
@@ -617,8 +642,8 @@ impl DivisionConfig {
         self.rule.law().seed()
     }
 
-    /// The division area ratio when the rule is the area rule (the only rule the
-    /// proliferating continuum supports), `None` otherwise.
+    /// The division area ratio when the rule is the area rule (the only rule the density
+    /// continuum supports), `None` otherwise.
     ///
     /// ```
     /// use celltissue::events::DivisionConfig;

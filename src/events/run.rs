@@ -236,6 +236,7 @@ fn with_law<E: StrainEnergy + Clone>(
             match built {
                 Ok(mut d) => {
                     d.max_cells = cfg.division.max_cells;
+                    d.batch_within = cfg.division.batch_within;
                     let prob = run_model(d, solver, times, rec);
                     rec.divisions = prob.array.log.records;
                 }

@@ -237,6 +237,17 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
                         ),
                     ));
                 }
+                if division.batch_within > 0.0 {
+                    return Err(ScenarioError::key(
+                        "model.division.batch_within",
+                        format!(
+                            "{}: bringing divisions forward applies to the discrete line \
+                             only; the continuum models divide each segment at its own time \
+                             (run them with batch_within = 0, or set models = [\"discrete\"])",
+                            division.batch_within
+                        ),
+                    ));
+                }
                 if division.cell_grid.is_none() && division.area_ratio().is_none() {
                     return Err(ScenarioError::key(
                         "model.division.rule",

@@ -86,6 +86,9 @@ const NC: usize = MAX_NODES + 1;
 const EPS_NEWT: f64 = 0.33;
 /// Maximum error-test failures in one step.
 const MAX_ERR_FAILS: usize = 10;
+/// Maximum error-test failures of the first step after a (re)start while each failure's
+/// estimate is below the previous one's (see `Bdf::step_once`).
+const FIRST_STEP_MAX_ERR_FAILS: usize = 3 * MAX_ERR_FAILS;
 /// Maximum Newton / recoverable failures in one step.
 const MAX_CONV_FAILS: usize = 10;
 /// Block length for the fused vector loops (fits L1 with a few inputs).
