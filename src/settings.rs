@@ -50,6 +50,11 @@ pub struct SolveSettings {
     /// of the echo at its default.
     #[serde(skip_serializing_if = "is_default_age")]
     pub jacobian_age: usize,
+    /// Whether steps end at every output time instead of interpolating there (default `None`:
+    /// for every method but BDF, whose dense output its error test controls;
+    /// [`integrators::Options::land_on_outputs`]). Left out of the echo when not set.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub land_on_outputs: Option<bool>,
 }
 
 impl Default for SolveSettings {
@@ -64,6 +69,7 @@ impl Default for SolveSettings {
             linear_solver: LinearSolverChoice::Direct,
             threads: 1,
             jacobian_age: integrators::BdfOptions::default().max_jacobian_age,
+            land_on_outputs: None,
         }
     }
 }
@@ -86,6 +92,7 @@ impl SolveSettings {
             norm: self.norm,
             linear_solver: self.linear_solver,
             parallel: Parallelism::from_threads(self.threads)?,
+            land_on_outputs: self.land_on_outputs,
             bdf: integrators::BdfOptions {
                 max_jacobian_age: self.jacobian_age,
                 ..Default::default()

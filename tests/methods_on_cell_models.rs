@@ -5,24 +5,25 @@
 //! The error is the largest relative difference in stretch and in pressure over every cell and
 //! profile time.
 //!
-//! What is asserted: BDF lands within 10·rtol in stretch and pressure everywhere (measured
-//! 0.2–2.3·rtol at 1e-6); every method's errors fall at least 10× from rtol 1e-6 to 1e-8.
-//! Dormand–Prince runs where the line is not stiff (Fig 2.5 at K = 10) and is held to the same
-//! 10·rtol (measured 0.3–0.8·rtol, in 3 040 steps against BDF's 727 at rtol 1e-6).
+//! What is asserted: BDF and Radau IIA land within 10·rtol in stretch and pressure everywhere
+//! (measured: BDF 0.2–2.3·rtol at 1e-6; Radau IIA at most 0.5·rtol); every method's errors
+//! fall at least 10× from rtol 1e-6 to 1e-8, or to the reference's resolution. Dormand–Prince
+//! runs where the line is not stiff (Fig 2.5 at K = 10) and is held to the same 10·rtol
+//! (measured 0.4–0.7·rtol, in 3 120 steps against BDF's 727 at rtol 1e-6).
 //! What is measured and not asserted (printed with `-- --nocapture`; the work–precision table
-//! in BENCHMARKS.md): Radau IIA stays within 2·rtol except on Fig 2.8 at K = 1e-5, where it
-//! takes 32 steps and errs by 73·rtol in stretch (145·rtol in pressure) at rtol 1e-6 and by
-//! 11·rtol at 1e-8; ESDIRK errs by 3–7·rtol on Fig 2.5 and 6–120·rtol on Fig 2.8 at 1e-6, its
-//! error falling like rtol^0.7 (second order with error-per-step control). Under the cell-unit
-//! contract the former 100× gap between ESDIRK and BDF on Fig 2.5 (2.2e-3 against 2e-5 in the
-//! minimum stretch, under the position test) is down to 4–8×; ESDIRK's rtol^0.7 is tolerance
-//! proportionality under error-per-step control for order 2. The one-step methods' large
-//! errors on the quasi-static stiff cluster (K = 1e-5) grow as K → 0 and vanish at K ≥ 1e-3:
-//! order reduction on a singular perturbation (BENCHMARKS.md, "Methods on cell models").
+//! in BENCHMARKS.md): ESDIRK errs by 3–13·rtol at 1e-6 and 13–64·rtol at 1e-8 where its steps
+//! are short (K ≥ 1e-2), its error falling like rtol^0.7 (tolerance proportionality under
+//! error-per-step control for order 2). The one-step methods end a step at every output time
+//! (`land_on_outputs`, their default): interpolated instead, Radau IIA erred by 73·rtol and
+//! ESDIRK by 21·rtol in stretch at t = 0.5 on Fig 2.8 at K = 1e-5, where the steps are long and
+//! their dense output, which no error test checks, carries the error (docs/model.md §8.1).
 
 use celltissue::observe::RunRecord;
 use celltissue::scenario::execute::run_spec;
 use std::path::Path;
+
+/// The reference run's resolution in relative stretch and pressure (rtol 1e-10).
+const FLOOR: f64 = 2e-9;
 
 /// Runs `models/<name>.toml` with the overrides, one record per run (model × sweep value).
 fn runs(name: &str, sets: &[&str]) -> Vec<RunRecord> {
@@ -100,7 +101,7 @@ fn check_methods(name: &str, sweep: &str, methods: &[&str]) {
                         es / rtol,
                         ep / rtol
                     );
-                    if method == "bdf" || method == "dopri" {
+                    if method != "esdirk" {
                         assert!(
                             es <= 10.0 * rtol && ep <= 10.0 * rtol,
                             "{name} {} bdf rtol {rtol:e}: stretch {es:e}, pressure {ep:e}",
@@ -112,9 +113,12 @@ fn check_methods(name: &str, sweep: &str, methods: &[&str]) {
                 .collect();
             errs.push(e);
         }
+        // an error below FLOOR is the reference's own (BDF at rtol 1e-10 errs by up to a few
+        // 1e-10) and cannot fall further
+        let falls = |c: f64, f: f64| f <= 0.1 * c || f <= FLOOR;
         for (i, (coarse, fine)) in errs[0].iter().zip(&errs[1]).enumerate() {
             assert!(
-                fine.0 <= 0.1 * coarse.0 && fine.1 <= 0.1 * coarse.1,
+                falls(coarse.0, fine.0) && falls(coarse.1, fine.1),
                 "{name} run {i} {method}: errors {coarse:?} at rtol 1e-6 but {fine:?} at 1e-8"
             );
         }

@@ -468,3 +468,22 @@ fn the_jacobian_age_is_bdf_only_and_bounded() {
     );
     assert!(m.contains("bdf"), "{m}");
 }
+
+#[test]
+fn landing_on_outputs_is_read_and_echoed_only_when_set() {
+    let set = load(&line(""), &["solver.land_on_outputs=false"]).unwrap();
+    assert_eq!(set.runs[0].solver.land_on_outputs, Some(false));
+    let echo = serde_json::to_value(set.runs[0].solver).unwrap();
+    assert_eq!(echo["land_on_outputs"], false);
+    let plain = load(&line(""), &[]).unwrap();
+    assert_eq!(plain.runs[0].solver.land_on_outputs, None);
+    assert!(serde_json::to_value(plain.runs[0].solver)
+        .unwrap()
+        .get("land_on_outputs")
+        .is_none());
+    rejects(
+        &line(""),
+        &["solver.land_on_outputs=2"],
+        "solver.land_on_outputs",
+    );
+}

@@ -68,6 +68,17 @@ pub trait Method {
     fn h_next(&self) -> f64;
     /// Dense output: state and derivative at any `t` in `[t_prev, t]`.
     fn interpolate(&self, t: f64, y: &mut [f64], yp: &mut [f64]);
+    /// Whether the local error test also bounds [`interpolate`](Method::interpolate)'s error
+    /// inside a step (default `false`). BDF's interpolant is the polynomial its predictor
+    /// extrapolates and its error estimate measures, so it is; a one-step method's continuous
+    /// extension is not checked, and on a stiff problem near its quasi-static limit, where a
+    /// stiffly accurate step's end is exact to leading order and the steps grow long, it can
+    /// err by far more than the tolerance between step ends. Unless
+    /// [`Options::land_on_outputs`](crate::Options::land_on_outputs) says otherwise, a method
+    /// returning `false` ends a step at every output time instead of interpolating.
+    fn dense_output_controlled(&self) -> bool {
+        false
+    }
 }
 
 /// The available methods, selectable in one line of code or by name.

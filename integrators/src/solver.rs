@@ -576,6 +576,9 @@ where
         }
     }
 
+    let land = opts
+        .land_on_outputs
+        .unwrap_or(!method.dense_output_controlled());
     let mut g_new = Vec::new();
     loop {
         if run.stats.steps >= opts.max_steps {
@@ -585,7 +588,18 @@ where
         }
         {
             let mut sys = System::new(p, opts, &mut run.stats, &mut run.cache);
-            let stepped = method.step(&mut sys, t_end);
+            // the next output after t, which the step may not pass
+            let stop = if land {
+                let t = method.t();
+                t_out[run.next_out.min(t_out.len())..]
+                    .iter()
+                    .copied()
+                    .find(|&o| o > t)
+                    .unwrap_or(t_end)
+            } else {
+                t_end
+            };
+            let stepped = method.step(&mut sys, stop);
             run.report_rejections(p);
             match stepped {
                 // the driver counts steps (a method reports how many it took)

@@ -234,3 +234,43 @@ fn observer_sees_the_problems_rejection_with_its_reason() {
     );
     assert_eq!(log.rejected.len(), e.partial.stats.rejected_steps);
 }
+
+#[test]
+fn one_step_methods_end_a_step_at_every_output_unless_told_otherwise() {
+    // y' = −y on [0, 1], 100 outputs: a method that lands takes a step per output at least
+    let t_out: Vec<f64> = (1..=100).map(|i| i as f64 / 100.0).collect();
+    let steps = |kind: MethodKind, land: Option<bool>| {
+        let o = Options {
+            land_on_outputs: land,
+            ..Default::default()
+        };
+        let sol = Solver::new(kind, o)
+            .solve(&mut Decay, 0.0, &[1.0], &t_out)
+            .unwrap();
+        let err = sol
+            .t
+            .iter()
+            .zip(&sol.y)
+            .map(|(t, y)| (y[0] - (-t).exp()).abs())
+            .fold(0.0, f64::max);
+        println!(
+            "{kind} land_on_outputs = {land:?}: {} steps, largest output error {err:e}",
+            sol.stats.steps
+        );
+        // (interpolated, ESDIRK's outputs err by 1e-5: its dense output is not checked)
+        if land.unwrap_or(kind != MethodKind::Bdf) {
+            assert!(err < 1e-5, "{kind} {land:?}: {err:e}");
+        }
+        sol.stats.steps
+    };
+    for kind in [MethodKind::Radau, MethodKind::Esdirk, MethodKind::Dopri] {
+        assert!(steps(kind, None) >= 100, "{kind} lands by default");
+        assert!(
+            steps(kind, Some(false)) < 50,
+            "{kind} interpolates when told"
+        );
+    }
+    // BDF's dense output is error-controlled: it interpolates unless told to land
+    assert!(steps(MethodKind::Bdf, None) < 100);
+    assert!(steps(MethodKind::Bdf, Some(true)) >= 100);
+}

@@ -70,8 +70,9 @@ fn radau_through_the_driver_on_the_banded_heat_equation() {
     let sol = Solver::new(MethodKind::Radau, opts(1e-8, 1e-10))
         .solve(&mut p, 0.0, &y0, &t_out)
         .unwrap();
-    // Outputs between steps come from the collocation polynomial, whose accuracy is that of the
-    // stage order (3), not the step order (5): allow 10·rtol (|u| ≤ 1).
+    // Steps end at the outputs (`Options::land_on_outputs`, Radau's default); interpolated
+    // from the collocation polynomial they would carry its error, of the stage order (3), not
+    // the step order (5): allow 10·rtol (|u| ≤ 1).
     for (t, y) in sol.t.iter().zip(&sol.y) {
         let e = max_err(y, &p.solution(*t));
         eprintln!("heat via driver, t = {t}: error {e:e}");

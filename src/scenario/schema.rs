@@ -71,6 +71,9 @@ pub struct SolverSection {
     /// BDF only: steps after which the Newton matrices are refreshed even though Newton
     /// converges, 1 to 10⁶ (default 50).
     pub jacobian_age: Option<usize>,
+    /// Whether steps end at every output time instead of interpolating (default: for every
+    /// method but BDF, whose dense output is error-controlled).
+    pub land_on_outputs: Option<bool>,
 }
 
 impl Default for SolverSection {
@@ -86,6 +89,7 @@ impl Default for SolverSection {
             newton_factor: IterativeSettings::default().newton_factor,
             threads: 1,
             jacobian_age: None,
+            land_on_outputs: None,
         }
     }
 }
@@ -190,6 +194,7 @@ impl SolverSection {
             linear_solver,
             threads: self.threads,
             jacobian_age,
+            land_on_outputs: self.land_on_outputs,
         })
     }
 }

@@ -719,6 +719,10 @@ impl Method for Bdf {
         self.h
     }
 
+    fn dense_output_controlled(&self) -> bool {
+        true
+    }
+
     fn interpolate(&self, t: f64, y: &mut [f64], yp: &mut [f64]) {
         if self.t == self.t_prev || t == self.t {
             y.copy_from_slice(&self.vals[0]);
