@@ -11,6 +11,7 @@
 //! BDF's step-doubled first step, `tests/proliferation_division_cost.rs`) is checked here to
 //! give the same divisions.
 
+use crate::common::area_dividing_line;
 use celltissue::boundary::RightEnd;
 use celltissue::cell::TanhGrowth;
 use celltissue::events::{AreaDoubling, Dividing};
@@ -25,12 +26,7 @@ fn run(smooth: bool) -> (Stats, Vec<f64>, usize, f64) {
 }
 
 fn run_with(smooth: bool, carry: bool) -> (Stats, Vec<f64>, usize, f64) {
-    let mut p = LineParams::unit_cells(100);
-    p.right = RightEnd::Free(None);
-    p.k = 1e-8.into();
-    p.growth = Some(Arc::new(TanhGrowth::default()));
-    let line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
-    let mut div = Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap();
+    let mut div = area_dividing_line(1e-8);
     div.smooth_restart = smooth;
     div.carry_history = carry;
     let mut prob = ArrayProblem::new(div);

@@ -6,13 +6,9 @@
 //! The line is the proliferation benchmark's: N₀ = 100 neo-Hookean cells, σ₀ = 0.1, free end,
 //! η = 0, m = 0, area rule, default solver (BDF, rtol 1e-6, atol 1e-8, max norm).
 
-use celltissue::boundary::RightEnd;
-use celltissue::cell::TanhGrowth;
-use celltissue::events::{AreaDoubling, Dividing};
-use celltissue::line::build::{discrete, LineParams};
+use crate::common::area_dividing_line;
 use celltissue::line::run::{integrate, SolveSettings};
-use celltissue::{ArrayProblem, NeoHookean};
-use std::sync::Arc;
+use celltissue::ArrayProblem;
 
 struct Run {
     /// Division times, sorted.
@@ -25,12 +21,7 @@ struct Run {
 }
 
 fn run(k: f64, outputs: &[f64], cap: Option<usize>, within: f64) -> Run {
-    let mut p = LineParams::unit_cells(100);
-    p.right = RightEnd::Free(None);
-    p.k = k.into();
-    p.growth = Some(Arc::new(TanhGrowth::default()));
-    let line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
-    let mut div = Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap();
+    let mut div = area_dividing_line(k);
     div.batch_within = within;
     div.max_cells = cap;
     let mut prob = ArrayProblem::new(div);

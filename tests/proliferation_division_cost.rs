@@ -13,13 +13,9 @@
 //! and pinned; "Jacobians" below are evaluations of the pair `∂F/∂y`, `∂F/∂ẏ`
 //! (`Stats::jacobian_evals` counts each half).
 
-use celltissue::boundary::RightEnd;
-use celltissue::cell::TanhGrowth;
-use celltissue::events::{AreaDoubling, Dividing};
-use celltissue::line::build::{discrete, LineParams};
+use crate::common::area_dividing_line;
 use celltissue::line::run::{integrate, SolveSettings};
-use celltissue::{ArrayProblem, NeoHookean};
-use std::sync::Arc;
+use celltissue::ArrayProblem;
 
 struct Cost {
     divisions: usize,
@@ -35,12 +31,7 @@ fn run(k: f64, t_end: f64, carry: bool) -> Cost {
 }
 
 fn run_at(k: f64, t_end: f64, carry: bool, settings: &SolveSettings) -> Cost {
-    let mut p = LineParams::unit_cells(100);
-    p.right = RightEnd::Free(None);
-    p.k = k.into();
-    p.growth = Some(Arc::new(TanhGrowth::default()));
-    let line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
-    let mut div = Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap();
+    let mut div = area_dividing_line(k);
     div.carry_history = carry;
     let mut prob = ArrayProblem::new(div);
     let traj = integrate(&mut prob, settings, &[0.0, t_end]);

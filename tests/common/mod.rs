@@ -48,3 +48,17 @@ pub fn fig3_3_line(k: f64) -> celltissue::line::build::LineParams {
     p.atol_cell = 1e-10;
     p
 }
+
+/// The proliferation benchmark's dividing line: 100 unit neo-Hookean cells (μ = 1), free right
+/// end, drag `k`, η = 0, the tanh growth law (σ₀ = 0.1), the area rule, seed 0, the line's
+/// default atol.
+pub fn area_dividing_line(k: f64) -> celltissue::events::Dividing<celltissue::NeoHookean> {
+    let mut p = celltissue::line::build::LineParams::unit_cells(100);
+    p.right = celltissue::boundary::RightEnd::Free(None);
+    p.k = k.into();
+    p.growth = Some(std::sync::Arc::new(celltissue::cell::TanhGrowth::default()));
+    let energy = celltissue::NeoHookean::new(1.0).expect("μ > 0");
+    let line = celltissue::line::build::discrete(energy, &p).expect("valid line");
+    let rule = Box::new(celltissue::events::AreaDoubling::default());
+    celltissue::events::Dividing::new(line, rule, 0).expect("a growing line divides")
+}
