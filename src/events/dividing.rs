@@ -288,7 +288,7 @@ impl<E: StrainEnergy> Dividing<E> {
 
     /// The cells (1-based) whose event function, extrapolated linearly from `(t, y)` along
     /// `yp`, reaches zero within [`Dividing::batch_within`] (none when that is 0 or `yp` is
-    /// not this layout's).
+    /// not this layout's; an error naming the field when it is negative or not finite).
     fn due_within(&mut self, t: f64, y: &[f64], yp: &[f64]) -> Result<Vec<usize>, ResidualError> {
         let dt = self.batch_within;
         if !dt.is_finite() || dt < 0.0 {
