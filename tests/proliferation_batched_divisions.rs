@@ -162,3 +162,20 @@ fn ten_thousand_cells_at_a_one_millisecond_window() {
     let l = *r.lengths.last().unwrap();
     assert!((l / 16_113.030_358 - 1.0).abs() < 1e-4, "l(17) = {l}");
 }
+
+#[test]
+fn a_window_out_of_range_stops_the_run_at_the_first_division_naming_it() {
+    for bad in [-1e-3, f64::INFINITY, f64::NAN] {
+        let mut div = area_dividing_line(1e-8);
+        div.batch_within = bad;
+        let mut prob = ArrayProblem::new(div);
+        let traj = integrate(&mut prob, &SolveSettings::default(), &[0.0, 4.0]);
+        let e = traj.error.expect("refused");
+        assert!(
+            e.contains("batch_within") && e.contains(">= 0"),
+            "{bad}: {e}"
+        );
+        // what was computed before the first division is kept
+        assert_eq!(traj.snapshots.len(), 1, "{bad}");
+    }
+}

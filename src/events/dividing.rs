@@ -291,11 +291,7 @@ impl<E: StrainEnergy> Dividing<E> {
     /// not this layout's; an error naming the field when it is negative or not finite).
     fn due_within(&mut self, t: f64, y: &[f64], yp: &[f64]) -> Result<Vec<usize>, ResidualError> {
         let dt = self.batch_within;
-        if !dt.is_finite() || dt < 0.0 {
-            return Err(ResidualError::Fatal(format!(
-                "batch_within = {dt}: must be finite and >= 0"
-            )));
-        }
+        super::division::check_batch_within(dt).map_err(|e| ResidualError::Fatal(e.to_string()))?;
         if dt == 0.0 || yp.len() != y.len() {
             return Ok(Vec::new());
         }

@@ -361,6 +361,16 @@ fn is_zero(x: &f64) -> bool {
     *x == 0.0
 }
 
+/// The range of [`DivisionConfig::batch_within`] (and [`crate::events::Dividing::batch_within`]):
+/// finite and ≥ 0.
+pub(crate) fn check_batch_within(w: f64) -> Result<(), ParamError> {
+    if w >= 0.0 && w.is_finite() {
+        Ok(())
+    } else {
+        Err(ParamError::range("batch_within", w, "finite and >= 0"))
+    }
+}
+
 /// The `division.cell_grid` table: the proliferating continuum on segments of `cells / nodes`
 /// whole cells that split as cells do; with `merge_below`, segments growing at less than that
 /// fraction of the unstressed rate merge in pairs, up to `merge_max` cells, once `merge_batch`
@@ -606,13 +616,7 @@ impl DivisionConfig {
         if let Some(g) = &self.cell_grid {
             g.check().map_err(DivisionError)?;
         }
-        if !(self.batch_within >= 0.0 && self.batch_within.is_finite()) {
-            return Err(DivisionError(ParamError::range(
-                "batch_within",
-                self.batch_within,
-                "finite and >= 0",
-            )));
-        }
+        check_batch_within(self.batch_within).map_err(DivisionError)?;
         match self.max_cells {
             Some(0) => Err(DivisionError(ParamError::range("max_cells", 0, ">= 1"))),
             _ => Ok(()),
