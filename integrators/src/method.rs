@@ -76,6 +76,13 @@ pub trait Method {
     /// err by far more than the tolerance between step ends. Unless
     /// [`Options::land_on_outputs`](crate::Options::land_on_outputs) says otherwise, a method
     /// returning `false` ends a step at every output time instead of interpolating.
+    ///
+    /// ```
+    /// use integrators::methods::{bdf::Bdf, radau::Radau5};
+    /// use integrators::Method;
+    /// assert!(Bdf::new().dense_output_controlled());
+    /// assert!(!Radau5::new().dense_output_controlled());
+    /// ```
     fn dense_output_controlled(&self) -> bool {
         false
     }
