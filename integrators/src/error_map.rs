@@ -78,6 +78,8 @@ pub enum Row {
 const OWN: i32 = 0;
 /// Marker of an anchor row in [`ErrorMap::back`].
 const ANCHOR: i32 = i32::MIN;
+/// Rows per segment of the norm and weight passes (see `ErrorMap::segments`).
+const SEG: usize = 256;
 
 /// Per-component description of the quantities the error tests measure (see the
 /// [module](self) docs). Built by a [`crate::Problem`] through
@@ -98,6 +100,8 @@ pub struct ErrorMap {
     back: Vec<i32>,
     /// Anchor rows and their sizes.
     anchors: Vec<(usize, f64)>,
+    /// The largest backward partner offset `i − partner` (0 if none).
+    max_back: usize,
     /// Extra quantities: rows whose own error is also tested against `rtol·size + atol_i`
     /// (the last cell before a prescribed end), with their sizes.
     ends: Vec<(usize, f64)>,
@@ -182,9 +186,16 @@ impl ErrorMap {
                 }
             });
         }
+        let max_back = back
+            .iter()
+            .filter(|&&b| b != ANCHOR && b > 0)
+            .map(|&b| b as usize)
+            .max()
+            .unwrap_or(0);
         Ok(Self {
             back,
             anchors,
+            max_back,
             ends: Vec::new(),
             end_w: Vec::new(),
         })
@@ -352,10 +363,51 @@ impl ErrorMap {
     /// assert!((1.0 / w[1] - (1e-6 * 1.5 + 1e-8)).abs() < 1e-20);
     /// ```
     pub fn weights(&self, y: &[f64], eatol: &[f64], rtol: f64, lo: usize, w: &mut [f64]) {
-        for (k, wk) in w.iter_mut().enumerate() {
-            let i = lo + k;
-            *wk = self.weight(i, y, eatol[i], rtol);
+        let hi = lo + w.len();
+        self.segments(lo, hi, |a, b, d| {
+            let out = &mut w[a - lo..b - lo];
+            match d {
+                Some(d) => {
+                    for (((wk, &yi), &yp), &ea) in out
+                        .iter_mut()
+                        .zip(&y[a..b])
+                        .zip(&y[a - d..])
+                        .zip(&eatol[a..b])
+                    {
+                        *wk = 1.0 / (rtol * (yi - yp).abs() + ea);
+                    }
+                }
+                None => {
+                    for (k, wk) in out.iter_mut().enumerate() {
+                        *wk = self.weight(a + k, y, eatol[a + k], rtol);
+                    }
+                }
+            }
+        });
+    }
+
+    /// The rows' markers, read one per component by a kernel that holds the error vector in
+    /// a buffer; [`offset`](Self::offset) turns one into its partner offset.
+    #[inline(always)]
+    pub(crate) fn markers(&self) -> &[i32] {
+        &self.back
+    }
+
+    /// The partner offset `i − partner` of a row marker ([`markers`](Self::markers)), 0 for
+    /// own and anchor rows.
+    #[inline(always)]
+    pub(crate) fn offset(marker: i32) -> i64 {
+        if marker == OWN || marker == ANCHOR {
+            0
+        } else {
+            marker as i64
         }
+    }
+
+    /// The largest backward partner offset `i − partner` (0 when no partner precedes its row).
+    #[inline(always)]
+    pub(crate) fn max_back(&self) -> usize {
+        self.max_back
     }
 
     /// The tested quantity of component `i` of error vector `v` (whole vector), unweighted:
@@ -365,16 +417,6 @@ impl ErrorMap {
         match self.partner(i) {
             Some(p) => v[i] - v[p],
             None => v[i],
-        }
-    }
-
-    /// The tested quantity of component `i` when the error vector is only known through a
-    /// function of the index (the BDF's error sweep recomputes it from the history).
-    #[inline(always)]
-    pub(crate) fn quantity_with(&self, i: usize, vi: f64, v: impl Fn(usize) -> f64) -> f64 {
-        match self.partner(i) {
-            Some(p) => vi - v(p),
-            None => vi,
         }
     }
 
@@ -414,11 +456,44 @@ impl ErrorMap {
         hi: usize,
     ) -> NormSum {
         let mut s = NormSum::default();
-        for (i, wi) in w.iter().enumerate().take(hi).skip(lo) {
-            s.push(norm, self.quantity(i, v) * wi);
-        }
+        let mut q = [0.0; SEG];
+        self.segments(lo, hi, |a, b, d| {
+            let q = &mut q[..b - a];
+            match d {
+                Some(d) => {
+                    for (((qi, &vi), &vp), &wi) in
+                        q.iter_mut().zip(&v[a..b]).zip(&v[a - d..]).zip(&w[a..b])
+                    {
+                        *qi = (vi - vp) * wi;
+                    }
+                }
+                None => {
+                    for (k, qi) in q.iter_mut().enumerate() {
+                        *qi = self.quantity(a + k, v) * w[a + k];
+                    }
+                }
+            }
+            s.push_slice(norm, q);
+        });
         self.for_each_end(lo, hi, w, |i, we| s.push(norm, v[i] * we));
         s
+    }
+
+    /// Calls `f(a, b, d)` for consecutive segments `a..b` of at most [`SEG`] rows covering
+    /// `lo..hi`, with `d = Some(offset)` when every row of the segment is a difference row
+    /// whose partner is `offset` rows back (a line's boundaries): the caller's loop over such
+    /// a segment needs no per-row branch and vectorises.
+    #[inline(always)]
+    fn segments(&self, lo: usize, hi: usize, mut f: impl FnMut(usize, usize, Option<usize>)) {
+        let mut a = lo;
+        while a < hi {
+            let b = (a + SEG).min(hi);
+            let first = self.back[a];
+            let d = Self::offset(first);
+            let uniform = d > 0 && self.back[a..b].iter().all(|&m| m == first);
+            f(a, b, uniform.then_some(d as usize));
+            a = b;
+        }
     }
 
     /// Calls `f(row, weight)` for the end rows (see [`with_end`](Self::with_end)) in `lo..hi`,
@@ -468,6 +543,32 @@ impl ErrorMap {
     }
 }
 
+/// The largest `|x|` of `xs` (0 if empty) and whether any `x` is NaN: exact and independent
+/// of the order the entries are visited in, so four running lanes let the loop vectorise.
+#[inline(always)]
+pub(crate) fn max_abs(xs: &[f64]) -> (f64, bool) {
+    let mut m = [0.0f64; 4];
+    let mut nan = [false; 4];
+    let chunks = xs.chunks_exact(4);
+    let rest = chunks.remainder();
+    for c in chunks {
+        for l in 0..4 {
+            let a = c[l].abs();
+            nan[l] |= a.is_nan();
+            m[l] = if a > m[l] { a } else { m[l] };
+        }
+    }
+    for (l, &x) in rest.iter().enumerate() {
+        let a = x.abs();
+        nan[l] |= a.is_nan();
+        m[l] = if a > m[l] { a } else { m[l] };
+    }
+    let max = m
+        .iter()
+        .fold(0.0f64, |acc, &a| if a > acc { a } else { acc });
+    (max, nan.iter().any(|&b| b))
+}
+
 /// A partial weighted norm: sum of squares (RMS) or running maximum with a NaN flag (max),
 /// mergeable across the halves of a two-thread split.
 #[derive(Clone, Copy, Debug, Default)]
@@ -486,6 +587,24 @@ impl NormSum {
                 let a = x.abs();
                 self.nan |= a.is_nan();
                 self.max = if a > self.max { a } else { self.max };
+            }
+        }
+    }
+
+    /// [`push`](Self::push) of every entry of `xs`, in order (the maximum in vector lanes:
+    /// exact in any order).
+    #[inline(always)]
+    pub(crate) fn push_slice(&mut self, norm: ErrorNorm, xs: &[f64]) {
+        match norm {
+            ErrorNorm::Rms => {
+                for &x in xs {
+                    self.sum += x * x;
+                }
+            }
+            ErrorNorm::Max => {
+                let (m, nan) = max_abs(xs);
+                self.nan |= nan;
+                self.max = if m > self.max { m } else { self.max };
             }
         }
     }

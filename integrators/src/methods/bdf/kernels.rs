@@ -69,13 +69,25 @@ pub(super) fn poly_blocks(
     while s < n {
         let e = (s + BLK).min(n);
         let (yb, ypb) = (&mut y[s..e], &mut yp[s..e]);
-        yb.fill(0.0);
-        ypb.fill(0.0);
-        for &(v, a, b) in items {
-            let vb = &v[lo + s..lo + e];
-            for ((yi, ypi), &x) in yb.iter_mut().zip(ypb.iter_mut()).zip(vb) {
-                *yi += a * x;
-                *ypi += b * x;
+        match items.split_first() {
+            None => {
+                yb.fill(0.0);
+                ypb.fill(0.0);
+            }
+            Some((&(v, a, b), rest)) => {
+                // (the first products written, not added to zeroed blocks: the same values)
+                let vb = &v[lo + s..lo + e];
+                for ((yi, ypi), &x) in yb.iter_mut().zip(ypb.iter_mut()).zip(vb) {
+                    *yi = a * x;
+                    *ypi = b * x;
+                }
+                for &(v, a, b) in rest {
+                    let vb = &v[lo + s..lo + e];
+                    for ((yi, ypi), &x) in yb.iter_mut().zip(ypb.iter_mut()).zip(vb) {
+                        *yi += a * x;
+                        *ypi += b * x;
+                    }
+                }
             }
         }
         if let Some(w) = weights.as_mut() {
@@ -113,40 +125,11 @@ pub(super) fn norm_blocks(
     lo: usize,
     hi: usize,
 ) -> [NormAcc; MAX_NORMS] {
-    let mut buf = [0.0; BLK];
     let mut acc = [NormAcc::new(norm); MAX_NORMS];
     if !map.is_empty() {
-        // cell-level quantities: the difference of a component's error with its partner's,
-        // taken from the block's buffer or (a partner outside the block) recomputed
-        let mut s = lo;
-        while s < hi {
-            let e = (s + BLK).min(hi);
-            for (it, a) in items.iter().zip(acc.iter_mut()) {
-                let b = &mut buf[..e - s];
-                b.fill(0.0);
-                for &(v, c, _) in it.as_slice() {
-                    for (bi, &x) in b.iter_mut().zip(&v[s..e]) {
-                        *bi += c * x;
-                    }
-                }
-                let b = &buf[..e - s];
-                let err = |p: usize| -> f64 {
-                    if (s..e).contains(&p) {
-                        ycur[p] - b[p - s]
-                    } else {
-                        ycur[p] - it.as_slice().iter().map(|&(v, c, _)| c * v[p]).sum::<f64>()
-                    }
-                };
-                for i in s..e {
-                    let q = map.quantity_with(i, ycur[i] - b[i - s], err);
-                    a.push(q * ewt[i]);
-                }
-                map.for_each_end(s, e, ewt, |i, we| a.push(err(i) * we));
-            }
-            s = e;
-        }
-        return acc;
+        return map_norm_blocks(items, ycur, ewt, map, lo, hi, acc);
     }
+    let mut buf = [0.0; BLK];
     let mut s = lo;
     while s < hi {
         let e = (s + BLK).min(hi);
@@ -166,6 +149,109 @@ pub(super) fn norm_blocks(
         s = e;
     }
     acc
+}
+
+/// Rows before a block whose errors [`map_norm_blocks`] keeps in its buffers, so that a
+/// partner up to this many rows back is read, not recomputed (a line's boundaries partner the
+/// previous one, 1–3 rows back with growth and Maxwell unknowns in between).
+pub(super) const HALO: usize = 16;
+
+/// [`norm_blocks`] through a non-empty error map: per block, the error of every order over the
+/// block and up to [`HALO`] rows before it (as far back as the map's partners reach), then one
+/// pass over the rows that reads each row's marker once for all orders. The products reach
+/// each accumulator in the same order as a per-order pass, so the norms are bitwise those of
+/// [`ErrorMap::norm`] on the error vectors.
+fn map_norm_blocks(
+    items: &[Items<'_>],
+    ycur: &[f64],
+    ewt: &[f64],
+    map: &ErrorMap,
+    lo: usize,
+    hi: usize,
+    mut acc: [NormAcc; MAX_NORMS],
+) -> [NormAcc; MAX_NORMS] {
+    let mut bufs = [[0.0; HALO + BLK]; MAX_NORMS];
+    let mut qs = [[0.0; BLK]; MAX_NORMS];
+    let nord = items.len();
+    let h = map.max_back().min(HALO);
+    let markers = map.markers();
+    let mut s = lo;
+    while s < hi {
+        let e = (s + BLK).min(hi);
+        let len = e - s;
+        // the buffers hold rows b0..e: the errors y − predictor_m
+        let b0 = s.saturating_sub(h);
+        for (it, buf) in items.iter().zip(bufs.iter_mut()) {
+            error_block(it, ycur, b0, &mut buf[..e - b0]);
+        }
+        // a block whose rows all difference with the row `d` back (a line's boundaries)
+        let d = ErrorMap::offset(markers[s]);
+        let uniform =
+            d > 0 && d as usize <= s - b0 && markers[s..e].iter().all(|&m| m == markers[s]);
+        if uniform {
+            let (k0, kp) = (s - b0, s - b0 - d as usize);
+            for ((q, buf), a) in qs.iter_mut().zip(&bufs).zip(acc.iter_mut()).take(nord) {
+                let q = &mut q[..len];
+                for (((qi, &bi), &bp), &w) in
+                    q.iter_mut().zip(&buf[k0..]).zip(&buf[kp..]).zip(&ewt[s..e])
+                {
+                    *qi = (bi - bp) * w;
+                }
+                a.push_slice(q);
+            }
+        } else {
+            for (i, (&marker, &w)) in (s..e).zip(markers[s..e].iter().zip(&ewt[s..e])) {
+                let k = i - b0;
+                let off = ErrorMap::offset(marker);
+                for ((q, buf), it) in qs.iter_mut().zip(&bufs).zip(items) {
+                    let partner = if off == 0 {
+                        0.0
+                    } else if off > 0 && off as usize <= k {
+                        buf[k - off as usize]
+                    } else {
+                        // a partner outside the buffers: its error recomputed from the history
+                        let p = (i as i64 - off) as usize;
+                        ycur[p] - it.as_slice().iter().map(|&(v, c, _)| c * v[p]).sum::<f64>()
+                    };
+                    q[i - s] = (buf[k] - partner) * w;
+                }
+            }
+            for (q, a) in qs.iter().zip(acc.iter_mut()).take(nord) {
+                a.push_slice(&q[..len]);
+            }
+        }
+        map.for_each_end(s, e, ewt, |i, we| {
+            for (a, buf) in acc.iter_mut().zip(&bufs).take(nord) {
+                a.push(buf[i - b0] * we);
+            }
+        });
+        s = e;
+    }
+    acc
+}
+
+/// The error `y − Σ c·v` of one order's predictor over rows `b0..b0 + out.len()`.
+#[inline(always)]
+fn error_block(it: &Items<'_>, ycur: &[f64], b0: usize, out: &mut [f64]) {
+    let e = b0 + out.len();
+    let list = it.as_slice();
+    match list.split_first() {
+        None => out.copy_from_slice(&ycur[b0..e]),
+        Some((&(v, c, _), rest)) => {
+            // (the first product written, not added to a zeroed buffer: the same value)
+            for (o, &x) in out.iter_mut().zip(&v[b0..e]) {
+                *o = c * x;
+            }
+            for &(v, c, _) in rest {
+                for (o, &x) in out.iter_mut().zip(&v[b0..e]) {
+                    *o += c * x;
+                }
+            }
+            for (o, &y) in out.iter_mut().zip(&ycur[b0..e]) {
+                *o = y - *o;
+            }
+        }
+    }
 }
 
 /// The Newton norm of `v` (weights `w`) through a non-empty error map, on two threads for a
@@ -336,6 +422,21 @@ impl NormAcc {
             let a = x.abs();
             self.nan |= a.is_nan();
             self.max = if a > self.max { a } else { self.max };
+        }
+    }
+
+    /// [`push`](Self::push) of every entry of `xs`, in order: the RMS sum is accumulated
+    /// sequentially (bitwise as by `push`), the maximum and NaN flag in vector lanes (exact).
+    #[inline(always)]
+    pub(super) fn push_slice(&mut self, xs: &[f64]) {
+        if self.rms {
+            for &x in xs {
+                self.sum += x * x;
+            }
+        } else {
+            let (m, nan) = crate::error_map::max_abs(xs);
+            self.nan |= nan;
+            self.max = if m > self.max { m } else { self.max };
         }
     }
 

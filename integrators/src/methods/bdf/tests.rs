@@ -107,3 +107,84 @@ fn confluent_node_uses_the_derivative() {
     assert!((v - f(0.6)).abs() < 1e-12);
     assert!((d - df(0.6)).abs() < 1e-12);
 }
+
+#[test]
+fn map_sweeps_match_the_row_definition() {
+    // rows of every kind over several blocks: a growing line's interleaved layout (each
+    // boundary differenced two rows back, growth stretches on their own), a stretch of plain
+    // line (the vectorised path), partners beyond the halo and ahead of their row, an anchor
+    // and an end row; the fused sweeps against each row's definition
+    use crate::Row;
+    let n = 4 * BLK + 37;
+    let rows: Vec<Row> = (0..n)
+        .map(|i| match i {
+            0 => Row::Anchor { size: 2.0 },
+            i if i < BLK => {
+                if i % 2 == 0 {
+                    Row::Difference { partner: i - 2 }
+                } else {
+                    Row::Own
+                }
+            }
+            i if i == BLK + 5 => Row::Difference {
+                partner: i - (HALO + 9),
+            },
+            i if i == BLK + 6 => Row::Difference { partner: i + 3 },
+            i if i == 3 * BLK + 1 => Row::Anchor { size: 0.5 },
+            i => Row::Difference { partner: i - 1 },
+        })
+        .collect();
+    let mut map = ErrorMap::from_rows(rows.clone())
+        .expect("valid rows")
+        .with_end(n - 1, 1.5)
+        .expect("valid end");
+    let vec_of = |k: f64| -> Vec<f64> {
+        (0..n)
+            .map(|i| (i as f64 * k).sin() + 1.5 * i as f64)
+            .collect()
+    };
+    let (h0, h1, h2) = (vec_of(0.3), vec_of(0.7), vec_of(1.1));
+    let ycur: Vec<f64> = (0..n)
+        .map(|i| 1.5 * i as f64 + 1e-3 * (i as f64).cos())
+        .collect();
+    let mut list = [(&[][..], 0.0, 0.0); NC];
+    list[0] = (&h0[..], 1.7, 0.4);
+    list[1] = (&h1[..], -0.9, -1.3);
+    list[2] = (&h2[..], 0.2, 0.9);
+    let items = [Items { list, len: 3 }, Items { list, len: 2 }];
+    let (rtol, atol) = (1e-3, vec![1e-6; n]);
+    let eatol = map.effective_atol(&atol, rtol);
+    // weights: rtol·|y_i − y_p| + atol, rtol·size + atol, rtol·|y_i| + atol
+    let mut w = vec![0.0; n];
+    map.weights(&ycur, &eatol, rtol, 0, &mut w);
+    for (i, (r, &wi)) in rows.iter().zip(&w).enumerate() {
+        let want = match *r {
+            Row::Own => 1.0 / (rtol * ycur[i].abs() + atol[i]),
+            Row::Anchor { size } => 1.0 / (rtol * size + atol[i]),
+            Row::Difference { partner } => 1.0 / (rtol * (ycur[i] - ycur[partner]).abs() + atol[i]),
+        };
+        assert_eq!(wi, want, "weight of row {i}");
+    }
+    for (it, norm) in items.iter().zip([ErrorNorm::Max, ErrorNorm::Rms]) {
+        let err: Vec<f64> = (0..n)
+            .map(|i| ycur[i] - it.as_slice().iter().map(|&(v, c, _)| c * v[i]).sum::<f64>())
+            .collect();
+        let mut prods: Vec<f64> = rows
+            .iter()
+            .enumerate()
+            .map(|(i, r)| match *r {
+                Row::Difference { partner } => (err[i] - err[partner]) * w[i],
+                _ => err[i] * w[i],
+            })
+            .collect();
+        prods.push(err[n - 1] / (rtol * 1.5 + atol[n - 1]));
+        let want = match norm {
+            ErrorNorm::Max => prods.iter().fold(0.0f64, |m, x| m.max(x.abs())),
+            ErrorNorm::Rms => (prods.iter().map(|x| x * x).sum::<f64>() / n as f64).sqrt(),
+        };
+        let swept = norm_blocks(std::slice::from_ref(it), &ycur, &w, norm, &map, 0, n)[0].finish(n);
+        let direct = map.norm(&err, &w, norm);
+        // the sweeps push the products in the definition's order (the end row is last here)
+        assert_eq!((swept, direct), (want, want), "{norm:?}");
+    }
+}
