@@ -23,6 +23,27 @@ pub trait Scalar: DualNum<Primitive = f64> + Copy + Send + Sync {
     fn lift(self, f: f64, df: f64) -> Self;
     /// The derivative part (0 for `f64`).
     fn eps_part(&self) -> f64;
+
+    /// [`lift`](Self::lift) of a function known as its value alone (`value(x)`) and as value
+    /// with derivative (`both(x)`), at `x = self.re()`: `f64` calls only `value`, so a residual
+    /// evaluated in `f64` never computes the derivative it would drop; a dual number calls
+    /// `both`.
+    ///
+    /// ```
+    /// use celltissue::Scalar;
+    /// use num_dual::Dual64;
+    /// let sin = |x: f64| x.sin();
+    /// let sin_cos = |x: f64| (x.sin(), x.cos());
+    /// assert_eq!(0.5f64.lift_fn(sin, sin_cos), 0.5f64.sin());
+    /// let d = Dual64::new(0.5, 2.0).lift_fn(sin, sin_cos);
+    /// assert_eq!((d.re, d.eps), (0.5f64.sin(), 2.0 * 0.5f64.cos()));
+    /// ```
+    #[inline(always)]
+    fn lift_fn(self, value: impl FnOnce(f64) -> f64, both: impl FnOnce(f64) -> (f64, f64)) -> Self {
+        let _ = value;
+        let (f, df) = both(self.re());
+        self.lift(f, df)
+    }
 }
 
 impl Scalar for f64 {
@@ -33,6 +54,14 @@ impl Scalar for f64 {
     #[inline]
     fn eps_part(&self) -> f64 {
         0.0
+    }
+    #[inline(always)]
+    fn lift_fn(
+        self,
+        value: impl FnOnce(f64) -> f64,
+        _both: impl FnOnce(f64) -> (f64, f64),
+    ) -> Self {
+        value(self)
     }
 }
 

@@ -58,8 +58,7 @@ impl<E: StrainEnergy> Line<E> {
         ypg: S,
         cur: &CellEval<S>,
     ) -> S {
-        let (rate, drate) = law.rate(cur.sigma.re());
-        ypg - cur.sigma.lift(rate, drate)
+        ypg - cur.sigma.lift_fn(|s| law.value(s), |s| law.rate(s))
     }
 
     /// Row of cell `cur`'s viscous stretch: `ȧ_v − a_v σ_m(α/a_v)/η_m`.

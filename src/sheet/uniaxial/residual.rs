@@ -247,8 +247,7 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
                     let gi = self.ig(j, k);
                     for (i, sigma) in [c.s11, c.s22].into_iter().enumerate() {
                         r[gi + i] = if g.directions.grows(i) {
-                            let (rate, slope) = g.law.rate(sigma.re());
-                            yp[gi + i] - sigma.lift(rate, slope)
+                            yp[gi + i] - sigma.lift_fn(|s| g.law.value(s), |s| g.law.rate(s))
                         } else {
                             yp[gi + i]
                         };
