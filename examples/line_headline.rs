@@ -11,7 +11,8 @@
 //!
 //! Run: `cargo run --release --example line_headline -- FAMILY N [THREADS]`, e.g.
 //! `cargo run --release --example line_headline -- macro 1000000 2`. The reference run is not
-//! timed. Prints one markdown table row.
+//! timed. Prints one markdown table row. `JACOBIAN_AGE=K` sets the timed run's
+//! `SolveSettings::jacobian_age` (scenario key `solver.jacobian_age`; default 50).
 
 use celltissue::line::build::discrete;
 use celltissue::line::run::{integrate, SolveSettings};
@@ -60,11 +61,18 @@ fn solve(
 ) -> (Fields, f64, integrators::Stats) {
     let p = cfg.params(atol);
     let line = discrete(NeoHookean::new(1.0).expect("valid"), &p).expect("valid line");
+    let defaults = SolveSettings::default();
+    let jacobian_age = std::env::var("JACOBIAN_AGE")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .filter(|&k: &usize| k >= 1 && rtol >= 1e-6)
+        .unwrap_or(defaults.jacobian_age);
     let settings = SolveSettings {
         rtol,
         atol,
         threads,
-        ..Default::default()
+        jacobian_age,
+        ..defaults
     };
     let mut prob = ArrayProblem::new(line);
     let start = Instant::now();
