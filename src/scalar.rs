@@ -39,8 +39,11 @@ pub trait Scalar: DualNum<Primitive = f64> + Copy + Send + Sync {
     /// assert_eq!((d.re, d.eps), (0.5f64.sin(), 2.0 * 0.5f64.cos()));
     /// ```
     #[inline(always)]
-    fn lift_fn(self, value: impl FnOnce(f64) -> f64, both: impl FnOnce(f64) -> (f64, f64)) -> Self {
-        let _ = value;
+    fn lift_fn(
+        self,
+        _value: impl FnOnce(f64) -> f64,
+        both: impl FnOnce(f64) -> (f64, f64),
+    ) -> Self {
         let (f, df) = both(self.re());
         self.lift(f, df)
     }

@@ -569,8 +569,9 @@ pub(crate) fn max_abs(xs: &[f64]) -> (f64, bool) {
     (max, nan.iter().any(|&b| b))
 }
 
-/// A partial weighted norm: sum of squares (RMS) or running maximum with a NaN flag (max),
-/// mergeable across the halves of a two-thread split.
+/// A partial weighted norm: sum of squares (RMS, summed in the order pushed) or running
+/// maximum with a NaN flag (max: the flag beside the maximum instead of a NaN-sticky fold takes
+/// the NaN test off the dependency chain), mergeable across the halves of a two-thread split.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct NormSum {
     sum: f64,

@@ -87,6 +87,14 @@ pub trait GrowthLaw: Send + Sync {
     }
 }
 
+/// `G(σ)` in the residual's scalar: for `f64` the law's value alone, for a dual number its
+/// value and slope ([`crate::Scalar::lift_fn`]); the line's and the sheet's growth rows call
+/// this.
+#[inline(always)]
+pub(crate) fn growth_at<S: crate::Scalar>(law: &dyn GrowthLaw, sigma: S) -> S {
+    sigma.lift_fn(|s| law.value(s), |s| law.rate(s))
+}
+
 /// `ġ = ½ G_m (1 + tanh(σ/σ₀))` (3.15), canonical `σ₀ = 0.1`, `G_m = 1`.
 ///
 /// ```
@@ -130,24 +138,30 @@ impl Default for TanhGrowth {
 /// `G_m e q` with `q = 1/(1 + e)`, and the slope `2 G_m e q²/σ₀` has no cancellation: one `exp`
 /// instead of `tanh` (an `expm1` and a division in the C library). The test below checks it
 /// against AD of the tanh form.
-impl GrowthLaw for TanhGrowth {
-    #[inline]
-    fn rate(&self, sigma: f64) -> (f64, f64) {
+impl TanhGrowth {
+    /// `(½(1 + tanh s), e, q)` at `s = σ/σ₀` in the logistic form above (`e = e^{−2|s|}`,
+    /// `q = 1/(1 + e)`), shared by the rate and its slope.
+    #[inline(always)]
+    fn logistic(&self, sigma: f64) -> (f64, f64, f64) {
         let s = sigma / self.sigma0;
         let e = (-2.0 * s.abs()).exp();
         let q = 1.0 / (1.0 + e);
         // (NaN takes the second branch and stays NaN)
-        let g = if s >= 0.0 { q } else { e * q };
+        (if s >= 0.0 { q } else { e * q }, e, q)
+    }
+}
+
+impl GrowthLaw for TanhGrowth {
+    #[inline]
+    fn rate(&self, sigma: f64) -> (f64, f64) {
+        let (g, e, q) = self.logistic(sigma);
         (self.gm * g, 2.0 * self.gm * e * q * q / self.sigma0)
     }
     /// `rate(σ).0` by the same operations, without the slope's division (measured: the slope
     /// was a quarter of this law's cost in a dividing line's residual).
     #[inline]
     fn value(&self, sigma: f64) -> f64 {
-        let s = sigma / self.sigma0;
-        let e = (-2.0 * s.abs()).exp();
-        let q = 1.0 / (1.0 + e);
-        self.gm * if s >= 0.0 { q } else { e * q }
+        self.gm * self.logistic(sigma).0
     }
     fn check(&self) -> Result<(), ParamError> {
         positive("sigma0", self.sigma0)?;

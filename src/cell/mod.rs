@@ -21,6 +21,7 @@ mod viscosity;
 
 pub use active::Active;
 pub use field::{Field, FieldError, FieldFn, Sampling};
+pub(crate) use growth::growth_at;
 pub use growth::{GrowthLaw, GrowthRate, TanhGrowth};
 pub use growth_laws::GrowthSpec;
 pub use viscosity::{

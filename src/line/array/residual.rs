@@ -58,7 +58,7 @@ impl<E: StrainEnergy> Line<E> {
         ypg: S,
         cur: &CellEval<S>,
     ) -> S {
-        ypg - cur.sigma.lift_fn(|s| law.value(s), |s| law.rate(s))
+        ypg - crate::cell::growth_at(law, cur.sigma)
     }
 
     /// Row of cell `cur`'s viscous stretch: `ȧ_v − a_v σ_m(α/a_v)/η_m`.

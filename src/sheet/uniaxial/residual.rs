@@ -247,7 +247,7 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
                     let gi = self.ig(j, k);
                     for (i, sigma) in [c.s11, c.s22].into_iter().enumerate() {
                         r[gi + i] = if g.directions.grows(i) {
-                            yp[gi + i] - sigma.lift_fn(|s| g.law.value(s), |s| g.law.rate(s))
+                            yp[gi + i] - crate::cell::growth_at(g.law.as_ref(), sigma)
                         } else {
                             yp[gi + i]
                         };

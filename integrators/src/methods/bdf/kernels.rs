@@ -350,15 +350,7 @@ impl SolutionMap for NewtonUpdate<'_> {
         };
         let mut a = half(self.off, y1, yp1, w1);
         let mut b = half(mid, y2, yp2, w2);
-        (a.acc, b.acc) = (
-            self.acc,
-            NormAcc {
-                sum: 0.0,
-                max: 0.0,
-                nan: false,
-                ..self.acc
-            },
-        );
+        (a.acc, b.acc) = (self.acc, self.acc.emptied());
         Ok((a, b))
     }
 
@@ -393,73 +385,44 @@ impl<'s> Items<'s> {
     }
 }
 
-/// Running weighted norm of one kind, bitwise equal to [`ErrorNorm::of`] over the same
-/// products: RMS sums the squares in index order; max keeps a NaN flag beside the running
-/// maximum instead of a NaN-sticky fold, which takes the NaN test off the dependency chain.
+/// Running weighted norm of one kind: a [`NormSum`] that carries its [`ErrorNorm`], bitwise
+/// equal to [`ErrorNorm::of`] over the same products.
 #[derive(Clone, Copy)]
 pub(super) struct NormAcc {
-    pub(super) rms: bool,
-    pub(super) sum: f64,
-    pub(super) max: f64,
-    pub(super) nan: bool,
+    norm: ErrorNorm,
+    sum: NormSum,
 }
 
 impl NormAcc {
     pub(super) fn new(norm: ErrorNorm) -> Self {
         Self {
-            rms: matches!(norm, ErrorNorm::Rms),
-            sum: 0.0,
-            max: 0.0,
-            nan: false,
+            norm,
+            sum: NormSum::default(),
         }
+    }
+
+    /// An empty accumulator of the same kind.
+    pub(super) fn emptied(&self) -> Self {
+        Self::new(self.norm)
     }
 
     #[inline(always)]
     pub(super) fn push(&mut self, x: f64) {
-        if self.rms {
-            self.sum += x * x;
-        } else {
-            let a = x.abs();
-            self.nan |= a.is_nan();
-            self.max = if a > self.max { a } else { self.max };
-        }
+        self.sum.push(self.norm, x);
     }
 
-    /// [`push`](Self::push) of every entry of `xs`, in order: the RMS sum is accumulated
-    /// sequentially (bitwise as by `push`), the maximum and NaN flag in vector lanes (exact).
+    /// [`push`](Self::push) of every entry of `xs`, in order (see [`NormSum::push_slice`]).
     #[inline(always)]
     pub(super) fn push_slice(&mut self, xs: &[f64]) {
-        if self.rms {
-            for &x in xs {
-                self.sum += x * x;
-            }
-        } else {
-            let (m, nan) = crate::error_map::max_abs(xs);
-            self.nan |= nan;
-            self.max = if m > self.max { m } else { self.max };
-        }
+        self.sum.push_slice(self.norm, xs);
     }
 
     /// Adds the products another accumulator (of the same kind) has seen.
     pub(super) fn merge(&mut self, other: &NormAcc) {
-        self.sum += other.sum;
-        self.nan |= other.nan;
-        self.max = if other.max > self.max {
-            other.max
-        } else {
-            self.max
-        };
+        self.sum.merge(&other.sum);
     }
 
     pub(super) fn finish(&self, n: usize) -> f64 {
-        if n == 0 {
-            0.0
-        } else if self.rms {
-            (self.sum / n as f64).sqrt()
-        } else if self.nan {
-            f64::NAN
-        } else {
-            self.max
-        }
+        self.sum.finish(self.norm, n)
     }
 }
