@@ -306,8 +306,11 @@ pub(super) fn worst_of(xs: impl Iterator<Item = f64>) -> Option<usize> {
 }
 
 /// The per-component Newton update, applied by the linear solve as each component of
-/// `J⁻¹F` is found ([`System::solve_map`]).
-pub(super) struct NewtonUpdate<'a> {
+/// `J⁻¹F` is found ([`System::solve_map`]). With `OWN_NORM` it also accumulates the weighted
+/// norm of `δ`; without it (a problem with an error map, whose Newton norm is taken over
+/// cell-level quantities in a pass of its own) the accumulation is compiled out rather than
+/// computed and discarded.
+pub(super) struct NewtonUpdate<'a, const OWN_NORM: bool> {
     /// Global index of `y[0]` (non-zero for the second half of a split).
     pub(super) off: usize,
     pub(super) y: &'a mut [f64],
@@ -318,8 +321,31 @@ pub(super) struct NewtonUpdate<'a> {
     pub(super) acc: NormAcc,
 }
 
-impl SolutionMap for NewtonUpdate<'_> {
-    /// `δ_i = −scale·d_i`; updates `y`, `ẏ` and the norm; returns `δ_i`.
+impl<'a, const OWN_NORM: bool> NewtonUpdate<'a, OWN_NORM> {
+    /// The update of the whole state (`off = 0`) with step scale `scale`, `∂ẏ/∂y = alpha` and
+    /// weights `w`, accumulating the `norm` of `δ` if `OWN_NORM`.
+    pub(super) fn new(
+        y: &'a mut [f64],
+        yp: &'a mut [f64],
+        w: &'a [f64],
+        scale: f64,
+        alpha: f64,
+        norm: ErrorNorm,
+    ) -> Self {
+        Self {
+            off: 0,
+            y,
+            yp,
+            w,
+            scale,
+            alpha,
+            acc: NormAcc::new(norm),
+        }
+    }
+}
+
+impl<const OWN_NORM: bool> SolutionMap for NewtonUpdate<'_, OWN_NORM> {
+    /// `δ_i = −scale·d_i`; updates `y`, `ẏ` (and the norm, with `OWN_NORM`); returns `δ_i`.
     #[inline(always)]
     fn map(&mut self, i: usize, d: f64) -> f64 {
         let i = i - self.off;
@@ -330,7 +356,9 @@ impl SolutionMap for NewtonUpdate<'_> {
         };
         self.y[i] += di;
         self.yp[i] += self.alpha * di;
-        self.acc.push(di * self.w[i]);
+        if OWN_NORM {
+            self.acc.push(di * self.w[i]);
+        }
         di
     }
 

@@ -82,15 +82,6 @@ impl Bdf {
             // accumulates ‖δ‖; the tridiagonal solver runs it inside its backward sweep. (The
             // total correction `y_new − predictor` is not accumulated here: the error test
             // recomputes it from the history in its own sweep, one stream fewer per iteration.)
-            let upd = NewtonUpdate {
-                off: 0,
-                y: &mut self.ycur[..n],
-                yp: &mut self.ypcur[..n],
-                w: &self.nwt[..n],
-                scale,
-                alpha,
-                acc: NormAcc::new(sys.opts.norm),
-            };
             // an iterative solver stops once its error is a small fraction of EPS_NEWT in the
             // Newton norm (inexact Newton, as IDA; see `IterativeSettings`)
             let tol = LinearTolerance {
@@ -99,10 +90,15 @@ impl Bdf {
                 target: EPS_NEWT,
             };
             let lin = self.lin.as_ref().expect("allocated");
-            let upd = sys.solve_map(lin, &mut self.res, Some(&tol), upd);
+            let (y, yp, w) = (&mut self.ycur[..n], &mut self.ypcur[..n], &self.nwt[..n]);
             let delnrm = if sys.error_map().is_empty() {
-                upd.acc.finish(n)
+                let upd = NewtonUpdate::<true>::new(y, yp, w, scale, alpha, sys.opts.norm);
+                sys.solve_map(lin, &mut self.res, Some(&tol), upd)
+                    .acc
+                    .finish(n)
             } else {
+                let upd = NewtonUpdate::<false>::new(y, yp, w, scale, alpha, sys.opts.norm);
+                sys.solve_map(lin, &mut self.res, Some(&tol), upd);
                 // cell-level quantities need the partner's δ: one pass over δ (now in `res`)
                 map_norm(
                     sys.error_map(),
