@@ -78,8 +78,9 @@ impl Bdf {
             sys.stats.newton_iterations += 1;
             // δ = −scale·J⁻¹F: solving for F and negating afterwards is bitwise the same as
             // solving for −F (every rounding is sign-symmetric). The solve hands each
-            // component to one fused update that stores δ in `res`, updates the iterate and
-            // accumulates ‖δ‖; the tridiagonal solver runs it inside its backward sweep. (The
+            // component to one fused update that stores δ in `res`, updates the iterate and,
+            // without an error map, accumulates ‖δ‖; the tridiagonal solver runs it inside its
+            // backward sweep. With an error map ‖δ‖ is taken in cell units afterwards. (The
             // total correction `y_new − predictor` is not accumulated here: the error test
             // recomputes it from the history in its own sweep, one stream fewer per iteration.)
             // an iterative solver stops once its error is a small fraction of EPS_NEWT in the
