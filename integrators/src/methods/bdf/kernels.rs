@@ -367,19 +367,20 @@ impl<const OWN_NORM: bool> SolutionMap for NewtonUpdate<'_, OWN_NORM> {
         let (y1, y2) = self.y.split_at_mut(at);
         let (yp1, yp2) = self.yp.split_at_mut(at);
         let (w1, w2) = self.w.split_at(at);
-        let half = |off, y, yp, w| NewtonUpdate {
+        // the first half carries what the accumulator has seen, the second starts empty
+        let half = |off, y, yp, w, acc| NewtonUpdate {
             off,
             y,
             yp,
             w,
             scale: self.scale,
             alpha: self.alpha,
-            acc: NormAcc::new(ErrorNorm::Rms),
+            acc,
         };
-        let mut a = half(self.off, y1, yp1, w1);
-        let mut b = half(mid, y2, yp2, w2);
-        (a.acc, b.acc) = (self.acc, self.acc.emptied());
-        Ok((a, b))
+        Ok((
+            half(self.off, y1, yp1, w1, self.acc),
+            half(mid, y2, yp2, w2, self.acc.emptied()),
+        ))
     }
 
     fn merge(&mut self, other: Self) {
