@@ -7,7 +7,7 @@
 //! environment variables `METHOD` (bdf, esdirk, radau), `RTOL` (default 1e-6) and `NORM` (max,
 //! the default, or rms) override the solver.
 //! `DISCRETE_ONLY=1` skips the continuum runs. Prints the work counters of the discrete run.
-//! `THREADS=2` passes `threads = 2` to the solve (default 1): from 2¹⁸ unknowns the residual,
+//! `THREADS=2` passes `threads = 2` to the solve (default 1): from 2¹⁵ unknowns the residual,
 //! the BDF's vector sweeps and the tridiagonal solve then run in two halves on two threads.
 //! Single-shot wall times; the criterion numbers are in `benches/line_scaling.rs`.
 

@@ -6,7 +6,7 @@
 //! included) and a snapshot. Each is the best of several calls.
 //!
 //! Run: `cargo run --release --example line_kernels [N]`; `THREADS=2` lets the residual sweep
-//! two halves on two threads (from 2¹⁸ cells); `NONUNI=1` perturbs `L₀`, `μ` and `K` by 1e-12
+//! two halves on two threads (from 2¹⁵ cells); `NONUNI=1` perturbs `L₀`, `μ` and `K` by 1e-12
 //! so that the residual streams those vectors instead of using their uniform values.
 
 use celltissue::cell::Field;

@@ -56,6 +56,7 @@ pub mod options;
 pub mod pattern;
 pub mod problem;
 pub mod solver;
+mod split_pool;
 pub mod stats;
 pub mod system;
 

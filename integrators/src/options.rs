@@ -58,16 +58,18 @@ pub struct Options {
 
 /// How a solve may use a second worker: BDF's vector passes (predictor, weights, error
 /// norms) and the tridiagonal solve are split in two halves run by [`rayon::join`] — on the
-/// rayon pool the solve runs in (the global one unless the caller
-/// [`install`](rayon::ThreadPool::install)s another), so no thread is started per pass.
+/// rayon pool the solve runs in, so no thread is started per pass. A solve called outside
+/// every rayon pool makes its thread worker 0 of a two-thread pool kept for that thread's
+/// lifetime (one more OS thread); a solve inside a pool (a caller's
+/// [`install`](rayon::ThreadPool::install)) uses that pool.
 ///
 /// ```
 /// use integrators::{Options, Parallelism};
 /// let o = Options { parallel: Parallelism::from_threads(2)?, ..Default::default() };
 /// assert!(o.parallel.splits(1 << 18) && !o.parallel.splits(1000));
 /// // a lower threshold, e.g. on a machine with idle cores:
-/// let p = Parallelism::Halves { min_len: 1 << 15 };
-/// assert!(p.splits(1 << 15) && p.threads() == 2);
+/// let p = Parallelism::Halves { min_len: 1 << 12 };
+/// assert!(p.splits(1 << 12) && p.threads() == 2);
 /// assert!(Parallelism::from_threads(3).is_err()); // only two-way splits exist
 /// # Ok::<(), integrators::OptionsError>(())
 /// ```
@@ -84,10 +86,12 @@ pub enum Parallelism {
 }
 
 impl Parallelism {
-    /// Default split threshold, 2¹⁸ components. Set high on purpose: on a shared machine the
-    /// second worker may wait for a core while the first waits for it, which at 10⁵ unknowns
-    /// (a pass of ~0.1 ms) was measured to cost more than the split saves.
-    pub const DEFAULT_MIN_LEN: usize = 1 << 18;
+    /// Default split threshold, 2¹⁵ components (a pass of about 0.05 ms). The solving thread
+    /// runs as a worker of its own two-thread pool, so a split costs a push to its own queue
+    /// and, if the other worker is slow to take the half, the solving thread runs it itself;
+    /// below about 3·10⁴ unknowns the split measured no faster (BENCHMARKS.md, "Two threads
+    /// below 10⁶ unknowns").
+    pub const DEFAULT_MIN_LEN: usize = 1 << 15;
 
     /// From a thread count: 1 → [`Parallelism::Serial`], 2 → [`Parallelism::Halves`] at
     /// [`Parallelism::DEFAULT_MIN_LEN`]; anything else is an error (passes split in two

@@ -507,6 +507,10 @@ where
     }
     // parallelism is passed in: the problem learns how many threads it may use
     p.set_threads(opts.parallel.threads());
+    if opts.parallel.threads() == 2 {
+        // split passes become pushes to this thread's own queue (see `split_pool`)
+        crate::split_pool::enter();
+    }
     if !t0.is_finite() {
         return invalid(run, format!("t0 = {t0} is not finite"));
     }

@@ -66,7 +66,8 @@ fn bdf_heat_banded_matches_exact_solution() {
 /// `Parallelism::Halves` splits, from its `min_len` unknowns, BDF's predictor/weights and
 /// error-norm passes and the twisted tridiagonal factorisation and solve in two halves run by
 /// `rayon::join`, each half with the one-thread arithmetic. The threshold is lowered to 4096 so
-/// a 20 000-unknown problem exercises every split (the default is 2¹⁸). With the max norm nothing else differs:
+/// a 20 000-unknown problem exercises every split (the default is 2¹⁵). With the max norm
+/// nothing else differs:
 /// the two runs are bitwise identical. With the RMS norm (the default) the norms' sums are
 /// split in two, so the step sizes differ in their last bits: the runs take the same steps and
 /// Newton iterations and agree far below the integration tolerance (`rtol·max|y| = 1e-6`). The

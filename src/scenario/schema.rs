@@ -66,7 +66,7 @@ pub struct SolverSection {
     /// Iterative solver: fraction of the Newton tolerance the linear error may reach, in
     /// [0, 1); 0 keeps only `krylov_rtol`.
     pub newton_factor: f64,
-    /// Threads a run may use, 1 or 2 (default 1; 2 splits the passes of lines with ≥ 2¹⁸ cells).
+    /// Threads a run may use, 1 or 2 (default 1; 2 splits the passes of lines with ≥ 2¹⁵ cells).
     pub threads: usize,
     /// BDF only: steps after which the Newton matrices are refreshed even though Newton
     /// converges, 1 to 10⁶ (default 50).
