@@ -4,7 +4,8 @@
 //! ([`ensemble`]), VTU/PVD
 //! snapshots for ParaView ([`vtu`]), the resolved `scenario.toml`, and PNG plots laid out like
 //! the thesis figures ([`figures`], built on the reusable [`plot`] module). Every file is
-//! written atomically ([`atomic`]) and recorded in the directory's manifest ([`manifest`]).
+//! written atomically ([`atomic`]); the command line records each in the directory's manifest
+//! (`manifest`, feature `cli`).
 //! Nothing here runs a model.
 
 pub mod atomic;
@@ -19,6 +20,7 @@ pub mod fonts;
 pub(crate) mod h5;
 #[cfg(feature = "cli")]
 pub mod interrupt;
+#[cfg(feature = "cli")]
 pub mod manifest;
 pub mod npz;
 #[cfg(feature = "plots")]
