@@ -14,7 +14,7 @@
 //! `PROLIF_GROWTH_N` the size of the η comparison (default 1e5; 0 skips it),
 //! `PROLIF_LARGE=0` skips the criterion groups to 10⁴ cells, `PROLIF_RTOL` tightens the
 //! tolerance of the report's runs (atol = rtol/100; default 1e-6 and 1e-8) to measure the
-//! default runs' accuracy by their final length.
+//! default runs' accuracy by their final length, `PROLIF_THREADS=2` runs them on two threads.
 //!
 //! The group also times `travelling_rim` (the long-time rim at K = 1e-2, no line integrated)
 //! and the rim to t = 1000 at K = 1e-2 on the discrete line and on the cell-number grid with
@@ -68,12 +68,14 @@ fn proliferate(
 }
 
 /// The solve settings: the defaults, or with `PROLIF_RTOL` a tighter run (atol = rtol/100) to
-/// measure the default run's accuracy.
+/// measure the default run's accuracy; `PROLIF_THREADS=2` lets the solve split its passes
+/// over two threads (`SolveSettings::threads`).
 fn settings() -> SolveSettings {
     let rtol = env("PROLIF_RTOL", 1e-6);
     SolveSettings {
         rtol,
         atol: rtol / 100.0,
+        threads: env("PROLIF_THREADS", 1.0) as usize,
         ..Default::default()
     }
 }
