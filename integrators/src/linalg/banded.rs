@@ -460,7 +460,7 @@ impl BandLu {
         );
         assert_eq!(b.len(), self.n, "right-hand side length mismatch");
         if let Some(c) = self.active_condensed() {
-            c.solve_map(b, Identity);
+            c.solve_map(b, Identity, self.parallel.splits(b.len()));
             return;
         }
         match (self.l, self.u, &self.tri) {
@@ -491,7 +491,7 @@ impl BandLu {
             }
             None => {
                 if let Some(c) = self.active_condensed() {
-                    return c.solve_map(b, map);
+                    return c.solve_map(b, map, self.parallel.splits(b.len()));
                 }
                 self.solve(b);
                 for (j, v) in b.iter_mut().enumerate() {

@@ -247,8 +247,16 @@ impl Condensed {
     }
 
     /// Solves with the last successful [`factor`](Self::factor) and stores `map.map(j, x_j)` in
-    /// `b[j]`, in increasing `j`.
-    pub(super) fn solve_map<M: SolutionMap>(&self, b: &mut [f64], mut map: M) -> M {
+    /// `b[j]`, in increasing `j`. With `two_threads` the reduced right-hand side, the reduced
+    /// tridiagonal solve and the back substitution each run in two halves ([`rayon::join`];
+    /// the map split at `n/2`, each half in increasing `j`): the same operations per component,
+    /// so the same solution bit for bit.
+    pub(super) fn solve_map<M: SolutionMap + Send>(
+        &self,
+        b: &mut [f64],
+        map: M,
+        two_threads: bool,
+    ) -> M {
         let (n, p0) = (self.n, self.p0);
         assert_eq!(b.len(), n, "right-hand side length mismatch");
         let q0 = 1 - p0;
@@ -260,30 +268,44 @@ impl Condensed {
         };
         let nq = self.qrow.len();
         s.resize(nq, 0.0);
-        // D⁻¹ b_p of the eliminated neighbour (zero past either end)
-        let scaled = |b: &[f64], p: isize| -> f64 {
-            if p < 0 || p as usize >= n {
-                0.0
-            } else {
-                b[p as usize] * self.prow[(p as usize - p0) / 2][2]
+        let prow = &self.prow;
+        // the reduced right-hand side of kept rows m0.. (written to `out`)
+        let gather = |out: &mut [f64], m0: usize, b: &[f64]| {
+            // D⁻¹ b_p of the eliminated neighbour (zero past either end)
+            let scaled = |p: isize| -> f64 {
+                if p < 0 || p as usize >= n {
+                    0.0
+                } else {
+                    b[p as usize] * prow[(p as usize - p0) / 2][2]
+                }
+            };
+            for (m, (sv, qr)) in (m0..).zip(out.iter_mut().zip(&self.qrow[m0..])) {
+                let q = q0 + 2 * m;
+                let (bl, br) = if q >= 1 && q + 1 < n {
+                    (
+                        b[q - 1] * prow[(q - 1 - p0) / 2][2],
+                        b[q + 1] * prow[(q + 1 - p0) / 2][2],
+                    )
+                } else {
+                    let qi = q as isize;
+                    (scaled(qi - 1), scaled(qi + 1))
+                };
+                *sv = b[q] - qr[0] * bl - qr[1] * br;
             }
         };
-        let prow = &self.prow;
-        for (m, (sv, qr)) in s.iter_mut().zip(&self.qrow).enumerate() {
-            let q = q0 + 2 * m;
-            let (bl, br) = if q >= 1 && q + 1 < n {
-                (
-                    b[q - 1] * prow[(q - 1 - p0) / 2][2],
-                    b[q + 1] * prow[(q + 1 - p0) / 2][2],
-                )
-            } else {
-                let qi = q as isize;
-                (scaled(b, qi - 1), scaled(b, qi + 1))
-            };
-            *sv = b[q] - qr[0] * bl - qr[1] * br;
+        let s = &mut s[..nq];
+        if two_threads {
+            let (sa, sb) = s.split_at_mut(nq / 2);
+            let bs = &*b;
+            rayon::join(|| gather(sa, 0, bs), || gather(sb, nq / 2, bs));
+            self.tri.solve_map_two_threads(s, Identity);
+        } else {
+            gather(s, 0, b);
+            self.tri.solve_map(s, Identity);
         }
-        self.tri.solve_map(&mut s[..nq], Identity);
-        // back: x_q from the reduced solve, x_p = D⁻¹b_p − (A(p,p±1)/D_p)·x_{p±1}
+        let s = &*s;
+        // back: x_q from the reduced solve, x_p = D⁻¹b_p − (A(p,p±1)/D_p)·x_{p±1}, for the
+        // components j0.. (`out` holds their right-hand sides)
         let x_kept = |q: usize| -> f64 {
             if q >= n {
                 0.0
@@ -291,21 +313,37 @@ impl Condensed {
                 s[(q - q0) / 2]
             }
         };
-        for j in 0..n {
-            let x = if j % 2 == q0 {
-                s[(j - q0) / 2]
-            } else {
-                let [l, r, inv] = prow[(j - p0) / 2];
-                let (left, right) = if j >= 1 && j + 1 < n {
-                    (s[(j - 1 - q0) / 2], s[(j + 1 - q0) / 2])
+        let scatter = |out: &mut [f64], j0: usize, mut map: M| -> M {
+            for (j, bj) in (j0..).zip(out.iter_mut()) {
+                let x = if j % 2 == q0 {
+                    s[(j - q0) / 2]
                 } else {
-                    (if j == 0 { 0.0 } else { x_kept(j - 1) }, x_kept(j + 1))
+                    let [l, r, inv] = prow[(j - p0) / 2];
+                    let (left, right) = if j >= 1 && j + 1 < n {
+                        (s[(j - 1 - q0) / 2], s[(j + 1 - q0) / 2])
+                    } else {
+                        (if j == 0 { 0.0 } else { x_kept(j - 1) }, x_kept(j + 1))
+                    };
+                    flush_subnormal(*bj * inv - l * left - r * right)
                 };
-                flush_subnormal(b[j] * inv - l * left - r * right)
-            };
-            b[j] = map.map(j, x);
+                *bj = map.map(j, x);
+            }
+            map
+        };
+        if !two_threads {
+            return scatter(b, 0, map);
         }
-        map
+        // each component reads only its own right-hand side and the reduced solution
+        match map.split(n / 2) {
+            Ok((first, second)) => {
+                let (ba, bb) = b.split_at_mut(n / 2);
+                let (mut first, second) =
+                    rayon::join(|| scatter(ba, 0, first), || scatter(bb, n / 2, second));
+                first.merge(second);
+                first
+            }
+            Err(map) => scatter(b, 0, map),
+        }
     }
 
     /// Keeps the storage for a larger dimension (refilled by the next factorisation).

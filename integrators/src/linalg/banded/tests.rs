@@ -295,3 +295,48 @@ fn condensed_storage_grows_in_place() {
     lu.solve(&mut x);
     assert!(band_residual(&m, &x, &b) < 1e-11);
 }
+
+#[test]
+fn condensed_solve_on_two_threads_is_the_one_thread_solve_bit_for_bit() {
+    for n in [5, 8, 9, 31, 200, 1001] {
+        for p0 in [0, 1] {
+            let m = separable(n, p0, 0.3 * n as f64);
+            let mut lu = BandLu::new(n, 2, 2);
+            lu.factor(&m).unwrap();
+            assert!(lu.condensed, "n = {n}, p0 = {p0}: should condense");
+            let rhs: Vec<f64> = (0..n).map(|i| (0.7 * i as f64).sin() - 0.2).collect();
+            let solve = |lu: &BandLu| {
+                let mut out = vec![None; n];
+                let mut x = rhs.clone();
+                let rec = lu.solve_map(
+                    &mut x,
+                    Record {
+                        off: 0,
+                        out: &mut out,
+                        calls: 0,
+                    },
+                );
+                assert_eq!(rec.calls, n, "every component mapped once");
+                let mut plain = rhs.clone();
+                lu.solve(&mut plain);
+                let mapped: Vec<f64> = out.iter().map(|v| v.unwrap()).collect();
+                (x, mapped, plain)
+            };
+            let serial = solve(&lu);
+            lu.parallel = crate::Parallelism::Halves { min_len: 2 };
+            let split = solve(&lu);
+            assert!(band_residual(&m, &serial.1, &rhs) < 1e-11);
+            for (a, b) in [
+                (&serial.0, &split.0),
+                (&serial.1, &split.1),
+                (&serial.2, &split.2),
+            ] {
+                assert!(
+                    a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits()),
+                    "n = {n}, p0 = {p0}: the halves differ"
+                );
+            }
+            assert!(serial.1.iter().zip(&serial.2).all(|(x, y)| x == y));
+        }
+    }
+}

@@ -51,6 +51,10 @@ impl SolutionMap for Identity {
     fn map(&mut self, _j: usize, x: f64) -> f64 {
         x
     }
+
+    fn split(self, _mid: usize) -> Result<(Self, Self), Self> {
+        Ok((Identity, Identity))
+    }
 }
 
 /// Whether a band of an `n × n` matrix may have been narrowed by [`clamped`] (then the
