@@ -304,8 +304,7 @@ impl Condensed {
             self.tri.solve_map(s, Identity);
         }
         let s = &*s;
-        // back: x_q from the reduced solve, x_p = D⁻¹b_p − (A(p,p±1)/D_p)·x_{p±1}, for the
-        // components j0.. (`out` holds their right-hand sides)
+        // back: x_q from the reduced solve, x_p = D⁻¹b_p − (A(p,p±1)/D_p)·x_{p±1}
         let x_kept = |q: usize| -> f64 {
             if q >= n {
                 0.0
@@ -313,6 +312,7 @@ impl Condensed {
                 s[(q - q0) / 2]
             }
         };
+        // components j0.. (`out` holds their right-hand sides)
         let scatter = |out: &mut [f64], j0: usize, mut map: M| -> M {
             for (j, bj) in (j0..).zip(out.iter_mut()) {
                 let x = if j % 2 == q0 {
