@@ -197,14 +197,21 @@ fn band_residual(m: &BandMatrix, x: &[f64], b: &[f64]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// A separable `(2, 2)` band matrix of order `n` whose rows of parity `p0` are eliminated,
+/// and its LU, checked to have taken the condensed path.
+fn condensed_lu(n: usize, p0: usize) -> (BandMatrix, BandLu) {
+    let m = separable(n, p0, 0.3 * n as f64);
+    let mut lu = BandLu::new(n, 2, 2);
+    lu.factor(&m).unwrap();
+    assert!(lu.condensed, "n = {n}, p0 = {p0}: should condense");
+    (m, lu)
+}
+
 #[test]
 fn condensed_solves_match_the_pivoted_band_lu_for_either_parity_and_length() {
     for n in [4, 5, 8, 9, 31, 200] {
         for p0 in [0, 1] {
-            let m = separable(n, p0, 0.3 * n as f64);
-            let mut lu = BandLu::new(n, 2, 2);
-            lu.factor(&m).unwrap();
-            assert!(lu.condensed, "n = {n}, p0 = {p0}: should condense");
+            let (m, lu) = condensed_lu(n, p0);
             let b: Vec<f64> = (0..n).map(|i| (0.9 * i as f64).cos() + 0.5).collect();
             let mut x = b.clone();
             lu.solve(&mut x);
@@ -231,6 +238,24 @@ fn condensed_solves_match_the_pivoted_band_lu_for_either_parity_and_length() {
     }
 }
 
+/// `lu.solve_map` of `rhs` through a [`Record`]: what it stored (the map's values) and the
+/// solution it mapped, each component mapped exactly once.
+fn mapped_solve(lu: &BandLu, rhs: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let n = rhs.len();
+    let mut out = vec![None; n];
+    let mut x = rhs.to_vec();
+    let rec = lu.solve_map(
+        &mut x,
+        Record {
+            off: 0,
+            out: &mut out,
+            calls: 0,
+        },
+    );
+    assert_eq!(rec.calls, n, "every component mapped once");
+    (x, out.iter().map(|v| v.unwrap()).collect())
+}
+
 #[test]
 fn condensed_combination_and_map_are_those_of_the_sum() {
     let n = 41;
@@ -244,18 +269,7 @@ fn condensed_combination_and_map_are_those_of_the_sum() {
     lu.factor_combination(&a, beta, &bm).unwrap();
     assert!(lu.condensed);
     let rhs: Vec<f64> = (0..n).map(|i| 1.0 - 0.01 * (i * i) as f64).collect();
-    let mut out = vec![None; n];
-    let mut x = rhs.clone();
-    let rec = lu.solve_map(
-        &mut x,
-        Record {
-            off: 0,
-            out: &mut out,
-            calls: 0,
-        },
-    );
-    assert_eq!(rec.calls, n);
-    let sol: Vec<f64> = out.iter().map(|v| v.unwrap()).collect();
+    let (x, sol) = mapped_solve(&lu, &rhs);
     assert!(
         x.iter().zip(&sol).all(|(m, s)| *m == -s),
         "the map's value is stored"
@@ -300,26 +314,12 @@ fn condensed_storage_grows_in_place() {
 fn condensed_solve_on_two_threads_is_the_one_thread_solve_bit_for_bit() {
     for n in [5, 8, 9, 31, 200, 1001] {
         for p0 in [0, 1] {
-            let m = separable(n, p0, 0.3 * n as f64);
-            let mut lu = BandLu::new(n, 2, 2);
-            lu.factor(&m).unwrap();
-            assert!(lu.condensed, "n = {n}, p0 = {p0}: should condense");
+            let (m, mut lu) = condensed_lu(n, p0);
             let rhs: Vec<f64> = (0..n).map(|i| (0.7 * i as f64).sin() - 0.2).collect();
             let solve = |lu: &BandLu| {
-                let mut out = vec![None; n];
-                let mut x = rhs.clone();
-                let rec = lu.solve_map(
-                    &mut x,
-                    Record {
-                        off: 0,
-                        out: &mut out,
-                        calls: 0,
-                    },
-                );
-                assert_eq!(rec.calls, n, "every component mapped once");
+                let (x, mapped) = mapped_solve(lu, &rhs);
                 let mut plain = rhs.clone();
                 lu.solve(&mut plain);
-                let mapped: Vec<f64> = out.iter().map(|v| v.unwrap()).collect();
                 (x, mapped, plain)
             };
             let serial = solve(&lu);
