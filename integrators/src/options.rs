@@ -57,11 +57,11 @@ pub struct Options {
 }
 
 /// How a solve may use a second worker: BDF's vector passes (predictor, weights, error
-/// norms) and the tridiagonal solve are split in two halves run by [`rayon::join`] — on the
-/// rayon pool the solve runs in, so no thread is started per pass. A solve called outside
-/// every rayon pool makes its thread worker 0 of a two-thread pool kept for that thread's
-/// lifetime (one more OS thread); a solve inside a pool (a caller's
-/// [`install`](rayon::ThreadPool::install)) uses that pool.
+/// norms), the tridiagonal factorisation and solve and the condensed band's are split in two
+/// halves run by [`rayon::join`] — on the rayon pool the solve runs in, so no thread is
+/// started per pass. A solve called outside every rayon pool makes its thread worker 0 of a
+/// two-thread pool kept for that thread's lifetime (one more OS thread); a solve inside a pool
+/// (a caller's [`install`](rayon::ThreadPool::install)) uses that pool.
 ///
 /// ```
 /// use integrators::{Options, Parallelism};

@@ -13,10 +13,11 @@
 
 use super::division::{CellView, DivisionRule, SplitMix64};
 use super::log::DivisionLog;
+use super::reindex::expand_in_place;
 use super::EventError;
 use crate::array::CellArray;
 use crate::energy::StrainEnergy;
-use crate::line::array::NONE;
+use crate::line::array::{NONE, PAR_MIN_CELLS};
 use crate::line::run::LineModel;
 use crate::line::Line;
 use crate::observe::DivisionRecord;
@@ -80,13 +81,44 @@ struct SplitMap {
     /// first `g`, new boundary and second `g`), or empty if the layout is not the growing
     /// line's `[x₀,] (g₁, x₁, …, g_N, [x_N])`.
     sources: Vec<usize>,
+    /// The cells whose Newton-matrix rows are evaluated afresh after the event (new 1-based
+    /// indices, merged runs `lo..=hi`): the daughters and three cells on each side.
+    runs: Vec<(usize, usize)>,
+    /// Per unknown of the new layout, whether its row is in [`SplitMap::runs`].
+    fresh: Vec<bool>,
 }
 
 impl SplitMap {
-    /// [`SplitMap::sources`] for a layout with `seam` (a ring's `x₀`, 0 or 1) and a free or
-    /// fixed right end, `dim` unknowns after the split.
-    fn sources(&self, seam: usize, free: bool, dim: usize) -> Vec<usize> {
-        let mut src = Vec::with_capacity(dim);
+    /// Fills [`SplitMap::runs`] and [`SplitMap::fresh`] for the new `layout` of `n` cells: the
+    /// daughters of the k-th split (new cells `j + k` and `j + k + 1`) and three cells on each
+    /// side.
+    fn fill_fresh(&mut self, layout: &crate::line::Layout, n: usize) {
+        self.runs.clear();
+        for (k, &j) in self.cells.iter().enumerate() {
+            let (lo, hi) = ((j + k).saturating_sub(3).max(1), (j + k + 4).min(n));
+            match self.runs.last_mut() {
+                Some(r) if lo <= r.1 + 1 => r.1 = r.1.max(hi),
+                _ => self.runs.push((lo, hi)),
+            }
+        }
+        self.fresh.clear();
+        self.fresh.resize(layout.dim, false);
+        for &(lo, hi) in &self.runs {
+            for c in lo..=hi {
+                for k in [layout.gi[c - 1], layout.xi[c]] {
+                    if k != NONE {
+                        self.fresh[k] = true;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Writes [`SplitMap::sources`] into `src` for a layout with `seam` (a ring's `x₀`, 0 or
+    /// 1) and a free or fixed right end, `dim` unknowns after the split.
+    fn fill_sources(&self, src: &mut Vec<usize>, seam: usize, free: bool, dim: usize) {
+        src.clear();
+        src.reserve(dim);
         src.extend((0..seam).map(|_| 0));
         let mut divided = self.cells.iter().peekable();
         for j in 1..=self.n_old {
@@ -103,7 +135,6 @@ impl SplitMap {
         if src.len() != dim {
             src.clear();
         }
-        src
     }
 }
 
@@ -191,6 +222,10 @@ pub struct Dividing<E: StrainEnergy> {
     new_boundaries: Vec<usize>,
     /// The integrator's interpolated `ẏ` at the last event, mapped to the resized layout.
     yp_event: Vec<f64>,
+    /// Scratch of [`Dividing::due_within`]: the state extrapolated by the window, and the event
+    /// functions there (kept across events, so none allocates).
+    ahead: Vec<f64>,
+    g_ahead: Vec<f64>,
     rng: SplitMix64,
 }
 
@@ -227,6 +262,8 @@ impl<E: StrainEnergy> Dividing<E> {
             batch_within: 0.0,
             last: None,
             new_boundaries: Vec::new(),
+            ahead: Vec::new(),
+            g_ahead: Vec::new(),
             yp_event: Vec::new(),
             rng,
             rule,
@@ -295,13 +332,19 @@ impl<E: StrainEnergy> Dividing<E> {
         if dt == 0.0 || yp.len() != y.len() {
             return Ok(Vec::new());
         }
-        let ahead: Vec<f64> = y.iter().zip(yp).map(|(a, v)| a + dt * v).collect();
-        let mut g = vec![0.0; self.line.n_cells()];
+        let mut ahead = std::mem::take(&mut self.ahead);
+        let mut g = std::mem::take(&mut self.g_ahead);
+        ahead.clear();
+        ahead.extend(y.iter().zip(yp).map(|(a, v)| a + dt * v));
+        g.clear();
+        g.resize(self.line.n_cells(), 0.0);
         self.events(t + dt, &ahead, &mut g);
-        Ok((0..g.len())
+        let due = (0..g.len())
             .filter(|&i| g[i] >= 0.0)
             .map(|i| i + 1)
-            .collect())
+            .collect();
+        (self.ahead, self.g_ahead) = (ahead, g);
+        Ok(due)
     }
 
     /// Whether the cap on the number of cells has been reached.
@@ -339,7 +382,14 @@ impl<E: StrainEnergy> Dividing<E> {
 
     /// Splits the cells `asc` (1-based, increasing) in one O(N + k) pass and logs them
     /// (records in decreasing index order, as the cells were split one by one before).
-    fn divide(&mut self, asc: &[usize], t: f64, y: &mut Vec<f64>) -> Result<(), EventError> {
+    /// `spare`: the previous event's map, whose vectors are reused.
+    fn divide(
+        &mut self,
+        asc: &[usize],
+        t: f64,
+        y: &mut Vec<f64>,
+        spare: Option<SplitMap>,
+    ) -> Result<(), EventError> {
         let n_old = self.line.n_cells();
         let splits = self.line.split_cells(asc, t, y)?;
         // thresholds drawn in decreasing index order, lower daughter first (reproducible)
@@ -349,33 +399,18 @@ impl<E: StrainEnergy> Dividing<E> {
             *d = (a, self.rule.draw_threshold(&mut self.rng));
         }
         let k = asc.len();
-        let mut birth = Vec::with_capacity(n_old + k);
-        let mut threshold = Vec::with_capacity(n_old + k);
-        let mut dx_ref = Vec::with_capacity(n_old + k);
-        let mut f = asc.iter().zip(&draws).peekable();
-        for i in 0..n_old {
-            match f.next_if(|(&j, _)| j == i + 1) {
-                Some((_, &(ta, tb))) => {
-                    let d = 0.5 * self.dx_ref[i];
-                    birth.extend_from_slice(&[t, t]);
-                    threshold.extend_from_slice(&[ta, tb]);
-                    dx_ref.extend_from_slice(&[d, d]);
-                    // the daughters' material centres X ∓ ΔX/4
-                    let c = birth.len() - 2;
-                    let x = self.line.cells.x_ref[c];
-                    self.line.cells.x_ref[c] = x - 0.5 * d;
-                    self.line.cells.x_ref[c + 1] = x + 0.5 * d;
-                }
-                None => {
-                    birth.push(self.birth[i]);
-                    threshold.push(self.threshold[i]);
-                    dx_ref.push(self.dx_ref[i]);
-                }
-            }
+        // the per-cell records expanded in place, as the line's fields are
+        let at: Vec<usize> = asc.iter().map(|&j| j - 1).collect();
+        expand_in_place(&mut self.birth, &at, |_, _| [t, t]);
+        expand_in_place(&mut self.threshold, &at, |e, _| [draws[e].0, draws[e].1]);
+        expand_in_place(&mut self.dx_ref, &at, |e, v| [0.5 * v[at[e]]; 2]);
+        for (e, &i) in at.iter().enumerate() {
+            // the daughters' material centres X ∓ ΔX/4 (new indices i + e, i + e + 1)
+            let c = i + e;
+            let (d, x) = (self.dx_ref[c], self.line.cells.x_ref[c]);
+            self.line.cells.x_ref[c] = x - 0.5 * d;
+            self.line.cells.x_ref[c + 1] = x + 0.5 * d;
         }
-        self.birth = birth;
-        self.threshold = threshold;
-        self.dx_ref = dx_ref;
         let l = self.length(t, y);
         let x0 = self.line.boundary(0, t, y, y).0;
         for (m, (&j, s)) in asc.iter().zip(&splits).enumerate().rev() {
@@ -387,14 +422,23 @@ impl<E: StrainEnergy> Dividing<E> {
                 cells_after: n_old + k - m,
             });
         }
-        let mut map = SplitMap {
-            n_old,
-            cells: asc.to_vec(),
-            g_parent: splits.iter().map(|s| s.g_parent).collect(),
-            sources: Vec::new(),
-        };
+        // the previous event's map, refilled (its vectors keep their allocations)
+        let mut map = spare.unwrap_or_default();
+        map.n_old = n_old;
+        map.cells.clear();
+        map.cells.extend_from_slice(asc);
+        map.g_parent.clear();
+        map.g_parent.extend(splits.iter().map(|s| s.g_parent));
         let seam = usize::from(self.line.layout.xi[0] != NONE);
-        map.sources = map.sources(seam, self.line.right.is_free(), self.line.layout.dim);
+        let mut src = std::mem::take(&mut map.sources);
+        map.fill_sources(
+            &mut src,
+            seam,
+            self.line.right.is_free(),
+            self.line.layout.dim,
+        );
+        map.sources = src;
+        map.fill_fresh(&self.line.layout, self.line.n_cells());
         self.last = Some(map);
         Ok(())
     }
@@ -587,14 +631,23 @@ impl<E: StrainEnergy> CellArray for Dividing<E> {
             self.mechanical_events(t, y, g);
             return;
         }
-        for (j, out) in g.iter_mut().enumerate() {
-            let k = self.line.layout.gi[j];
-            let gj = if k == NONE { 1.0 } else { y[k] };
-            *out = self.rule.event(&CellView::growth_only(
-                gj * g2,
-                t - self.birth[j],
-                self.threshold[j],
-            ));
+        let (gi, rule) = (&self.line.layout.gi, &self.rule);
+        let (birth, threshold) = (&self.birth, &self.threshold);
+        // cells j0.. into `out`
+        let eval = |out: &mut [f64], j0: usize| {
+            for (j, out) in (j0..).zip(out.iter_mut()) {
+                let k = gi[j];
+                let gj = if k == NONE { 1.0 } else { y[k] };
+                *out = rule.event(&CellView::growth_only(gj * g2, t - birth[j], threshold[j]));
+            }
+        };
+        // every cell's value is its own: two halves give the same values as one sweep
+        if g.len() >= PAR_MIN_CELLS && self.line.threads >= 2 {
+            let mid = g.len() / 2;
+            let (a, b) = g.split_at_mut(mid);
+            rayon::join(|| eval(a, 0), || eval(b, mid));
+        } else {
+            eval(g, 0);
         }
     }
     fn handle_event(
@@ -614,13 +667,13 @@ impl<E: StrainEnergy> CellArray for Dividing<E> {
             let drop = order.len().saturating_sub(room);
             order.drain(..drop);
         }
-        self.last = None;
+        let spare = self.last.take();
         if order.is_empty() {
             return Ok(EventAction::Continue);
         }
         let before = self.check_invariants.map(|_| self.elastic(t, y));
         let dim_old = y.len();
-        self.divide(&order, t, y)
+        self.divide(&order, t, y, spare)
             .map_err(|e| ResidualError::Fatal(e.to_string()))?;
         self.yp_event.clear();
         if yp.len() == dim_old {
@@ -683,28 +736,16 @@ impl<E: StrainEnergy> CellArray for Dividing<E> {
             Matrix::Banded(b) => (b.lower, b.upper),
             _ => return Ok(false),
         };
-        // cells whose rows are re-evaluated: the daughters (new cells j + k and j + k + 1 for
-        // the k-th split) and three on each side, merged into runs
-        let n = self.line.n_cells();
-        let mut runs: Vec<(usize, usize)> = Vec::new();
-        for (k, &j) in m.cells.iter().enumerate() {
-            let (lo, hi) = ((j + k).saturating_sub(3).max(1), (j + k + 4).min(n));
-            match runs.last_mut() {
-                Some(r) if lo <= r.1 + 1 => r.1 = r.1.max(hi),
-                _ => runs.push((lo, hi)),
-            }
+        let (runs, fresh) = (&m.runs, &m.fresh);
+        if fresh.len() != lay.dim || !(jy.remap(src, fresh) && jyp.remap(src, fresh)) {
+            return Ok(false);
         }
-        let mut fresh = vec![false; lay.dim];
         let rows = |&(lo, hi): &(usize, usize)| {
             (lo..=hi)
                 .flat_map(|c| [lay.gi[c - 1], lay.xi[c]])
                 .filter(|&k| k != NONE)
         };
-        runs.iter().flat_map(rows).for_each(|k| fresh[k] = true);
-        if !(jy.remap(src, &fresh) && jyp.remap(src, &fresh)) {
-            return Ok(false);
-        }
-        for &(lo, hi) in &runs {
+        for &(lo, hi) in runs {
             if !(self.line.jacobian_rows_into(t, y, yp, 0.0, jy, lo..=hi)?
                 && self.line.jacobian_rows_into(t, y, yp, 1.0, jyp, lo..=hi)?)
             {
@@ -777,4 +818,45 @@ impl<E: StrainEnergy> LineModel for Dividing<E> {
     // where `integrate` must restart rather than step across it.
     crate::line::run::forward_line_model!(line: initial_state, initial_derivative_guess, observe,
         unknown_name, breakpoints);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::boundary::RightEnd;
+    use crate::cell::TanhGrowth;
+    use crate::events::AreaDoubling;
+    use crate::line::build::{discrete, LineParams};
+    use crate::NeoHookean;
+
+    #[test]
+    fn event_functions_on_two_threads_are_the_one_thread_values() {
+        let n = PAR_MIN_CELLS + 7;
+        let mut p = LineParams::unit_cells(n);
+        p.right = RightEnd::Free(None);
+        p.growth = Some(std::sync::Arc::new(TanhGrowth::default()));
+        let line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+        let mut div = Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap();
+        let mut y = div.line.initial_state();
+        for j in 0..n {
+            y[div.line.layout.gi[j]] = 1.0 + (j % 97) as f64 / 100.0;
+        }
+        let mut values = |threads: usize| {
+            div.set_threads(threads);
+            let mut g = vec![f64::NAN; n];
+            div.events(0.0, &y, &mut g);
+            g
+        };
+        let (one, two) = (values(1), values(2));
+        assert!(one
+            .iter()
+            .zip(&two)
+            .all(|(a, b)| a.to_bits() == b.to_bits()));
+        // the area rule: g·g₂ − 2 (g₂ = 1 here), in either half of the line
+        let g2 = div.line.g2;
+        for j in [0, 96, n / 2, n - 1] {
+            let g = 1.0 + (j % 97) as f64 / 100.0;
+            assert_eq!(two[j], g * g2 - 2.0, "cell {j}");
+        }
+    }
 }

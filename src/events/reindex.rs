@@ -7,8 +7,8 @@
 //! * a new boundary at the midpoint `x_new = ½(x_{j−1} + x_j)` with the mean of the parent's two
 //!   boundary drags (`K` for uniform drag);
 //! * indices `> j` shift by one (one `Vec::insert` per per-cell field and one `splice` of the
-//!   state; [`Line::split_cells`] rebuilds each field once with all daughters in place), and
-//!   the unknown layout is rebuilt.
+//!   state; [`Line::split_cells`] moves the tail of each field once, in place, with all
+//!   daughters inserted: `expand_in_place`), and the unknown layout is rebuilt.
 //!
 //! Continuous by construction: every existing boundary position (hence `l`), `Σ L₀g`, and each
 //! daughter's elastic stretch `α = λ/g` (equal to the parent's), hence elastic `σ` and `p`.
@@ -126,10 +126,11 @@ impl<E: StrainEnergy> Line<E> {
     }
 
     /// Divides every cell in `cells` (1-based, strictly increasing) of the state `y` in one
-    /// O(N + k) pass: each per-cell field, the boundary drags and `y` are rebuilt once with the
-    /// daughters in place (the result is the same as [`split_cell`](Line::split_cell) applied
-    /// in decreasing index order). Returns the splits in the order of `cells`; a split's
-    /// `x_new` is the new boundary's position. Nothing changes on error.
+    /// O(N + k) pass: each per-cell field, the boundary drags and `y` are expanded once, in
+    /// place, with the daughters inserted (the result is the same as
+    /// [`split_cell`](Line::split_cell) applied in decreasing index order). Returns the splits
+    /// in the order of `cells`; a split's `x_new` is the new boundary's position. Nothing
+    /// changes on error.
     ///
     /// ```
     /// use celltissue::line::build::{discrete, LineParams};
@@ -199,7 +200,8 @@ impl<E: StrainEnergy> Line<E> {
         if cells.is_empty() {
             return Ok(splits);
         }
-        let k = cells.len();
+        // 0-based parents
+        let at: Vec<usize> = cells.iter().map(|&j| j - 1).collect();
         // per-cell fields: the daughter copies its parent (l0 is replaced below)
         let c = &mut self.cells;
         for v in [
@@ -212,7 +214,7 @@ impl<E: StrainEnergy> Line<E> {
             &mut c.x_ref,
             &mut c.p_ext,
         ] {
-            *v = duplicate(v, cells, k);
+            expand_in_place(v, &at, |e, v| [v[at[e]]; 2]);
         }
         for (shift, (&j, s)) in cells.iter().zip(&splits).enumerate() {
             let i = j - 1 + shift;
@@ -221,34 +223,14 @@ impl<E: StrainEnergy> Line<E> {
             c.l0[i + 1] = s.l0_daughter;
         }
         // boundary drags: the new boundary j (between the daughters) has the mean of its
-        // parent's two
-        let mut kf = Vec::with_capacity(self.k_face.len() + k);
-        let mut f = cells.iter().peekable();
-        for (b, &kb) in self.k_face.iter().enumerate() {
-            if f.next_if(|&&j| j == b).is_some() {
-                kf.push(0.5 * (self.k_face[b - 1] + kb));
-            }
-            kf.push(kb);
-        }
-        self.k_face = kf;
+        // parent's two, inserted before the parent's right boundary j
+        expand_in_place(&mut self.k_face, cells, |e, kf| {
+            let j = cells[e];
+            [0.5 * (kf[j - 1] + kf[j]), kf[j]]
+        });
         // state: (.., g_j, x_j, ..) -> (.., 1, x_new, 1, x_j, ..), after a ring's x₀
-        let mut out = Vec::with_capacity(y.len() + 2 * k);
-        if self.layout.xi[0] != NONE {
-            out.push(y[self.layout.xi[0]]);
-        }
-        let mut f = cells.iter().zip(&splits).peekable();
-        for j in 1..=n {
-            let gk = self.layout.gi[j - 1];
-            match f.next_if(|(&c, _)| c == j) {
-                Some((_, s)) => out.extend_from_slice(&[1.0, s.x_new, 1.0]),
-                None => out.push(y[gk]),
-            }
-            let xk = self.layout.xi[j];
-            if xk != NONE {
-                out.push(y[xk]);
-            }
-        }
-        *y = out;
+        let gks: Vec<usize> = cells.iter().map(|&j| self.layout.gi[j - 1]).collect();
+        expand_in_place(y, &gks, |e, _| [1.0, splits[e].x_new, 1.0]);
         self.rebuild_layout();
         debug_assert_eq!(y.len(), self.layout.dim);
         Ok(splits)
@@ -270,15 +252,94 @@ impl<E: StrainEnergy> Line<E> {
     }
 }
 
-/// `v` with the entry of each cell in `cells` (1-based, increasing) repeated once after it.
-fn duplicate<T: Copy>(v: &[T], cells: &[usize], k: usize) -> Vec<T> {
-    let mut out = Vec::with_capacity(v.len() + k);
-    let mut f = cells.iter().peekable();
-    for (i, &x) in v.iter().enumerate() {
-        out.push(x);
-        if f.next_if(|&&j| j == i + 1).is_some() {
-            out.push(x);
+/// Replaces, in place and from the back, the entry `v[at[e]]` by the `R` entries `with(e, v)`
+/// for every `e` (`at` strictly increasing): `v` grows by `(R − 1)·at.len()`, the entries before
+/// `at[0]` are not touched, and nothing is allocated while the capacity suffices. A division
+/// event therefore moves the tail of each per-cell vector once instead of building a new
+/// vector (a fresh allocation of the line's size per field and event cost page faults on long
+/// lines). `with` reads `v` at or before `at[e]`, which have not moved yet.
+pub(crate) fn expand_in_place<T: Copy + Default, const R: usize>(
+    v: &mut Vec<T>,
+    at: &[usize],
+    mut with: impl FnMut(usize, &[T]) -> [T; R],
+) {
+    let Some(&last) = at.last() else {
+        return;
+    };
+    debug_assert!(last < v.len() && at.windows(2).all(|w| w[0] < w[1]));
+    let old = v.len();
+    v.resize(old + (R - 1) * at.len(), T::default());
+    // `w`: one past the next entry written; `end`: one past the next entry moved
+    let (mut w, mut end) = (v.len(), old);
+    for (e, &i) in at.iter().enumerate().rev() {
+        let tail = end - i - 1;
+        v.copy_within(i + 1..end, w - tail);
+        w -= tail;
+        let rep = with(e, v);
+        w -= R;
+        v[w..w + R].copy_from_slice(&rep);
+        end = i;
+    }
+    debug_assert_eq!(w, end);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::expand_in_place;
+
+    /// The same edits by building a new vector.
+    fn expanded<const R: usize>(
+        v: &[i32],
+        at: &[usize],
+        with: impl Fn(usize, &[i32]) -> [i32; R],
+    ) -> Vec<i32> {
+        let mut out = Vec::new();
+        for (i, &x) in v.iter().enumerate() {
+            match at.iter().position(|&a| a == i) {
+                Some(e) => out.extend_from_slice(&with(e, v)),
+                None => out.push(x),
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn expanding_in_place_is_building_the_expanded_vector() {
+        let v: Vec<i32> = (10..30).collect();
+        for at in [
+            vec![],
+            vec![0],
+            vec![19],
+            vec![0, 1, 2],
+            vec![3, 7, 8, 19],
+            vec![5],
+        ] {
+            let dup = |e: usize, v: &[i32]| [v[at[e]], -v[at[e]]];
+            let mut a = v.clone();
+            expand_in_place(&mut a, &at, dup);
+            assert_eq!(a, expanded(&v, &at, dup), "duplicate at {at:?}");
+            // reading the entry before, as the boundary drags do
+            let mean = |e: usize, v: &[i32]| {
+                let i = at[e];
+                [v[i.saturating_sub(1)] + v[i], 0, v[i]]
+            };
+            let mut b = v.clone();
+            expand_in_place(&mut b, &at, mean);
+            assert_eq!(b, expanded(&v, &at, mean), "three for one at {at:?}");
         }
     }
-    out
+
+    #[test]
+    fn expanding_in_place_keeps_the_allocation_when_it_fits() {
+        let mut v: Vec<f64> = Vec::with_capacity(64);
+        v.extend((0..40).map(f64::from));
+        let ptr = v.as_ptr();
+        expand_in_place(&mut v, &[3, 20], |e, v| [v[[3, 20][e]]; 2]);
+        assert_eq!(v.len(), 42);
+        assert_eq!(v.as_ptr(), ptr);
+        assert_eq!(
+            (v[3], v[4], v[5], v[22], v[23]),
+            (3.0, 3.0, 4.0, 20.0, 21.0)
+        );
+    }
 }

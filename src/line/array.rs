@@ -580,9 +580,16 @@ impl<E: StrainEnergy> Line<E> {
     pub(crate) fn rebuild_layout(&mut self) {
         self.refresh_uniform_fields();
         let n = self.n_cells();
-        let mut gi = vec![NONE; n];
-        let mut vi = vec![NONE; n];
-        let mut xi = vec![NONE; n + 1];
+        // the previous layout's vectors, refilled (no allocation per division event)
+        let fill = |v: &mut Vec<usize>, len: usize| {
+            let mut v = std::mem::take(v);
+            v.clear();
+            v.resize(len, NONE);
+            v
+        };
+        let mut gi = fill(&mut self.layout.gi, n);
+        let mut vi = fill(&mut self.layout.vi, n);
+        let mut xi = fill(&mut self.layout.xi, n + 1);
         let mut k = 0;
         if let RightEnd::Periodic { gauge: false } = self.right {
             xi[0] = k;

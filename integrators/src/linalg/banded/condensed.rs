@@ -123,7 +123,9 @@ impl Condensed {
     /// Condenses and factorises the matrix `e` (dimension ≥ 4). `false` when it does not
     /// condense (no separable parity, a negligible or non-finite pivot of an eliminated row, a
     /// non-finite entry, or a singular Schur complement): the caller then factorises the
-    /// band as it is, which also reports the failing column.
+    /// band as it is, which also reports the failing column. With `two_threads` the
+    /// eliminated rows, the Schur columns and the tridiagonal factorisation each run in two
+    /// halves ([`rayon::join`]): the same operations per row, so the same factors bit for bit.
     pub(super) fn factor(&mut self, e: &Entries<'_>, two_threads: bool) -> bool {
         // the parity that condensed last time first; the other fails at its first row
         let first = self.p0;
@@ -146,94 +148,33 @@ impl Condensed {
         self.qrow.resize(nq, [0.0; 2]);
         self.cols.resize(nq, [0.0; 3]);
         self.reserve(n);
-        for (m, pr) in self.prow.iter_mut().enumerate() {
-            let pu = p0 + 2 * m;
-            // the row's far entries, its couplings, its pivot and its column's couplings
-            let [far_l, far_r, left, right, d, above, below] = if pu >= 2 && pu + 2 < n {
-                [
-                    e.inner(pu, pu - 2),
-                    e.inner(pu, pu + 2),
-                    e.inner(pu, pu - 1),
-                    e.inner(pu, pu + 1),
-                    e.inner(pu, pu),
-                    e.inner(pu - 1, pu),
-                    e.inner(pu + 1, pu),
-                ]
-            } else {
-                let p = pu as isize;
-                [
-                    e.at(p, p - 2),
-                    e.at(p, p + 2),
-                    e.at(p, p - 1),
-                    e.at(p, p + 1),
-                    e.at(p, p),
-                    e.at(p - 1, p),
-                    e.at(p + 1, p),
-                ]
-            };
-            if far_l != 0.0 || far_r != 0.0 {
-                return false;
-            }
-            let scale = left.abs() + right.abs() + above.abs() + below.abs();
-            if !(d.abs() > MIN_PIVOT_RATIO * scale && d.is_finite() && scale.is_finite()) {
-                return false;
-            }
-            let inv = 1.0 / d;
-            *pr = [left * inv, right * inv, inv];
-        }
-        let q0 = 1 - p0;
-        let prow = &self.prow;
-        // the eliminated neighbour of a kept unknown (zeros past either end)
-        let p_of = |p: isize| -> [f64; 3] {
-            if p < 0 || p as usize >= n {
-                [0.0; 3]
-            } else {
-                prow[(p as usize - p0) / 2]
-            }
+        // every eliminated row, then every Schur column, depends only on the matrix (and the
+        // eliminated rows): the same operations per row in two halves as in one pass
+        let eliminated = if two_threads {
+            let (a, b) = self.prow.split_at_mut(np / 2);
+            let (ra, rb) = rayon::join(
+                || eliminate_rows(e, p0, a, 0),
+                || eliminate_rows(e, p0, b, np / 2),
+            );
+            ra && rb
+        } else {
+            eliminate_rows(e, p0, &mut self.prow, 0)
         };
-        let mut finite = true;
-        for (m, (qr, col)) in self.qrow.iter_mut().zip(self.cols.iter_mut()).enumerate() {
-            let qu = q0 + 2 * m;
-            // A(q, q∓1), A(q−2, q), A(q−2, q−1), A(q, q), A(q+2, q), A(q+2, q+1) and the
-            // eliminated neighbours' rows
-            let ([l, r, a_up, a_upl, a_qq, a_dn, a_dnr], pl, pr) = if qu >= 2 && qu + 2 < n {
-                (
-                    [
-                        e.inner(qu, qu - 1),
-                        e.inner(qu, qu + 1),
-                        e.inner(qu - 2, qu),
-                        e.inner(qu - 2, qu - 1),
-                        e.inner(qu, qu),
-                        e.inner(qu + 2, qu),
-                        e.inner(qu + 2, qu + 1),
-                    ],
-                    prow[(qu - 1 - p0) / 2],
-                    prow[(qu + 1 - p0) / 2],
-                )
-            } else {
-                let q = qu as isize;
-                (
-                    [
-                        e.at(q, q - 1),
-                        e.at(q, q + 1),
-                        e.at(q - 2, q),
-                        e.at(q - 2, q - 1),
-                        e.at(q, q),
-                        e.at(q + 2, q),
-                        e.at(q + 2, q + 1),
-                    ],
-                    p_of(q - 1),
-                    p_of(q + 1),
-                )
-            };
-            *qr = [l, r];
-            // S(q−2, q), S(q, q), S(q+2, q): A minus the couplings through p = q ∓ 1
-            let up = a_up - a_upl * pl[1];
-            let diag = a_qq - qr[0] * pl[1] - qr[1] * pr[0];
-            let down = a_dn - a_dnr * pr[0];
-            *col = [up, diag, down];
-            finite &= up.is_finite() && diag.is_finite() && down.is_finite();
+        if !eliminated {
+            return false;
         }
+        let prow = &self.prow;
+        let finite = if two_threads {
+            let (qa, qb) = self.qrow.split_at_mut(nq / 2);
+            let (ca, cb) = self.cols.split_at_mut(nq / 2);
+            let (ra, rb) = rayon::join(
+                || schur_columns(e, p0, prow, qa, ca, 0),
+                || schur_columns(e, p0, prow, qb, cb, nq / 2),
+            );
+            ra && rb
+        } else {
+            schur_columns(e, p0, prow, &mut self.qrow, &mut self.cols, 0)
+        };
         if !finite {
             return false;
         }
@@ -355,6 +296,116 @@ impl Condensed {
             self.tri.urow.resize(nq, [0.0; 3]);
         }
     }
+}
+
+/// The eliminated rows `m0..m0 + out.len()` of parity `p0`: `[A(p, p−1)/D_p, A(p, p+1)/D_p,
+/// 1/D_p]` each. `false` when a row couples to an unknown of its own parity (a non-zero two off
+/// the diagonal) or its pivot is negligible against its couplings or not finite.
+fn eliminate_rows(e: &Entries<'_>, p0: usize, out: &mut [[f64; 3]], m0: usize) -> bool {
+    let n = e.n;
+    for (m, pr) in (m0..).zip(out.iter_mut()) {
+        let pu = p0 + 2 * m;
+        // the row's far entries, its couplings, its pivot and its column's couplings
+        let [far_l, far_r, left, right, d, above, below] = if pu >= 2 && pu + 2 < n {
+            [
+                e.inner(pu, pu - 2),
+                e.inner(pu, pu + 2),
+                e.inner(pu, pu - 1),
+                e.inner(pu, pu + 1),
+                e.inner(pu, pu),
+                e.inner(pu - 1, pu),
+                e.inner(pu + 1, pu),
+            ]
+        } else {
+            let p = pu as isize;
+            [
+                e.at(p, p - 2),
+                e.at(p, p + 2),
+                e.at(p, p - 1),
+                e.at(p, p + 1),
+                e.at(p, p),
+                e.at(p - 1, p),
+                e.at(p + 1, p),
+            ]
+        };
+        if far_l != 0.0 || far_r != 0.0 {
+            return false;
+        }
+        let scale = left.abs() + right.abs() + above.abs() + below.abs();
+        if !(d.abs() > MIN_PIVOT_RATIO * scale && d.is_finite() && scale.is_finite()) {
+            return false;
+        }
+        let inv = 1.0 / d;
+        *pr = [left * inv, right * inv, inv];
+    }
+    true
+}
+
+/// The kept rows `m0..m0 + qrow.len()` (eliminated parity `p0`, rows `prow` from
+/// [`eliminate_rows`]): their couplings `[A(q, q−1), A(q, q+1)]` and the Schur complement's
+/// columns `[S(q−2, q), S(q, q), S(q+2, q)]`. `false` when an entry is not finite.
+fn schur_columns(
+    e: &Entries<'_>,
+    p0: usize,
+    prow: &[[f64; 3]],
+    qrow: &mut [[f64; 2]],
+    cols: &mut [[f64; 3]],
+    m0: usize,
+) -> bool {
+    let n = e.n;
+    let q0 = 1 - p0;
+    // the eliminated neighbour of a kept unknown (zeros past either end)
+    let p_of = |p: isize| -> [f64; 3] {
+        if p < 0 || p as usize >= n {
+            [0.0; 3]
+        } else {
+            prow[(p as usize - p0) / 2]
+        }
+    };
+    let mut finite = true;
+    for (m, (qr, col)) in (m0..).zip(qrow.iter_mut().zip(cols.iter_mut())) {
+        let qu = q0 + 2 * m;
+        // A(q, q∓1), A(q−2, q), A(q−2, q−1), A(q, q), A(q+2, q), A(q+2, q+1) and the
+        // eliminated neighbours' rows
+        let ([l, r, a_up, a_upl, a_qq, a_dn, a_dnr], pl, pr) = if qu >= 2 && qu + 2 < n {
+            (
+                [
+                    e.inner(qu, qu - 1),
+                    e.inner(qu, qu + 1),
+                    e.inner(qu - 2, qu),
+                    e.inner(qu - 2, qu - 1),
+                    e.inner(qu, qu),
+                    e.inner(qu + 2, qu),
+                    e.inner(qu + 2, qu + 1),
+                ],
+                prow[(qu - 1 - p0) / 2],
+                prow[(qu + 1 - p0) / 2],
+            )
+        } else {
+            let q = qu as isize;
+            (
+                [
+                    e.at(q, q - 1),
+                    e.at(q, q + 1),
+                    e.at(q - 2, q),
+                    e.at(q - 2, q - 1),
+                    e.at(q, q),
+                    e.at(q + 2, q),
+                    e.at(q + 2, q + 1),
+                ],
+                p_of(q - 1),
+                p_of(q + 1),
+            )
+        };
+        *qr = [l, r];
+        // S(q−2, q), S(q, q), S(q+2, q): A minus the couplings through p = q ∓ 1
+        let up = a_up - a_upl * pl[1];
+        let diag = a_qq - qr[0] * pl[1] - qr[1] * pr[0];
+        let down = a_dn - a_dnr * pr[0];
+        *col = [up, diag, down];
+        finite &= up.is_finite() && diag.is_finite() && down.is_finite();
+    }
+    finite
 }
 
 impl Clone for Condensed {

@@ -311,6 +311,56 @@ fn condensed_storage_grows_in_place() {
 }
 
 #[test]
+fn condensed_factor_on_two_threads_is_the_one_thread_factor_bit_for_bit() {
+    for n in [5, 8, 9, 31, 200, 1001] {
+        for p0 in [0, 1] {
+            let (m, serial) = condensed_lu(n, p0);
+            let mut split = BandLu::new(n, 2, 2);
+            split.parallel = crate::Parallelism::Halves { min_len: 2 };
+            split.factor(&m).unwrap();
+            assert!(
+                split.condensed,
+                "n = {n}, p0 = {p0}: should condense on two threads"
+            );
+            // solved on one thread with each factor: equal only if every factor entry is
+            split.parallel = crate::Parallelism::Serial;
+            let rhs: Vec<f64> = (0..n).map(|i| (0.3 * i as f64).cos() + 0.1).collect();
+            let (a, b) = (mapped_solve(&serial, &rhs).1, mapped_solve(&split, &rhs).1);
+            assert!(band_residual(&m, &a, &rhs) < 1e-11);
+            assert!(
+                a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits()),
+                "n = {n}, p0 = {p0}: the factors differ"
+            );
+        }
+    }
+}
+
+#[test]
+fn condensed_factor_on_two_threads_rejects_what_one_thread_rejects() {
+    // a row of the eliminated parity coupling two off the diagonal, in the second half
+    let n = 40;
+    let mut m = separable(n, 1, 0.5);
+    let k = m.index(31, 33).unwrap();
+    m.data[k] = 0.5;
+    for parallel in [
+        crate::Parallelism::Serial,
+        crate::Parallelism::Halves { min_len: 2 },
+    ] {
+        let mut lu = BandLu::new(n, 2, 2);
+        lu.parallel = parallel;
+        lu.factor(&m).unwrap();
+        assert!(
+            !lu.condensed,
+            "{parallel:?}: a coupled row must take the pivoted band LU"
+        );
+        let b = vec![1.0; n];
+        let mut x = b.clone();
+        lu.solve(&mut x);
+        assert!(band_residual(&m, &x, &b) < 1e-11);
+    }
+}
+
+#[test]
 fn condensed_solve_on_two_threads_is_the_one_thread_solve_bit_for_bit() {
     for n in [5, 8, 9, 31, 200, 1001] {
         for p0 in [0, 1] {
