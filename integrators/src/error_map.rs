@@ -137,6 +137,14 @@ pub enum ErrorMapError {
         /// Its size.
         size: f64,
     },
+    /// A listed row ([`ErrorMap::from_listed_rows`]) out of increasing order or not below `n`.
+    #[error("error map row {row}: listed rows must increase and lie in 0..{n}")]
+    Listed {
+        /// The row.
+        row: usize,
+        /// Number of components.
+        n: usize,
+    },
     /// The map has more components than an `i32` offset can address.
     #[error("error map of {0} rows is larger than 2³¹ − 1")]
     TooLarge(usize),
@@ -161,19 +169,49 @@ impl ErrorMap {
     /// assert_eq!((map.row(0), map.row(1)), (Row::Anchor { size: 1.0 }, Row::Difference { partner: 0 }));
     /// ```
     pub fn from_rows(rows: Vec<Row>) -> Result<Self, ErrorMapError> {
-        let n = rows.len();
+        Self::from_listed_rows(rows.len(), rows.into_iter().enumerate())
+    }
+
+    /// A map of `n` components from the rows that are not [`Row::Own`], as `(index, row)` in
+    /// increasing index order: a problem whose own rows are most of them (a line's growth
+    /// stretches) builds it without a row per component.
+    ///
+    /// ```
+    /// use integrators::{ErrorMap, ErrorMapError, Row};
+    /// // (g₁, x₁, g₂, x₂): the growth stretches own rows, x₁ anchored, x₂ through x₂ − x₁
+    /// let map = ErrorMap::from_listed_rows(
+    ///     4,
+    ///     [(1, Row::Anchor { size: 1.0 }), (3, Row::Difference { partner: 1 })],
+    /// )?;
+    /// assert_eq!((map.row(0), map.row(3)), (Row::Own, Row::Difference { partner: 1 }));
+    /// // listed out of order, or beyond n
+    /// let late = ErrorMap::from_listed_rows(4, [(3, Row::Own), (1, Row::Own)]);
+    /// assert_eq!(late.unwrap_err(), ErrorMapError::Listed { row: 1, n: 4 });
+    /// # Ok::<(), ErrorMapError>(())
+    /// ```
+    pub fn from_listed_rows(
+        n: usize,
+        rows: impl IntoIterator<Item = (usize, Row)>,
+    ) -> Result<Self, ErrorMapError> {
         if n > i32::MAX as usize {
             return Err(ErrorMapError::TooLarge(n));
         }
-        let mut back = Vec::with_capacity(n);
+        let mut back = vec![OWN; n];
         let mut anchors = Vec::new();
-        for (i, r) in rows.into_iter().enumerate() {
-            back.push(match r {
+        let mut max_back = 0;
+        let mut next = 0;
+        for (i, r) in rows {
+            if i < next || i >= n {
+                return Err(ErrorMapError::Listed { row: i, n });
+            }
+            next = i + 1;
+            back[i] = match r {
                 Row::Own => OWN,
                 Row::Difference { partner } => {
                     if partner == i || partner >= n {
                         return Err(ErrorMapError::Partner { row: i, partner, n });
                     }
+                    max_back = max_back.max(i.saturating_sub(partner));
                     // both < 2³¹, so the difference fits and is non-zero
                     (i as i64 - partner as i64) as i32
                 }
@@ -184,14 +222,8 @@ impl ErrorMap {
                     anchors.push((i, size));
                     ANCHOR
                 }
-            });
+            };
         }
-        let max_back = back
-            .iter()
-            .filter(|&&b| b != ANCHOR && b > 0)
-            .map(|&b| b as usize)
-            .max()
-            .unwrap_or(0);
         Ok(Self {
             back,
             anchors,
@@ -636,6 +668,48 @@ mod tests {
         let mut rows = vec![Row::Anchor { size: 2.0 }];
         rows.extend((1..n).map(|i| Row::Difference { partner: i - 1 }));
         ErrorMap::from_rows(rows).unwrap()
+    }
+
+    #[test]
+    fn listed_rows_are_the_rows_with_own_rows_left_out() {
+        // a growing line's layout (g₁, x₁, g₂, x₂, g₃, x₃): x₁ anchored, x₂, x₃ differenced
+        let dense = vec![
+            Row::Own,
+            Row::Anchor { size: 1.5 },
+            Row::Own,
+            Row::Difference { partner: 1 },
+            Row::Own,
+            Row::Difference { partner: 3 },
+        ];
+        let listed = dense
+            .iter()
+            .enumerate()
+            .filter(|(_, r)| **r != Row::Own)
+            .map(|(i, r)| (i, *r));
+        let m = ErrorMap::from_listed_rows(6, listed).unwrap();
+        assert_eq!(m, ErrorMap::from_rows(dense).unwrap());
+        // validated as the dense rows are, and in order within 0..n
+        let bad = |rows: &[(usize, Row)]| ErrorMap::from_listed_rows(4, rows.iter().copied());
+        assert_eq!(
+            bad(&[(1, Row::Difference { partner: 4 })]),
+            Err(ErrorMapError::Partner {
+                row: 1,
+                partner: 4,
+                n: 4
+            })
+        );
+        assert_eq!(
+            bad(&[(2, Row::Anchor { size: 0.0 })]),
+            Err(ErrorMapError::Size { row: 2, size: 0.0 })
+        );
+        assert_eq!(
+            bad(&[(4, Row::Own)]),
+            Err(ErrorMapError::Listed { row: 4, n: 4 })
+        );
+        assert_eq!(
+            bad(&[(2, Row::Own), (2, Row::Own)]),
+            Err(ErrorMapError::Listed { row: 2, n: 4 })
+        );
     }
 
     #[test]

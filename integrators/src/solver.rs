@@ -343,6 +343,10 @@ struct Run<'o, O> {
     observer: O,
     ybuf: Vec<f64>,
     ypbuf: Vec<f64>,
+    /// The event handling's state vectors (`y` and `ẏ` at the event, `y` and `ẏ` after it),
+    /// kept across events: a problem that grows at each event (a dividing line) then extends
+    /// them in place instead of receiving fresh vectors of its old size.
+    event_bufs: [Vec<f64>; 4],
 }
 
 impl<O> Run<'_, O> {
@@ -494,6 +498,7 @@ where
         observer,
         ybuf: Vec::new(),
         ypbuf: Vec::new(),
+        event_bufs: Default::default(),
     };
     let invalid =
         |run: Run<'_, O>, msg: String| Err(run.fail(ErrorKind::InvalidInput(msg), t0, None));
@@ -677,15 +682,19 @@ where
                 // outputs before the event (those within event_tol of it count as at it)
                 run.emit_interp(p, opts, method, ts - opts.event_tol, false);
                 let nn = method.y().len();
-                let mut ye = vec![0.0; nn];
-                let mut ype = vec![0.0; nn];
+                let [mut ye, mut ype, mut ynew, mut ypnew] = std::mem::take(&mut run.event_bufs);
+                for v in [&mut ye, &mut ype] {
+                    v.clear();
+                    v.resize(nn, 0.0);
+                }
                 if ts == t {
                     ye.copy_from_slice(method.y());
                     ype.copy_from_slice(method.yp());
                 } else {
                     method.interpolate(ts, &mut ye, &mut ype);
                 }
-                let mut ynew = ye.clone();
+                ynew.clear();
+                ynew.extend_from_slice(&ye);
                 let action = match p.handle_event(ts, &fired, &mut ynew, &ype) {
                     Ok(a) => a,
                     Err(e) => {
@@ -730,6 +739,7 @@ where
                         a = ts;
                         g_prev = g_star;
                         mask_fired(&mut g_prev, &fired, &post);
+                        run.event_bufs = [ye, ype, ynew, ypnew];
                         continue;
                     }
                     EventAction::Modified | EventAction::Resized => {
@@ -767,7 +777,8 @@ where
                         // a resize the problem can map (`Problem::map_history`): the method
                         // carries its history across it (`Method::resume`) and goes on from
                         // the mapped interpolated ẏ, with no consistent initialisation
-                        let mut ypnew = vec![0.0; ynew.len()];
+                        ypnew.clear();
+                        ypnew.resize(ynew.len(), 0.0);
                         let mut resumed = false;
                         if resized && p.map_history(ts, &ype, true, &mut ypnew) {
                             let mut sys = System::new(p, opts, &mut run.stats, &mut run.cache);
@@ -792,13 +803,14 @@ where
                         }
                         mask_fired(&mut g_prev, &fired, &post);
                         run.sol.t_last = ts;
-                        run.sol.y_last = ynew.clone();
+                        run.sol.y_last.clone_from(&ynew);
                         run.emit_at(p, ts, &ynew, &ypnew);
                         if run.next_out == t_out.len() {
                             run.sol.stats = run.stats;
                             return Ok(run.sol);
                         }
                         if resumed {
+                            run.event_bufs = [ye, ype, ynew, ypnew];
                             restarted = true;
                             break;
                         }
@@ -819,6 +831,7 @@ where
                         if let Err(e) = started {
                             return Err(run.fail_err(e));
                         }
+                        run.event_bufs = [ye, ype, ynew, ypnew];
                         restarted = true;
                         break;
                     }

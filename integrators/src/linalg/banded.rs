@@ -329,7 +329,9 @@ impl BandLu {
             b,
             n: self.n,
         };
-        let two = self.parallel.splits(self.n / 2);
+        // the passes cover every row (eliminated and kept), as the condensed solve's do: the
+        // same threshold on `n`
+        let two = self.parallel.splits(self.n);
         let cond = self.cond.get_or_insert_with(|| Box::new(Condensed::new()));
         if !cond.factor(&e, two) {
             return false;

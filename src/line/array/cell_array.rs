@@ -99,13 +99,11 @@ impl<E: StrainEnergy> CellArray for Line<E> {
         use integrators::Row;
         let n = self.n_cells();
         let lay = &self.layout;
-        let mut rows = vec![Row::Own; lay.dim];
-        for b in 0..=n {
-            let k = lay.xi[b];
-            if k == NONE {
-                continue;
-            }
-            rows[k] = match b.checked_sub(1).map(|c| (c, lay.xi[c])) {
+        // the boundaries' rows in increasing index (`xi` increases with `b`); the others (growth
+        // stretches, viscous stretches) are own rows, not listed: no row per unknown is built
+        // at each division event
+        let rows = (0..=n).filter(|&b| lay.xi[b] != NONE).map(|b| {
+            let row = match b.checked_sub(1).map(|c| (c, lay.xi[c])) {
                 Some((_, p)) if p != NONE => Row::Difference { partner: p },
                 Some((c, _)) => Row::Anchor {
                     size: self.cells.l0[c],
@@ -114,8 +112,9 @@ impl<E: StrainEnergy> CellArray for Line<E> {
                     size: self.cells.l0[0],
                 },
             };
-        }
-        let mut map = integrators::ErrorMap::from_rows(rows).ok()?;
+            (lay.xi[b], row)
+        });
+        let mut map = integrators::ErrorMap::from_listed_rows(lay.dim, rows).ok()?;
         // the last free boundary before a prescribed one: its cell's stretch error is its own
         for b in 0..n {
             let k = lay.xi[b];
