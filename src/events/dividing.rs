@@ -438,7 +438,12 @@ impl<E: StrainEnergy> Dividing<E> {
             self.line.layout.dim,
         );
         map.sources = src;
-        map.fill_fresh(&self.line.layout, self.line.n_cells());
+        // the rows the Jacobian map re-evaluates (read only when the history is carried)
+        if self.carry_history {
+            map.fill_fresh(&self.line.layout, self.line.n_cells());
+        } else {
+            map.fresh.clear();
+        }
         self.last = Some(map);
         Ok(())
     }

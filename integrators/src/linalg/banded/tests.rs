@@ -197,6 +197,18 @@ fn band_residual(m: &BandMatrix, x: &[f64], b: &[f64]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// `‖A x − b‖∞` of `lu`'s solution of `A x = b` (solved on a copy of `b`).
+fn solve_residual(lu: &BandLu, m: &BandMatrix, b: &[f64]) -> f64 {
+    let mut x = b.to_vec();
+    lu.solve(&mut x);
+    band_residual(m, &x, b)
+}
+
+/// Whether two vectors are equal bit for bit.
+fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
 /// A separable `(2, 2)` band matrix of order `n` whose rows of parity `p0` are eliminated,
 /// and its LU, checked to have taken the condensed path.
 fn condensed_lu(n: usize, p0: usize) -> (BandMatrix, BandLu) {
@@ -287,10 +299,7 @@ fn a_negligible_eliminated_pivot_takes_the_pivoted_path() {
     let mut lu = BandLu::new(n, 2, 2);
     lu.factor(&m).unwrap();
     assert!(!lu.condensed);
-    let b = vec![1.0; n];
-    let mut x = b.clone();
-    lu.solve(&mut x);
-    assert!(band_residual(&m, &x, &b) < 1e-10);
+    assert!(solve_residual(&lu, &m, &vec![1.0; n]) < 1e-10);
     // a zero pivot in the kept rows' Schur complement is still reported by its column
     let z = BandMatrix::zeros(n, 2, 2);
     assert!(lu.factor(&z).is_err());
@@ -304,10 +313,7 @@ fn condensed_storage_grows_in_place() {
     let m = separable(30, 1, 0.5);
     lu.factor(&m).unwrap();
     assert!(lu.condensed);
-    let b = vec![0.25; 30];
-    let mut x = b.clone();
-    lu.solve(&mut x);
-    assert!(band_residual(&m, &x, &b) < 1e-11);
+    assert!(solve_residual(&lu, &m, &[0.25; 30]) < 1e-11);
 }
 
 #[test]
@@ -327,10 +333,7 @@ fn condensed_factor_on_two_threads_is_the_one_thread_factor_bit_for_bit() {
             let rhs: Vec<f64> = (0..n).map(|i| (0.3 * i as f64).cos() + 0.1).collect();
             let (a, b) = (mapped_solve(&serial, &rhs).1, mapped_solve(&split, &rhs).1);
             assert!(band_residual(&m, &a, &rhs) < 1e-11);
-            assert!(
-                a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits()),
-                "n = {n}, p0 = {p0}: the factors differ"
-            );
+            assert!(same_bits(&a, &b), "n = {n}, p0 = {p0}: the factors differ");
         }
     }
 }
@@ -353,10 +356,7 @@ fn condensed_factor_on_two_threads_rejects_what_one_thread_rejects() {
             !lu.condensed,
             "{parallel:?}: a coupled row must take the pivoted band LU"
         );
-        let b = vec![1.0; n];
-        let mut x = b.clone();
-        lu.solve(&mut x);
-        assert!(band_residual(&m, &x, &b) < 1e-11);
+        assert!(solve_residual(&lu, &m, &vec![1.0; n]) < 1e-11);
     }
 }
 
@@ -381,10 +381,7 @@ fn condensed_solve_on_two_threads_is_the_one_thread_solve_bit_for_bit() {
                 (&serial.1, &split.1),
                 (&serial.2, &split.2),
             ] {
-                assert!(
-                    a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits()),
-                    "n = {n}, p0 = {p0}: the halves differ"
-                );
+                assert!(same_bits(a, b), "n = {n}, p0 = {p0}: the halves differ");
             }
             assert!(serial.1.iter().zip(&serial.2).all(|(x, y)| x == y));
         }
