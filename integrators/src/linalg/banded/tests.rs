@@ -10,6 +10,17 @@ struct Record<'a> {
     calls: usize,
 }
 
+impl<'a> Record<'a> {
+    /// A record of every component, none mapped yet.
+    fn new(out: &'a mut [Option<f64>]) -> Self {
+        Record {
+            off: 0,
+            out,
+            calls: 0,
+        }
+    }
+}
+
 impl SolutionMap for Record<'_> {
     fn map(&mut self, j: usize, x: f64) -> f64 {
         let slot = &mut self.out[j - self.off];
@@ -141,14 +152,7 @@ fn two_thread_tridiagonal_solve_is_the_one_thread_solve() {
         lu.solve_map(&mut one, Identity);
         let mut seen = vec![None; n];
         let mut two = rhs.clone();
-        let rec = lu.solve_map_two_threads(
-            &mut two,
-            Record {
-                off: 0,
-                out: &mut seen,
-                calls: 0,
-            },
-        );
+        let rec = lu.solve_map_two_threads(&mut two, Record::new(&mut seen));
         assert_eq!(rec.calls, n, "n={n}");
         for j in 0..n {
             assert_eq!(seen[j], Some(one[j]), "n={n} j={j}");
@@ -256,14 +260,7 @@ fn mapped_solve(lu: &BandLu, rhs: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let n = rhs.len();
     let mut out = vec![None; n];
     let mut x = rhs.to_vec();
-    let rec = lu.solve_map(
-        &mut x,
-        Record {
-            off: 0,
-            out: &mut out,
-            calls: 0,
-        },
-    );
+    let rec = lu.solve_map(&mut x, Record::new(&mut out));
     assert_eq!(rec.calls, n, "every component mapped once");
     (x, out.iter().map(|v| v.unwrap()).collect())
 }
