@@ -47,9 +47,39 @@ pub trait Scalar: DualNum<Primitive = f64> + Copy + Send + Sync {
         let (f, df) = both(self.re());
         self.lift(f, df)
     }
+
+    /// The values as `f64`s when the scalar is `f64` itself (`None` for dual numbers): lets a
+    /// sweep written generically take an `f64`-only fast path.
+    ///
+    /// ```
+    /// use celltissue::Scalar;
+    /// use num_dual::Dual64;
+    /// assert_eq!(f64::as_f64s(&[1.0, 2.0]), Some(&[1.0, 2.0][..]));
+    /// assert!(Dual64::as_f64s(&[Dual64::new(1.0, 0.0)]).is_none());
+    /// ```
+    #[inline(always)]
+    fn as_f64s(xs: &[Self]) -> Option<&[f64]> {
+        let _ = xs;
+        None
+    }
+
+    /// [`as_f64s`](Self::as_f64s) for a slice written to.
+    #[inline(always)]
+    fn as_f64s_mut(xs: &mut [Self]) -> Option<&mut [f64]> {
+        let _ = xs;
+        None
+    }
 }
 
 impl Scalar for f64 {
+    #[inline(always)]
+    fn as_f64s(xs: &[Self]) -> Option<&[f64]> {
+        Some(xs)
+    }
+    #[inline(always)]
+    fn as_f64s_mut(xs: &mut [Self]) -> Option<&mut [f64]> {
+        Some(xs)
+    }
     #[inline]
     fn lift(self, f: f64, _df: f64) -> Self {
         f

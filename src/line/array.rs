@@ -774,6 +774,7 @@ impl<E: StrainEnergy> Line<E> {
     }
 }
 
+mod blocked;
 mod cell_array;
 mod eval;
 mod jacobian;

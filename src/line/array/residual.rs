@@ -128,6 +128,12 @@ impl<E: StrainEnergy> Line<E> {
         first: usize,
         last: usize,
     ) -> Result<(), ResidualError> {
+        if let (Some(yf), Some(ypf), Some(rf)) = (S::as_f64s(y), S::as_f64s(yp), S::as_f64s_mut(r))
+        {
+            if let Some(res) = self.residual_blocked(t, yf, ypf, rf, off, first, last) {
+                return res;
+            }
+        }
         let ind = Indexed(&self.layout);
         match (self.contiguous(), self.uniform.extended) {
             (Some(lk), false) => {

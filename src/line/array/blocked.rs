@@ -1,0 +1,253 @@
+//! The `f64` residual of the thesis's line in blocks of cells ([`Line::residual_blocked`]):
+//! for a line without growth, Maxwell branch, external pressure or active stress, with uniform
+//! fields, the boundary drag form and `κ ≡ 1` (`m = 0`), each block's stretches and stresses
+//! are computed first in a loop without branches or early exits, which the compiler turns
+//! into vector instructions (two cells per division), and the rows are then written from them
+//! by the residual's own row expressions ([`Line::boundary_row`], [`Line::end_row`]). The
+//! per-cell expressions are those of [`Line::eval_core`] in the same order, so every row is
+//! bitwise the one the general sweep ([`super::residual`]) writes; a block with a cell outside
+//! the model's domain hands the whole call back to the general sweep, which reports it.
+//!
+//! Written by hand because it is a restructuring of one loop, not an algorithm a crate offers:
+//! the general sweep's cell-by-cell `Result` keeps it scalar (measured on the raw Chapter 2
+//! line at N = 1000, where the residual was about a quarter of the solve).
+
+use super::*;
+
+/// Cells per block: the block's stretches, stresses and widths stay in L1 between the two
+/// loops.
+const BLOCK: usize = 64;
+
+impl<E: StrainEnergy> Line<E> {
+    /// The constants of the blocked sweep — `(1/L₀, μ, η)` — when it applies to this
+    /// line as it is now (read from the public fields at each call, so an edit cannot leave
+    /// it stale), else `None`.
+    #[inline]
+    fn blocked_constants(&self) -> Option<(f64, f64, f64)> {
+        let u = &self.uniform;
+        if u.extended
+            || self.active.is_some()
+            || self.m != 0.0
+            || self.form != DragForm::Boundary
+            || self.contiguous().is_none()
+        {
+            return None;
+        }
+        Some((u.inv_l0?, u.mu?, u.eta?))
+    }
+
+    /// The rows of [`Line::residual_cells`] for `f64` state, in blocks (module docs), or
+    /// `None` when the blocked sweep does not apply or a block meets a cell outside the
+    /// model's domain (the caller then runs the general sweep, which names that cell).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn residual_blocked(
+        &self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        r: &mut [f64],
+        off: usize,
+        first: usize,
+        last: usize,
+    ) -> Option<Result<(), ResidualError>> {
+        let (inv_l0, mu, eta) = self.blocked_constants()?;
+        let lk = self.contiguous()?;
+        let n = self.n_cells();
+        let w_scale = self.gamma0 * self.g2;
+        // one cell by the general expression (the cells next to an end that is not an unknown)
+        let general = |c: usize| -> Result<CellEval<f64>, ResidualError> {
+            let left = self.boundary_in(lk, c - 1, t, y, yp);
+            self.eval_cell_in::<f64, Contiguous, false>(lk, c, t, y, yp, left)
+                .map(|(e, _)| e)
+        };
+        let mut prev = if first == 1 {
+            None
+        } else {
+            match general(first - 1) {
+                Ok(e) => Some(e),
+                Err(e) => return Some(Err(e)),
+            }
+        };
+        // entry 0: the cell before the block; entries 1..=len: the block's cells
+        let mut sig = [0.0; BLOCK + 1];
+        let mut wid = [0.0; BLOCK + 1];
+        let mut c = first;
+        while c <= last {
+            // cells whose two boundaries are unknowns c − 2 and c − 1
+            let end = if c >= 2 && c <= lk.last {
+                (c + BLOCK).min(last + 1).min(lk.last + 1)
+            } else {
+                c
+            };
+            if end == c {
+                let cur = match general(c) {
+                    Ok(e) => e,
+                    Err(e) => return Some(Err(e)),
+                };
+                if let Some(p) = prev {
+                    let row = lk.xi(c - 1);
+                    if row != NONE {
+                        r[row - off] = self.boundary_row(c - 1, &p, &cur);
+                    }
+                }
+                prev = Some(cur);
+                c += 1;
+                continue;
+            }
+            // a block starts at cell 2 or later, so its previous cell has been evaluated
+            let p = prev.expect("the cell before a block is evaluated");
+            let len = end - c;
+            let (xl, xr) = (&y[c - 2..end - 2], &y[c - 1..end - 1]);
+            let (vl, vr) = (&yp[c - 2..end - 2], &yp[c - 1..end - 1]);
+            (sig[0], wid[0]) = (p.sigma, p.w);
+            let mut ok = true;
+            for k in 0..len {
+                // Line::eval_core's expressions, in its order
+                let a = (xr[k] - xl[k]) * inv_l0;
+                ok &= a > 0.0 && a.is_finite() && self.energy.admissible([a, 1.0 / a, 1.0]).is_ok();
+                let alpha_dot = (vr[k] - vl[k]) * inv_l0;
+                let inv_a = a.recip();
+                let mut s = mu * self.energy.line(a).sigma;
+                if eta != 0.0 {
+                    s += alpha_dot * eta * (inv_a * inv_a + 1.0);
+                }
+                sig[k + 1] = s;
+                wid[k + 1] = inv_a * w_scale;
+            }
+            if !ok {
+                return None;
+            }
+            // boundary c + k − 1 (unknown c + k − 2) between cells c + k − 1 and c + k; the
+            // velocity of the left cell's right boundary is the right cell's left one
+            let cell = |k: usize, vr: f64| CellEval {
+                lam: 0.0,
+                alpha: 0.0,
+                alpha_dot: 0.0,
+                sigma_el: 0.0,
+                sigma: sig[k],
+                w: wid[k],
+                kappa: 1.0,
+                vl: 0.0,
+                vr,
+                g: 1.0,
+            };
+            let rows = &mut r[c - 2 - off..end - 2 - off];
+            for (k, row) in rows.iter_mut().enumerate() {
+                *row = self.boundary_row(c + k - 1, &cell(k, vl[k]), &cell(k + 1, vr[k]));
+            }
+            prev = Some(cell(len, vr[len - 1]));
+            c = end;
+        }
+        if last == n && self.right.is_free() {
+            let p = prev.expect("at least one cell");
+            r[lk.xi(n) - off] = self.end_row(t, &p, 0.0);
+        }
+        Some(Ok(()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cell::Field;
+    use crate::line::build::{discrete, LineParams};
+    use crate::NeoHookean;
+
+    /// A uniform line of `n` cells that the blocked sweep applies to.
+    fn line(n: usize, eta: f64, width: WidthRule, free: bool) -> Line<NeoHookean> {
+        let mut p = LineParams::unit_cells(n);
+        p.k = Field::Constant(0.3);
+        p.eta = Field::Constant(eta);
+        p.width = width;
+        p.gamma0 = 1.3;
+        if free {
+            p.right = RightEnd::Free(None);
+        }
+        discrete(NeoHookean::new(2.0).unwrap(), &p).unwrap()
+    }
+
+    fn state(n: usize) -> (Vec<f64>, Vec<f64>) {
+        let y = (0..n)
+            .map(|i| (i + 1) as f64 + 0.2 * ((i as f64) * 0.7).sin())
+            .collect();
+        let yp = (0..n).map(|i| 0.1 * ((i as f64) * 1.3).cos()).collect();
+        (y, yp)
+    }
+
+    /// The rows of cells `first..=last` by the general sweep (the blocked one bypassed).
+    fn general(
+        l: &Line<NeoHookean>,
+        y: &[f64],
+        yp: &[f64],
+        r: &mut [f64],
+        off: usize,
+        first: usize,
+        last: usize,
+    ) -> Result<(), ResidualError> {
+        let lk = l.contiguous().unwrap();
+        l.residual_cells_in::<f64, _, false>(lk, 0.4, y, yp, r, off, first, last)
+    }
+
+    #[test]
+    fn blocked_rows_are_the_general_rows_bitwise() {
+        // several blocks and a partial one, every sub-range start a two-thread half uses,
+        // with and without viscosity, both width rules, free and prescribed ends
+        let n = 2 * BLOCK + 17;
+        for eta in [0.0, 0.7] {
+            for width in [WidthRule::Mean, WidthRule::Min] {
+                for free in [false, true] {
+                    let l = line(n, eta, width, free);
+                    let (y, yp) = state(l.dim());
+                    for first in [1, 2, 3, BLOCK, BLOCK + 1, n - 1, n] {
+                        let off = if first == 1 { 0 } else { first - 2 };
+                        let mut want = vec![f64::NAN; y.len() - off];
+                        general(&l, &y, &yp, &mut want, off, first, n).unwrap();
+                        let mut got = vec![f64::NAN; y.len() - off];
+                        l.residual_blocked(0.4, &y, &yp, &mut got, off, first, n)
+                            .expect("the blocked sweep applies")
+                            .unwrap();
+                        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                        assert_eq!(
+                            bits(&got),
+                            bits(&want),
+                            "eta={eta} {width:?} free={free} first={first}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_collapsed_cell_in_a_block_hands_over_to_the_general_sweep() {
+        let n = 2 * BLOCK + 17;
+        let l = line(n, 0.7, WidthRule::Mean, true);
+        for bad in [2, 40, BLOCK + 1, n] {
+            let (mut y, yp) = state(l.dim());
+            // boundary `bad` onto boundary `bad − 1`: cell `bad` has zero stretch
+            y[bad - 1] = y[bad - 2];
+            let mut r = vec![0.0; y.len()];
+            assert!(l.residual_blocked(0.4, &y, &yp, &mut r, 0, 1, n).is_none());
+            let err = l.residual_cells(0.4, &y, &yp, &mut r, 0, 1, n).unwrap_err();
+            assert!(err.to_string().contains(&format!("cell {bad} ")), "{err}");
+        }
+    }
+
+    #[test]
+    fn lines_outside_the_thesis_case_take_the_general_sweep() {
+        let (y, yp) = state(20);
+        let mut r = vec![0.0; 20];
+        let mut l = line(20, 0.0, WidthRule::Mean, true);
+        assert!(l.residual_blocked(0.0, &y, &yp, &mut r, 0, 1, 20).is_some());
+        l.m = 1.0;
+        assert!(l.residual_blocked(0.0, &y, &yp, &mut r, 0, 1, 20).is_none());
+        l.m = 0.0;
+        l.form = DragForm::Centre;
+        assert!(l.residual_blocked(0.0, &y, &yp, &mut r, 0, 1, 20).is_none());
+        let mut p = LineParams::unit_cells(20);
+        p.right = RightEnd::Free(None);
+        p.mu = Field::gaussian_bump(1.0, 1.0, 0.5, 0.2);
+        let l = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+        assert!(l.residual_blocked(0.0, &y, &yp, &mut r, 0, 1, 20).is_none());
+    }
+}
