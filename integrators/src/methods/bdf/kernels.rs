@@ -169,8 +169,11 @@ fn map_norm_blocks(
         }
         // a block whose rows all difference with the row `d` back (a line's boundaries)
         let d = ErrorMap::offset(markers[s]);
-        let uniform =
-            d > 0 && d as usize <= s - b0 && markers[s..e].iter().all(|&m| m == markers[s]);
+        // (a fold, not `all`: without the early exit the comparison runs in vector lanes)
+        let m0 = markers[s];
+        let uniform = d > 0
+            && d as usize <= s - b0
+            && markers[s..e].iter().fold(true, |same, &m| same & (m == m0));
         if uniform {
             let (k0, kp) = (s - b0, s - b0 - d as usize);
             for ((q, buf), a) in qs.iter_mut().zip(&bufs).zip(acc.iter_mut()).take(nord) {
