@@ -19,8 +19,8 @@
 //!
 //! Here: the line's data ([`Cells`], [`Layout`], [`Line`]), its accessors, field edits, layout
 //! and initial state. Submodules: `eval` (one cell's state, [`CellEval`]), `residual` (the
-//! rows), `jacobian` (the streaming iteration matrix), `cell_array` (the [`CellArray`]
-//! interface the integrators see).
+//! rows), `jacobian` (the streaming iteration matrix), `blocked` (both in vectorised blocks for
+//! the thesis's line), `cell_array` (the [`CellArray`] interface the integrators see).
 
 use crate::array::CellArray;
 use crate::boundary::RightEnd;

@@ -1,18 +1,23 @@
-//! The `f64` residual of the thesis's line in blocks of cells ([`Line::residual_blocked`]):
-//! for a line without growth, Maxwell branch, external pressure or active stress, with uniform
-//! fields, the boundary drag form and `κ ≡ 1` (`m = 0`), each block's stretches and stresses
-//! are computed first in a loop without branches or early exits, which the compiler turns
-//! into vector instructions (two cells per division), and the rows are then written from them
-//! by the residual's own row expressions ([`Line::boundary_row`], [`Line::end_row`]). The
-//! per-cell expressions are those of [`Line::eval_core`] in the same order, so every row is
-//! bitwise the one the general sweep ([`super::residual`]) writes; a block with a cell outside
-//! the model's domain hands the whole call back to the general sweep, which reports it.
+//! The thesis's line swept in blocks of cells: the `f64` residual ([`Line::residual_blocked`])
+//! and the iteration matrix ([`Line::jacobian_blocked`]) of a line without growth, Maxwell
+//! branch, external pressure or active stress, with uniform fields, the boundary drag form
+//! and `κ ≡ 1` (`m = 0`). Each block's stretches, stresses and widths are computed first in a
+//! loop without branches or early exits, which the compiler turns into vector instructions
+//! (two cells per division), and the rows (or Jacobian rows) are then written from them by the
+//! general sweeps' own row expressions ([`Line::boundary_row`], [`Line::end_row`],
+//! [`Line::emit`]). The per-cell expressions are those of [`Line::eval_core`] in the same
+//! order, so every value is bitwise the one the general sweeps ([`super::residual`],
+//! [`super::jacobian`]) write; a block with a cell outside the model's domain hands the whole
+//! call back to the general sweep, which reports it.
 //!
-//! Written by hand because it is a restructuring of one loop, not an algorithm a crate offers:
-//! the general sweep's cell-by-cell `Result` keeps it scalar (measured on the raw Chapter 2
-//! line at N = 1000, where the residual was about a quarter of the solve).
+//! Written by hand because it is a restructuring of two loops, not an algorithm a crate
+//! offers: the general sweeps' cell-by-cell `Result` keeps them scalar. Measured on the raw
+//! Chapter 2 line at N = 1000 (BENCHMARKS.md), where the residual was about a quarter and the
+//! Jacobian an eighth of the solve.
 
+use super::jacobian::LocalCell;
 use super::*;
+use num_dual::DualNum;
 
 /// Cells per block: the block's stretches, stresses and widths stay in L1 between the two
 /// loops.
@@ -146,12 +151,118 @@ impl<E: StrainEnergy> Line<E> {
     }
 }
 
+impl<E: StrainEnergy> Line<E> {
+    /// The whole iteration matrix of [`Line::jacobian_into`] for the lines of
+    /// [`Line::residual_blocked`], in blocks: each block's cells are evaluated in dual numbers
+    /// seeded along their right boundaries, by [`Line::eval_core`]'s expressions in its order
+    /// and without its early exit, and each row is then emitted by the general sweep's own
+    /// [`Line::emit`] and row expressions, so every entry is bitwise the general sweep's.
+    /// `None` when the blocked sweep does not apply or a block meets a cell outside the
+    /// model's domain (the general sweep then runs and reports it).
+    pub(super) fn jacobian_blocked(
+        &self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        cj: f64,
+        jac: &mut JacobianSink,
+    ) -> Option<Result<(), ResidualError>> {
+        let (inv_l0, mu, eta) = self.blocked_constants()?;
+        let lk = self.contiguous()?;
+        let n = self.n_cells();
+        let d = Dual64::new;
+        let w_scale = self.gamma0 * self.g2;
+        // a cell seeded along its right boundary (x with 1, v with cj), as the general sweep
+        let local = |s: CellEval<Dual64>| LocalCell { s, g: s };
+        let general = |c: usize| -> Result<LocalCell, ResidualError> {
+            let (l, r) = (self.boundary(c - 1, t, y, yp), self.boundary(c, t, y, yp));
+            let xl = (d(l.0, 0.0), d(l.1, 0.0));
+            let xr = (d(r.0, 1.0), d(r.1, cj));
+            self.eval_core(c, t, xl, xr, (d(1.0, 0.0), d(0.0, 0.0)))
+                .map(local)
+        };
+        let boundary_rows = |jac: &mut JacobianSink, b: usize, p: &LocalCell, q: &LocalCell| {
+            self.emit(jac, lk.xi(b), b, [p, q], cj, |e| {
+                self.boundary_row(b, &e[0], &e[1])
+            });
+        };
+        let mut prev = match general(1) {
+            Ok(p) => p,
+            Err(e) => return Some(Err(e)),
+        };
+        let mut sig = [d(0.0, 0.0); BLOCK];
+        let mut wid = [d(0.0, 0.0); BLOCK];
+        let mut c = 2;
+        while c <= n {
+            if c > lk.last {
+                // the last cell, next to a prescribed end
+                let cur = match general(c) {
+                    Ok(e) => e,
+                    Err(e) => return Some(Err(e)),
+                };
+                boundary_rows(jac, c - 1, &prev, &cur);
+                prev = cur;
+                c += 1;
+                continue;
+            }
+            let end = (c + BLOCK).min(n + 1).min(lk.last + 1);
+            let len = end - c;
+            let (xl, xr) = (&y[c - 2..end - 2], &y[c - 1..end - 1]);
+            let (vl, vr) = (&yp[c - 2..end - 2], &yp[c - 1..end - 1]);
+            let mut ok = true;
+            for k in 0..len {
+                // Line::eval_core's expressions in dual numbers, in its order
+                let lam = (d(xr[k], 1.0) - d(xl[k], 0.0)) * inv_l0;
+                let a = lam.re;
+                ok &= a > 0.0 && a.is_finite() && self.energy.admissible([a, 1.0 / a, 1.0]).is_ok();
+                let alpha_dot = (d(vr[k], cj) - d(vl[k], 0.0)) * inv_l0;
+                let resp = self.energy.line(a);
+                let mut s = lam.lift(mu * resp.sigma, mu * resp.dsigma);
+                let inv_a = DualNum::recip(&lam);
+                if eta != 0.0 {
+                    s += alpha_dot * eta * (inv_a * inv_a + 1.0);
+                }
+                sig[k] = s;
+                wid[k] = inv_a * w_scale;
+            }
+            if !ok {
+                return None;
+            }
+            for k in 0..len {
+                let z = d(0.0, 0.0);
+                let cur = local(CellEval {
+                    lam: z,
+                    alpha: z,
+                    alpha_dot: z,
+                    sigma_el: z,
+                    sigma: sig[k],
+                    w: wid[k],
+                    kappa: d(1.0, 0.0),
+                    vl: d(vl[k], 0.0),
+                    vr: d(vr[k], cj),
+                    g: d(1.0, 0.0),
+                });
+                boundary_rows(jac, c + k - 1, &prev, &cur);
+                prev = cur;
+            }
+            c = end;
+        }
+        if self.right.is_free() {
+            self.emit(jac, lk.xi(n), n, [&prev], cj, |e| {
+                self.end_row(t, &e[0], d(0.0, 0.0))
+            });
+        }
+        Some(Ok(()))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::cell::Field;
     use crate::line::build::{discrete, LineParams};
     use crate::NeoHookean;
+    use integrators::linalg::Matrix;
 
     /// A uniform line of `n` cells that the blocked sweep applies to.
     fn line(n: usize, eta: f64, width: WidthRule, free: bool) -> Line<NeoHookean> {
@@ -229,6 +340,65 @@ mod tests {
             let mut r = vec![0.0; y.len()];
             assert!(l.residual_blocked(0.4, &y, &yp, &mut r, 0, 1, n).is_none());
             let err = l.residual_cells(0.4, &y, &yp, &mut r, 0, 1, n).unwrap_err();
+            assert!(err.to_string().contains(&format!("cell {bad} ")), "{err}");
+        }
+    }
+
+    /// The iteration matrix of `l` by the general sweep (uniform fields hidden, so the
+    /// blocked sweep does not apply; the fields' vectors hold the same values).
+    fn general_jacobian(l: &Line<NeoHookean>, y: &[f64], yp: &[f64], cj: f64) -> Matrix {
+        let mut slow = l.clone();
+        slow.uniform = UniformFields::default();
+        assert!(slow.blocked_constants().is_none());
+        let mut m = Matrix::zeros(l.dim(), &l.pattern());
+        assert!(slow.jacobian_into(0.4, y, yp, cj, &mut m).unwrap());
+        m
+    }
+
+    #[test]
+    fn blocked_jacobian_is_the_general_jacobian_bitwise() {
+        let n = 2 * BLOCK + 17;
+        for eta in [0.0, 0.7] {
+            for width in [WidthRule::Mean, WidthRule::Min] {
+                for free in [false, true] {
+                    let l = line(n, eta, width, free);
+                    let (y, yp) = state(l.dim());
+                    let want = general_jacobian(&l, &y, &yp, 3.5);
+                    let mut got = Matrix::zeros(l.dim(), &l.pattern());
+                    l.jacobian_blocked(0.4, &y, &yp, 3.5, &mut got)
+                        .expect("the blocked sweep applies")
+                        .unwrap();
+                    for i in 0..l.dim() {
+                        for j in i.saturating_sub(1)..(i + 2).min(l.dim()) {
+                            assert_eq!(
+                                got.get(i, j).to_bits(),
+                                want.get(i, j).to_bits(),
+                                "eta={eta} {width:?} free={free} ({i}, {j})"
+                            );
+                        }
+                    }
+                    // and the public entry point takes it
+                    let mut via = Matrix::zeros(l.dim(), &l.pattern());
+                    assert!(l.jacobian_into(0.4, &y, &yp, 3.5, &mut via).unwrap());
+                    assert_eq!(
+                        via.get(n / 2, n / 2).to_bits(),
+                        got.get(n / 2, n / 2).to_bits()
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_collapsed_cell_leaves_the_jacobian_to_the_general_sweep() {
+        let n = 2 * BLOCK + 17;
+        let l = line(n, 0.7, WidthRule::Mean, true);
+        for bad in [2, 40, BLOCK + 1, n] {
+            let (mut y, yp) = state(l.dim());
+            y[bad - 1] = y[bad - 2];
+            let mut m = Matrix::zeros(l.dim(), &l.pattern());
+            assert!(l.jacobian_blocked(0.4, &y, &yp, 1.0, &mut m).is_none());
+            let err = l.jacobian_into(0.4, &y, &yp, 1.0, &mut m).unwrap_err();
             assert!(err.to_string().contains(&format!("cell {bad} ")), "{err}");
         }
     }

@@ -1,7 +1,8 @@
 //! The line's own iteration matrix ([`Line::jacobian_into`]): one streaming sweep that
 //! evaluates each cell once in dual numbers and differentiates each residual row on its stencil
 //! columns, and the Jacobian's structure ([`Line::jacobian_entries`]). Tested entry by entry
-//! against the coloured AD Jacobian (`tests/line_jacobian.rs`).
+//! against the coloured AD Jacobian (`tests/line_jacobian.rs`). The thesis's line takes the
+//! blocked form of the same sweep (`super::blocked`), bitwise the same entries.
 
 use super::*;
 
@@ -9,9 +10,9 @@ use super::*;
 /// boundary (`x_j` with derivative 1, `v_j` with `c`), `g` seeded along its growth stretch
 /// (`g_j` with 1, `ġ_j` with `c`; all derivatives zero when `g` is not an unknown).
 #[derive(Clone, Copy)]
-struct LocalCell {
-    s: CellEval<Dual64>,
-    g: CellEval<Dual64>,
+pub(super) struct LocalCell {
+    pub(super) s: CellEval<Dual64>,
+    pub(super) g: CellEval<Dual64>,
 }
 
 impl Default for LocalCell {
@@ -178,6 +179,11 @@ impl<E: StrainEnergy> Line<E> {
         if n == 0 || lo > hi {
             return Ok(true);
         }
+        if lo <= 1 && hi == n {
+            if let Some(done) = self.jacobian_blocked(t, y, yp, c, jac) {
+                return done.map(|()| true);
+            }
+        }
         let mine = |cell: usize| (lo..=hi).contains(&cell);
         let lay = &self.layout;
         let d = Dual64::new;
@@ -273,7 +279,7 @@ impl<E: StrainEnergy> Line<E> {
     /// boundaries `first − 1 ..= first + Q − 1` and, when growing, their `g` — with every
     /// cell's derivatives projected on that unknown; the dual part is the entry.
     #[inline(always)]
-    fn emit<const Q: usize>(
+    pub(super) fn emit<const Q: usize>(
         &self,
         jac: &mut JacobianSink,
         row: usize,

@@ -255,8 +255,10 @@ fn for_each_sum(
     }
 }
 
-/// [`for_each_sum`] with the number of items `M` known at compile time.
+/// [`for_each_sum`] with the number of items `M` known at compile time (the index runs over
+/// `M` slices at once, hence the indexed loop).
 #[inline(always)]
+#[allow(clippy::needless_range_loop)]
 fn sums<const M: usize>(
     list: &[(&[f64], f64, f64)],
     lo: usize,
