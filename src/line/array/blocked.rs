@@ -105,20 +105,20 @@ impl<E: StrainEnergy> Line<E> {
             let (xl, xr) = (&y[c - 2..end - 2], &y[c - 1..end - 1]);
             let (vl, vr) = (&yp[c - 2..end - 2], &yp[c - 1..end - 1]);
             (sig[0], wid[0]) = (p.sigma, p.w);
-            let mut ok = true;
-            for k in 0..len {
-                // Line::eval_core's expressions, in its order
-                let a = (xr[k] - xl[k]) * inv_l0;
-                ok &= a > 0.0 && a.is_finite() && self.energy.admissible([a, 1.0 / a, 1.0]).is_ok();
-                let alpha_dot = (vr[k] - vl[k]) * inv_l0;
-                let inv_a = a.recip();
-                let mut s = mu * self.energy.line(a).sigma;
-                if eta != 0.0 {
-                    s += alpha_dot * eta * (inv_a * inv_a + 1.0);
-                }
-                sig[k + 1] = s;
-                wid[k + 1] = inv_a * w_scale;
-            }
+            let cells = Stretches {
+                xl,
+                xr,
+                vl,
+                vr,
+                inv_l0,
+            };
+            let (s, w) = (&mut sig[1..=len], &mut wid[1..=len]);
+            // the viscous term's test taken out of the loop, which then has no branch
+            let ok = if eta != 0.0 {
+                cells.stresses::<E, true>(&self.energy, mu, eta, w_scale, s, w)
+            } else {
+                cells.stresses::<E, false>(&self.energy, mu, eta, w_scale, s, w)
+            };
             if !ok {
                 return None;
             }
@@ -137,8 +137,24 @@ impl<E: StrainEnergy> Line<E> {
                 g: 1.0,
             };
             let rows = &mut r[c - 2 - off..end - 2 - off];
-            for (k, row) in rows.iter_mut().enumerate() {
-                *row = self.boundary_row(c + k - 1, &cell(k, vl[k]), &cell(k + 1, vr[k]));
+            match (self.width, self.uniform.k_face) {
+                // Line::boundary_row with κ = 1, uniform K and the width rule fixed, so that
+                // the loop has no branch left (the blocks' test pins it to boundary_row)
+                (WidthRule::Mean, Some(kf)) => {
+                    face_rows(rows, &sig[..=len], &wid[..=len], vl, kf, |a, b| {
+                        WidthRule::Mean.face(a, b)
+                    })
+                }
+                (WidthRule::Min, Some(kf)) => {
+                    face_rows(rows, &sig[..=len], &wid[..=len], vl, kf, |a, b| {
+                        WidthRule::Min.face(a, b)
+                    })
+                }
+                (_, None) => {
+                    for (k, row) in rows.iter_mut().enumerate() {
+                        *row = self.boundary_row(c + k - 1, &cell(k, vl[k]), &cell(k + 1, vr[k]));
+                    }
+                }
             }
             prev = Some(cell(len, vr[len - 1]));
             c = end;
@@ -148,6 +164,79 @@ impl<E: StrainEnergy> Line<E> {
             r[lk.xi(n) - off] = self.end_row(t, &p, 0.0);
         }
         Some(Ok(()))
+    }
+}
+
+/// The boundary positions and velocities of a block's cells (`xl[k]`, `xr[k]`: cell `k`'s left
+/// and right boundary) and the line's `1/L₀`.
+struct Stretches<'a> {
+    xl: &'a [f64],
+    xr: &'a [f64],
+    vl: &'a [f64],
+    vr: &'a [f64],
+    inv_l0: f64,
+}
+
+impl Stretches<'_> {
+    /// Each cell's stress and width into `sig`, `wid` by [`Line::eval_core`]'s expressions in
+    /// its order (`VISCOUS`: `η ≠ 0`); whether every stretch is in the model's domain
+    /// (positive, finite and admissible for `energy`), tested by comparisons only (`a < ∞`
+    /// rather than `is_finite`'s bit test), so that the loop stays in vector lanes.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)]
+    fn stresses<E: StrainEnergy, const VISCOUS: bool>(
+        &self,
+        energy: &E,
+        mu: f64,
+        eta: f64,
+        w_scale: f64,
+        sig: &mut [f64],
+        wid: &mut [f64],
+    ) -> bool {
+        let len = sig.len();
+        let (xl, xr, vl, vr) = (
+            &self.xl[..len],
+            &self.xr[..len],
+            &self.vl[..len],
+            &self.vr[..len],
+        );
+        let wid = &mut wid[..len];
+        let mut ok = true;
+        for k in 0..len {
+            let a = (xr[k] - xl[k]) * self.inv_l0;
+            ok &= (a > 0.0) & (a < f64::INFINITY) & energy.admissible([a, 1.0 / a, 1.0]).is_ok();
+            let inv_a = a.recip();
+            let mut s = mu * energy.line(a).sigma;
+            if VISCOUS {
+                let alpha_dot = (vr[k] - vl[k]) * self.inv_l0;
+                s += alpha_dot * eta * (inv_a * inv_a + 1.0);
+            }
+            sig[k] = s;
+            wid[k] = inv_a * w_scale;
+        }
+        ok
+    }
+}
+
+/// [`Line::boundary_row`] of the boundaries between consecutive cells of a block, for a
+/// uniform `K` (`kf`) and `κ = 1`: `rows[k]` is the row between cells `k` and `k + 1` of
+/// `sig`, `wid` (stress and width; entry 0 the cell before the block), whose shared boundary
+/// moves at `v[k]`. The same operations in the same order as `boundary_row`.
+#[inline(always)]
+fn face_rows(
+    rows: &mut [f64],
+    sig: &[f64],
+    wid: &[f64],
+    v: &[f64],
+    kf: f64,
+    face: impl Fn(f64, f64) -> f64,
+) {
+    let kappa = (1.0 + 1.0) * 0.5;
+    let len = rows.len();
+    let (sig, wid, v) = (&sig[..=len], &wid[..=len], &v[..len]);
+    for k in 0..len {
+        let f = face(wid[k], wid[k + 1]) * (sig[k + 1] - sig[k]);
+        rows[k] = kappa * v[k] * kf - f;
     }
 }
 
