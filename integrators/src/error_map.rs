@@ -522,7 +522,11 @@ impl ErrorMap {
             let b = (a + SEG).min(hi);
             let first = self.back[a];
             let d = Self::offset(first);
-            let uniform = d > 0 && self.back[a..b].iter().all(|&m| m == first);
+            // (a fold, not `all`: without the early exit the comparison runs in vector lanes)
+            let uniform = d > 0
+                && self.back[a..b]
+                    .iter()
+                    .fold(true, |same, &m| same & (m == first));
             f(a, b, uniform.then_some(d as usize));
             a = b;
         }

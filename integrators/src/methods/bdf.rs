@@ -201,6 +201,10 @@ pub struct Bdf {
     ss: f64,
     /// Newton iterate (starts as the predictor).
     ycur: Vec<f64>,
+    /// The predictor of the step being tried, as [`Bdf::predict`] wrote it into `ycur` (the
+    /// Newton iteration then changes `ycur`): the step's error test reads `ycur − ypred`
+    /// instead of re-evaluating the predictor from the history.
+    ypred: Vec<f64>,
     ypcur: Vec<f64>,
     res: Vec<f64>,
     /// Error weights, only when they differ from the Newton weights (suppressed algebraic
@@ -262,6 +266,7 @@ impl Bdf {
             steps_since_jac: 0,
             ss: 20.0,
             ycur: Vec::new(),
+            ypred: Vec::new(),
             ypcur: Vec::new(),
             res: Vec::new(),
             ewt: Vec::new(),
@@ -322,7 +327,10 @@ impl Bdf {
         let mut yp = std::mem::take(&mut self.ypcur);
         let mut nwt = std::mem::take(&mut self.nwt);
         let mut ewt = std::mem::take(&mut self.ewt);
+        let mut pred = std::mem::take(&mut self.ypred);
+        pred.resize(y.len(), 0.0);
         let weights = Weights {
+            pred: &mut pred,
             nwt: &mut nwt,
             ewt: if self.ewt_separate {
                 Some(&mut ewt)
@@ -335,7 +343,7 @@ impl Bdf {
             map: sys.error_map(),
         };
         self.poly_impl(m, t_new, &mut y, &mut yp, Some(weights));
-        (self.ycur, self.ypcur, self.nwt, self.ewt) = (y, yp, nwt, ewt);
+        (self.ycur, self.ypcur, self.nwt, self.ewt, self.ypred) = (y, yp, nwt, ewt, pred);
     }
 
     /// [`poly`](Self::poly), optionally also filling the weights from the newest history
@@ -368,6 +376,7 @@ impl Bdf {
             None => (None, None),
             Some(w) => {
                 let (n1, n2) = w.nwt.split_at_mut(mid);
+                let (p1, p2) = w.pred.split_at_mut(mid);
                 let (e1, e2) = match w.ewt {
                     Some(e) => {
                         let (e1, e2) = e.split_at_mut(mid);
@@ -375,7 +384,8 @@ impl Bdf {
                     }
                     None => (None, None),
                 };
-                let half = |nwt, ewt| Weights {
+                let half = |pred, nwt, ewt| Weights {
+                    pred,
                     nwt,
                     ewt,
                     atol: w.atol,
@@ -383,7 +393,7 @@ impl Bdf {
                     rtol: w.rtol,
                     map: w.map,
                 };
-                (Some(half(n1, e1)), Some(half(n2, e2)))
+                (Some(half(p1, n1, e1)), Some(half(p2, n2, e2)))
             }
         };
         rayon::join(
@@ -446,24 +456,33 @@ impl Bdf {
     }
 
     /// In one block-wise sweep over the state, for each order `m` in `orders`, the error-weight
-    /// norm of `y_new − predictor_m(t_new)` (no predictor is stored). The first order is the
-    /// step's own: its difference is the total Newton correction, i.e. the local error
-    /// estimate up to a factor. One sweep instead of one per order keeps a large state's
-    /// history vectors in L1 across the orders. Each norm is bitwise what [`ErrorNorm::of`]
-    /// gives on the same vector.
+    /// norm of `y_new − predictor_m(t_new)`. The first order is the step's own: its difference
+    /// is the total Newton correction, i.e. the local error estimate up to a factor, and with
+    /// `stored` (the step's [`predict`](Self::predict) was for that order and `t_new`) it is
+    /// read as `ycur − ypred` instead of being re-evaluated from the history: the same sum
+    /// (`predict` adds the same products in the same order, its extra items having
+    /// coefficient zero), so the same norm. One sweep instead of one per order keeps a large
+    /// state's history vectors in L1 across the orders. Each norm is bitwise what
+    /// [`ErrorNorm::of`] gives on the same vector.
     fn error_norms(
         &self,
         orders: &[usize],
         t_new: f64,
         norm: ErrorNorm,
         map: &ErrorMap,
+        stored: bool,
     ) -> [f64; MAX_NORMS] {
         let n = self.ycur.len();
         let mut out = [0.0; MAX_NORMS];
         if n == 0 {
             return out;
         }
-        let items = self.order_items(orders, t_new);
+        let mut items = self.order_items(orders, t_new);
+        if stored {
+            debug_assert_eq!(self.ypred.len(), n);
+            items[0].list[0] = (&self.ypred[..], 1.0, 0.0);
+            items[0].len = 1;
+        }
         let items = &items[..orders.len()];
         let ewt = self.ewt();
         let mid = split_point(n, self.parallel);

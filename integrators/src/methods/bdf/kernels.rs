@@ -79,6 +79,7 @@ pub(super) fn poly_blocks(
             });
         }
         if let Some(w) = weights.as_mut() {
+            w.pred[s..e].copy_from_slice(yb);
             // the Newton weights are the error weights without the suppression of algebraic
             // components, as in `System::error_weights`
             let rtol = w.rtol;
@@ -414,8 +415,11 @@ impl<const OWN_NORM: bool> SolutionMap for NewtonUpdate<'_, OWN_NORM> {
     }
 }
 
-/// Outputs and inputs of the weights pass fused into the predictor ([`Bdf::predict`]).
+/// Outputs and inputs of the weights pass fused into the predictor ([`Bdf::predict`]), and
+/// the copy of the predictor it keeps for the step's error test.
 pub(super) struct Weights<'a> {
+    /// A copy of the predictor (the error test's order-`k` difference is `y − pred`).
+    pub(super) pred: &'a mut [f64],
     pub(super) nwt: &'a mut [f64],
     /// Separate error weights (suppressed algebraic components), if any.
     pub(super) ewt: Option<&'a mut [f64]>,
