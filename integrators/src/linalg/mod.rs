@@ -11,7 +11,8 @@
 //!
 //! Layout: [`dense`](self) (faer LU), `banded` (hand-written `dgbtrf`-style LU), `sparse` (faer
 //! sparse LU with cached symbolic analysis), `iterative` (ILU(0) from `faer-precond`, BiCGStab
-//! with a Newton-aware stopping rule on CSR kernels), `complex_pair` (Radau's real 2n form).
+//! with a Newton-aware stopping rule on CSR kernels), `complex_pair` (Radau's real 2n form),
+//! `entries` (where a Jacobian sweep adds its entries: a matrix or a band's column window).
 //! This file holds the public types and dispatches by pattern.
 //!
 //! ```
@@ -33,9 +34,11 @@
 mod banded;
 mod complex_pair;
 mod dense;
+mod entries;
 mod iterative;
 mod sparse;
 
+pub use entries::{BandColumns, EntrySink};
 pub use iterative::{KrylovCounters, LinearTolerance};
 
 use std::sync::Arc;

@@ -17,6 +17,7 @@
 
 use super::jacobian::LocalCell;
 use super::*;
+use integrators::linalg::{EntrySink, Matrix};
 use num_dual::DualNum;
 
 /// Cells per block: the block's stretches, stresses and widths stay in L1 between the two
@@ -242,12 +243,12 @@ fn face_rows(
 
 impl<E: StrainEnergy> Line<E> {
     /// The whole iteration matrix of [`Line::jacobian_into`] for the lines of
-    /// [`Line::residual_blocked`], in blocks: each block's cells are evaluated in dual numbers
-    /// seeded along their right boundaries, by [`Line::eval_core`]'s expressions in its order
-    /// and without its early exit, and each row is then emitted by the general sweep's own
-    /// [`Line::emit`] and row expressions, so every entry is bitwise the general sweep's.
-    /// `None` when the blocked sweep does not apply or a block meets a cell outside the
-    /// model's domain (the general sweep then runs and reports it).
+    /// [`Line::residual_blocked`], in blocks ([`Line::jacobian_boundaries`]); from
+    /// [`PAR_MIN_CELLS`] cells with two threads, a band matrix is filled in two column windows
+    /// at once ([`integrators::linalg::BandMatrix::split_columns_mut`]) and the two rows that straddle them after.
+    /// Every entry is added once into the zeroed matrix, so the result is the serial one bit
+    /// for bit, and so is the error: the first cell outside the model's domain in the line's
+    /// order. `None` when the blocked sweep does not apply.
     pub(super) fn jacobian_blocked(
         &self,
         t: f64,
@@ -256,8 +257,50 @@ impl<E: StrainEnergy> Line<E> {
         cj: f64,
         jac: &mut JacobianSink,
     ) -> Option<Result<(), ResidualError>> {
-        let (inv_l0, mu, eta) = self.blocked_constants()?;
-        let lk = self.contiguous()?;
+        self.blocked_constants()?;
+        let n = self.n_cells();
+        if self.threads >= 2 && n >= PAR_MIN_CELLS {
+            if let Matrix::Banded(band) = jac {
+                // boundary b's row (unknown b − 1) has columns b − 2 ..= b: boundaries
+                // 1 ..= c − 1 lie in columns < c, boundaries c + 2 ..= N − 1 and the end in
+                // columns ≥ c; boundaries c and c + 1 straddle the windows
+                let c = n / 2;
+                let (mut left, mut right) = band.split_columns_mut(c);
+                let (first, second) = rayon::join(
+                    || self.jacobian_boundaries(t, y, yp, cj, &mut left, 1, c - 1, false),
+                    || self.jacobian_boundaries(t, y, yp, cj, &mut right, c + 2, n - 1, true),
+                );
+                let middle = first
+                    .and_then(|()| self.jacobian_boundaries(t, y, yp, cj, jac, c, c + 1, false));
+                return Some(middle.and(second));
+            }
+        }
+        Some(self.jacobian_boundaries(t, y, yp, cj, jac, 1, n - 1, true))
+    }
+
+    /// The Jacobian rows of boundaries `b0..=b1` (`1 ≤ b0`, `b1 ≤ N − 1`; none when
+    /// `b1 < b0`) and, with `end`, of a free right end, added into `jac`: each block's cells
+    /// (`b0..=b1 + 1`) are evaluated in dual numbers seeded along their right boundaries, by
+    /// [`Line::eval_core`]'s expressions in its order and without its early exit, and each row
+    /// is emitted by the general sweep's own [`Line::emit`] and row expressions, so every
+    /// entry is bitwise the general sweep's. A block with a cell outside the model's domain is
+    /// evaluated again cell by cell by [`Line::eval_core`], which names the first such cell.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn jacobian_boundaries<J: EntrySink>(
+        &self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        cj: f64,
+        jac: &mut J,
+        b0: usize,
+        b1: usize,
+        end: bool,
+    ) -> Result<(), ResidualError> {
+        let (inv_l0, mu, eta) = self
+            .blocked_constants()
+            .expect("called for the lines of the blocked sweep");
+        let lk = self.contiguous().expect("a contiguous layout");
         let n = self.n_cells();
         let d = Dual64::new;
         let w_scale = self.gamma0 * self.g2;
@@ -270,40 +313,37 @@ impl<E: StrainEnergy> Line<E> {
             self.eval_core(c, t, xl, xr, (d(1.0, 0.0), d(0.0, 0.0)))
                 .map(local)
         };
-        let boundary_rows = |jac: &mut JacobianSink, b: usize, p: &LocalCell, q: &LocalCell| {
+        let boundary_rows = |jac: &mut J, b: usize, p: &LocalCell, q: &LocalCell| {
             self.emit(jac, lk.xi(b), b, [p, q], cj, |e| {
                 self.boundary_row(b, &e[0], &e[1])
             });
         };
-        let mut prev = match general(1) {
-            Ok(p) => p,
-            Err(e) => return Some(Err(e)),
-        };
+        let last_cell = (b1 + 1).min(n);
+        let mut prev = general(b0)?;
         let mut sig = [d(0.0, 0.0); BLOCK];
         let mut wid = [d(0.0, 0.0); BLOCK];
-        let mut c = 2;
-        while c <= n {
+        let mut c = b0 + 1;
+        while c <= last_cell {
             if c > lk.last {
                 // the last cell, next to a prescribed end
-                let cur = match general(c) {
-                    Ok(e) => e,
-                    Err(e) => return Some(Err(e)),
-                };
+                let cur = general(c)?;
                 boundary_rows(jac, c - 1, &prev, &cur);
                 prev = cur;
                 c += 1;
                 continue;
             }
-            let end = (c + BLOCK).min(n + 1).min(lk.last + 1);
-            let len = end - c;
-            let (xl, xr) = (&y[c - 2..end - 2], &y[c - 1..end - 1]);
-            let (vl, vr) = (&yp[c - 2..end - 2], &yp[c - 1..end - 1]);
+            let stop = (c + BLOCK).min(last_cell + 1).min(lk.last + 1);
+            let len = stop - c;
+            let (xl, xr) = (&y[c - 2..stop - 2], &y[c - 1..stop - 1]);
+            let (vl, vr) = (&yp[c - 2..stop - 2], &yp[c - 1..stop - 1]);
             let mut ok = true;
             for k in 0..len {
                 // Line::eval_core's expressions in dual numbers, in its order
                 let lam = (d(xr[k], 1.0) - d(xl[k], 0.0)) * inv_l0;
                 let a = lam.re;
-                ok &= a > 0.0 && a.is_finite() && self.energy.admissible([a, 1.0 / a, 1.0]).is_ok();
+                ok &= (a > 0.0)
+                    & (a < f64::INFINITY)
+                    & self.energy.admissible([a, 1.0 / a, 1.0]).is_ok();
                 let alpha_dot = (d(vr[k], cj) - d(vl[k], 0.0)) * inv_l0;
                 let resp = self.energy.line(a);
                 let mut s = lam.lift(mu * resp.sigma, mu * resp.dsigma);
@@ -315,7 +355,10 @@ impl<E: StrainEnergy> Line<E> {
                 wid[k] = inv_a * w_scale;
             }
             if !ok {
-                return None;
+                for cell in c..stop {
+                    general(cell)?;
+                }
+                unreachable!("a block failed the domain test that every one of its cells passes");
             }
             for k in 0..len {
                 let z = d(0.0, 0.0);
@@ -334,14 +377,15 @@ impl<E: StrainEnergy> Line<E> {
                 boundary_rows(jac, c + k - 1, &prev, &cur);
                 prev = cur;
             }
-            c = end;
+            c = stop;
         }
-        if self.right.is_free() {
+        if end && self.right.is_free() {
+            debug_assert_eq!(last_cell, n);
             self.emit(jac, lk.xi(n), n, [&prev], cj, |e| {
                 self.end_row(t, &e[0], d(0.0, 0.0))
             });
         }
-        Some(Ok(()))
+        Ok(())
     }
 }
 
@@ -351,7 +395,6 @@ mod tests {
     use crate::cell::Field;
     use crate::line::build::{discrete, LineParams};
     use crate::NeoHookean;
-    use integrators::linalg::Matrix;
 
     /// A uniform line of `n` cells that the blocked sweep applies to.
     fn line(n: usize, eta: f64, width: WidthRule, free: bool) -> Line<NeoHookean> {
@@ -479,16 +522,59 @@ mod tests {
     }
 
     #[test]
-    fn a_collapsed_cell_leaves_the_jacobian_to_the_general_sweep() {
+    fn a_collapsed_cell_is_the_general_sweeps_error() {
         let n = 2 * BLOCK + 17;
         let l = line(n, 0.7, WidthRule::Mean, true);
-        for bad in [2, 40, BLOCK + 1, n] {
+        let mut slow = l.clone();
+        slow.uniform = UniformFields::default();
+        for bad in [1, 2, 40, BLOCK + 1, n] {
             let (mut y, yp) = state(l.dim());
-            y[bad - 1] = y[bad - 2];
+            // cell `bad` collapsed (cell 1 against the wall at 0)
+            y[bad - 1] = if bad == 1 { 0.0 } else { y[bad - 2] };
             let mut m = Matrix::zeros(l.dim(), &l.pattern());
-            assert!(l.jacobian_blocked(0.4, &y, &yp, 1.0, &mut m).is_none());
-            let err = l.jacobian_into(0.4, &y, &yp, 1.0, &mut m).unwrap_err();
+            let err = l
+                .jacobian_blocked(0.4, &y, &yp, 1.0, &mut m)
+                .unwrap()
+                .unwrap_err();
+            let want = slow.jacobian_into(0.4, &y, &yp, 1.0, &mut m).unwrap_err();
+            assert_eq!(err, want);
             assert!(err.to_string().contains(&format!("cell {bad} ")), "{err}");
+        }
+    }
+
+    #[test]
+    fn two_thread_jacobian_is_the_one_thread_jacobian_bitwise() {
+        // a line long enough to split, filled in two column windows and the straddling rows
+        let n = PAR_MIN_CELLS + 21;
+        for free in [true, false] {
+            let mut l = line(n, 0.7, WidthRule::Mean, free);
+            let (y, yp) = state(l.dim());
+            let mut one = Matrix::zeros(l.dim(), &l.pattern());
+            l.jacobian_blocked(0.4, &y, &yp, 2.5, &mut one)
+                .unwrap()
+                .unwrap();
+            l.set_threads(2);
+            let mut two = Matrix::zeros(l.dim(), &l.pattern());
+            l.jacobian_blocked(0.4, &y, &yp, 2.5, &mut two)
+                .unwrap()
+                .unwrap();
+            let (Matrix::Banded(a), Matrix::Banded(b)) = (&one, &two) else {
+                unreachable!("a line's pattern is banded")
+            };
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&a.data), bits(&b.data), "free={free}");
+            // a collapsed cell in either window or between them: the one-thread error
+            let c = n / 2;
+            for bad in [3, c - 1, c, c + 1, c + 2, c + 3, n - 1] {
+                let mut yb = y.clone();
+                yb[bad - 1] = yb[bad - 2];
+                l.set_threads(1);
+                let serial = l.jacobian_blocked(0.4, &yb, &yp, 2.5, &mut one).unwrap();
+                l.set_threads(2);
+                let split = l.jacobian_blocked(0.4, &yb, &yp, 2.5, &mut two).unwrap();
+                assert!(serial.is_err());
+                assert_eq!(split, serial, "bad={bad}");
+            }
         }
     }
 

@@ -5,6 +5,7 @@
 //! blocked form of the same sweep (`super::blocked`), bitwise the same entries.
 
 use super::*;
+use integrators::linalg::EntrySink;
 
 /// A cell evaluated in dual numbers for [`Line::jacobian_into`]: `s` seeded along its right
 /// boundary (`x_j` with derivative 1, `v_j` with `c`), `g` seeded along its growth stretch
@@ -279,9 +280,9 @@ impl<E: StrainEnergy> Line<E> {
     /// boundaries `first − 1 ..= first + Q − 1` and, when growing, their `g` — with every
     /// cell's derivatives projected on that unknown; the dual part is the entry.
     #[inline(always)]
-    pub(super) fn emit<const Q: usize>(
+    pub(super) fn emit<J: EntrySink, const Q: usize>(
         &self,
-        jac: &mut JacobianSink,
+        jac: &mut J,
         row: usize,
         first: usize,
         cells: [&LocalCell; Q],
