@@ -345,13 +345,21 @@ pub fn profile(cfg: &LineConfig, t: f64) -> Option<Vec<(f64, f64, f64)>> {
 
 /// At most `m` of `v`, evenly spread, first and last included.
 fn sample(v: &[f64], m: usize) -> Vec<f64> {
-    if v.len() <= m || m < 2 {
-        return v.to_vec();
-    }
-    let last = v.len() - 1;
-    (0..m)
-        .map(|i| v[(i * last + (m - 1) / 2) / (m - 1)])
-        .collect()
+    sample_indices(v.len(), m).map(|i| v[i]).collect()
+}
+
+/// The indices of [`sample`]: all of `0..len` when `len ≤ m`, else `m` evenly spread ones,
+/// first and last included.
+fn sample_indices(len: usize, m: usize) -> impl Iterator<Item = usize> + Clone {
+    let (count, last) = if len <= m || m < 2 {
+        (len, None)
+    } else {
+        (m, Some(len - 1))
+    };
+    (0..count).map(move |i| match last {
+        None => i,
+        Some(last) => (i * last + (m - 1) / 2) / (m - 1),
+    })
 }
 
 /// `(max p, min λ)` of the applicable reference solution at time `t` (see [`profile`]).
@@ -443,10 +451,13 @@ pub fn reference(
             });
         }
         if let Some(xs) = static_positions(cfg, t) {
+            // at most PROFILE_SAMPLES boundaries, first and last included, as the closed-form
+            // profiles: the overlay's cost and size do not grow with N
+            let picked = sample_indices(xs.len(), PROFILE_SAMPLES);
             r.equilibrium.push(ReferencePositions {
                 t,
-                x_ref: xs.iter().map(|q| q.0).collect(),
-                x: xs.iter().map(|q| q.1).collect(),
+                x_ref: picked.clone().map(|i| xs[i].0).collect(),
+                x: picked.map(|i| xs[i].1).collect(),
             });
         }
     }
@@ -497,6 +508,46 @@ mod tests {
             let d = direct(x, t, k, 0.1, 100.0);
             assert!((lam - d).abs() < 1e-11, "x {x} t {t} K {k}: {lam} vs {d}");
         }
+    }
+
+    #[test]
+    fn the_static_equilibrium_overlay_is_sampled_and_exact_at_its_samples() {
+        // 20 000 quasi-static cells (K = 1e-5): the positions at ≤ PROFILE_SAMPLES boundaries,
+        // first and last included, each the uniform strain x = (l/l₀)X of the full solution
+        let cfg = LineConfig {
+            cells: 20_000,
+            k: 1e-5.into(),
+            ..Default::default()
+        };
+        let r = reference(&cfg, &[], &[2e5]).unwrap();
+        let e = &r.equilibrium[0];
+        assert_eq!(
+            (e.x.len(), e.x_ref.len()),
+            (PROFILE_SAMPLES, PROFILE_SAMPLES)
+        );
+        assert_eq!((e.x_ref[0], *e.x_ref.last().unwrap()), (0.0, 20_000.0));
+        let l = *e.x.last().unwrap();
+        assert!((l - 18_000.0).abs() < 1e-6, "{l}");
+        for (&xr, &x) in e.x_ref.iter().zip(&e.x) {
+            assert!((x - 0.9 * xr).abs() < 1e-8 * (1.0 + xr), "{xr}: {x}");
+        }
+        // and a piecewise-constant μ (two runs) inverts each run to its own stretch
+        let stiff = LineConfig {
+            cells: 10,
+            k: 1e-5.into(),
+            mu: crate::cell::Field::PerCell {
+                values: vec![1.0, 1.0, 1.0, 1.0, 1.0, 4.0, 4.0, 4.0, 4.0, 4.0],
+            },
+            ..Default::default()
+        };
+        let s = quasi_static(&stiff, 1e3).unwrap();
+        assert!(s.lambda[..5].iter().all(|&l| l == s.lambda[0]));
+        assert!(s.lambda[5..].iter().all(|&l| l == s.lambda[5]));
+        assert!(s.lambda[0] < s.lambda[5]);
+        let sum: f64 = s.lambda.iter().sum();
+        assert!((sum - 9.0).abs() < 1e-12, "{sum}");
+        let stress = |mu: f64, l: f64| mu * (l * l - 1.0 / (l * l));
+        assert!((stress(1.0, s.lambda[0]) - stress(4.0, s.lambda[5])).abs() < 1e-12);
     }
 
     #[test]

@@ -202,14 +202,35 @@ pub fn static_equilibrium<E: StrainEnergy>(
     }
     let c = &line.cells;
     let n = c.len();
+    // cells with the same μ carry the same stretch: the runs of bitwise equal μ, with the
+    // reference length of each, are inverted once per run (measured: at 10⁶ uniform cells,
+    // one law inversion per cell per iteration was 44 s of a 50 s run, against a 6 s solve)
+    let mut runs: Vec<(f64, f64)> = Vec::new();
+    for (&mu, &l0) in c.mu.iter().zip(&c.l0) {
+        match runs.last_mut() {
+            Some((m, sum)) if m.to_bits() == mu.to_bits() => *sum += l0,
+            _ => runs.push((mu, l0)),
+        }
+    }
     let stretches = |s: f64| -> Result<Vec<f64>, LineError> {
-        (0..n)
-            .map(|i| invert_stretch(&line.energy, c.mu[i], s))
-            .collect()
+        let mut lam = Vec::with_capacity(n);
+        let mut last: Option<(u64, f64)> = None;
+        for &mu in &c.mu {
+            let l = match last {
+                Some((bits, l)) if bits == mu.to_bits() => l,
+                _ => invert_stretch(&line.energy, mu, s)?,
+            };
+            last = Some((mu.to_bits(), l));
+            lam.push(l);
+        }
+        Ok(lam)
     };
     let excess = |s: f64| -> Result<f64, LineError> {
-        let lam = stretches(s)?;
-        Ok(lam.iter().zip(&c.l0).map(|(a, b)| a * b).sum::<f64>() - l)
+        let mut sum = 0.0;
+        for &(mu, l0) in &runs {
+            sum += invert_stretch(&line.energy, mu, s)? * l0;
+        }
+        Ok(sum - l)
     };
     // bracket S
     let (mut a, mut b) = (-1.0, 1.0);
