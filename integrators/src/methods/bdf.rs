@@ -457,9 +457,9 @@ impl Bdf {
 
     /// In one block-wise sweep over the state, for each order `m` in `orders`, the error-weight
     /// norm of `y_new − predictor_m(t_new)`. The first order is the step's own: its difference
-    /// is the total Newton correction, i.e. the local error estimate up to a factor, and with
-    /// `stored` (the step's [`predict`](Self::predict) was for that order and `t_new`) it is
-    /// read as `ycur − ypred` instead of being re-evaluated from the history: the same sum
+    /// is the total Newton correction, i.e. the local error estimate up to a factor, read as
+    /// `ycur − ypred` (the step's [`predict`](Self::predict), which must have been for that
+    /// order and `t_new`) instead of being re-evaluated from the history: the same sum
     /// (`predict` adds the same products in the same order, its extra items having
     /// coefficient zero), so the same norm. One sweep instead of one per order keeps a large
     /// state's history vectors in L1 across the orders. Each norm is bitwise what
@@ -470,7 +470,6 @@ impl Bdf {
         t_new: f64,
         norm: ErrorNorm,
         map: &ErrorMap,
-        stored: bool,
     ) -> [f64; MAX_NORMS] {
         let n = self.ycur.len();
         let mut out = [0.0; MAX_NORMS];
@@ -478,11 +477,9 @@ impl Bdf {
             return out;
         }
         let mut items = self.order_items(orders, t_new);
-        if stored {
-            debug_assert_eq!(self.ypred.len(), n);
-            items[0].list[0] = (&self.ypred[..], 1.0, 0.0);
-            items[0].len = 1;
-        }
+        debug_assert_eq!(self.ypred.len(), n);
+        items[0].list[0] = (&self.ypred[..], 1.0, 0.0);
+        items[0].len = 1;
         let items = &items[..orders.len()];
         let ewt = self.ewt();
         let mid = split_point(n, self.parallel);

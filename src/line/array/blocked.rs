@@ -7,8 +7,9 @@
 //! general sweeps' own row expressions ([`Line::boundary_row`], [`Line::end_row`],
 //! [`Line::emit`]). The per-cell expressions are those of [`Line::eval_core`] in the same
 //! order, so every value is bitwise the one the general sweeps ([`super::residual`],
-//! [`super::jacobian`]) write; a block with a cell outside the model's domain hands the whole
-//! call back to the general sweep, which reports it.
+//! [`super::jacobian`]) write. A block with a cell outside the model's domain hands the
+//! residual back to the general sweep, which reports it; the Jacobian evaluates that block
+//! again cell by cell by the general expression, which names the first such cell.
 //!
 //! Written by hand because it is a restructuring of two loops, not an algorithm a crate
 //! offers: the general sweeps' cell-by-cell `Result` keeps them scalar. Measured on the raw

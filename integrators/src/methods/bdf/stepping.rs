@@ -132,8 +132,8 @@ impl Bdf {
                     no += 1;
                 }
             }
-            // (the predictor of order k at t_new is the one `predict` stored above)
-            let dn = self.error_norms(&orders[..no], t_new, opts.norm, sys.error_map(), true);
+            // (orders[0] = k at t_new: the predictor `predict` stored above)
+            let dn = self.error_norms(&orders[..no], t_new, opts.norm, sys.error_map());
             let een = dn[0];
             let dnorm_of = |m: usize| -> f64 {
                 let i = orders[1..no]
