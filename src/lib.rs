@@ -31,8 +31,8 @@ pub mod substrate;
 
 pub use array::{ArrayProblem, CellArray};
 pub use energy::{
-    AnyEnergy, EnergyError, Gent, Hgo, LineResponse, MooneyRivlin, NeoHookean, Ogden, Scaled,
-    ShearResponse, SheetResponse, StrainEnergy,
+    AnyEnergy, EnergyError, Gent, Hgo, LawVisitor, LineResponse, MooneyRivlin, NeoHookean, Ogden,
+    Scaled, ShearResponse, SheetResponse, StrainEnergy,
 };
 pub use scalar::Scalar;
 pub use settings::SolveSettings;

@@ -108,6 +108,45 @@ macro_rules! delegate {
     };
 }
 
+/// A computation generic over the strain energy, run by [`AnyEnergy::visit`] with the law the
+/// enum holds, so that the computation is compiled for each concrete law and dispatches once.
+///
+/// ```
+/// use celltissue::{AnyEnergy, LawVisitor, NeoHookean, StrainEnergy};
+/// struct Stresses<'a>(&'a [f64]);
+/// impl LawVisitor for Stresses<'_> {
+///     type Output = Vec<f64>;
+///     fn visit<E: StrainEnergy>(self, law: &E) -> Vec<f64> {
+///         self.0.iter().map(|&a| law.line(a).sigma).collect()
+///     }
+/// }
+/// let law = AnyEnergy::from(NeoHookean::new(1.0).unwrap());
+/// assert_eq!(law.visit(Stresses(&[1.0])), [0.0]);
+/// ```
+pub trait LawVisitor {
+    /// What the computation returns.
+    type Output;
+    /// The computation with the concrete law.
+    fn visit<E: StrainEnergy>(self, law: &E) -> Self::Output;
+}
+
+impl AnyEnergy {
+    /// Runs `v` with the law this enum holds (one dispatch for the whole computation).
+    ///
+    /// ```
+    /// use celltissue::{AnyEnergy, LawVisitor, NeoHookean, StrainEnergy};
+    /// struct Modulus;
+    /// impl LawVisitor for Modulus {
+    ///     type Output = f64;
+    ///     fn visit<E: StrainEnergy>(self, law: &E) -> f64 { law.shear_modulus() }
+    /// }
+    /// assert_eq!(AnyEnergy::from(NeoHookean::new(2.5).unwrap()).visit(Modulus), 2.5);
+    /// ```
+    pub fn visit<V: LawVisitor>(&self, v: V) -> V::Output {
+        delegate!(self, e => v.visit(e))
+    }
+}
+
 impl StrainEnergy for AnyEnergy {
     #[inline]
     fn energy<D: DualNum<Primitive = f64> + Copy>(&self, l: [D; 3]) -> D {
@@ -128,6 +167,10 @@ impl StrainEnergy for AnyEnergy {
     #[inline]
     fn line(&self, a: f64) -> LineResponse {
         delegate!(self, e => e.line(a))
+    }
+    #[inline(always)]
+    fn as_any_energy(&self) -> Option<&AnyEnergy> {
+        Some(self)
     }
     #[inline]
     fn sheet(&self, l1: f64, l2: f64) -> SheetResponse {

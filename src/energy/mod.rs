@@ -33,7 +33,7 @@ mod scaled;
 #[cfg(test)]
 mod tests;
 
-pub use any::AnyEnergy;
+pub use any::{AnyEnergy, LawVisitor};
 pub use error::EnergyError;
 pub use expression::{Expression, ExpressionError};
 pub use gent::Gent;
@@ -147,6 +147,21 @@ pub trait StrainEnergy: Send + Sync {
         ad::line(self, a)
     }
 
+    /// The registry's [`AnyEnergy`] when `self` is one (`None` for every other law): lets a
+    /// hot loop pick the concrete law once ([`AnyEnergy::visit`]) instead of dispatching at
+    /// every call.
+    ///
+    /// ```
+    /// use celltissue::{AnyEnergy, NeoHookean, StrainEnergy};
+    /// let law = NeoHookean::new(1.0).unwrap();
+    /// assert!(law.as_any_energy().is_none());
+    /// assert!(AnyEnergy::from(law).as_any_energy().is_some());
+    /// ```
+    #[inline(always)]
+    fn as_any_energy(&self) -> Option<&AnyEnergy> {
+        None
+    }
+
     /// Sheet response at `(λ₁, λ₂)` (AD by default, [`ad::sheet`]).
     #[inline]
     fn sheet(&self, l1: f64, l2: f64) -> SheetResponse {
@@ -176,6 +191,10 @@ impl<E: StrainEnergy + ?Sized> StrainEnergy for &E {
     #[inline]
     fn line(&self, a: f64) -> LineResponse {
         (**self).line(a)
+    }
+    #[inline(always)]
+    fn as_any_energy(&self) -> Option<&AnyEnergy> {
+        (**self).as_any_energy()
     }
     #[inline]
     fn sheet(&self, l1: f64, l2: f64) -> SheetResponse {

@@ -18,6 +18,7 @@
 
 use super::jacobian::LocalCell;
 use super::*;
+use crate::energy::LawVisitor;
 use integrators::linalg::{EntrySink, Matrix};
 use num_dual::DualNum;
 
@@ -114,12 +115,18 @@ impl<E: StrainEnergy> Line<E> {
                 vr,
                 inv_l0,
             };
-            let (s, w) = (&mut sig[1..=len], &mut wid[1..=len]);
-            // the viscous term's test taken out of the loop, which then has no branch
-            let ok = if eta != 0.0 {
-                cells.stresses::<E, true>(&self.energy, mu, eta, w_scale, s, w)
-            } else {
-                cells.stresses::<E, false>(&self.energy, mu, eta, w_scale, s, w)
+            let block = Block {
+                cells,
+                mu,
+                eta,
+                w_scale,
+                sig: &mut sig[1..=len],
+                wid: &mut wid[1..=len],
+            };
+            // the registry's law picked once per block, not at every cell
+            let ok = match self.energy.as_any_energy() {
+                Some(law) => law.visit(block),
+                None => block.visit(&self.energy),
             };
             if !ok {
                 return None;
@@ -217,6 +224,40 @@ impl Stretches<'_> {
             wid[k] = inv_a * w_scale;
         }
         ok
+    }
+}
+
+/// One block's stresses and widths ([`Stretches::stresses`]) as a computation over the
+/// concrete law, so that the registry's [`crate::AnyEnergy`] dispatches once per block and its
+/// law's response inlines into the vectorised loop.
+struct Block<'a, 'b> {
+    cells: Stretches<'b>,
+    mu: f64,
+    eta: f64,
+    w_scale: f64,
+    sig: &'a mut [f64],
+    wid: &'a mut [f64],
+}
+
+impl LawVisitor for Block<'_, '_> {
+    /// Whether every stretch is in the model's domain.
+    type Output = bool;
+    #[inline(always)]
+    fn visit<L: StrainEnergy>(self, law: &L) -> bool {
+        let Block {
+            cells,
+            mu,
+            eta,
+            w_scale,
+            sig,
+            wid,
+        } = self;
+        // the viscous term's test taken out of the loop, which then has no branch
+        if eta != 0.0 {
+            cells.stresses::<L, true>(law, mu, eta, w_scale, sig, wid)
+        } else {
+            cells.stresses::<L, false>(law, mu, eta, w_scale, sig, wid)
+        }
     }
 }
 
@@ -466,6 +507,34 @@ mod tests {
                     })
                 })
         })
+    }
+
+    #[test]
+    fn the_registry_law_gives_the_concrete_laws_rows_bitwise() {
+        // AnyEnergy picks its law once per block (AnyEnergy::visit): the same rows as the
+        // line built on the concrete law, for η = 0 and η ≠ 0
+        let n = 2 * BLOCK + 17;
+        for eta in [0.0, 0.7] {
+            let concrete = line(n, eta, WidthRule::Mean, true);
+            let mut p = LineParams::unit_cells(n);
+            p.k = Field::Constant(0.3);
+            p.eta = Field::Constant(eta);
+            p.gamma0 = 1.3;
+            p.right = RightEnd::Free(None);
+            let law = crate::AnyEnergy::from(NeoHookean::new(2.0).unwrap());
+            let any = discrete(law, &p).unwrap();
+            let (y, yp) = state(n);
+            let (mut a, mut b) = (vec![f64::NAN; n], vec![f64::NAN; n]);
+            concrete
+                .residual_blocked(0.4, &y, &yp, &mut a, 0, 1, n)
+                .unwrap()
+                .unwrap();
+            any.residual_blocked(0.4, &y, &yp, &mut b, 0, 1, n)
+                .unwrap()
+                .unwrap();
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&a), bits(&b), "eta={eta}");
+        }
     }
 
     #[test]
