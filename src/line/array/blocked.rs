@@ -261,6 +261,54 @@ impl LawVisitor for Block<'_, '_> {
     }
 }
 
+/// [`Block`] for the Jacobian: each cell of the block in dual numbers seeded along its right
+/// boundary (`x` with 1, `v` with `cj`), by [`Line::eval_core`]'s expressions in its order
+/// (without growth, `g ≡ 1`).
+struct DualBlock<'a, 'b> {
+    cells: Stretches<'b>,
+    cj: f64,
+    mu: f64,
+    eta: f64,
+    w_scale: f64,
+    sig: &'a mut [Dual64],
+    wid: &'a mut [Dual64],
+}
+
+impl LawVisitor for DualBlock<'_, '_> {
+    /// Whether every stretch is in the model's domain.
+    type Output = bool;
+    #[inline(always)]
+    fn visit<L: StrainEnergy>(self, law: &L) -> bool {
+        let DualBlock {
+            cells,
+            cj,
+            mu,
+            eta,
+            w_scale,
+            sig,
+            wid,
+        } = self;
+        let d = Dual64::new;
+        let inv_l0 = cells.inv_l0;
+        let mut ok = true;
+        for (k, (sk, wk)) in sig.iter_mut().zip(wid.iter_mut()).enumerate() {
+            let lam = (d(cells.xr[k], 1.0) - d(cells.xl[k], 0.0)) * inv_l0;
+            let a = lam.re;
+            ok &= (a > 0.0) & (a < f64::INFINITY) & law.admissible([a, 1.0 / a, 1.0]).is_ok();
+            let alpha_dot = (d(cells.vr[k], cj) - d(cells.vl[k], 0.0)) * inv_l0;
+            let resp = law.line(a);
+            let mut s = lam.lift(mu * resp.sigma, mu * resp.dsigma);
+            let inv_a = DualNum::recip(&lam);
+            if eta != 0.0 {
+                s += alpha_dot * eta * (inv_a * inv_a + 1.0);
+            }
+            *sk = s;
+            *wk = inv_a * w_scale;
+        }
+        ok
+    }
+}
+
 /// [`Line::boundary_row`] of the boundaries between consecutive cells of a block, for a
 /// uniform `K` (`kf`) and `κ = 1`: `rows[k]` is the row between cells `k` and `k + 1` of
 /// `sig`, `wid` (stress and width; entry 0 the cell before the block), whose shared boundary
@@ -378,24 +426,26 @@ impl<E: StrainEnergy> Line<E> {
             let len = stop - c;
             let (xl, xr) = (&y[c - 2..stop - 2], &y[c - 1..stop - 1]);
             let (vl, vr) = (&yp[c - 2..stop - 2], &yp[c - 1..stop - 1]);
-            let mut ok = true;
-            for k in 0..len {
-                // Line::eval_core's expressions in dual numbers, in its order
-                let lam = (d(xr[k], 1.0) - d(xl[k], 0.0)) * inv_l0;
-                let a = lam.re;
-                ok &= (a > 0.0)
-                    & (a < f64::INFINITY)
-                    & self.energy.admissible([a, 1.0 / a, 1.0]).is_ok();
-                let alpha_dot = (d(vr[k], cj) - d(vl[k], 0.0)) * inv_l0;
-                let resp = self.energy.line(a);
-                let mut s = lam.lift(mu * resp.sigma, mu * resp.dsigma);
-                let inv_a = DualNum::recip(&lam);
-                if eta != 0.0 {
-                    s += alpha_dot * eta * (inv_a * inv_a + 1.0);
-                }
-                sig[k] = s;
-                wid[k] = inv_a * w_scale;
-            }
+            let block = DualBlock {
+                cells: Stretches {
+                    xl,
+                    xr,
+                    vl,
+                    vr,
+                    inv_l0,
+                },
+                cj,
+                mu,
+                eta,
+                w_scale,
+                sig: &mut sig[..len],
+                wid: &mut wid[..len],
+            };
+            // the registry's law picked once per block, not at every cell
+            let ok = match self.energy.as_any_energy() {
+                Some(law) => law.visit(block),
+                None => block.visit(&self.energy),
+            };
             if !ok {
                 for cell in c..stop {
                     general(cell)?;
@@ -510,7 +560,7 @@ mod tests {
     }
 
     #[test]
-    fn the_registry_law_gives_the_concrete_laws_rows_bitwise() {
+    fn the_registry_law_gives_the_concrete_laws_rows_and_jacobian_bitwise() {
         // AnyEnergy picks its law once per block (AnyEnergy::visit): the same rows as the
         // line built on the concrete law, for η = 0 and η ≠ 0
         let n = 2 * BLOCK + 17;
@@ -534,6 +584,20 @@ mod tests {
                 .unwrap();
             let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
             assert_eq!(bits(&a), bits(&b), "eta={eta}");
+            // and the same iteration matrix
+            let mut ja = Matrix::zeros(n, &concrete.pattern());
+            let mut jb = Matrix::zeros(n, &any.pattern());
+            concrete
+                .jacobian_blocked(0.4, &y, &yp, 2.0, &mut ja)
+                .unwrap()
+                .unwrap();
+            any.jacobian_blocked(0.4, &y, &yp, 2.0, &mut jb)
+                .unwrap()
+                .unwrap();
+            let (Matrix::Banded(ma), Matrix::Banded(mb)) = (&ja, &jb) else {
+                unreachable!("a line's pattern is banded")
+            };
+            assert_eq!(bits(&ma.data), bits(&mb.data), "eta={eta}");
         }
     }
 
