@@ -26,12 +26,21 @@ use num_dual::DualNum;
 /// loops.
 const BLOCK: usize = 64;
 
+/// The line's uniform constants a block's cells are evaluated with.
+#[derive(Clone, Copy)]
+struct Uniform {
+    inv_l0: f64,
+    mu: f64,
+    eta: f64,
+    /// `γ₀ g₂` (a cell's width is this over its stretch).
+    w_scale: f64,
+}
+
 impl<E: StrainEnergy> Line<E> {
-    /// The constants of the blocked sweep — `(1/L₀, μ, η)` — when it applies to this
-    /// line as it is now (read from the public fields at each call, so an edit cannot leave
-    /// it stale), else `None`.
+    /// The constants of the blocked sweep when it applies to this line as it is now (read
+    /// from the public fields at each call, so an edit cannot leave it stale), else `None`.
     #[inline]
-    fn blocked_constants(&self) -> Option<(f64, f64, f64)> {
+    fn blocked_constants(&self) -> Option<Uniform> {
         let u = &self.uniform;
         if u.extended
             || self.active.is_some()
@@ -41,7 +50,22 @@ impl<E: StrainEnergy> Line<E> {
         {
             return None;
         }
-        Some((u.inv_l0?, u.mu?, u.eta?))
+        Some(Uniform {
+            inv_l0: u.inv_l0?,
+            mu: u.mu?,
+            eta: u.eta?,
+            w_scale: self.gamma0 * self.g2,
+        })
+    }
+
+    /// Runs `block` with the line's law: the registry's [`crate::AnyEnergy`] picks its law
+    /// once for the whole block ([`crate::AnyEnergy::visit`]), not at every cell.
+    #[inline(always)]
+    fn with_law<V: LawVisitor>(&self, block: V) -> V::Output {
+        match self.energy.as_any_energy() {
+            Some(law) => law.visit(block),
+            None => block.visit(&self.energy),
+        }
     }
 
     /// The rows of [`Line::residual_cells`] for `f64` state, in blocks (module docs), or
@@ -58,10 +82,9 @@ impl<E: StrainEnergy> Line<E> {
         first: usize,
         last: usize,
     ) -> Option<Result<(), ResidualError>> {
-        let (inv_l0, mu, eta) = self.blocked_constants()?;
+        let uniform = self.blocked_constants()?;
         let lk = self.contiguous()?;
         let n = self.n_cells();
-        let w_scale = self.gamma0 * self.g2;
         // one cell by the general expression (the cells next to an end that is not an unknown)
         let general = |c: usize| -> Result<CellEval<f64>, ResidualError> {
             let left = self.boundary_in(lk, c - 1, t, y, yp);
@@ -108,26 +131,17 @@ impl<E: StrainEnergy> Line<E> {
             let (xl, xr) = (&y[c - 2..end - 2], &y[c - 1..end - 1]);
             let (vl, vr) = (&yp[c - 2..end - 2], &yp[c - 1..end - 1]);
             (sig[0], wid[0]) = (p.sigma, p.w);
-            let cells = Stretches {
-                xl,
-                xr,
-                vl,
-                vr,
-                inv_l0,
-            };
-            let block = Block {
-                cells,
-                mu,
-                eta,
-                w_scale,
+            let ok = self.with_law(Block {
+                cells: Stretches {
+                    xl,
+                    xr,
+                    vl,
+                    vr,
+                    uniform,
+                },
                 sig: &mut sig[1..=len],
                 wid: &mut wid[1..=len],
-            };
-            // the registry's law picked once per block, not at every cell
-            let ok = match self.energy.as_any_energy() {
-                Some(law) => law.visit(block),
-                None => block.visit(&self.energy),
-            };
+            });
             if !ok {
                 return None;
             }
@@ -177,13 +191,13 @@ impl<E: StrainEnergy> Line<E> {
 }
 
 /// The boundary positions and velocities of a block's cells (`xl[k]`, `xr[k]`: cell `k`'s left
-/// and right boundary) and the line's `1/L₀`.
+/// and right boundary) and the line's uniform constants.
 struct Stretches<'a> {
     xl: &'a [f64],
     xr: &'a [f64],
     vl: &'a [f64],
     vr: &'a [f64],
-    inv_l0: f64,
+    uniform: Uniform,
 }
 
 impl Stretches<'_> {
@@ -196,12 +210,15 @@ impl Stretches<'_> {
     fn stresses<E: StrainEnergy, const VISCOUS: bool>(
         &self,
         energy: &E,
-        mu: f64,
-        eta: f64,
-        w_scale: f64,
         sig: &mut [f64],
         wid: &mut [f64],
     ) -> bool {
+        let Uniform {
+            inv_l0,
+            mu,
+            eta,
+            w_scale,
+        } = self.uniform;
         let len = sig.len();
         let (xl, xr, vl, vr) = (
             &self.xl[..len],
@@ -212,12 +229,12 @@ impl Stretches<'_> {
         let wid = &mut wid[..len];
         let mut ok = true;
         for k in 0..len {
-            let a = (xr[k] - xl[k]) * self.inv_l0;
+            let a = (xr[k] - xl[k]) * inv_l0;
             ok &= (a > 0.0) & (a < f64::INFINITY) & energy.admissible([a, 1.0 / a, 1.0]).is_ok();
             let inv_a = a.recip();
             let mut s = mu * energy.line(a).sigma;
             if VISCOUS {
-                let alpha_dot = (vr[k] - vl[k]) * self.inv_l0;
+                let alpha_dot = (vr[k] - vl[k]) * inv_l0;
                 s += alpha_dot * eta * (inv_a * inv_a + 1.0);
             }
             sig[k] = s;
@@ -232,9 +249,6 @@ impl Stretches<'_> {
 /// law's response inlines into the vectorised loop.
 struct Block<'a, 'b> {
     cells: Stretches<'b>,
-    mu: f64,
-    eta: f64,
-    w_scale: f64,
     sig: &'a mut [f64],
     wid: &'a mut [f64],
 }
@@ -244,19 +258,12 @@ impl LawVisitor for Block<'_, '_> {
     type Output = bool;
     #[inline(always)]
     fn visit<L: StrainEnergy>(self, law: &L) -> bool {
-        let Block {
-            cells,
-            mu,
-            eta,
-            w_scale,
-            sig,
-            wid,
-        } = self;
+        let Block { cells, sig, wid } = self;
         // the viscous term's test taken out of the loop, which then has no branch
-        if eta != 0.0 {
-            cells.stresses::<L, true>(law, mu, eta, w_scale, sig, wid)
+        if cells.uniform.eta != 0.0 {
+            cells.stresses::<L, true>(law, sig, wid)
         } else {
-            cells.stresses::<L, false>(law, mu, eta, w_scale, sig, wid)
+            cells.stresses::<L, false>(law, sig, wid)
         }
     }
 }
@@ -267,9 +274,6 @@ impl LawVisitor for Block<'_, '_> {
 struct DualBlock<'a, 'b> {
     cells: Stretches<'b>,
     cj: f64,
-    mu: f64,
-    eta: f64,
-    w_scale: f64,
     sig: &'a mut [Dual64],
     wid: &'a mut [Dual64],
 }
@@ -282,14 +286,16 @@ impl LawVisitor for DualBlock<'_, '_> {
         let DualBlock {
             cells,
             cj,
-            mu,
-            eta,
-            w_scale,
             sig,
             wid,
         } = self;
         let d = Dual64::new;
-        let inv_l0 = cells.inv_l0;
+        let Uniform {
+            inv_l0,
+            mu,
+            eta,
+            w_scale,
+        } = cells.uniform;
         let mut ok = true;
         for (k, (sk, wk)) in sig.iter_mut().zip(wid.iter_mut()).enumerate() {
             let lam = (d(cells.xr[k], 1.0) - d(cells.xl[k], 0.0)) * inv_l0;
@@ -387,13 +393,12 @@ impl<E: StrainEnergy> Line<E> {
         b1: usize,
         end: bool,
     ) -> Result<(), ResidualError> {
-        let (inv_l0, mu, eta) = self
+        let uniform = self
             .blocked_constants()
             .expect("called for the lines of the blocked sweep");
         let lk = self.contiguous().expect("a contiguous layout");
         let n = self.n_cells();
         let d = Dual64::new;
-        let w_scale = self.gamma0 * self.g2;
         // a cell seeded along its right boundary (x with 1, v with cj), as the general sweep
         let local = |s: CellEval<Dual64>| LocalCell { s, g: s };
         let general = |c: usize| -> Result<LocalCell, ResidualError> {
@@ -426,26 +431,18 @@ impl<E: StrainEnergy> Line<E> {
             let len = stop - c;
             let (xl, xr) = (&y[c - 2..stop - 2], &y[c - 1..stop - 1]);
             let (vl, vr) = (&yp[c - 2..stop - 2], &yp[c - 1..stop - 1]);
-            let block = DualBlock {
+            let ok = self.with_law(DualBlock {
                 cells: Stretches {
                     xl,
                     xr,
                     vl,
                     vr,
-                    inv_l0,
+                    uniform,
                 },
                 cj,
-                mu,
-                eta,
-                w_scale,
                 sig: &mut sig[..len],
                 wid: &mut wid[..len],
-            };
-            // the registry's law picked once per block, not at every cell
-            let ok = match self.energy.as_any_energy() {
-                Some(law) => law.visit(block),
-                None => block.visit(&self.energy),
-            };
+            });
             if !ok {
                 for cell in c..stop {
                     general(cell)?;
