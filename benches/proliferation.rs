@@ -144,7 +144,7 @@ fn report() {
     let wall = start.elapsed().as_secs_f64();
     let s = traj.stats;
     println!(
-        "REPORT proliferation K={k:e} t=[0,{t_end}] cap={cap:?} smooth_restart={smooth} batch_within={within}: N 100 -> {cells}, {divs} divisions in {} events, {wall:.2} s, {:.0} divisions/s, {} steps ({:.2} steps/division), {} rejected ({:.3}/division; {} error-test, {} Newton), {} Jacobian pairs ({:.3}/division; {} mapped across divisions), {} factorizations, {} Newton iterations ({:.2}/division), l = {:.10}",
+        "REPORT proliferation K={k:e} t=[0,{t_end}] cap={cap:?} smooth_restart={smooth} batch_within={within}: N 100 -> {cells}, {divs} divisions in {} events, {wall:.2} s, {:.0} divisions/s, {} steps ({:.2} steps/division), {} rejected ({:.3}/division; {} error-test, {} Newton), {} Jacobian pairs ({:.3}/division; {} mapped across divisions), {} factorizations, {} Newton iterations ({:.2}/division), {} residual calls, {} linear solves, l = {:.10}",
         s.events,
         divs as f64 / wall,
         s.steps,
@@ -159,6 +159,8 @@ fn report() {
         s.factorizations,
         s.newton_iterations,
         s.newton_iterations as f64 / divs as f64,
+        s.residual_calls,
+        s.linear_solves,
         traj.snapshots.last().map_or(f64::NAN, |s| s.length())
     );
     let n = env("PROLIF_GROWTH_N", 1e5) as usize;

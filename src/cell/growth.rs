@@ -80,6 +80,27 @@ pub trait GrowthLaw: Send + Sync {
         self.rate(sigma).0
     }
 
+    /// [`value`](Self::value) of every `sigma[i]` into `out[i]` (the default calls it per
+    /// entry; the slices have equal lengths). A dividing line's `f64` residual hands its
+    /// growth rows to the law in blocks through this, one dynamic call per block instead of
+    /// one per cell, so a law that overrides it with the same expression in an inlined loop
+    /// lets the compiler overlap cells (measured on the tanh law: 6.8 ns per cell called
+    /// through `&dyn GrowthLaw`, 4.9 ns in such a loop, of which `exp` 4.6 ns).
+    ///
+    /// ```
+    /// use celltissue::cell::{GrowthLaw, TanhGrowth};
+    /// let law = TanhGrowth::default();
+    /// let sigma = [-0.3, 0.0, 0.05];
+    /// let mut g = [0.0; 3];
+    /// law.values(&sigma, &mut g);
+    /// assert!(sigma.iter().zip(&g).all(|(&s, &v)| v == law.value(s)));
+    /// ```
+    fn values(&self, sigma: &[f64], out: &mut [f64]) {
+        for (o, &s) in out.iter_mut().zip(sigma) {
+            *o = self.value(s);
+        }
+    }
+
     /// Checks the law's parameters when a scenario builds it by name (default: nothing to
     /// check); the error names the parameter and its valid range.
     fn check(&self) -> Result<(), ParamError> {
@@ -162,6 +183,12 @@ impl GrowthLaw for TanhGrowth {
     #[inline]
     fn value(&self, sigma: f64) -> f64 {
         self.gm * self.logistic(sigma).0
+    }
+    /// [`value`](GrowthLaw::value)'s expression in a loop the compiler sees whole.
+    fn values(&self, sigma: &[f64], out: &mut [f64]) {
+        for (o, &s) in out.iter_mut().zip(sigma) {
+            *o = self.gm * self.logistic(s).0;
+        }
     }
     fn check(&self) -> Result<(), ParamError> {
         positive("sigma0", self.sigma0)?;

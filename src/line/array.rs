@@ -255,6 +255,36 @@ impl Lookup for Contiguous {
     }
 }
 
+/// The layout of a growing line without Maxwell branch that is not a ring: cell `i + 1`'s
+/// growth stretch is unknown `2i` and boundary `j` is unknown `2j − 1` for `1 ≤ j ≤ last`
+/// (`last = N − 1`, prescribed end, or `N`, free end), as [`Line::rebuild_layout`] interleaves
+/// them; computed, so the residual need not stream `layout.xi`, `layout.gi` and `layout.vi`.
+#[derive(Clone, Copy)]
+struct Interleaved {
+    last: usize,
+}
+
+impl Lookup for Interleaved {
+    #[inline(always)]
+    fn xi(&self, j: usize) -> usize {
+        // j = 0 wraps to usize::MAX, which is ≥ last
+        let k = j.wrapping_sub(1);
+        if k < self.last {
+            2 * k + 1
+        } else {
+            NONE
+        }
+    }
+    #[inline(always)]
+    fn gi(&self, i: usize) -> usize {
+        2 * i
+    }
+    #[inline(always)]
+    fn vi(&self, _i: usize) -> usize {
+        NONE
+    }
+}
+
 /// Quantities of one cell at `(t, y, ẏ)`.
 ///
 /// ```

@@ -142,6 +142,10 @@ impl<E: StrainEnergy> Line<E> {
             (Some(lk), true) => {
                 self.residual_cells_in::<S, _, true>(lk, t, y, yp, r, off, first, last)
             }
+            (None, false) if self.interleaved().is_some() => {
+                let lk = self.interleaved().expect("checked");
+                self.residual_cells_in::<S, _, false>(lk, t, y, yp, r, off, first, last)
+            }
             (None, false) => {
                 self.residual_cells_in::<S, _, false>(ind, t, y, yp, r, off, first, last)
             }
@@ -165,6 +169,20 @@ impl<E: StrainEnergy> Line<E> {
         let last = n - 1 + self.right.is_free() as usize;
         (self.layout.dim == last && self.layout.xi.len() == n + 1 && self.layout.gi.len() == n)
             .then_some(Contiguous { last })
+    }
+
+    /// The layout of a growing line without Maxwell branch that is not a ring, if
+    /// `self.layout` is that of the current `N` and right end (checked in O(1) against the
+    /// layout's size, as [`Line::contiguous`] is).
+    #[inline]
+    pub(super) fn interleaved(&self) -> Option<Interleaved> {
+        if self.growth.is_none() || self.maxwell.is_some() || self.right.is_periodic() {
+            return None;
+        }
+        let n = self.n_cells();
+        let last = n - 1 + self.right.is_free() as usize;
+        (self.layout.dim == n + last && self.layout.xi.len() == n + 1 && self.layout.gi.len() == n)
+            .then_some(Interleaved { last })
     }
 
     /// [`residual_cells`](Line::residual_cells) with the layout read through `lk`.
@@ -202,13 +220,23 @@ impl<E: StrainEnergy> Line<E> {
             };
             (Some(p), f_prev, right)
         };
+        // in f64, the growth rows go to the law in blocks (`GrowthLaw::values`): each row's
+        // unknown and stress wait in `pending` until the block is full
+        let batch = S::as_f64s(y).is_some();
+        let mut pending = GrowthRows::default();
         for c in first..=last {
             let (cur, right) = self.eval_cell_in::<S, L, EXT>(lay, c, t, y, yp, left)?;
             left = right;
             let gk = lay.gi(c - 1);
             if gk != NONE {
                 if let Some(law) = &self.growth {
-                    r[gk - off] = self.growth_row(law.as_ref(), yp[gk], &cur);
+                    if batch {
+                        if pending.push(gk, cur.sigma.re()) {
+                            pending.flush(law.as_ref(), yp, r, off);
+                        }
+                    } else {
+                        r[gk - off] = self.growth_row(law.as_ref(), yp[gk], &cur);
+                    }
                 }
             }
             let vk = lay.vi(c - 1);
@@ -237,10 +265,58 @@ impl<E: StrainEnergy> Line<E> {
             }
             prev = Some(cur);
         }
+        if let Some(law) = &self.growth {
+            pending.flush(law.as_ref(), yp, r, off);
+        }
         if last == n && self.right.is_free() {
             let p = prev.expect("at least one cell");
             r[lay.xi(n) - off] = self.end_row(t, &p, f_prev);
         }
         Ok(())
+    }
+}
+
+/// Growth rows per call of [`GrowthLaw::values`].
+const GROWTH_BLOCK: usize = 64;
+
+/// Growth rows `ġ − G(σ)` waiting for their block's law call: each row's unknown and its
+/// cell's stress. The rows written are bitwise [`Line::growth_row`]'s (`GrowthLaw::values`
+/// is `value` per entry).
+struct GrowthRows {
+    unknown: [usize; GROWTH_BLOCK],
+    sigma: [f64; GROWTH_BLOCK],
+    len: usize,
+}
+
+impl Default for GrowthRows {
+    fn default() -> Self {
+        Self {
+            unknown: [0; GROWTH_BLOCK],
+            sigma: [0.0; GROWTH_BLOCK],
+            len: 0,
+        }
+    }
+}
+
+impl GrowthRows {
+    /// Queues the row of unknown `k` at stress `sigma`; `true` when the block is full.
+    #[inline(always)]
+    fn push(&mut self, k: usize, sigma: f64) -> bool {
+        self.unknown[self.len] = k;
+        self.sigma[self.len] = sigma;
+        self.len += 1;
+        self.len == GROWTH_BLOCK
+    }
+
+    /// Writes the queued rows into `r` (row `k` at `r[k − off]`) and empties the queue.
+    #[inline(never)]
+    fn flush<S: Scalar>(&mut self, law: &dyn GrowthLaw, yp: &[S], r: &mut [S], off: usize) {
+        let mut g = [0.0; GROWTH_BLOCK];
+        let g = &mut g[..self.len];
+        law.values(&self.sigma[..self.len], g);
+        for (&k, &gk) in self.unknown[..self.len].iter().zip(g.iter()) {
+            r[k - off] = yp[k] - S::from(gk);
+        }
+        self.len = 0;
     }
 }

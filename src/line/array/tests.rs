@@ -237,3 +237,43 @@ fn pattern_from_the_end_windows_is_the_full_band() {
         }
     }
 }
+
+#[test]
+fn a_growing_line_gives_the_per_cell_growth_rows_bitwise() {
+    // the interleaved layout: bitwise the indexed sweep; the growth rows handed to the law in
+    // blocks (`GrowthLaw::values`): bitwise `ġ − G(σ)` with one law call per cell, σ from
+    // `eval_cell`; on lines shorter and longer than a block, whole and in two-thread halves
+    let law = TanhGrowth::default();
+    for form in [DragForm::Boundary, DragForm::Centre] {
+        for free in [false, true] {
+            for n in [5, 64, 150] {
+                let l = line(n, form, true, free);
+                assert!(l.interleaved().is_some() && l.contiguous().is_none());
+                let (y, yp) = state(&l);
+                let mut r = vec![f64::NAN; y.len()];
+                l.residual(0.4, &y, &yp, &mut r).unwrap();
+                assert_eq!(
+                    r,
+                    reference_residual(&l, &y, &yp),
+                    "{form:?} free={free} n={n}"
+                );
+                for c in 1..=n {
+                    let gk = l.layout().gi[c - 1];
+                    let sigma = l.eval_cell(c, 0.4, &y, &yp).unwrap().sigma;
+                    assert_eq!(r[gk], yp[gk] - law.value(sigma), "cell {c}");
+                }
+                for c0 in [2, n / 2 + 1, n] {
+                    let mut rh = vec![f64::NAN; y.len()];
+                    l.residual_two_threads(0.4, &y, &yp, &mut rh, c0)
+                        .expect("splittable")
+                        .unwrap();
+                    assert_eq!(rh, r, "{form:?} free={free} n={n} c0={c0}");
+                }
+            }
+        }
+    }
+    // without growth the thesis's layout, not this one
+    assert!(line(9, DragForm::Boundary, false, true)
+        .interleaved()
+        .is_none());
+}
