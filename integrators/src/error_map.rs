@@ -81,6 +81,17 @@ const ANCHOR: i32 = i32::MIN;
 /// Rows per segment of the norm and weight passes (see `ErrorMap::segments`).
 const SEG: usize = 256;
 
+/// What the rows of one segment of the norm and weight passes are (`ErrorMap::segments`).
+#[derive(Clone, Copy)]
+enum Segment {
+    /// Every row a difference row with its partner this many rows back.
+    Difference(usize),
+    /// Every row an own row or a difference row with its partner this many rows back.
+    OwnOrDifference(usize),
+    /// Anything else: each row looked up.
+    Mixed,
+}
+
 /// Per-component description of the quantities the error tests measure (see the
 /// [module](self) docs). Built by a [`crate::Problem`] through
 /// [`crate::Problem::error_map`]; an empty map (the default) is the identity.
@@ -396,10 +407,10 @@ impl ErrorMap {
     /// ```
     pub fn weights(&self, y: &[f64], eatol: &[f64], rtol: f64, lo: usize, w: &mut [f64]) {
         let hi = lo + w.len();
-        self.segments(lo, hi, |a, b, d| {
+        self.segments(lo, hi, |a, b, kind| {
             let out = &mut w[a - lo..b - lo];
-            match d {
-                Some(d) => {
+            match kind {
+                Segment::Difference(d) => {
                     for (((wk, &yi), &yp), &ea) in out
                         .iter_mut()
                         .zip(&y[a..b])
@@ -409,7 +420,19 @@ impl ErrorMap {
                         *wk = 1.0 / (rtol * (yi - yp).abs() + ea);
                     }
                 }
-                None => {
+                Segment::OwnOrDifference(d) => {
+                    for ((((wk, &yi), &yp), &ea), &m) in out
+                        .iter_mut()
+                        .zip(&y[a..b])
+                        .zip(&y[a - d..])
+                        .zip(&eatol[a..b])
+                        .zip(&self.back[a..b])
+                    {
+                        let q = if m == OWN { yi } else { yi - yp };
+                        *wk = 1.0 / (rtol * q.abs() + ea);
+                    }
+                }
+                Segment::Mixed => {
                     for (k, wk) in out.iter_mut().enumerate() {
                         *wk = self.weight(a + k, y, eatol[a + k], rtol);
                     }
@@ -489,17 +512,28 @@ impl ErrorMap {
     ) -> NormSum {
         let mut s = NormSum::default();
         let mut q = [0.0; SEG];
-        self.segments(lo, hi, |a, b, d| {
+        self.segments(lo, hi, |a, b, kind| {
             let q = &mut q[..b - a];
-            match d {
-                Some(d) => {
+            match kind {
+                Segment::Difference(d) => {
                     for (((qi, &vi), &vp), &wi) in
                         q.iter_mut().zip(&v[a..b]).zip(&v[a - d..]).zip(&w[a..b])
                     {
                         *qi = (vi - vp) * wi;
                     }
                 }
-                None => {
+                Segment::OwnOrDifference(d) => {
+                    for ((((qi, &vi), &vp), &wi), &m) in q
+                        .iter_mut()
+                        .zip(&v[a..b])
+                        .zip(&v[a - d..])
+                        .zip(&w[a..b])
+                        .zip(&self.back[a..b])
+                    {
+                        *qi = (if m == OWN { vi } else { vi - vp }) * wi;
+                    }
+                }
+                Segment::Mixed => {
                     for (k, qi) in q.iter_mut().enumerate() {
                         *qi = self.quantity(a + k, v) * w[a + k];
                     }
@@ -511,23 +545,39 @@ impl ErrorMap {
         s
     }
 
-    /// Calls `f(a, b, d)` for consecutive segments `a..b` of at most [`SEG`] rows covering
-    /// `lo..hi`, with `d = Some(offset)` when every row of the segment is a difference row
-    /// whose partner is `offset` rows back (a line's boundaries): the caller's loop over such
-    /// a segment needs no per-row branch and vectorises.
+    /// Calls `f(a, b, kind)` for consecutive segments `a..b` of at most [`SEG`] rows covering
+    /// `lo..hi`, with the segment's [`Segment`] kind: when every row is a difference row whose
+    /// partner is `d` rows back (a line's boundaries), or is that or an own row (a growing
+    /// line's boundaries interleaved with the cells' growth stretches), the caller's loop over
+    /// the segment has no per-row lookup or branch and vectorises.
     #[inline(always)]
-    fn segments(&self, lo: usize, hi: usize, mut f: impl FnMut(usize, usize, Option<usize>)) {
+    fn segments(&self, lo: usize, hi: usize, mut f: impl FnMut(usize, usize, Segment)) {
         let mut a = lo;
         while a < hi {
             let b = (a + SEG).min(hi);
-            let first = self.back[a];
+            let back = &self.back[a..b];
+            // the segment's first difference marker (at most the first two rows are looked
+            // at: past them the segment is mixed anyway)
+            let first = if back[0] == OWN && b - a > 1 {
+                back[1]
+            } else {
+                back[0]
+            };
             let d = Self::offset(first);
-            // (a fold, not `all`: without the early exit the comparison runs in vector lanes)
-            let uniform = d > 0
-                && self.back[a..b]
-                    .iter()
-                    .fold(true, |same, &m| same & (m == first));
-            f(a, b, uniform.then_some(d as usize));
+            // (folds, not `all`: without the early exit the comparisons run in vector lanes)
+            let kind = if d <= 0 || (d as usize) > a {
+                Segment::Mixed
+            } else if back.iter().fold(true, |same, &m| same & (m == first)) {
+                Segment::Difference(d as usize)
+            } else if back
+                .iter()
+                .fold(true, |same, &m| same & ((m == first) | (m == OWN)))
+            {
+                Segment::OwnOrDifference(d as usize)
+            } else {
+                Segment::Mixed
+            };
+            f(a, b, kind);
             a = b;
         }
     }
@@ -788,5 +838,57 @@ mod tests {
         // identity map = ErrorNorm::of
         let id = ErrorMap::default();
         assert_eq!(id.norm(&e, &w, ErrorNorm::Rms), ErrorNorm::Rms.of(&e, &w));
+    }
+
+    #[test]
+    fn interleaved_segments_are_the_per_row_weights_and_norms_bitwise() {
+        // a growing line's rows: g₁ own, x₁ anchored, then (gⱼ own, xⱼ − xⱼ₋₁) pairs, the last
+        // boundary an end row: whole and from every kind of start, the weights and the norms
+        // are the rows' own formulas (`weight`, `quantity`) bit for bit, on segments of the
+        // own-or-difference kind and mixed ones
+        let cells = 2 * SEG + 37;
+        let n = 2 * cells;
+        let mut rows = vec![(1, Row::Anchor { size: 1.0 })];
+        rows.extend((2..cells).map(|c| (2 * c - 1, Row::Difference { partner: 2 * c - 3 })));
+        let m = ErrorMap::from_listed_rows(n - 1, rows)
+            .unwrap()
+            .with_end(n - 3, 0.5)
+            .unwrap();
+        let n = n - 1;
+        let y: Vec<f64> = (0..n)
+            .map(|i| {
+                if i % 2 == 0 {
+                    1.0 + 0.3 * (i as f64).sin()
+                } else {
+                    i as f64 * 0.6
+                }
+            })
+            .collect();
+        let ea: Vec<f64> = (0..n)
+            .map(|i| 1e-8 * (1.0 + 0.1 * (i % 7) as f64))
+            .collect();
+        let v: Vec<f64> = (0..n).map(|i| 1e-6 * ((i as f64) * 0.77).cos()).collect();
+        let bits = |x: &[f64]| x.iter().map(|a| a.to_bits()).collect::<Vec<_>>();
+        for lo in [0, 1, 2, 3, SEG - 1, SEG, SEG + 1, n - 5] {
+            let mut w = vec![0.0; n - lo];
+            m.weights(&y, &ea, 1e-6, lo, &mut w);
+            let want: Vec<f64> = (lo..n).map(|i| m.weight(i, &y, ea[i], 1e-6)).collect();
+            assert_eq!(bits(&w), bits(&want), "lo = {lo}");
+            let mut wfull = vec![0.0; n];
+            m.weights(&y, &ea, 1e-6, 0, &mut wfull);
+            for norm in [ErrorNorm::Max, ErrorNorm::Rms] {
+                let got = m.norm_range(&v, &wfull, norm, lo, n);
+                let mut want = NormSum::default();
+                for (i, &wi) in wfull.iter().enumerate().skip(lo) {
+                    want.push(norm, m.quantity(i, &v) * wi);
+                }
+                m.for_each_end(lo, n, &wfull, |i, we| want.push(norm, v[i] * we));
+                assert_eq!(
+                    got.finish(norm, n).to_bits(),
+                    want.finish(norm, n).to_bits(),
+                    "lo = {lo} {norm:?}"
+                );
+            }
+        }
     }
 }

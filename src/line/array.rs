@@ -805,6 +805,7 @@ impl<E: StrainEnergy> Line<E> {
 }
 
 mod blocked;
+mod blocked_growing;
 mod cell_array;
 mod eval;
 mod jacobian;

@@ -24,16 +24,16 @@ use num_dual::DualNum;
 
 /// Cells per block: the block's stretches, stresses and widths stay in L1 between the two
 /// loops.
-const BLOCK: usize = 64;
+pub(super) const BLOCK: usize = 64;
 
 /// The line's uniform constants a block's cells are evaluated with.
 #[derive(Clone, Copy)]
-struct Uniform {
-    inv_l0: f64,
-    mu: f64,
-    eta: f64,
+pub(super) struct Uniform {
+    pub(super) inv_l0: f64,
+    pub(super) mu: f64,
+    pub(super) eta: f64,
     /// `γ₀ g₂` (a cell's width is this over its stretch).
-    w_scale: f64,
+    pub(super) w_scale: f64,
 }
 
 impl<E: StrainEnergy> Line<E> {
@@ -61,7 +61,7 @@ impl<E: StrainEnergy> Line<E> {
     /// Runs `block` with the line's law: the registry's [`crate::AnyEnergy`] picks its law
     /// once for the whole block ([`crate::AnyEnergy::visit`]), not at every cell.
     #[inline(always)]
-    fn with_law<V: LawVisitor>(&self, block: V) -> V::Output {
+    pub(super) fn with_law<V: LawVisitor>(&self, block: V) -> V::Output {
         match self.energy.as_any_energy() {
             Some(law) => law.visit(block),
             None => block.visit(&self.energy),
@@ -320,7 +320,7 @@ impl LawVisitor for DualBlock<'_, '_> {
 /// `sig`, `wid` (stress and width; entry 0 the cell before the block), whose shared boundary
 /// moves at `v[k]`. The same operations in the same order as `boundary_row`.
 #[inline(always)]
-fn face_rows(
+pub(super) fn face_rows(
     rows: &mut [f64],
     sig: &[f64],
     wid: &[f64],

@@ -133,6 +133,9 @@ impl<E: StrainEnergy> Line<E> {
             if let Some(res) = self.residual_blocked(t, yf, ypf, rf, off, first, last) {
                 return res;
             }
+            if let Some(res) = self.residual_blocked_growing(t, yf, ypf, rf, off, first, last) {
+                return res;
+            }
         }
         let ind = Indexed(&self.layout);
         match (self.contiguous(), self.uniform.extended) {
@@ -282,7 +285,7 @@ const GROWTH_BLOCK: usize = 64;
 /// Growth rows `ġ − G(σ)` waiting for their block's law call: each row's unknown and its
 /// cell's stress. The rows written are bitwise [`Line::growth_row`]'s (`GrowthLaw::values`
 /// is `value` per entry).
-struct GrowthRows {
+pub(super) struct GrowthRows {
     unknown: [usize; GROWTH_BLOCK],
     sigma: [f64; GROWTH_BLOCK],
     len: usize,
@@ -301,7 +304,7 @@ impl Default for GrowthRows {
 impl GrowthRows {
     /// Queues the row of unknown `k` at stress `sigma`; `true` when the block is full.
     #[inline(always)]
-    fn push(&mut self, k: usize, sigma: f64) -> bool {
+    pub(super) fn push(&mut self, k: usize, sigma: f64) -> bool {
         self.unknown[self.len] = k;
         self.sigma[self.len] = sigma;
         self.len += 1;
@@ -310,7 +313,13 @@ impl GrowthRows {
 
     /// Writes the queued rows into `r` (row `k` at `r[k − off]`) and empties the queue.
     #[inline(never)]
-    fn flush<S: Scalar>(&mut self, law: &dyn GrowthLaw, yp: &[S], r: &mut [S], off: usize) {
+    pub(super) fn flush<S: Scalar>(
+        &mut self,
+        law: &dyn GrowthLaw,
+        yp: &[S],
+        r: &mut [S],
+        off: usize,
+    ) {
         let mut g = [0.0; GROWTH_BLOCK];
         let g = &mut g[..self.len];
         law.values(&self.sigma[..self.len], g);
