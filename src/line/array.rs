@@ -20,7 +20,8 @@
 //! Here: the line's data ([`Cells`], [`Layout`], [`Line`]), its accessors, field edits, layout
 //! and initial state. Submodules: `eval` (one cell's state, [`CellEval`]), `residual` (the
 //! rows), `jacobian` (the streaming iteration matrix), `blocked` (both in vectorised blocks for
-//! the thesis's line), `cell_array` (the [`CellArray`] interface the integrators see).
+//! the thesis's line), `blocked_growing` (the residual of a growing, dividing line in such
+//! blocks), `cell_array` (the [`CellArray`] interface the integrators see).
 
 use crate::array::CellArray;
 use crate::boundary::RightEnd;
