@@ -200,13 +200,30 @@ struct Stretches<'a> {
     uniform: Uniform,
 }
 
-impl Stretches<'_> {
+/// A block's cells as [`Block`] evaluates them: the line's `η` and each cell's stress and
+/// width by [`Line::eval_core`]'s expressions (`VISCOUS`: `η ≠ 0`), with whether every cell
+/// is in the model's domain.
+pub(super) trait BlockCells {
+    /// The line's uniform `η`.
+    fn eta(&self) -> f64;
+    /// Each cell's stress and width into `sig`, `wid`; whether every cell is in the domain.
+    fn stresses<E: StrainEnergy, const VISCOUS: bool>(
+        &self,
+        energy: &E,
+        sig: &mut [f64],
+        wid: &mut [f64],
+    ) -> bool;
+}
+
+impl BlockCells for Stretches<'_> {
+    fn eta(&self) -> f64 {
+        self.uniform.eta
+    }
     /// Each cell's stress and width into `sig`, `wid` by [`Line::eval_core`]'s expressions in
     /// its order (`VISCOUS`: `η ≠ 0`); whether every stretch is in the model's domain
     /// (positive, finite and admissible for `energy`), tested by comparisons only (`a < ∞`
     /// rather than `is_finite`'s bit test), so that the loop stays in vector lanes.
     #[inline(always)]
-    #[allow(clippy::needless_range_loop)]
     fn stresses<E: StrainEnergy, const VISCOUS: bool>(
         &self,
         energy: &E,
@@ -244,23 +261,23 @@ impl Stretches<'_> {
     }
 }
 
-/// One block's stresses and widths ([`Stretches::stresses`]) as a computation over the
+/// One block's stresses and widths ([`BlockCells::stresses`]) as a computation over the
 /// concrete law, so that the registry's [`crate::AnyEnergy`] dispatches once per block and its
 /// law's response inlines into the vectorised loop.
-struct Block<'a, 'b> {
-    cells: Stretches<'b>,
-    sig: &'a mut [f64],
-    wid: &'a mut [f64],
+pub(super) struct Block<'a, C> {
+    pub(super) cells: C,
+    pub(super) sig: &'a mut [f64],
+    pub(super) wid: &'a mut [f64],
 }
 
-impl LawVisitor for Block<'_, '_> {
-    /// Whether every stretch is in the model's domain.
+impl<C: BlockCells> LawVisitor for Block<'_, C> {
+    /// Whether every cell is in the model's domain.
     type Output = bool;
     #[inline(always)]
     fn visit<L: StrainEnergy>(self, law: &L) -> bool {
         let Block { cells, sig, wid } = self;
         // the viscous term's test taken out of the loop, which then has no branch
-        if cells.uniform.eta != 0.0 {
+        if cells.eta() != 0.0 {
             cells.stresses::<L, true>(law, sig, wid)
         } else {
             cells.stresses::<L, false>(law, sig, wid)

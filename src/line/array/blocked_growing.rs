@@ -13,10 +13,9 @@
 //! Written by hand for the reason [`super::blocked`] is: the general sweep's cell-by-cell
 //! `Result` keeps it scalar, and a dividing line spends most of its time in residuals.
 
-use super::blocked::{face_rows, Uniform, BLOCK};
+use super::blocked::{face_rows, Block, BlockCells, Uniform, BLOCK};
 use super::residual::GrowthRows;
 use super::*;
-use crate::energy::LawVisitor;
 
 impl<E: StrainEnergy> Line<E> {
     /// The rows of [`Line::residual_cells`] for `f64` state of a growing line in the setting
@@ -101,7 +100,7 @@ impl<E: StrainEnergy> Line<E> {
             let len = end - c;
             cells.gather(y, yp, (&self.cells.l0, inv_l0), c, len, uniform);
             (sig[0], wid[0]) = (p.sigma, p.w);
-            let ok = self.with_law(GrowingBlock {
+            let ok = self.with_law(Block {
                 cells: &cells,
                 sig: &mut sig[1..=len],
                 wid: &mut wid[1..=len],
@@ -185,44 +184,10 @@ impl Default for GrowingCells {
     }
 }
 
-impl GrowingCells {
-    /// Cells `c..c + len` (`c ≥ 2`, both boundaries of each an unknown): boundary `j` at
-    /// `2j − 1`, the growth stretch of cell `i + 1` at `2i`; `1/L₀` the line's uniform one
-    /// or each cell's `1/L₀` from the reference lengths `l0`.
-    #[inline(always)]
-    fn gather(
-        &mut self,
-        y: &[f64],
-        yp: &[f64],
-        (l0, inv_l0): (&[f64], Option<f64>),
-        c: usize,
-        len: usize,
-        uniform: Uniform,
-    ) {
-        match inv_l0 {
-            Some(v) => self.inv_l0[..len].fill(v),
-            None => {
-                for (o, &l) in self.inv_l0[..len].iter_mut().zip(&l0[c - 1..c - 1 + len]) {
-                    *o = 1.0 / l;
-                }
-            }
-        }
-        // cell c + k: left boundary 2(c + k) − 3, growth stretch 2(c + k) − 2, right 2(c + k) − 1
-        let b0 = 2 * c - 3;
-        let (ys, yps) = (&y[b0..b0 + 2 * len + 1], &yp[b0..b0 + 2 * len + 1]);
-        for k in 0..len {
-            let i = 2 * k;
-            self.xl[k] = ys[i];
-            self.g[k] = ys[i + 1];
-            self.xr[k] = ys[i + 2];
-            self.vl[k] = yps[i];
-            self.gd[k] = yps[i + 1];
-            self.vr[k] = yps[i + 2];
-        }
-        self.len = len;
-        self.uniform = uniform;
+impl BlockCells for &GrowingCells {
+    fn eta(&self) -> f64 {
+        self.uniform.eta
     }
-
     /// Each cell's stress and width into `sig`, `wid` by [`Line::eval_core`]'s expressions
     /// with growth, in its order (`VISCOUS`: `η ≠ 0`); whether every cell is in the model's
     /// domain (positive, finite elastic stretch admissible for `energy`, positive growth
@@ -263,26 +228,42 @@ impl GrowingCells {
     }
 }
 
-/// One block's stresses and widths ([`GrowingCells::stresses`]) over the concrete law, so
-/// that the registry's [`crate::AnyEnergy`] dispatches once per block.
-struct GrowingBlock<'a, 'b> {
-    cells: &'b GrowingCells,
-    sig: &'a mut [f64],
-    wid: &'a mut [f64],
-}
-
-impl LawVisitor for GrowingBlock<'_, '_> {
-    /// Whether every cell is in the model's domain.
-    type Output = bool;
+impl GrowingCells {
+    /// Cells `c..c + len` (`c ≥ 2`, both boundaries of each an unknown): boundary `j` at
+    /// `2j − 1`, the growth stretch of cell `i + 1` at `2i`; `1/L₀` the line's uniform one
+    /// or each cell's `1/L₀` from the reference lengths `l0`.
     #[inline(always)]
-    fn visit<L: StrainEnergy>(self, law: &L) -> bool {
-        let GrowingBlock { cells, sig, wid } = self;
-        // the viscous term's test taken out of the loop, which then has no branch
-        if cells.uniform.eta != 0.0 {
-            cells.stresses::<L, true>(law, sig, wid)
-        } else {
-            cells.stresses::<L, false>(law, sig, wid)
+    fn gather(
+        &mut self,
+        y: &[f64],
+        yp: &[f64],
+        (l0, inv_l0): (&[f64], Option<f64>),
+        c: usize,
+        len: usize,
+        uniform: Uniform,
+    ) {
+        match inv_l0 {
+            Some(v) => self.inv_l0[..len].fill(v),
+            None => {
+                for (o, &l) in self.inv_l0[..len].iter_mut().zip(&l0[c - 1..c - 1 + len]) {
+                    *o = 1.0 / l;
+                }
+            }
         }
+        // cell c + k: left boundary 2(c + k) − 3, growth stretch 2(c + k) − 2, right 2(c + k) − 1
+        let b0 = 2 * c - 3;
+        let (ys, yps) = (&y[b0..b0 + 2 * len + 1], &yp[b0..b0 + 2 * len + 1]);
+        for k in 0..len {
+            let i = 2 * k;
+            self.xl[k] = ys[i];
+            self.g[k] = ys[i + 1];
+            self.xr[k] = ys[i + 2];
+            self.vl[k] = yps[i];
+            self.gd[k] = yps[i + 1];
+            self.vr[k] = yps[i + 2];
+        }
+        self.len = len;
+        self.uniform = uniform;
     }
 }
 
