@@ -68,6 +68,23 @@ impl<E: StrainEnergy> Line<E> {
         }
     }
 
+    /// Cell `c` by the general `f64` expression, its layout read through `lk` (the cells of a
+    /// blocked sweep that are not in a block: next to an end that is not an unknown, and the
+    /// cell before a sweep's first block).
+    #[inline]
+    pub(super) fn general_cell<L: Lookup>(
+        &self,
+        lk: L,
+        c: usize,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+    ) -> Result<CellEval<f64>, ResidualError> {
+        let left = self.boundary_in(lk, c - 1, t, y, yp);
+        self.eval_cell_in::<f64, L, false>(lk, c, t, y, yp, left)
+            .map(|(e, _)| e)
+    }
+
     /// The rows of [`Line::residual_cells`] for `f64` state, in blocks (module docs), or
     /// `None` when the blocked sweep does not apply or a block meets a cell outside the
     /// model's domain (the caller then runs the general sweep, which names that cell).
@@ -85,12 +102,7 @@ impl<E: StrainEnergy> Line<E> {
         let uniform = self.blocked_constants()?;
         let lk = self.contiguous()?;
         let n = self.n_cells();
-        // one cell by the general expression (the cells next to an end that is not an unknown)
-        let general = |c: usize| -> Result<CellEval<f64>, ResidualError> {
-            let left = self.boundary_in(lk, c - 1, t, y, yp);
-            self.eval_cell_in::<f64, Contiguous, false>(lk, c, t, y, yp, left)
-                .map(|(e, _)| e)
-        };
+        let general = |c: usize| self.general_cell(lk, c, t, y, yp);
         let mut prev = if first == 1 {
             None
         } else {
@@ -105,11 +117,7 @@ impl<E: StrainEnergy> Line<E> {
         let mut c = first;
         while c <= last {
             // cells whose two boundaries are unknowns c − 2 and c − 1
-            let end = if c >= 2 && c <= lk.last {
-                (c + BLOCK).min(last + 1).min(lk.last + 1)
-            } else {
-                c
-            };
+            let end = block_end(c, last, lk.last);
             if end == c {
                 let cur = match general(c) {
                     Ok(e) => e,
@@ -128,17 +136,11 @@ impl<E: StrainEnergy> Line<E> {
             // a block starts at cell 2 or later, so its previous cell has been evaluated
             let p = prev.expect("the cell before a block is evaluated");
             let len = end - c;
-            let (xl, xr) = (&y[c - 2..end - 2], &y[c - 1..end - 1]);
-            let (vl, vr) = (&yp[c - 2..end - 2], &yp[c - 1..end - 1]);
+            let cells = Stretches::of(y, yp, c, end, uniform);
+            let (vl, vr) = (cells.vl, cells.vr);
             (sig[0], wid[0]) = (p.sigma, p.w);
             let ok = self.with_law(Block {
-                cells: Stretches {
-                    xl,
-                    xr,
-                    vl,
-                    vr,
-                    uniform,
-                },
+                cells,
                 sig: &mut sig[1..=len],
                 wid: &mut wid[1..=len],
             });
@@ -147,18 +149,7 @@ impl<E: StrainEnergy> Line<E> {
             }
             // boundary c + k − 1 (unknown c + k − 2) between cells c + k − 1 and c + k; the
             // velocity of the left cell's right boundary is the right cell's left one
-            let cell = |k: usize, vr: f64| CellEval {
-                lam: 0.0,
-                alpha: 0.0,
-                alpha_dot: 0.0,
-                sigma_el: 0.0,
-                sigma: sig[k],
-                w: wid[k],
-                kappa: 1.0,
-                vl: 0.0,
-                vr,
-                g: 1.0,
-            };
+            let cell = |k: usize, vr: f64| block_cell(sig[k], wid[k], vr);
             let rows = &mut r[c - 2 - off..end - 2 - off];
             match (self.width, self.uniform.k_face) {
                 // Line::boundary_row with κ = 1, uniform K and the width rule fixed, so that
@@ -213,6 +204,51 @@ pub(super) trait BlockCells {
         sig: &mut [f64],
         wid: &mut [f64],
     ) -> bool;
+}
+
+impl<'a> Stretches<'a> {
+    /// Cells `c..end` of a line whose boundary `j` is unknown `j − 1` (`c ≥ 2`, every cell's
+    /// right boundary an unknown).
+    #[inline(always)]
+    fn of(y: &'a [f64], yp: &'a [f64], c: usize, end: usize, uniform: Uniform) -> Self {
+        Self {
+            xl: &y[c - 2..end - 2],
+            xr: &y[c - 1..end - 1],
+            vl: &yp[c - 2..end - 2],
+            vr: &yp[c - 1..end - 1],
+            uniform,
+        }
+    }
+}
+
+/// The end (exclusive) of the block of cells from `c` in a sweep up to cell `last`: the cells
+/// whose both boundaries are unknowns (`2 ≤ c`, right boundary `≤ unknown_last`), at most
+/// [`BLOCK`] of them; `c` itself when cell `c` is not such a cell (it is then evaluated alone).
+#[inline(always)]
+pub(super) fn block_end(c: usize, last: usize, unknown_last: usize) -> usize {
+    if c >= 2 && c <= unknown_last {
+        (c + BLOCK).min(last + 1).min(unknown_last + 1)
+    } else {
+        c
+    }
+}
+
+/// The last cell of a block as the next row needs it: stress, width, the velocity of its
+/// right boundary and `κ = 1`; the other fields are not read by the boundary and end rows.
+#[inline(always)]
+pub(super) fn block_cell(sigma: f64, w: f64, vr: f64) -> CellEval<f64> {
+    CellEval {
+        lam: 0.0,
+        alpha: 0.0,
+        alpha_dot: 0.0,
+        sigma_el: 0.0,
+        sigma,
+        w,
+        kappa: 1.0,
+        vl: 0.0,
+        vr,
+        g: 1.0,
+    }
 }
 
 impl BlockCells for Stretches<'_> {
@@ -446,16 +482,10 @@ impl<E: StrainEnergy> Line<E> {
             }
             let stop = (c + BLOCK).min(last_cell + 1).min(lk.last + 1);
             let len = stop - c;
-            let (xl, xr) = (&y[c - 2..stop - 2], &y[c - 1..stop - 1]);
-            let (vl, vr) = (&yp[c - 2..stop - 2], &yp[c - 1..stop - 1]);
+            let cells = Stretches::of(y, yp, c, stop, uniform);
+            let (vl, vr) = (cells.vl, cells.vr);
             let ok = self.with_law(DualBlock {
-                cells: Stretches {
-                    xl,
-                    xr,
-                    vl,
-                    vr,
-                    uniform,
-                },
+                cells,
                 cj,
                 sig: &mut sig[..len],
                 wid: &mut wid[..len],

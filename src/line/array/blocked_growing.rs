@@ -13,7 +13,7 @@
 //! Written by hand for the reason [`super::blocked`] is: the general sweep's cell-by-cell
 //! `Result` keeps it scalar, and a dividing line spends most of its time in residuals.
 
-use super::blocked::{face_rows, Block, BlockCells, Uniform, BLOCK};
+use super::blocked::{block_cell, block_end, face_rows, Block, BlockCells, Uniform, BLOCK};
 use super::residual::GrowthRows;
 use super::*;
 
@@ -50,11 +50,7 @@ impl<E: StrainEnergy> Line<E> {
             w_scale: self.gamma0 * self.g2,
         };
         let n = self.n_cells();
-        let general = |c: usize| -> Result<CellEval<f64>, ResidualError> {
-            let left = self.boundary_in(lk, c - 1, t, y, yp);
-            self.eval_cell_in::<f64, Interleaved, false>(lk, c, t, y, yp, left)
-                .map(|(e, _)| e)
-        };
+        let general = |c: usize| self.general_cell(lk, c, t, y, yp);
         let mut prev = if first == 1 {
             None
         } else {
@@ -72,11 +68,7 @@ impl<E: StrainEnergy> Line<E> {
         let mut c = first;
         while c <= last {
             // cells whose two boundaries are unknowns (2c − 3 and 2c − 1)
-            let end = if c >= 2 && c <= lk.last {
-                (c + BLOCK).min(last + 1).min(lk.last + 1)
-            } else {
-                c
-            };
+            let end = block_end(c, last, lk.last);
             if end == c {
                 let cur = match general(c) {
                     Ok(e) => e,
@@ -125,18 +117,7 @@ impl<E: StrainEnergy> Line<E> {
                     pending.flush(law, yp, r, off);
                 }
             }
-            prev = Some(CellEval {
-                lam: 0.0,
-                alpha: 0.0,
-                alpha_dot: 0.0,
-                sigma_el: 0.0,
-                sigma: sig[len],
-                w: wid[len],
-                kappa: 1.0,
-                vl: 0.0,
-                vr: cells.vr[len - 1],
-                g: 1.0,
-            });
+            prev = Some(block_cell(sig[len], wid[len], cells.vr[len - 1]));
             c = end;
         }
         pending.flush(law, yp, r, off);
