@@ -1,6 +1,7 @@
 //! Proliferation cost (issue 4): a growing line with division from N₀ = 100 to ≥ 10⁴ cells
 //! (divisions per second, steps per division; each division is an O(N) split plus a resized
-//! restart), and growth with η > 0 against η = 0 at N = 10⁵ (target ≤ 3×).
+//! restart), with η = 0 and η = 1, and growth without division with η > 0 against η = 0 at
+//! N = 10⁵ (target ≤ 3×).
 //!
 //! `cargo bench --bench proliferation` prints the one-shot report (`REPORT …` lines; append
 //! `-- --list` for the report alone) and then runs the criterion groups. `PROLIF_REPORT=0`
@@ -11,6 +12,7 @@
 //! resize with BDF's step-doubled first step (`Dividing::carry_history = false`),
 //! `PROLIF_BATCH` brings the report's divisions due within that time forward to each event
 //! (`Dividing::batch_within`, default 0),
+//! `PROLIF_ETA` gives the report's dividing cells Kelvin–Voigt viscosity η (default 0),
 //! `PROLIF_GROWTH_N` the size of the η comparison (default 1e5; 0 skips it),
 //! `PROLIF_LARGE=0` skips the criterion groups to 10⁴ cells, `PROLIF_RTOL` tightens the
 //! tolerance of the report's runs (atol = rtol/100; default 1e-6 and 1e-8) to measure the
@@ -45,15 +47,16 @@ fn params(n: usize, k: f64, eta: f64) -> LineParams {
 }
 
 /// Proliferating run: K, t_end, cap on N, smooth restart, window within which divisions are
-/// brought forward → (cells, divisions, trajectory).
+/// brought forward, the cells' viscosity η → (cells, divisions, trajectory).
 fn proliferate(
     k: f64,
     t_end: f64,
     cap: Option<usize>,
     smooth: bool,
     within: f64,
+    eta: f64,
 ) -> (usize, usize, Trajectory) {
-    let line = discrete(NeoHookean::new(1.0).unwrap(), &params(100, k, 0.0)).unwrap();
+    let line = discrete(NeoHookean::new(1.0).unwrap(), &params(100, k, eta)).unwrap();
     let mut div = Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap();
     div.max_cells = cap;
     div.smooth_restart = smooth;
@@ -140,11 +143,12 @@ fn report() {
     let smooth = std::env::var("PROLIF_SMOOTH").as_deref() != Ok("0");
     let start = Instant::now();
     let within = env("PROLIF_BATCH", 0.0);
-    let (cells, divs, traj) = proliferate(k, t_end, cap, smooth, within);
+    let eta = env("PROLIF_ETA", 0.0);
+    let (cells, divs, traj) = proliferate(k, t_end, cap, smooth, within, eta);
     let wall = start.elapsed().as_secs_f64();
     let s = traj.stats;
     println!(
-        "REPORT proliferation K={k:e} t=[0,{t_end}] cap={cap:?} smooth_restart={smooth} batch_within={within}: N 100 -> {cells}, {divs} divisions in {} events, {wall:.2} s, {:.0} divisions/s, {} steps ({:.2} steps/division), {} rejected ({:.3}/division; {} error-test, {} Newton), {} Jacobian pairs ({:.3}/division; {} mapped across divisions), {} factorizations, {} Newton iterations ({:.2}/division), {} residual calls, {} linear solves, l = {:.10}",
+        "REPORT proliferation K={k:e} t=[0,{t_end}] cap={cap:?} smooth_restart={smooth} batch_within={within} eta={eta}: N 100 -> {cells}, {divs} divisions in {} events, {wall:.2} s, {:.0} divisions/s, {} steps ({:.2} steps/division), {} rejected ({:.3}/division; {} error-test, {} Newton), {} Jacobian pairs ({:.3}/division; {} mapped across divisions), {} factorizations, {} Newton iterations ({:.2}/division), {} residual calls, {} linear solves, l = {:.10}",
         s.events,
         divs as f64 / wall,
         s.steps,
@@ -195,7 +199,7 @@ fn benches(c: &mut Criterion) {
     let mut g = c.benchmark_group("proliferation");
     g.sample_size(10);
     g.bench_function("divide_100_to_400_K1e-8", |b| {
-        b.iter(|| proliferate(1e-8, 6.5, None, true, 0.0))
+        b.iter(|| proliferate(1e-8, 6.5, None, true, 0.0, 0.0))
     });
     // the issue-4 target: N₀ = 100 to 10⁴ cells at K = 1e-8 (capped there, reached during the
     // division wave after t ≈ 14; the rest of [0, 17] runs without divisions). Several
@@ -203,7 +207,7 @@ fn benches(c: &mut Criterion) {
     if std::env::var("PROLIF_LARGE").as_deref() != Ok("0") {
         g.bench_function("divide_100_to_1e4_K1e-8", |b| {
             b.iter(|| {
-                let (cells, _, traj) = proliferate(1e-8, 17.0, Some(10_000), true, 0.0);
+                let (cells, _, traj) = proliferate(1e-8, 17.0, Some(10_000), true, 0.0, 0.0);
                 assert!(traj.error.is_none() && cells == 10_000);
             })
         });
@@ -211,7 +215,14 @@ fn benches(c: &mut Criterion) {
         // within 7.5e-5 relative of the exact-time run's; tests/proliferation_batched_divisions.rs)
         g.bench_function("divide_100_to_1e4_K1e-8_within_1e-3", |b| {
             b.iter(|| {
-                let (cells, _, traj) = proliferate(1e-8, 17.0, Some(10_000), true, 1e-3);
+                let (cells, _, traj) = proliferate(1e-8, 17.0, Some(10_000), true, 1e-3, 0.0);
+                assert!(traj.error.is_none() && cells == 10_000);
+            })
+        });
+        // the first with Kelvin–Voigt cells, η = 1 (the issue's bound: within 3× of η = 0)
+        g.bench_function("divide_100_to_1e4_K1e-8_eta1", |b| {
+            b.iter(|| {
+                let (cells, _, traj) = proliferate(1e-8, 17.0, Some(10_000), true, 0.0, 1.0);
                 assert!(traj.error.is_none() && cells == 10_000);
             })
         });

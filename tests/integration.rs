@@ -12,6 +12,7 @@ mod cli_run;
 mod division_jacobian_map;
 mod division_restart;
 mod division_thesis;
+mod division_viscous_cells;
 mod docs_snippets_parse;
 mod energy_checks;
 mod energy_closed_forms;

@@ -53,9 +53,18 @@ pub fn fig3_3_line(k: f64) -> celltissue::line::build::LineParams {
 /// end, drag `k`, η = 0, the tanh growth law (σ₀ = 0.1), the area rule, seed 0, the line's
 /// default atol.
 pub fn area_dividing_line(k: f64) -> celltissue::events::Dividing<celltissue::NeoHookean> {
+    viscous_area_dividing_line(k, 0.0)
+}
+
+/// [`area_dividing_line`] with Kelvin–Voigt cells of viscosity `eta`.
+pub fn viscous_area_dividing_line(
+    k: f64,
+    eta: f64,
+) -> celltissue::events::Dividing<celltissue::NeoHookean> {
     let mut p = celltissue::line::build::LineParams::unit_cells(100);
     p.right = celltissue::boundary::RightEnd::Free(None);
     p.k = k.into();
+    p.eta = eta.into();
     p.growth = Some(std::sync::Arc::new(celltissue::cell::TanhGrowth::default()));
     let energy = celltissue::NeoHookean::new(1.0).expect("μ > 0");
     let line = celltissue::line::build::discrete(energy, &p).expect("valid line");
