@@ -113,8 +113,8 @@ fn viscous_divisions_cost_about_what_inviscid_ones_do() {
         assert!(10 * viscous.jacobians <= viscous.divisions, "K = {k}");
         // accuracy, against the consistent restart (no carried rates or matrices) at rtol 1e-10:
         // the same divisions, and the length within the contract's 10·rtol (measured 5.3e-6 at
-        // K = 1e-5, 1.7e-7 at K = 1e-8; the consistent restart at rtol 1e-6 errs by 5.9e-6 and
-        // 1.0e-7, and the inviscid line by 6.0e-7 and 4.9e-9 against its rtol 1e-9 run)
+        // K = 1e-5, 1.7e-7 at K = 1e-8; the consistent restart at rtol 1e-6 errs by 5.8e-6 and
+        // 9.7e-8, and the inviscid line by 6.0e-7 and 4.9e-9 against its rtol 1e-9 run)
         let reference = run(k, 1.0, t_end, false, 1e-10);
         assert_eq!(viscous.divisions, reference.divisions, "K = {k}");
         let err = (viscous.length / reference.length - 1.0).abs();
