@@ -233,6 +233,17 @@ pub fn static_equilibrium<E: StrainEnergy>(
     line: &Line<E>,
     l: f64,
 ) -> Result<StaticSolution, LineError> {
+    static_equilibrium_from(line, l, None)
+}
+
+/// [`static_equilibrium`] started from `near`, the same line's equilibrium at a nearby length
+/// (its stress and stretches; ignored unless it has one stretch per cell): the overlays of a
+/// run solve one equilibrium per output time.
+pub(crate) fn static_equilibrium_from<E: StrainEnergy>(
+    line: &Line<E>,
+    l: f64,
+    near: Option<&StaticSolution>,
+) -> Result<StaticSolution, LineError> {
     if !(l > 0.0 && l.is_finite()) {
         return Err(LineError::invalid("length", l, "finite and > 0"));
     }
@@ -248,8 +259,21 @@ pub fn static_equilibrium<E: StrainEnergy>(
             _ => runs.push((mu, l0)),
         }
     }
-    // each run's stretch at the last iterate: the next inversion starts from it
-    let mut lam = vec![1.0; runs.len()];
+    // each run's stretch at the last iterate: the next inversion starts from it (the first
+    // from `near`'s, taken at each run's first cell)
+    let near = near.filter(|s| s.lambda.len() == n && s.stress.is_finite());
+    let mut lam = match near {
+        Some(s) => {
+            let mut v = Vec::with_capacity(runs.len());
+            for (i, &mu) in c.mu.iter().enumerate() {
+                if i == 0 || mu.to_bits() != c.mu[i - 1].to_bits() {
+                    v.push(s.lambda[i]);
+                }
+            }
+            v
+        }
+        None => vec![1.0; runs.len()],
+    };
     // Σ L₀λ(S) − l and its slope Σ L₀/(μσ′(λ)), from the stretches at the last iterate
     let excess = |s: f64, lam: &mut [f64]| -> Result<(f64, f64), LineError> {
         let (mut sum, mut slope) = (0.0, 0.0);
@@ -268,7 +292,7 @@ pub fn static_equilibrium<E: StrainEnergy>(
     // 10⁶ cells 2.9 s against 0.23 s; `examples/static_equilibrium_large.rs`, pinned in
     // `the_static_equilibrium_costs_a_few_law_evaluations_per_cell`)
     let (mut a, mut b) = (f64::NEG_INFINITY, f64::INFINITY);
-    let mut s = 0.0;
+    let mut s = near.map_or(0.0, |s| s.stress);
     let mut converged = false;
     for _ in 0..MAX_STRESS_ITERS {
         let (e, slope) = excess(s, &mut lam)?;
