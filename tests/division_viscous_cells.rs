@@ -7,9 +7,9 @@
 //! iterations (the tanh law saturates), and every division cost about twenty steps and one and
 //! a half Newton failures. The counters are deterministic and pinned.
 
-use crate::common::viscous_area_dividing_line;
-use celltissue::line::run::{integrate, SolveSettings};
-use celltissue::{ArrayProblem, CellArray};
+use crate::common::{division_cost, viscous_area_dividing_line, DivisionCost};
+use celltissue::line::run::SolveSettings;
+use celltissue::CellArray;
 use integrators::EventAction;
 
 #[test]
@@ -43,35 +43,15 @@ fn the_carried_rates_keep_each_daughters_stress() {
     }
 }
 
-struct Cost {
-    divisions: usize,
-    steps: usize,
-    rejected: usize,
-    newton_failures: usize,
-    jacobians: usize,
-    length: f64,
-}
-
-fn run(k: f64, eta: f64, t_end: f64, carry: bool, rtol: f64) -> Cost {
+fn run(k: f64, eta: f64, t_end: f64, carry: bool, rtol: f64) -> DivisionCost {
     let mut div = viscous_area_dividing_line(k, eta);
     div.carry_history = carry;
-    let mut prob = ArrayProblem::new(div);
     let settings = SolveSettings {
         rtol,
         atol: rtol / 100.0,
         ..Default::default()
     };
-    let traj = integrate(&mut prob, &settings, &[0.0, t_end]);
-    assert!(traj.error.is_none(), "{:?}", traj.error);
-    let s = traj.stats;
-    let c = Cost {
-        divisions: prob.array.log.len(),
-        steps: s.steps,
-        rejected: s.rejected_steps,
-        newton_failures: s.newton_failures,
-        jacobians: s.jacobian_evals / 2,
-        length: traj.snapshots.last().unwrap().length(),
-    };
+    let c = division_cost(div, &settings, t_end);
     println!(
         "K = {k:e}, η = {eta}, t ≤ {t_end}, carry = {carry}, rtol {rtol:e}: {} divisions, {} \
          steps, {} rejected, {} Newton failures, {} Jacobians, l = {}",

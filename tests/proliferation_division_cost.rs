@@ -13,18 +13,8 @@
 //! and pinned; "Jacobians" below are evaluations of the pair `∂F/∂y`, `∂F/∂ẏ`
 //! (`Stats::jacobian_evals` counts each half).
 
-use crate::common::area_dividing_line;
-use celltissue::line::run::{integrate, SolveSettings};
-use celltissue::ArrayProblem;
-
-struct Cost {
-    divisions: usize,
-    steps: usize,
-    rejected: usize,
-    jacobians: usize,
-    times: Vec<f64>,
-    length: f64,
-}
+use crate::common::{area_dividing_line, division_cost, DivisionCost as Cost};
+use celltissue::line::run::SolveSettings;
 
 fn run(k: f64, t_end: f64, carry: bool) -> Cost {
     run_at(k, t_end, carry, &SolveSettings::default())
@@ -33,18 +23,7 @@ fn run(k: f64, t_end: f64, carry: bool) -> Cost {
 fn run_at(k: f64, t_end: f64, carry: bool, settings: &SolveSettings) -> Cost {
     let mut div = area_dividing_line(k);
     div.carry_history = carry;
-    let mut prob = ArrayProblem::new(div);
-    let traj = integrate(&mut prob, settings, &[0.0, t_end]);
-    assert!(traj.error.is_none(), "{:?}", traj.error);
-    let s = traj.stats;
-    let c = Cost {
-        divisions: prob.array.log.len(),
-        steps: s.steps,
-        rejected: s.rejected_steps,
-        jacobians: s.jacobian_evals / 2,
-        times: prob.array.log.records.iter().map(|r| r.t).collect(),
-        length: traj.snapshots.last().unwrap().length(),
-    };
+    let c = division_cost(div, settings, t_end);
     let d = c.divisions as f64;
     println!(
         "K = {k:e}, t ≤ {t_end}, carry = {carry}: {} divisions, {} steps ({:.2}/division), \

@@ -71,3 +71,38 @@ pub fn viscous_area_dividing_line(
     let rule = Box::new(celltissue::events::AreaDoubling::default());
     celltissue::events::Dividing::new(line, rule, 0).expect("a growing line divides")
 }
+
+/// What a dividing run cost and where it ended (counters from `Stats`; "Jacobians" are
+/// evaluations of the pair `∂F/∂y`, `∂F/∂ẏ`).
+pub struct DivisionCost {
+    pub divisions: usize,
+    pub steps: usize,
+    pub rejected: usize,
+    pub newton_failures: usize,
+    pub jacobians: usize,
+    /// Each division's time, in the order the log holds them.
+    pub times: Vec<f64>,
+    /// The line's final length.
+    pub length: f64,
+}
+
+/// Runs `div` over `[0, t_end]` with `settings` (the run must succeed) and reports its cost.
+pub fn division_cost(
+    div: celltissue::events::Dividing<celltissue::NeoHookean>,
+    settings: &celltissue::line::run::SolveSettings,
+    t_end: f64,
+) -> DivisionCost {
+    let mut prob = celltissue::ArrayProblem::new(div);
+    let traj = celltissue::line::run::integrate(&mut prob, settings, &[0.0, t_end]);
+    assert!(traj.error.is_none(), "{:?}", traj.error);
+    let s = traj.stats;
+    DivisionCost {
+        divisions: prob.array.log.len(),
+        steps: s.steps,
+        rejected: s.rejected_steps,
+        newton_failures: s.newton_failures,
+        jacobians: s.jacobian_evals / 2,
+        times: prob.array.log.records.iter().map(|r| r.t).collect(),
+        length: traj.snapshots.last().expect("a snapshot").length(),
+    }
+}
