@@ -13,7 +13,7 @@
 use super::array::Line;
 use super::LineError;
 use crate::array::CellArray;
-use crate::energy::StrainEnergy;
+use crate::energy::{LawVisitor, StrainEnergy};
 use integrators::{Pattern, ResidualError};
 use num_dual::Dual64;
 
@@ -163,6 +163,31 @@ fn invert_stretch_near<E: StrainEnergy>(
     Ok((l, scale * energy.line(l).dsigma))
 }
 
+/// One sweep of [`static_equilibrium`]'s stress solve at stress `s`: each run of equal `μ`
+/// `(μ, Σ L₀)` inverted from its stretch in `lam` (updated), giving `Σ L₀λ(s) − l` and its
+/// slope `Σ L₀/(μσ′(λ))`.
+struct Excess<'a> {
+    runs: &'a [(f64, f64)],
+    lam: &'a mut [f64],
+    s: f64,
+    l: f64,
+}
+
+impl LawVisitor for Excess<'_> {
+    type Output = Result<(f64, f64), LineError>;
+
+    fn visit<E: StrainEnergy>(self, law: &E) -> Self::Output {
+        let (mut sum, mut slope) = (0.0, 0.0);
+        for (&(mu, l0), guess) in self.runs.iter().zip(self.lam.iter_mut()) {
+            let (x, d) = invert_stretch_near(law, mu, self.s, *guess)?;
+            *guess = x;
+            sum += x * l0;
+            slope += l0 / d;
+        }
+        Ok((sum - self.l, slope))
+    }
+}
+
 /// A static equilibrium.
 ///
 /// ```
@@ -275,15 +300,14 @@ pub(crate) fn static_equilibrium_from<E: StrainEnergy>(
         None => vec![1.0; runs.len()],
     };
     // Σ L₀λ(S) − l and its slope Σ L₀/(μσ′(λ)), from the stretches at the last iterate
-    let excess = |s: f64, lam: &mut [f64]| -> Result<(f64, f64), LineError> {
-        let (mut sum, mut slope) = (0.0, 0.0);
-        for (&(mu, l0), guess) in runs.iter().zip(lam.iter_mut()) {
-            let (x, d) = invert_stretch_near(&line.energy, mu, s, *guess)?;
-            *guess = x;
-            sum += x * l0;
-            slope += l0 / d;
-        }
-        Ok((sum - l, slope))
+    // (the registry's law picked once per sweep, not at every evaluation)
+    let excess = |s: f64, lam: &mut [f64]| {
+        line.with_law(Excess {
+            runs: &runs,
+            lam,
+            s,
+            l,
+        })
     };
     // Newton on S, safeguarded by the bracket the iterates' signs give (Σ L₀λ(S) increases
     // with S): a step that leaves it bisects it, or doubles away from its one known end.

@@ -61,7 +61,7 @@ impl<E: StrainEnergy> Line<E> {
     /// Runs `block` with the line's law: the registry's [`crate::AnyEnergy`] picks its law
     /// once for the whole block ([`crate::AnyEnergy::visit`]), not at every cell.
     #[inline(always)]
-    pub(super) fn with_law<V: LawVisitor>(&self, block: V) -> V::Output {
+    pub(crate) fn with_law<V: LawVisitor>(&self, block: V) -> V::Output {
         match self.energy.as_any_energy() {
             Some(law) => law.visit(block),
             None => block.visit(&self.energy),
