@@ -177,15 +177,42 @@ impl LawVisitor for Excess<'_> {
     type Output = Result<(f64, f64), LineError>;
 
     fn visit<E: StrainEnergy>(self, law: &E) -> Self::Output {
-        let (mut sum, mut slope) = (0.0, 0.0);
-        for (&(mu, l0), guess) in self.runs.iter().zip(self.lam.iter_mut()) {
-            let (x, d) = invert_stretch_near(law, mu, self.s, *guess)?;
-            *guess = x;
-            sum += x * l0;
-            slope += l0 / d;
-        }
+        let (sum, slope) = excess_sums(law, self.runs, self.lam, self.s)?;
         Ok((sum - self.l, slope))
     }
+}
+
+/// Runs from which [`excess_sums`] splits its sweep in two halves run concurrently.
+const PAR_MIN_RUNS: usize = 1 << 15;
+
+/// `(Σ L₀λ, Σ L₀/(μσ′(λ)))` over `runs` at stress `s`, each run's inversion from its stretch in
+/// `lam` (updated); in two halves on two threads from [`PAR_MIN_RUNS`] runs (the halves' sums
+/// added, so a long line's totals differ from one thread's in the last bits only).
+fn excess_sums<E: StrainEnergy>(
+    law: &E,
+    runs: &[(f64, f64)],
+    lam: &mut [f64],
+    s: f64,
+) -> Result<(f64, f64), LineError> {
+    if runs.len() >= PAR_MIN_RUNS {
+        let mid = runs.len() / 2;
+        let (r1, r2) = runs.split_at(mid);
+        let (l1, l2) = lam.split_at_mut(mid);
+        let (a, b) = rayon::join(
+            || excess_sums(law, r1, l1, s),
+            || excess_sums(law, r2, l2, s),
+        );
+        let ((s1, d1), (s2, d2)) = (a?, b?);
+        return Ok((s1 + s2, d1 + d2));
+    }
+    let (mut sum, mut slope) = (0.0, 0.0);
+    for (&(mu, l0), guess) in runs.iter().zip(lam.iter_mut()) {
+        let (x, d) = invert_stretch_near(law, mu, s, *guess)?;
+        *guess = x;
+        sum += x * l0;
+        slope += l0 / d;
+    }
+    Ok((sum, slope))
 }
 
 /// A static equilibrium.
@@ -313,7 +340,7 @@ pub(crate) fn static_equilibrium_from<E: StrainEnergy>(
     // with S): a step that leaves it bisects it, or doubles away from its one known end.
     // From S = 0 a Gaussian-μ line (every cell its own μ) takes 5 iterates and about 16 law
     // evaluations per cell in all; regula falsi with each inversion from λ = 1 took 209 (at
-    // 10⁶ cells 2.9 s against 0.23 s; `examples/static_equilibrium_large.rs`, pinned in
+    // 10⁶ cells 2.9 s against 0.23 s on one thread; `examples/static_equilibrium_large.rs`, pinned in
     // `the_static_equilibrium_costs_a_few_law_evaluations_per_cell`)
     let (mut a, mut b) = (f64::NEG_INFINITY, f64::INFINITY);
     let mut s = near.map_or(0.0, |s| s.stress);
