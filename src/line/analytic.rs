@@ -233,22 +233,30 @@ pub fn quasi_static(cfg: &LineConfig, t: f64) -> Result<StaticSolution, LineErro
 }
 
 /// What the references of one configuration share across times, each computed once: the
-/// cells' reference lengths and centres, the relaxation time, the discrete line and the static
-/// equilibrium at each time asked for. (At 10⁶ cells with a Gaussian μ, rebuilding the line,
-/// resampling its fields and solving the same equilibrium again for every series time, every
-/// profile and every set of static positions was 4.7 s of a 10.3 s run whose solve took
-/// 5.5 s.)
+/// cells' reference lengths and centres, the relaxation time, the discrete line, and the
+/// static equilibrium at each time that is asked for again (a profile time: its profile and
+/// its positions, and maybe a series point) or started from (the last one solved). Every other
+/// solution is dropped after use, so a long series of a long line holds no more than its
+/// profiles do. (At 10⁶ cells with a Gaussian μ, rebuilding the line, resampling its fields
+/// and solving the same equilibrium again for every series time, every profile and every set
+/// of static positions was 4.7 s of a 10.3 s run whose solve took 5.5 s.)
 struct Shared<'a> {
     cfg: &'a LineConfig,
     lengths: Vec<f64>,
     centres: Vec<f64>,
     tau: OnceCell<f64>,
     line: OnceCell<Option<Line<AnyEnergy>>>,
+    /// The times whose solutions are kept (as bits).
+    keep: Vec<u64>,
+    /// The kept solutions, by time (as bits); `None` where none could be found.
     statics: Vec<(u64, Option<Rc<StaticSolution>>)>,
+    /// The last solution found, which the next solve starts from.
+    last: Option<Rc<StaticSolution>>,
 }
 
 impl<'a> Shared<'a> {
-    fn new(cfg: &'a LineConfig) -> Self {
+    /// For `cfg`, keeping the solutions at `keep`.
+    fn new(cfg: &'a LineConfig, keep: &[f64]) -> Self {
         let lengths = cfg.lengths();
         let centres = lengths
             .iter()
@@ -263,7 +271,9 @@ impl<'a> Shared<'a> {
             centres,
             tau: OnceCell::new(),
             line: OnceCell::new(),
+            keep: keep.iter().map(|t| t.to_bits()).collect(),
             statics: Vec::new(),
+            last: None,
         }
     }
 
@@ -273,9 +283,10 @@ impl<'a> Shared<'a> {
         applies_with(self.cfg, tau, t)
     }
 
-    /// [`quasi_static`] at `t`, solved once per time (`None` if it cannot be).
+    /// [`quasi_static`] at `t` (`None` if it cannot be found), solved once for a kept time.
     fn quasi_static(&mut self, t: f64) -> Option<Rc<StaticSolution>> {
-        if let Some((_, s)) = self.statics.iter().find(|(bits, _)| *bits == t.to_bits()) {
+        let bits = t.to_bits();
+        if let Some((_, s)) = self.statics.iter().find(|(b, _)| *b == bits) {
             return s.clone();
         }
         let cfg = self.cfg;
@@ -283,13 +294,17 @@ impl<'a> Shared<'a> {
             .line
             .get_or_init(|| discrete(cfg.law.clone(), &cfg.params(1e-8)).ok());
         let (l, _) = cfg.ramp().eval(t);
-        // started from the last time's equilibrium (output times are near one another)
-        let near = self.statics.iter().rev().find_map(|(_, s)| s.clone());
+        // started from the last equilibrium found (output times are near one another)
         let s = line
             .as_ref()
-            .and_then(|line| static_equilibrium_from(line, l, near.as_deref()).ok())
+            .and_then(|line| static_equilibrium_from(line, l, self.last.as_deref()).ok())
             .map(Rc::new);
-        self.statics.push((t.to_bits(), s.clone()));
+        if s.is_some() {
+            self.last.clone_from(&s);
+        }
+        if self.keep.contains(&bits) {
+            self.statics.push((bits, s.clone()));
+        }
         s
     }
 }
@@ -371,7 +386,7 @@ fn applies_with(cfg: &LineConfig, tau: f64, t: f64) -> bool {
 /// assert!(profile(&LineConfig::default(), 0.5).is_none());
 /// ```
 pub fn profile(cfg: &LineConfig, t: f64) -> Option<Vec<(f64, f64, f64)>> {
-    profile_with(&mut Shared::new(cfg), t)
+    profile_with(&mut Shared::new(cfg, &[]), t)
 }
 
 /// [`profile`] with what the times share.
@@ -441,7 +456,7 @@ fn sample_indices(len: usize, m: usize) -> impl Iterator<Item = usize> + Clone {
 /// assert!((l - 0.9).abs() < 1e-9 && (p - 1.0 / 0.81).abs() < 1e-9);
 /// ```
 pub fn extremes(cfg: &LineConfig, t: f64) -> Option<(f64, f64)> {
-    extremes_with(&mut Shared::new(cfg), t)
+    extremes_with(&mut Shared::new(cfg, &[]), t)
 }
 
 /// [`extremes`] with what the times share.
@@ -465,7 +480,7 @@ fn extremes_with(sh: &mut Shared<'_>, t: f64) -> Option<(f64, f64)> {
 /// assert!(xs.iter().all(|&(xr, x)| (x - l / 100.0 * xr).abs() < 1e-9));
 /// ```
 pub fn static_positions(cfg: &LineConfig, t: f64) -> Option<Vec<(f64, f64)>> {
-    static_positions_with(&mut Shared::new(cfg), t)
+    static_positions_with(&mut Shared::new(cfg, &[]), t)
 }
 
 /// [`static_positions`] with what the times share.
@@ -510,7 +525,7 @@ pub fn reference(
         label: kind.label().to_string(),
         ..Default::default()
     };
-    let mut sh = Shared::new(cfg);
+    let mut sh = Shared::new(cfg, profile_times);
     for &t in series_times {
         if let Some((p, l)) = extremes_with(&mut sh, t) {
             r.series.t.push(t);
