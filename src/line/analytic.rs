@@ -461,6 +461,14 @@ pub fn extremes(cfg: &LineConfig, t: f64) -> Option<(f64, f64)> {
 
 /// [`extremes`] with what the times share.
 fn extremes_with(sh: &mut Shared<'_>, t: f64) -> Option<(f64, f64)> {
+    // the static equilibrium's own extremes, without building its every-cell profile
+    if reference_for(sh.cfg)? == Reference::QuasiStatic {
+        if !sh.applies(t) {
+            return None;
+        }
+        let s = sh.quasi_static(t)?;
+        return Some((s.max_pressure(), s.min_stretch()));
+    }
     let prof = profile_with(sh, t)?;
     let pmax = prof.iter().map(|q| q.2).fold(f64::NEG_INFINITY, f64::max);
     let lmin = prof.iter().map(|q| q.1).fold(f64::INFINITY, f64::min);
