@@ -2,8 +2,8 @@
 //! counters at rtol 1e-6 (atol 1e-8, BDF, max norm), and the largest stretch and pressure errors
 //! over every cell and output time against a tight run of the same problem (rtol 1e-10,
 //! atol 1e-12 by default; `REF_RTOL=1e-8` for N ≥ 10⁵, where positions reach 10⁵–10⁶ cell
-//! lengths and rounding alone, ε·N, comes near a stretch tolerance of 1e-10: the BDF order then
-//! collapses and the reference takes far longer; atol is always rtol/100).
+//! lengths and rounding alone, about 2ε·N, comes within 4× of a stretch tolerance of 1e-10: the
+//! solver refuses such a reference, `ErrorKind::TooMuchAccuracy`; atol is always rtol/100).
 //!
 //! Families (docs/model.md §5.4): `macro` — the macroscale-fixed line, `l₀ = N`, `K = 1/N`,
 //! exponential ramp with ramp time `N`, `k₁ = 0.1`, outputs at `t = N/4, N/2, N`; `raw` — the

@@ -441,6 +441,68 @@ impl ErrorMap {
         });
     }
 
+    /// How close the tolerances come to the round-off of the tested quantities at state `y`
+    /// (whole vector; `eatol` from [`effective_atol`](Self::effective_atol)): the largest,
+    /// over the rows, of `ε·(|y_i| + |y_p|)·w_i` for a difference row (the resolution of a
+    /// difference of two stored positions against its weight `w_i`), `ε·|y_i|·w_i` for the
+    /// others, with the row where it is largest. Near 1 a row's error test measures rounding
+    /// noise and no step size passes it reliably; the solver stops before that
+    /// ([`crate::ErrorKind::TooMuchAccuracy`]). The identity map is measured as own rows.
+    ///
+    /// ```
+    /// use integrators::{ErrorMap, Row};
+    /// // a cell of length 1e-3 between boundaries at 1e4: rtol 1e-12 asks for its stretch to
+    /// // 1e-15, below what two positions of size 1e4 resolve (ε·2e4 ≈ 4.4e-12)
+    /// let mut map = ErrorMap::from_rows(vec![Row::Own, Row::Difference { partner: 0 }]).unwrap();
+    /// let eatol = map.effective_atol(&[0.0, 0.0], 1e-12);
+    /// let (ratio, row) = map.roundoff_ratio(&[1e4, 1e4 + 1e-3], &eatol, 1e-12);
+    /// assert_eq!(row, 1);
+    /// assert!(ratio > 1e3);
+    /// // at rtol 1e-6 the same cell is resolved with room to spare
+    /// let (ratio, _) = map.roundoff_ratio(&[1e4, 1e4 + 1e-3], &eatol, 1e-6);
+    /// assert!(ratio < 1e-2);
+    /// ```
+    pub fn roundoff_ratio(&self, y: &[f64], eatol: &[f64], rtol: f64) -> (f64, usize) {
+        // size / tolerance of a row (ε applied at the end)
+        let row = |i: usize| {
+            let (yi, ea) = (y[i], eatol[i]);
+            match self.back[i] {
+                OWN => yi.abs() / (rtol * yi.abs() + ea),
+                ANCHOR => yi.abs() / ea,
+                _ => {
+                    let yp = y[self.partner(i).expect("a difference row")];
+                    (yi.abs() + yp.abs()) / (rtol * (yi - yp).abs() + ea)
+                }
+            }
+        };
+        // per segment, the largest ratio of its difference rows without a per-row lookup (the
+        // check runs every few steps over the whole state); the row itself only where a
+        // segment holds the largest so far
+        let mut worst = (0.0, 0);
+        self.segments(0, y.len(), |a, b, kind| {
+            let m = match kind {
+                Segment::Difference(d) => y[a..b]
+                    .iter()
+                    .zip(&y[a - d..])
+                    .zip(&eatol[a..b])
+                    .map(|((&yi, &yp), &ea)| (yi.abs() + yp.abs()) / (rtol * (yi - yp).abs() + ea))
+                    .fold(0.0, f64::max),
+                _ => (a..b).map(row).fold(0.0, f64::max),
+            };
+            if m > worst.0 {
+                worst = (m, (a..b).find(|&i| row(i) == m).unwrap_or(a));
+            }
+        });
+        let mut worst = (f64::EPSILON * worst.0, worst.1);
+        for &(i, we) in &self.end_w {
+            let r = f64::EPSILON * y[i].abs() * we;
+            if r > worst.0 {
+                worst = (r, i);
+            }
+        }
+        worst
+    }
+
     /// The rows' markers, read one per component by a kernel that holds the error vector in
     /// a buffer; [`offset`](Self::offset) turns one into its partner offset.
     #[inline(always)]

@@ -510,6 +510,46 @@ impl<'a> System<'a> {
         }
     }
 
+    /// How close the tolerances come to the round-off of the tested quantities at `y`:
+    /// [`ErrorMap::roundoff_ratio`] through the problem's map, `ε·|y_i|·w_i` without one; the
+    /// largest ratio and its component.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-15, atol: 1e-20, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// // rtol 1e-15 is within a factor 5 of the resolution ε ≈ 2.2e-16 of a double
+    /// let (ratio, i) = sys.roundoff_ratio(&[3.0]);
+    /// assert!((ratio - f64::EPSILON / 1e-15).abs() < 1e-6 && i == 0);
+    /// ```
+    pub fn roundoff_ratio(&self, y: &[f64]) -> (f64, usize) {
+        let rtol = self.opts.rtol;
+        if self.cache.map.is_empty() {
+            let mut worst = (0.0, 0);
+            for (i, (yi, ai)) in y.iter().zip(&self.cache.atol).enumerate() {
+                let r = f64::EPSILON * yi.abs() / (rtol * yi.abs() + ai);
+                if r > worst.0 {
+                    worst = (r, i);
+                }
+            }
+            worst
+        } else {
+            self.cache.map.roundoff_ratio(y, &self.cache.eatol, rtol)
+        }
+    }
+
     /// The norm ([`Options::norm`]) of the weighted error vector `v` through the problem's
     /// error map: `ErrorNorm::of(v, w)` without a map, the norm of the weighted cell-level
     /// quantities with one. The local-error and Newton tests of every method use it.

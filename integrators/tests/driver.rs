@@ -274,3 +274,85 @@ fn one_step_methods_end_a_step_at_every_output_unless_told_otherwise() {
     assert!(steps(MethodKind::Bdf, None) < 100);
     assert!(steps(MethodKind::Bdf, Some(true)) >= 100);
 }
+
+/// Two positions 10⁴ apart from the origin whose gap `d = x₁ − x₀` decays as `e^{−t}`, the gap
+/// measured as a difference row (a cell whose length is tested, as a line of cells does).
+struct ClosingGap;
+
+impl Problem for ClosingGap {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn residual(
+        &mut self,
+        _t: f64,
+        y: &[f64],
+        yp: &[f64],
+        r: &mut [f64],
+    ) -> Result<(), ResidualError> {
+        r[0] = yp[0];
+        r[1] = yp[1] + (y[1] - y[0]);
+        Ok(())
+    }
+    fn error_map(&self) -> Option<integrators::ErrorMap> {
+        Some(
+            integrators::ErrorMap::from_rows(vec![
+                integrators::Row::Own,
+                integrators::Row::Difference { partner: 0 },
+            ])
+            .unwrap(),
+        )
+    }
+}
+
+#[test]
+fn tolerance_below_round_off_stops_where_the_ratio_crosses_the_limit() {
+    use integrators::solver::ROUNDOFF_LIMIT;
+    let y0 = [1e4, 1e4 + 1.0];
+    // rtol 1e-10, atol 1e-12: the gap's round-off ε·(|x₀| + |x₁|) reaches ROUNDOFF_LIMIT of
+    // its tolerance rtol·d + atol once d ≤ (ε·2e4/ROUNDOFF_LIMIT − atol)/rtol ≈ 0.168
+    let (rtol, atol) = (1e-10, 1e-12);
+    let d_limit = (f64::EPSILON * 2e4 / ROUNDOFF_LIMIT - atol) / rtol;
+    let t_limit = (1.0 / d_limit).ln();
+    let o = Options {
+        rtol,
+        atol,
+        ..Default::default()
+    };
+    let e = Solver::new(MethodKind::Bdf, o)
+        .solve(&mut ClosingGap, 0.0, &y0, &[1.0, 10.0])
+        .unwrap_err();
+    let ErrorKind::TooMuchAccuracy { ratio } = e.error.kind else {
+        panic!("expected TooMuchAccuracy, got {e}");
+    };
+    assert!(ratio > ROUNDOFF_LIMIT, "{ratio}");
+    assert_eq!(e.error.component, Some(1));
+    // it stops promptly: before the ratio has doubled (the gap halved once more)
+    assert!(
+        e.error.t >= t_limit && e.error.t < t_limit + 2f64.ln(),
+        "stopped at t = {}, the limit is crossed at {t_limit}",
+        e.error.t
+    );
+    assert!(e.partial.stats.steps <= 2000, "{}", e.partial.stats.steps);
+    // what was computed is kept: the output at t = 1, where the offset costs no accuracy (the
+    // ratio is 0.12 there; the gap to the contract's 10·(rtol·d + atol)), and the last state,
+    // the true solution to 10⁴·rtol (close to the floor the accuracy degrades: why it stops)
+    assert_eq!(e.partial.t, vec![1.0]);
+    let (gap, exact) = (e.partial.y[0][1] - e.partial.y[0][0], (-1f64).exp());
+    assert!((gap - exact).abs() <= 10.0 * (rtol * exact + atol), "{gap}");
+    let gap = e.partial.y_last[1] - e.partial.y_last[0];
+    let exact = (-e.error.t).exp();
+    assert!(
+        (gap / exact - 1.0).abs() <= 1e4 * rtol,
+        "{gap} against {exact} at t = {}",
+        e.error.t
+    );
+    assert!(e.to_string().contains("raise rtol and atol"), "{e}");
+
+    // at rtol 1e-6 the same problem runs to t = 10 with the gap to its tolerance
+    let sol = Solver::new(MethodKind::Bdf, Options::default())
+        .solve(&mut ClosingGap, 0.0, &y0, &[10.0])
+        .unwrap();
+    let (gap, exact) = (sol.y[0][1] - sol.y[0][0], (-10f64).exp());
+    assert!((gap - exact).abs() <= 10.0 * (1e-6 * exact + 1e-8), "{gap}");
+}

@@ -34,6 +34,7 @@ pub mod load;
 pub mod model;
 pub mod overrides;
 pub mod parallel;
+pub mod roundoff;
 pub mod schema;
 pub mod sweep;
 pub mod times;
