@@ -487,3 +487,32 @@ fn landing_on_outputs_is_read_and_echoed_only_when_set() {
         "solver.land_on_outputs",
     );
 }
+
+#[test]
+fn end_keys_the_right_end_does_not_read_are_rejected_not_ignored() {
+    // each key with an end that reads it loads; with one that does not, the error names it
+    let cases = [
+        ("k1 = 0.3", "prescribed", ["free", "periodic"]),
+        ("t_ramp = 5", "prescribed", ["free", "periodic"]),
+        ("ramp = \"polynomial\"", "prescribed", ["free", "periodic"]),
+        ("force = 0.1", "free", ["prescribed", "periodic"]),
+        ("gauge = true", "periodic", ["prescribed", "free"]),
+    ];
+    for (key_line, reads, others) in cases {
+        let key = format!("model.{}", key_line.split(' ').next().unwrap());
+        // (a free end needs a driver: K = 1)
+        let body = |end: &str| line(&format!("K = 1\nright_end = \"{end}\"\n{key_line}"));
+        assert!(load(&body(reads), &[]).is_ok(), "{key_line} with {reads}");
+        for end in others {
+            let m = rejects(&body(end), &[], &key);
+            assert!(m.contains(&format!("right_end = \"{reads}\"")), "{m}");
+        }
+    }
+    // in a sweep over the end, the run that would ignore the key is named
+    let swept = format!(
+        "{}[sweep]\nparameter = \"right_end\"\nvalues = [\"prescribed\", \"free\"]\n",
+        line("K = 1\nk1 = 0.3")
+    );
+    let m = rejects(&swept, &[], "model.k1");
+    assert!(m.contains("free"), "{m}");
+}

@@ -209,6 +209,7 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
             let division: crate::events::DivisionConfig =
                 deserialize_at("model.division", division)?;
             let line: LineConfig = deserialize_at("model", toml::Value::Table(division_rest))?;
+            check_end_keys(&rest, &line)?;
             check_line_size(
                 &line,
                 models
@@ -276,7 +277,8 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
             ModelConfig::Proliferating(Box::new(cfg))
         }
         "line" => {
-            let cfg: LineConfig = deserialize_at("model", toml::Value::Table(rest))?;
+            let cfg: LineConfig = deserialize_at("model", toml::Value::Table(rest.clone()))?;
+            check_end_keys(&rest, &cfg)?;
             check_line_size(
                 &cfg,
                 models
@@ -398,6 +400,56 @@ fn parse_models(v: &toml::Value) -> Result<Vec<ModelKind>, ScenarioError> {
         out.push(m);
     }
     Ok(out)
+}
+
+/// Keys of a line that one right-end condition alone reads, with what they mean there.
+const END_KEYS: [(&str, crate::line::config::RightEndKind, &str); 5] = {
+    use crate::line::config::RightEndKind::{Free, Periodic, Prescribed};
+    [
+        ("k1", Prescribed, "the shortening of a prescribed right end"),
+        (
+            "t_ramp",
+            Prescribed,
+            "the ramp time of a prescribed right end",
+        ),
+        ("ramp", Prescribed, "the ramp of a prescribed right end"),
+        ("force", Free, "the force on a free right end"),
+        ("gauge", Periodic, "the pin x₀ = 0 of a ring"),
+    ]
+};
+
+/// Rejects a key of `[model]` (`given`, as written) that the line's right end does not read
+/// ([`END_KEYS`]): it would be ignored, and a result that silently ignores a key cannot be
+/// trusted.
+///
+/// ```
+/// use celltissue::scenario::model::parse_model;
+/// let t: toml::Table = toml::from_str("kind = \"line\"\nright_end = \"free\"\nK = 1\nk1 = 0.3")?;
+/// let e = parse_model(&t).unwrap_err();
+/// assert_eq!(e.key_name(), Some("model.k1"));
+/// assert!(e.to_string().contains("prescribed right end"), "{e}");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+fn check_end_keys(given: &toml::Table, cfg: &LineConfig) -> Result<(), ScenarioError> {
+    for (key, end, meaning) in END_KEYS {
+        if given.contains_key(key) && cfg.right_end != end {
+            let name = |e| match e {
+                crate::line::config::RightEndKind::Prescribed => "prescribed",
+                crate::line::config::RightEndKind::Free => "free",
+                crate::line::config::RightEndKind::Periodic => "periodic",
+            };
+            return Err(ScenarioError::key(
+                format!("model.{key}"),
+                format!(
+                    "is {meaning}, and this line has right_end = \"{}\", which does not \
+                     read it: remove `{key}` or set right_end = \"{}\"",
+                    name(cfg.right_end),
+                    name(end)
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Size limits of a line (cells; continuum segments when the continuum runs) and the grid-size
