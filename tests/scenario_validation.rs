@@ -515,4 +515,25 @@ fn end_keys_the_right_end_does_not_read_are_rejected_not_ignored() {
     );
     let m = rejects(&swept, &[], "model.k1");
     assert!(m.contains("free"), "{m}");
+    // a sheet's ramp keys with a free side x = l
+    let sheet = |right: &str, key_line: &str| {
+        format!(
+            "name = \"s\"\n[output]\nseries = [0, 1]\n[model]\nkind = \"sheet\"\n\
+             right = \"{right}\"\ngrowth = {{ sigma0 = 0.1 }}\n{key_line}\n"
+        )
+    };
+    for (key_line, key) in [
+        ("k1 = 0.3", "model.k1"),
+        (
+            "ramp = { kind = \"exponential\", t_ramp = 5 }",
+            "model.ramp",
+        ),
+    ] {
+        assert!(
+            load(&sheet("prescribed", key_line), &[]).is_ok(),
+            "{key_line}"
+        );
+        let m = rejects(&sheet("free", key_line), &[], key);
+        assert!(m.contains("right = \"prescribed\""), "{m}");
+    }
 }

@@ -293,7 +293,8 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
             ModelConfig::Line(Box::new(cfg))
         }
         "sheet" => {
-            let cfg: SheetConfig = deserialize_at("model", toml::Value::Table(rest))?;
+            let cfg: SheetConfig = deserialize_at("model", toml::Value::Table(rest.clone()))?;
+            check_sheet_end_keys(&rest, &cfg)?;
             limits::check_cells(
                 "model.cells_x",
                 cfg.cells_x as f64 * cfg.cells_y as f64,
@@ -431,25 +432,58 @@ const END_KEYS: [(&str, crate::line::config::RightEndKind, &str); 5] = {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 fn check_end_keys(given: &toml::Table, cfg: &LineConfig) -> Result<(), ScenarioError> {
+    use crate::line::config::RightEndKind;
+    let name = |e| match e {
+        RightEndKind::Prescribed => "prescribed",
+        RightEndKind::Free => "free",
+        RightEndKind::Periodic => "periodic",
+    };
     for (key, end, meaning) in END_KEYS {
-        if given.contains_key(key) && cfg.right_end != end {
-            let name = |e| match e {
-                crate::line::config::RightEndKind::Prescribed => "prescribed",
-                crate::line::config::RightEndKind::Free => "free",
-                crate::line::config::RightEndKind::Periodic => "periodic",
-            };
-            return Err(ScenarioError::key(
-                format!("model.{key}"),
-                format!(
-                    "is {meaning}, and this line has right_end = \"{}\", which does not \
-                     read it: remove `{key}` or set right_end = \"{}\"",
-                    name(cfg.right_end),
-                    name(end)
-                ),
-            ));
+        if cfg.right_end != end {
+            let ends = ("right_end", name(cfg.right_end), name(end));
+            reject_unread(given, key, meaning, ends)?;
         }
     }
     Ok(())
+}
+
+/// The ramp keys of a sheet, read only with `right = "prescribed"`.
+///
+/// ```
+/// use celltissue::scenario::model::parse_model;
+/// let t: toml::Table = toml::from_str(
+///     "kind = \"sheet\"\nright = \"free\"\ngrowth = { sigma0 = 0.1 }\nk1 = 0.3",
+/// )?;
+/// assert_eq!(parse_model(&t).unwrap_err().key_name(), Some("model.k1"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+fn check_sheet_end_keys(given: &toml::Table, cfg: &SheetConfig) -> Result<(), ScenarioError> {
+    if cfg.right == crate::sheet::config::RightEdge::Free {
+        let ends = ("right", "free", "prescribed");
+        reject_unread(given, "k1", "the shortening of a prescribed side", ends)?;
+        reject_unread(given, "ramp", "the ramp of a prescribed side", ends)?;
+    }
+    Ok(())
+}
+
+/// The error for `key` (with its `meaning`) written in `given` although the model's
+/// `(end key, its value, the value that reads key)` does not read it; `Ok` if not written.
+fn reject_unread(
+    given: &toml::Table,
+    key: &str,
+    meaning: &str,
+    (end_key, this, reads): (&str, &str, &str),
+) -> Result<(), ScenarioError> {
+    if !given.contains_key(key) {
+        return Ok(());
+    }
+    Err(ScenarioError::key(
+        format!("model.{key}"),
+        format!(
+            "is {meaning}, and this model has {end_key} = \"{this}\", which does not read \
+             it: remove `{key}` or set {end_key} = \"{reads}\""
+        ),
+    ))
 }
 
 /// Size limits of a line (cells; continuum segments when the continuum runs) and the grid-size
