@@ -73,11 +73,64 @@ fn encode(raw: &[u8]) -> io::Result<String> {
     Ok(format!("{}{}", b.encode(header), b.encode(packed)))
 }
 
-fn f64_bytes(v: impl Iterator<Item = f64>) -> Vec<u8> {
-    v.flat_map(f64::to_le_bytes).collect()
+/// One data array of a `.vtu` document before encoding: its VTK type, `Name`, number of
+/// components and values (borrowed from the grid).
+struct Array<'a> {
+    ty: &'static str,
+    name: &'a str,
+    comps: usize,
+    values: Values<'a>,
 }
 
-/// The `.vtu` document of `grid` at time `t`.
+/// The values of an [`Array`].
+enum Values<'a> {
+    F64(&'a [f64]),
+    Points(&'a [[f64; 3]]),
+    I64(&'a [i64]),
+    U8(&'a [u8]),
+}
+
+impl Array<'_> {
+    /// The little-endian bytes of the values.
+    fn raw(&self) -> Vec<u8> {
+        fn le<const W: usize, T: Copy>(v: &[T], f: impl Fn(T) -> [u8; W]) -> Vec<u8> {
+            let mut out = Vec::with_capacity(v.len() * W);
+            for &x in v {
+                out.extend_from_slice(&f(x));
+            }
+            out
+        }
+        match self.values {
+            Values::F64(v) => le(v, f64::to_le_bytes),
+            Values::Points(p) => le(p.as_flattened(), f64::to_le_bytes),
+            Values::I64(v) => le(v, i64::to_le_bytes),
+            Values::U8(v) => v.to_vec(),
+        }
+    }
+
+    /// The `<DataArray>` element, values encoded ([`encode`]).
+    fn element(&self) -> io::Result<String> {
+        let name = if self.name.is_empty() {
+            String::new()
+        } else {
+            format!(" Name=\"{}\"", self.name)
+        };
+        let comps = if self.comps > 1 {
+            format!(" NumberOfComponents=\"{}\"", self.comps)
+        } else {
+            String::new()
+        };
+        Ok(format!(
+            "<DataArray type=\"{}\"{name}{comps} format=\"binary\">{}</DataArray>\n",
+            self.ty,
+            encode(&self.raw())?
+        ))
+    }
+}
+
+/// The `.vtu` document of `grid` at time `t`. The arrays are compressed concurrently on the
+/// rayon pool (compression is most of the write phase of a large line: at 10⁵ cells three
+/// snapshots took 0.18 s one array after another); the document is the same in any order.
 ///
 /// ```
 /// use celltissue::output::vtu::{vtu_string, Grid, VTK_LINE};
@@ -87,29 +140,33 @@ fn f64_bytes(v: impl Iterator<Item = f64>) -> Vec<u8> {
 /// assert!(s.contains("NumberOfCells=\"1\"") && s.contains("compressor=\"vtkZLibDataCompressor\""));
 /// ```
 pub fn vtu_string(t: f64, grid: &Grid) -> io::Result<String> {
-    let mut s = String::with_capacity(1024 + 6 * grid.points.len());
+    use rayon::prelude::*;
+    let time = [t];
+    let array = |ty, name, comps, values| Array {
+        ty,
+        name,
+        comps,
+        values,
+    };
+    // TIME, the points, the three cell arrays, then the cell data
+    let mut arrays = vec![
+        array("Float64", "TIME", 1, Values::F64(&time)),
+        array("Float64", "", 3, Values::Points(&grid.points)),
+        array("Int64", "connectivity", 1, Values::I64(&grid.connectivity)),
+        array("Int64", "offsets", 1, Values::I64(&grid.offsets)),
+        array("UInt8", "types", 1, Values::U8(&grid.types)),
+    ];
+    for (name, v) in &grid.cell_data {
+        arrays.push(array("Float64", name, 1, Values::F64(v)));
+    }
+    let elements = arrays
+        .par_iter()
+        .map(Array::element)
+        .collect::<io::Result<Vec<String>>>()?;
+    let mut s = String::with_capacity(1024 + elements.iter().map(String::len).sum::<usize>());
     s.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\">\n<UnstructuredGrid>\n");
-    let arr =
-        |s: &mut String, ty: &str, name: &str, comps: usize, raw: Vec<u8>| -> io::Result<()> {
-            let name = if name.is_empty() {
-                String::new()
-            } else {
-                format!(" Name=\"{name}\"")
-            };
-            let comps = if comps > 1 {
-                format!(" NumberOfComponents=\"{comps}\"")
-            } else {
-                String::new()
-            };
-            let _ = writeln!(
-                s,
-                "<DataArray type=\"{ty}\"{name}{comps} format=\"binary\">{}</DataArray>",
-                encode(&raw)?
-            );
-            Ok(())
-        };
     s.push_str("<FieldData>\n");
-    arr(&mut s, "Float64", "TIME", 1, t.to_le_bytes().to_vec())?;
+    s.push_str(&elements[0]);
     s.push_str("</FieldData>\n");
     let _ = writeln!(
         s,
@@ -118,24 +175,11 @@ pub fn vtu_string(t: f64, grid: &Grid) -> io::Result<String> {
         grid.types.len()
     );
     s.push_str("<Points>\n");
-    arr(
-        &mut s,
-        "Float64",
-        "",
-        3,
-        f64_bytes(grid.points.iter().flat_map(|p| p.iter().copied())),
-    )?;
+    s.push_str(&elements[1]);
     s.push_str("</Points>\n<Cells>\n");
-    let i64_bytes = |v: &[i64]| -> Vec<u8> { v.iter().flat_map(|x| x.to_le_bytes()).collect() };
-    arr(
-        &mut s,
-        "Int64",
-        "connectivity",
-        1,
-        i64_bytes(&grid.connectivity),
-    )?;
-    arr(&mut s, "Int64", "offsets", 1, i64_bytes(&grid.offsets))?;
-    arr(&mut s, "UInt8", "types", 1, grid.types.clone())?;
+    for e in &elements[2..5] {
+        s.push_str(e);
+    }
     s.push_str("</Cells>\n");
     let scalars = grid
         .cell_data
@@ -144,8 +188,8 @@ pub fn vtu_string(t: f64, grid: &Grid) -> io::Result<String> {
         .map(|_| " Scalars=\"pressure\"")
         .unwrap_or("");
     let _ = writeln!(s, "<CellData{scalars}>");
-    for (name, v) in &grid.cell_data {
-        arr(&mut s, "Float64", name, 1, f64_bytes(v.iter().copied()))?;
+    for e in &elements[5..] {
+        s.push_str(e);
     }
     s.push_str("</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
     Ok(s)
