@@ -115,8 +115,9 @@ pub fn check_line(
 }
 
 /// [`check_line`] for every line model of a `[model]` section (a line, or a growing line that
-/// divides): the discrete cells, and the continuum's `nodes` equal segments. Sheets, the shear
-/// column and registered modes are left to the solver's own check at the first step.
+/// divides): the discrete cells, and the continuum's `nodes` equal segments; for a sheet, its
+/// longer direction (cells, or the continuum's grid). The shear column (whose unknowns are
+/// displacements, zero at rest) and registered modes are left to the solver's own check.
 ///
 /// ```
 /// use celltissue::scenario::model::parse_model;
@@ -136,12 +137,26 @@ pub fn check_section(
 ) -> Result<(), ScenarioError> {
     use super::model::ModelConfig;
     use crate::observe::ModelKind;
+    let (rtol, atol) = (solver.rtol, solver.atol);
     let line = match &section.config {
         ModelConfig::Line(c) => &**c,
         ModelConfig::Proliferating(p) => &p.line,
+        ModelConfig::Sheet(c, _) => {
+            // faces at multiples of the cell size in each direction, tested through their
+            // cells' stretches as a line's boundaries are: the longer direction decides
+            for model in &section.models {
+                let (n, m) = match model {
+                    ModelKind::Discrete => (c.cells_x, c.cells_y),
+                    ModelKind::Continuum => section
+                        .grid
+                        .unwrap_or((2 * c.cells_x.min(1 << 40), 2 * c.cells_y.min(1 << 40))),
+                };
+                check_line(std::iter::repeat_n(1.0, n.max(m)), rtol, atol)?;
+            }
+            return Ok(());
+        }
         _ => return Ok(()),
     };
-    let (rtol, atol) = (solver.rtol, solver.atol);
     for model in &section.models {
         match (model, &line.ref_lengths) {
             (ModelKind::Discrete, Some(v)) => check_line(v.iter().copied(), rtol, atol)?,

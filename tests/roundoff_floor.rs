@@ -1,5 +1,5 @@
-//! Tolerances below what a line's positions resolve: rejected by `validate` when the line at
-//! rest already is past the limit, and stopped by the solver (with what it computed) when a
+//! Tolerances below what a line's (or a sheet's) positions resolve: rejected by `validate` when
+//! the array at rest already is past the limit, and stopped by the solver (with what it computed) when a
 //! crushed cell gets there during the run — instead of a run that creeps on for hours with
 //! steps only rounding noise limits (a 4 000-cell line at rtol 1e-10 used to take 10⁶ steps
 //! and 285 s to cover 0.4 of its time span).
@@ -111,4 +111,31 @@ fn a_cell_crushed_past_the_limit_stops_the_run_promptly_with_its_outputs_kept() 
     assert_eq!(rec.series.t, [0.0, 0.01]);
     let min = rec.series.min_stretch[1];
     assert!(min.is_finite() && min > 0.0 && min < 0.1, "{min}");
+}
+
+#[test]
+fn a_sheet_past_the_limit_at_rest_is_rejected_by_validate_and_by_the_solver() {
+    // 1 000 × 4 unit cells: faces up to x = 1 000, so a stretch is resolved to ≈ 4.4e-13
+    let sheet = |rtol: f64| {
+        format!(
+            "name = \"s\"\n[solver]\nrtol = {rtol:e}\natol = {:e}\n[output]\nseries = [0, 1e-9]\n\
+             [model]\nkind = \"sheet\"\nmodels = [\"discrete\"]\ncells_x = 1000\ncells_y = 4\n",
+            rtol / 100.0
+        )
+    };
+    let e = load_str(&sheet(3e-13), Path::new("s.toml"), &[]).unwrap_err();
+    assert_eq!(e.key_name(), Some("solver.rtol"), "{e}");
+    // slipped past `validate`, the same tolerance stops the solver before its first step
+    let mut spec = load_str(&sheet(1e-11), Path::new("s.toml"), &[])
+        .unwrap()
+        .runs
+        .remove(0);
+    let fine = run_spec(&spec);
+    assert!(fine.error.is_none(), "{:?}", fine.error);
+    (spec.solver.rtol, spec.solver.atol) = (3e-13, 3e-15);
+    let err = run_spec(&spec).error.expect("the solver must stop");
+    assert!(
+        err.contains("at t = 0:") && err.contains("too close to round-off"),
+        "{err}"
+    );
 }
