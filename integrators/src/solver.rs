@@ -10,7 +10,8 @@
 //! 3. Step towards the last output time. Before the first step and every
 //!    [`ROUNDOFF_CHECK_EVERY`] steps the tolerances are held against the round-off of the
 //!    state ([`System::roundoff_ratio`]): above [`ROUNDOFF_LIMIT`] the solve stops with
-//!    [`ErrorKind::TooMuchAccuracy`] instead of creeping on with steps that only noise limits. After each accepted step `[t_prev, t]`, event functions
+//!    [`ErrorKind::TooMuchAccuracy`] instead of creeping on with steps that only noise limits.
+//!    After each accepted step `[t_prev, t]`, event functions
 //!    are evaluated at `t` and compared with their values at the previous accepted point; the
 //!    earliest sign change is located on the method's dense output by an Illinois-safeguarded
 //!    secant iteration to [`Options::event_tol`]. Outputs in `(t_prev, t]` come from the dense

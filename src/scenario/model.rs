@@ -209,7 +209,7 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
             let division: crate::events::DivisionConfig =
                 deserialize_at("model.division", division)?;
             let line: LineConfig = deserialize_at("model", toml::Value::Table(division_rest))?;
-            check_end_keys(&rest, &line)?;
+            check_end_keys(&written(&rest), &line)?;
             check_line_size(
                 &line,
                 models
@@ -277,8 +277,9 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
             ModelConfig::Proliferating(Box::new(cfg))
         }
         "line" => {
-            let cfg: LineConfig = deserialize_at("model", toml::Value::Table(rest.clone()))?;
-            check_end_keys(&rest, &cfg)?;
+            let given = written(&rest);
+            let cfg: LineConfig = deserialize_at("model", toml::Value::Table(rest))?;
+            check_end_keys(&given, &cfg)?;
             check_line_size(
                 &cfg,
                 models
@@ -293,8 +294,9 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
             ModelConfig::Line(Box::new(cfg))
         }
         "sheet" => {
-            let cfg: SheetConfig = deserialize_at("model", toml::Value::Table(rest.clone()))?;
-            check_sheet_end_keys(&rest, &cfg)?;
+            let given = written(&rest);
+            let cfg: SheetConfig = deserialize_at("model", toml::Value::Table(rest))?;
+            check_sheet_end_keys(&given, &cfg)?;
             limits::check_cells(
                 "model.cells_x",
                 cfg.cells_x as f64 * cfg.cells_y as f64,
@@ -419,7 +421,17 @@ const END_KEYS: [(&str, crate::line::config::RightEndKind, &str); 5] = {
     ]
 };
 
-/// Rejects a key of `[model]` (`given`, as written) that the line's right end does not read
+/// The keys of [`END_KEYS`] written in `[model]` (the table itself is handed on to the
+/// deserializer, and a line's may hold 10⁸ reference lengths: no copy of it).
+fn written(table: &toml::Table) -> Vec<&'static str> {
+    END_KEYS
+        .iter()
+        .map(|&(key, _, _)| key)
+        .filter(|k| table.contains_key(*k))
+        .collect()
+}
+
+/// Rejects a key of `[model]` (`given`: those written) that the line's right end does not read
 /// ([`END_KEYS`]): it would be ignored, and a result that silently ignores a key cannot be
 /// trusted.
 ///
@@ -431,7 +443,7 @@ const END_KEYS: [(&str, crate::line::config::RightEndKind, &str); 5] = {
 /// assert!(e.to_string().contains("prescribed right end"), "{e}");
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-fn check_end_keys(given: &toml::Table, cfg: &LineConfig) -> Result<(), ScenarioError> {
+fn check_end_keys(given: &[&str], cfg: &LineConfig) -> Result<(), ScenarioError> {
     use crate::line::config::RightEndKind;
     let name = |e| match e {
         RightEndKind::Prescribed => "prescribed",
@@ -457,7 +469,7 @@ fn check_end_keys(given: &toml::Table, cfg: &LineConfig) -> Result<(), ScenarioE
 /// assert_eq!(parse_model(&t).unwrap_err().key_name(), Some("model.k1"));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-fn check_sheet_end_keys(given: &toml::Table, cfg: &SheetConfig) -> Result<(), ScenarioError> {
+fn check_sheet_end_keys(given: &[&str], cfg: &SheetConfig) -> Result<(), ScenarioError> {
     if cfg.right == crate::sheet::config::RightEdge::Free {
         let ends = ("right", "free", "prescribed");
         reject_unread(given, "k1", "the shortening of a prescribed side", ends)?;
@@ -466,15 +478,15 @@ fn check_sheet_end_keys(given: &toml::Table, cfg: &SheetConfig) -> Result<(), Sc
     Ok(())
 }
 
-/// The error for `key` (with its `meaning`) written in `given` although the model's
+/// The error for `key` (with its `meaning`) written (in `given`) although the model's
 /// `(end key, its value, the value that reads key)` does not read it; `Ok` if not written.
 fn reject_unread(
-    given: &toml::Table,
+    given: &[&str],
     key: &str,
     meaning: &str,
     (end_key, this, reads): (&str, &str, &str),
 ) -> Result<(), ScenarioError> {
-    if !given.contains_key(key) {
+    if !given.contains(&key) {
         return Ok(());
     }
     Err(ScenarioError::key(
