@@ -8,7 +8,9 @@
 //!   equilibrium satisfies the equal-stress and length conditions;
 //! * a dynamic run approaching the lock converges to that static state; a ramp past the lock
 //!   fails with an error naming the law;
-//! * the law is selectable in a scenario with checked parameters.
+//! * the law is selectable in a scenario with checked parameters;
+//! * an exponential law stretched until its derivatives overflow fails naming the non-finite
+//!   iteration-matrix entry and the stretches reached, not a "zero pivot".
 
 use celltissue::boundary::{Ramp, RightEnd};
 use celltissue::cell::Field;
@@ -169,4 +171,37 @@ fn the_law_is_a_checked_scenario_choice() {
     assert!(law.admissible([1.5, 1.0 / 1.5, 1.0]).is_err());
     let bad = serde_json::from_str::<AnyEnergy>(r#"{"law": "gent", "mu": 1.0, "jm": -1}"#);
     assert!(bad.unwrap_err().to_string().contains("jm = -1"));
+}
+
+#[test]
+fn an_overflowing_exponential_law_fails_naming_the_non_finite_matrix_entry() {
+    use celltissue::scenario::{execute::run_spec, load_str};
+    // HGO with k₂ = 500, the end pulled out to twice the length: exp(k₂(I₄ − 1)²) leaves the
+    // doubles near λ = 1.65, its derivatives first
+    let text = r#"
+name = "hgo"
+[output]
+series = [0, 0.5, 1, 5]
+[model]
+kind = "line"
+models = ["discrete"]
+cells = 20
+K = 1
+k1 = -1
+law = { law = "hgo", c = 0.5, k1 = 1.0, k2 = 500.0, theta = 0.5 }
+"#;
+    let s = load_str(text, std::path::Path::new("hgo.toml"), &[]).unwrap();
+    let rec = run_spec(&s.runs[0]);
+    let err = rec.error.as_deref().expect("the run must fail");
+    assert!(
+        err.contains("non-finite iteration matrix entry inf")
+            && err.contains("derivatives overflowed")
+            && !err.contains("zero pivot"),
+        "{err}"
+    );
+    assert!(err.contains("most stretched cell"), "{err}");
+    // the outputs before the failure are kept, finite, the line stretched beyond 1.5
+    assert_eq!(rec.series.t, [0.0, 0.5, 1.0]);
+    let max = rec.series.max_stretch[2];
+    assert!(max.is_finite() && max > 1.5, "{max}");
 }

@@ -54,6 +54,17 @@ pub enum ErrorKind {
         /// Round-off of the component's tested quantity over its tolerance.
         ratio: f64,
     },
+    /// The iteration matrix held a NaN or infinite entry (the problem's derivatives
+    /// overflowed), at every retry of a step.
+    #[error("non-finite iteration matrix entry {value} in row {row}, column {column} (the problem's derivatives overflowed)")]
+    NonFiniteMatrix {
+        /// Row (equation) of the entry.
+        row: usize,
+        /// Column (unknown) of the entry.
+        column: usize,
+        /// The entry.
+        value: f64,
+    },
     /// The problem's residual reported a fatal error.
     #[error("residual error: {0}")]
     Residual(String),
@@ -97,6 +108,16 @@ pub enum RecoverableCause {
         /// Column of the zero pivot.
         column: usize,
     },
+    /// A factorisation failed on a NaN or infinite entry of the matrix.
+    #[error("non-finite iteration matrix entry {value} in row {row}, column {column}")]
+    NonFiniteMatrix {
+        /// Row (equation) of the entry.
+        row: usize,
+        /// Column (unknown) of the entry.
+        column: usize,
+        /// The entry.
+        value: f64,
+    },
     /// The problem rejected the state ([`crate::ResidualError::Recoverable`]), with its reason.
     #[error("{0}")]
     Rejected(String),
@@ -110,6 +131,9 @@ impl From<RecoverableCause> for ErrorKind {
         match cause {
             RecoverableCause::NonFiniteResidual { .. } => ErrorKind::NonFinite,
             RecoverableCause::SingularMatrix { column } => ErrorKind::SingularMatrix { column },
+            RecoverableCause::NonFiniteMatrix { row, column, value } => {
+                ErrorKind::NonFiniteMatrix { row, column, value }
+            }
             RecoverableCause::Rejected(reason) => ErrorKind::Rejected(reason),
         }
     }

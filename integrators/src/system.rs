@@ -960,10 +960,7 @@ impl<'a> System<'a> {
         if solver.last_factor_was_symbolic() {
             self.stats.symbolic_factorizations += 1;
         }
-        res.map_err(|column| StepFailure::Recoverable {
-            reason: RecoverableCause::SingularMatrix { column },
-            component: Some(column),
-        })
+        res.map_err(|column| factor_failure(column, &[m]))
     }
 
     /// Counted factorisation of `a + beta·b` (see [`LinearSolver::factor_combination`]: banded
@@ -1007,10 +1004,7 @@ impl<'a> System<'a> {
         if solver.last_factor_was_symbolic() {
             self.stats.symbolic_factorizations += 1;
         }
-        res.map_err(|column| StepFailure::Recoverable {
-            reason: RecoverableCause::SingularMatrix { column },
-            component: Some(column),
-        })
+        res.map_err(|column| factor_failure(column, &[a, b]))
     }
 
     /// Counted in-place solve with the last factorisation.
@@ -1364,3 +1358,19 @@ fn worst_abs(r: &[f64]) -> Option<usize> {
 
 #[cfg(test)]
 mod tests;
+
+/// The recoverable failure of a factorisation that stopped at `column`: a non-finite entry of
+/// one of the factorised `matrices` if there is one (the problem's derivatives overflowed, and
+/// its row names the equation), a zero pivot otherwise.
+fn factor_failure(column: usize, matrices: &[&Matrix]) -> StepFailure {
+    match matrices.iter().find_map(|m| m.first_non_finite()) {
+        Some((row, column, value)) => StepFailure::Recoverable {
+            reason: RecoverableCause::NonFiniteMatrix { row, column, value },
+            component: Some(row),
+        },
+        None => StepFailure::Recoverable {
+            reason: RecoverableCause::SingularMatrix { column },
+            component: Some(column),
+        },
+    }
+}

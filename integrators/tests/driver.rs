@@ -356,3 +356,56 @@ fn tolerance_below_round_off_stops_where_the_ratio_crosses_the_limit() {
     let (gap, exact) = (sol.y[0][1] - sol.y[0][0], (-10f64).exp());
     assert!((gap - exact).abs() <= 10.0 * (1e-6 * exact + 1e-8), "{gap}");
 }
+
+/// ẏ = −y with a hand-written Jacobian that overflows once y falls below 0.5 (a law whose
+/// derivative leaves the doubles while its value does not).
+struct OverflowingJacobian;
+
+impl Problem for OverflowingJacobian {
+    fn dim(&self) -> usize {
+        1
+    }
+    fn residual(
+        &mut self,
+        _t: f64,
+        y: &[f64],
+        yp: &[f64],
+        r: &mut [f64],
+    ) -> Result<(), ResidualError> {
+        r[0] = yp[0] + y[0];
+        Ok(())
+    }
+    fn jacobian(
+        &mut self,
+        _t: f64,
+        y: &[f64],
+        _yp: &[f64],
+        c: f64,
+        jac: &mut integrators::problem::JacobianSink,
+    ) -> Result<bool, ResidualError> {
+        let d = if y[0] < 0.5 { f64::INFINITY } else { 1.0 };
+        jac.add(0, 0, d + c);
+        Ok(true)
+    }
+}
+
+#[test]
+fn a_factorisation_on_an_overflowed_jacobian_names_the_entry_not_a_zero_pivot() {
+    let e = bdf()
+        .solve(&mut OverflowingJacobian, 0.0, &[1.0], &[0.5, 5.0])
+        .unwrap_err();
+    assert_eq!(
+        e.error.kind,
+        ErrorKind::NonFiniteMatrix {
+            row: 0,
+            column: 0,
+            value: f64::INFINITY
+        },
+        "{e}"
+    );
+    assert_eq!(e.error.component, Some(0));
+    // y = e^{−t} crosses 0.5 at t = ln 2; the output before it is kept
+    assert!(e.error.t >= 2f64.ln() - 0.1, "{e}");
+    assert_eq!(e.partial.t, vec![0.5]);
+    assert!(e.to_string().contains("derivatives overflowed"), "{e}");
+}

@@ -222,7 +222,8 @@ impl<A: LineModel> DriveObserver<ArrayProblem<A>> for Watch {
 ///    "non-finite value" or "step size too small" and the worst unknown, for a collapsing cell
 ///    one of its boundaries;
 /// 2. the solver's error with that unknown named (`x_j (boundary between cells j and j+1)`);
-/// 3. the most compressed cell of the last accepted state and its stretch.
+/// 3. the most compressed and the most stretched cell of the last accepted state, with their
+///    stretches.
 fn failure_message<A: LineModel>(
     model: &A,
     f: &SolveFailure,
@@ -245,10 +246,14 @@ fn failure_message<A: LineModel>(
     let (t, y) = (f.partial.t_last, &f.partial.y_last);
     if y.len() == model.dim() {
         if let Ok(s) = model.observe(t, y, &vec![0.0; y.len()]) {
-            let worst = s.alpha.iter().enumerate().min_by(|a, b| a.1.total_cmp(b.1));
-            if let Some((j, a)) = worst {
+            let cells = || s.alpha.iter().enumerate();
+            let least = cells().min_by(|a, b| a.1.total_cmp(b.1));
+            let most = cells().max_by(|a, b| a.1.total_cmp(b.1));
+            if let (Some((i, a)), Some((j, b))) = (least, most) {
                 parts.push(format!(
-                    "last accepted state t = {t}: most compressed cell {} (λ = {a:.6e})",
+                    "last accepted state t = {t}: most compressed cell {} (λ = {a:.6e}), \
+                     most stretched cell {} (λ = {b:.6e})",
+                    i + 1,
                     j + 1
                 ));
             }

@@ -452,6 +452,27 @@ impl Matrix {
             Matrix::Sparse(m) => m.pattern.column(j).to_vec(),
         }
     }
+    /// The first structurally present entry that is NaN or infinite, column by column, as
+    /// `(row, column, value)`: why a factorisation failed when the problem's derivatives
+    /// overflowed (a failure path; it walks the whole pattern).
+    ///
+    /// ```
+    /// use integrators::linalg::Matrix;
+    /// use integrators::Pattern;
+    /// let mut m = Matrix::zeros(3, &Pattern::Banded { lower: 1, upper: 1 });
+    /// m.add(2, 1, f64::INFINITY);
+    /// assert_eq!(m.first_non_finite(), Some((2, 1, f64::INFINITY)));
+    /// m.set(2, 1, 1.0);
+    /// assert_eq!(m.first_non_finite(), None);
+    /// ```
+    pub fn first_non_finite(&self) -> Option<(usize, usize, f64)> {
+        (0..self.n()).find_map(|j| {
+            self.column_rows(j)
+                .into_iter()
+                .map(|i| (i, j, self.get(i, j)))
+                .find(|&(_, _, v)| !v.is_finite())
+        })
+    }
     /// `out = self · x`.
     ///
     /// ```
