@@ -1,6 +1,9 @@
 //! Small-displacement exponential ramp, η = 0 (docs/model.md §5.3): the discrete line (N = 100,
 //! k₁ = 1e-4) against the complete linear series solution (particular term + Fourier series);
 //! Ref thresholds max_j |λ_j − λ_lin|/k₁ < 1e-5 (K = 1e-4) and < 1e-3 (K = 1e-2) at t = 0.5, 1, 3.
+//! And the quasi-static limit: a drag far below the cells' stiffness (K = 1e-20 … 1e-200, where
+//! the consistent initialisation's `∂F/∂ẏ` used to cancel to zero, "singular") runs and gives
+//! the K = 0 line.
 
 use celltissue::line::{run_line, LineConfig, OutputTimes, SolveSettings};
 use celltissue::observe::ModelKind;
@@ -65,4 +68,46 @@ fn k_1e_minus_2_matches_linear_series() {
     let e = max_error(1e-2);
     println!("K = 1e-2: max |λ − λ_lin|/k₁ at t = 0.5, 1, 3: {e:?}");
     assert!(e.iter().all(|&v| v < 1e-3), "{e:?}");
+}
+
+#[test]
+fn a_drag_far_below_the_stiffness_gives_the_quasi_static_line() {
+    let run = |k: f64| {
+        let cfg = LineConfig {
+            k: k.into(),
+            mu: celltissue::cell::Field::Gaussian {
+                base: 1.0,
+                amplitude: 1.0,
+                centre: 0.5,
+                width: 0.1,
+            },
+            ..Default::default()
+        };
+        let times = OutputTimes {
+            series: vec![0.0, 0.5, 1.0, 5.0],
+            profiles: vec![0.5, 1.0, 5.0],
+        };
+        let rec = run_line(
+            &cfg,
+            ModelKind::Discrete,
+            None,
+            &SolveSettings::default(),
+            &times,
+        );
+        assert!(rec.error.is_none(), "K = {k:e}: {:?}", rec.error);
+        rec.profiles
+            .into_iter()
+            .flat_map(|p| p.stretch)
+            .collect::<Vec<f64>>()
+    };
+    let quasi_static = run(0.0);
+    for k in [1e-20, 1e-100, 1e-200] {
+        let d = run(k)
+            .iter()
+            .zip(&quasi_static)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        // the O(K) difference is far below the contract's 10·rtol at rtol 1e-6
+        assert!(d < 1e-5, "K = {k:e}: max |Δλ| = {d:e}");
+    }
 }

@@ -137,20 +137,79 @@ fn user_jacobian_columns(
                 .problem
                 .jacobian(t, y, yp, 1.0, &mut j1)
                 .map_err(|e| sys.residual_failure(e, t));
-            if provided.is_ok() {
-                for (j, &alg) in algebraic.iter().enumerate() {
-                    if !alg {
-                        let (dst, src) = (column_slots_mut(jac, j), column_slots(&j1, j));
-                        for (a, b) in dst.iter_mut().zip(src) {
-                            *a = b - *a;
-                        }
+            if provided.is_err() {
+                sys.give_matrix(j1);
+                return provided.map(|_| true);
+            }
+            // J(1) − J(0) loses a column's ∂F/∂ẏ to rounding where it is below about
+            // ε·|∂F/∂y| (a line of unit stiffness at K = 1e-16 got exact zeros, "singular"):
+            // those columns come from (J(C) − J(0))/C instead, C a power of two raised until
+            // the column's change shows (a column that never changes stays zero: a true index
+            // problem is still reported)
+            let mut lost: Vec<usize> = (0..algebraic.len())
+                .filter(|&j| !algebraic[j] && cancelled(column_slots(jac, j), column_slots(&j1, j)))
+                .collect();
+            for (j, &alg) in algebraic.iter().enumerate() {
+                if !alg && lost.binary_search(&j).is_err() {
+                    let (dst, src) = (column_slots_mut(jac, j), column_slots(&j1, j));
+                    for (a, b) in dst.iter_mut().zip(src) {
+                        *a = b - *a;
                     }
                 }
             }
+            for &scale in &INIT_SCALES {
+                if lost.is_empty() {
+                    break;
+                }
+                j1.set_zero();
+                if let Err(e) = sys.problem.jacobian(t, y, yp, scale, &mut j1) {
+                    sys.give_matrix(j1);
+                    return Err(sys.residual_failure(e, t));
+                }
+                lost.retain(|&j| {
+                    let (j0, jc) = (column_slots(jac, j), column_slots(&j1, j));
+                    if cancelled(j0, jc) {
+                        return true;
+                    }
+                    let dst = column_slots_mut(jac, j);
+                    for (a, b) in dst.iter_mut().zip(column_slots(&j1, j)) {
+                        *a = (b - *a) / scale;
+                    }
+                    false
+                });
+            }
+            for &j in &lost {
+                column_slots_mut(jac, j).iter_mut().for_each(|a| *a = 0.0);
+            }
             sys.give_matrix(j1);
-            provided.map(|_| true)
+            Ok(true)
         }
     }
+}
+
+/// The `C`s of the consistent initialisation's `(J(C) − J(0))/C`, tried in turn for columns
+/// whose `∂F/∂ẏ` is lost in `J(1) − J(0)`: powers of two (the division is exact), each
+/// reaching a `∂F/∂ẏ` smaller than `|∂F/∂y|` by about 10⁶ less than the power (2⁶⁰ ≈ 10¹⁸
+/// recovers 10⁻³⁰, 2⁹⁰⁰ ≈ 10²⁷¹ recovers 10⁻²⁶⁰); only the lost columns read `J(C)`, so an
+/// entry that overflows elsewhere does no harm.
+const INIT_SCALES: [f64; 4] = [pow2(60), pow2(200), pow2(500), pow2(900)];
+
+/// `2ᵏ` exactly (`k` in −1022..=1023), from its bits.
+const fn pow2(k: i64) -> f64 {
+    f64::from_bits(((1023 + k) as u64) << 52)
+}
+
+/// Whether a column's `J(1) − J(0)` (`j1 − j0`, slot by slot) kept fewer than about 12
+/// significant bits of `∂F/∂ẏ` to cancellation against `∂F/∂y`: its largest change is below
+/// 2⁻⁴⁰ of its largest `|∂F/∂y|` entry. Columns with a change of that size or more keep the
+/// cheaper difference (and the bits they always had).
+fn cancelled(j0: &[f64], j1: &[f64]) -> bool {
+    let scale = j0.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let change = j0
+        .iter()
+        .zip(j1)
+        .fold(0.0f64, |m, (a, b)| m.max((b - a).abs()));
+    change < scale * (2.0f64).powi(-40)
 }
 
 fn directional(

@@ -392,3 +392,68 @@ fn sparse_symbolic_factorisation_is_reused() {
     assert_eq!((st.factorizations, st.symbolic_factorizations), (3, 1));
     assert_eq!(st.jacobian_evals, 3);
 }
+
+/// `K·ẏ₀ + 2(y₀ − 1) − (y₁ − y₀) = 0`, `K·ẏ₁ + 2(y₁ − 1) + (y₁ − y₀) = 0`: two boundaries of a
+/// line with drag `K` (tiny against the unit stiffness), with its hand-written iteration
+/// matrix `J(c) = ∂F/∂y + c·K·I`.
+struct TinyDrag(f64);
+impl Problem for TinyDrag {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn residual(
+        &mut self,
+        _t: f64,
+        y: &[f64],
+        yp: &[f64],
+        r: &mut [f64],
+    ) -> Result<(), ResidualError> {
+        r[0] = self.0 * yp[0] + 2.0 * (y[0] - 1.0) - (y[1] - y[0]);
+        r[1] = self.0 * yp[1] + 2.0 * (y[1] - 1.0) + (y[1] - y[0]);
+        Ok(())
+    }
+    fn jacobian(
+        &mut self,
+        _t: f64,
+        _y: &[f64],
+        _yp: &[f64],
+        c: f64,
+        jac: &mut crate::problem::JacobianSink,
+    ) -> Result<bool, ResidualError> {
+        jac.add(0, 0, 3.0 + c * self.0);
+        jac.add(0, 1, -1.0);
+        jac.add(1, 0, -1.0);
+        jac.add(1, 1, 3.0 + c * self.0);
+        Ok(true)
+    }
+}
+
+#[test]
+fn consistent_init_keeps_a_drag_far_below_the_stiffness() {
+    // J(1) − J(0) = (3 + K) − 3 is exactly 0 for K < 2.2e-16 ("singular" before); the
+    // consistent rates are ẏ = −F(y, 0)/K, of size 1/K
+    // (rates of 1/K beyond about 1e150 overflow the RMS norm of the Newton update: not tried)
+    for k in [1e-6, 1e-16, 1e-30, 1e-100] {
+        let mut p = TinyDrag(k);
+        let (mut y, mut yp) = (vec![1.5, 0.75], vec![0.0; 2]);
+        let (res, _) = with_system(&mut p, &Options::default(), |s| {
+            s.consistent_init(0.0, &mut y, &mut yp)
+        });
+        res.unwrap_or_else(|e| panic!("K = {k:e}: {e}"));
+        // F(y, 0) = (2·0.5 + 0.75, 2·(−0.25) − 0.75) = (1.75, −1.25)
+        let exact = [-1.75 / k, 1.25 / k];
+        for (a, b) in yp.iter().zip(exact) {
+            assert!(
+                (a / b - 1.0).abs() < 1e-12,
+                "K = {k:e}: {yp:?} against {exact:?}"
+            );
+        }
+    }
+    // a component whose ẏ never enters F is still reported (index > 1), not rescued
+    let mut p = TinyDrag(0.0);
+    let (mut y, mut yp) = (vec![1.5, 0.75], vec![0.0; 2]);
+    let (res, _) = with_system(&mut p, &Options::default(), |s| {
+        s.consistent_init(0.0, &mut y, &mut yp)
+    });
+    assert!(res.unwrap_err().to_string().contains("singular"));
+}
