@@ -484,3 +484,36 @@ fn free_single_row_differs_from_the_line_model() {
         at(&rec, "min_stretch", 1.0)
     );
 }
+
+#[test]
+fn a_drag_far_below_the_stiffness_runs_and_gives_the_quasi_static_sheet() {
+    use celltissue::scenario::{execute::run_spec, load_str};
+    // k_th ≤ 1e-17 used to stop at t = 0 ("∂F/∂ẏ is singular": the directional ∂F/∂ẏ
+    // cancelled against the stiffness); below 1e-12 the drag no longer shows at rtol 1e-6
+    let run = |k: &str| {
+        let text = format!(
+            "name = \"s\"\n[output]\nseries = [0, 1, 3]\n[model]\nkind = \"sheet\"\n\
+             cells_x = 4\ncells_y = 3\nk_th = {k}\n"
+        );
+        let s = load_str(&text, std::path::Path::new("s.toml"), &[]).unwrap();
+        s.runs
+            .iter()
+            .map(|spec| {
+                let rec = run_spec(spec);
+                assert!(rec.error.is_none(), "k_th = {k}: {:?}", rec.error);
+                rec.series.max_pressure.clone()
+            })
+            .collect::<Vec<_>>()
+    };
+    let reference = run("1e-12");
+    for k in ["1e-20", "1e-100"] {
+        for (a, b) in run(k).iter().zip(&reference) {
+            let d = a
+                .iter()
+                .zip(b)
+                .map(|(x, y)| (x - y).abs())
+                .fold(0.0, f64::max);
+            assert!(d < 1e-5, "k_th = {k}: max |Δp| = {d:e}");
+        }
+    }
+}

@@ -277,8 +277,24 @@ fn directional_columns(
                 if !call_directional(sys, t, y, yp, v, 0.0, r, d0)? {
                     return Ok(false);
                 }
+                // a group of differential columns whose ∂F/∂ẏ cancels in J(1)·v − J(0)·v (a
+                // drag far below the stiffness) is read from (J(C)·v − J(0)·v)/C, as in
+                // `user_jacobian_columns`
+                let pure = has_diff && group.iter().all(|&j| !algebraic[j]);
+                let mut scale = 1.0;
+                if pure && cancelled(d0, d1) {
+                    for &c in &INIT_SCALES {
+                        if !call_directional(sys, t, y, yp, v, c, r, d1)? {
+                            return Ok(false);
+                        }
+                        scale = c;
+                        if !cancelled(d0, d1) {
+                            break;
+                        }
+                    }
+                }
                 for (a, b) in d1.iter_mut().zip(&*d0) {
-                    *a -= b;
+                    *a = (*a - b) / scale;
                 }
             }
         }
