@@ -396,7 +396,8 @@ fn sparse_symbolic_factorisation_is_reused() {
 /// `K·ẏ₀ + 2(y₀ − 1) − (y₁ − y₀) = 0`, `K·ẏ₁ + 2(y₁ − 1) + (y₁ − y₀) = 0`: two boundaries of a
 /// line with drag `K` (tiny against the unit stiffness), with its hand-written iteration
 /// matrix `J(c) = ∂F/∂y + c·K·I`.
-struct TinyDrag(f64);
+/// `.1`: the matrix through [`Problem::directional`] (as AD gives it) instead.
+struct TinyDrag(f64, bool);
 impl Problem for TinyDrag {
     fn dim(&self) -> usize {
         2
@@ -420,10 +421,31 @@ impl Problem for TinyDrag {
         c: f64,
         jac: &mut crate::problem::JacobianSink,
     ) -> Result<bool, ResidualError> {
+        if self.1 {
+            return Ok(false);
+        }
         jac.add(0, 0, 3.0 + c * self.0);
         jac.add(0, 1, -1.0);
         jac.add(1, 0, -1.0);
         jac.add(1, 1, 3.0 + c * self.0);
+        Ok(true)
+    }
+    fn directional(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        v: &[f64],
+        c: f64,
+        r: &mut [f64],
+        dr: &mut [f64],
+    ) -> Result<bool, ResidualError> {
+        if !self.1 {
+            return Ok(false);
+        }
+        self.residual(t, y, yp, r)?;
+        dr[0] = (3.0 + c * self.0) * v[0] - v[1];
+        dr[1] = -v[0] + (3.0 + c * self.0) * v[1];
         Ok(true)
     }
 }
@@ -433,13 +455,16 @@ fn consistent_init_keeps_a_drag_far_below_the_stiffness() {
     // J(1) − J(0) = (3 + K) − 3 is exactly 0 for K < 2.2e-16 ("singular" before); the
     // consistent rates are ẏ = −F(y, 0)/K, of size 1/K
     // (rates of 1/K beyond about 1e150 overflow the RMS norm of the Newton update: not tried)
-    for k in [1e-6, 1e-16, 1e-30, 1e-100] {
-        let mut p = TinyDrag(k);
+    for (k, directional) in [1e-6, 1e-16, 1e-30, 1e-100]
+        .into_iter()
+        .flat_map(|k| [(k, false), (k, true)])
+    {
+        let mut p = TinyDrag(k, directional);
         let (mut y, mut yp) = (vec![1.5, 0.75], vec![0.0; 2]);
         let (res, _) = with_system(&mut p, &Options::default(), |s| {
             s.consistent_init(0.0, &mut y, &mut yp)
         });
-        res.unwrap_or_else(|e| panic!("K = {k:e}: {e}"));
+        res.unwrap_or_else(|e| panic!("K = {k:e} (directional: {directional}): {e}"));
         // F(y, 0) = (2·0.5 + 0.75, 2·(−0.25) − 0.75) = (1.75, −1.25)
         let exact = [-1.75 / k, 1.25 / k];
         for (a, b) in yp.iter().zip(exact) {
@@ -450,10 +475,12 @@ fn consistent_init_keeps_a_drag_far_below_the_stiffness() {
         }
     }
     // a component whose ẏ never enters F is still reported (index > 1), not rescued
-    let mut p = TinyDrag(0.0);
-    let (mut y, mut yp) = (vec![1.5, 0.75], vec![0.0; 2]);
-    let (res, _) = with_system(&mut p, &Options::default(), |s| {
-        s.consistent_init(0.0, &mut y, &mut yp)
-    });
-    assert!(res.unwrap_err().to_string().contains("singular"));
+    for directional in [false, true] {
+        let mut p = TinyDrag(0.0, directional);
+        let (mut y, mut yp) = (vec![1.5, 0.75], vec![0.0; 2]);
+        let (res, _) = with_system(&mut p, &Options::default(), |s| {
+            s.consistent_init(0.0, &mut y, &mut yp)
+        });
+        assert!(res.unwrap_err().to_string().contains("singular"));
+    }
 }
