@@ -64,3 +64,4 @@ mod sheet_validation;
 mod sheet_viscoelasticity;
 mod sweep_jobs_and_shards;
 mod thesis_panels;
+mod time_scale_invariance;

@@ -115,6 +115,10 @@ macro_rules! forward_problem {
         fn algebraic(&self) -> Vec<bool> {
             self.$f.algebraic()
         }
+        // what the outputs read travels with which components are algebraic
+        fn outputs_read_rates(&self) -> bool {
+            self.$f.outputs_read_rates()
+        }
     };
     (@one $f:tt num_events) => {
         fn num_events(&self) -> usize {
@@ -373,6 +377,12 @@ pub trait MassProblem {
     /// Components with a zero row in `M` (algebraic). Default none.
     fn algebraic(&self) -> Vec<bool> {
         vec![false; self.dim()]
+    }
+
+    /// Whether the outputs read `ẏ` beyond the state ([`Problem::outputs_read_rates`]).
+    /// Default false.
+    fn outputs_read_rates(&self) -> bool {
+        false
     }
 
     /// Per-component absolute tolerances, or `None` for [`crate::Options::atol`].

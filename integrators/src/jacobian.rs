@@ -187,6 +187,69 @@ fn user_jacobian_columns(
     }
 }
 
+/// `J(0) = ∂F/∂y` into `jy` and `∂F/∂ẏ` into `jyp`, for a method that combines them as
+/// `∂F/∂y + α·∂F/∂ẏ` for any `α` (BDF). `∂F/∂ẏ` is `J(1) − J(0)`, except in the differential
+/// columns where that difference cancelled (a drag far below the stiffness: the shear column
+/// at `k_th = 1e-16` lost its drag entirely, and Newton then ran on `∂F/∂y` alone inside the
+/// impulsive start, where `α·∂F/∂ẏ` dominates): those are read from `(J(C) − J(0))/C` as the
+/// consistent initialisation does. Each matrix evaluation is counted in `jacobian_evals` (two,
+/// or more when columns were restored).
+pub(crate) fn pair(
+    sys: &mut System<'_>,
+    t: f64,
+    y: &[f64],
+    yp: &[f64],
+    jy: &mut Matrix,
+    jyp: &mut Matrix,
+) -> Result<(), StepFailure> {
+    sys.stats.jacobian_evals += 1;
+    assemble(sys, t, y, yp, Columns::Iteration { c: 0.0 }, None, jy)?;
+    sys.stats.jacobian_evals += 1;
+    assemble(sys, t, y, yp, Columns::Iteration { c: 1.0 }, None, jyp)?;
+    jyp.axpby(1.0, -1.0, jy);
+    let mut lost: Vec<usize> = (0..jy.n())
+        .filter(|&j| {
+            let (j0, change) = (column_slots(jy, j), column_slots(jyp, j));
+            !sys.algebraic()[j] && lost_to_rounding(j0, change.iter().copied())
+        })
+        .collect();
+    if lost.is_empty() {
+        return Ok(());
+    }
+    let mut jc = sys.take_matrix();
+    for &scale in &INIT_SCALES {
+        if lost.is_empty() {
+            break;
+        }
+        jc.set_zero();
+        sys.stats.jacobian_evals += 1;
+        if let Err(e) = assemble(
+            sys,
+            t,
+            y,
+            yp,
+            Columns::Iteration { c: scale },
+            None,
+            &mut jc,
+        ) {
+            sys.give_matrix(jc);
+            return Err(e);
+        }
+        lost.retain(|&j| {
+            let (j0, c) = (column_slots(jy, j), column_slots(&jc, j));
+            if cancelled(j0, c) {
+                return true;
+            }
+            for ((d, a), b) in column_slots_mut(jyp, j).iter_mut().zip(j0).zip(c) {
+                *d = (b - a) / scale;
+            }
+            false
+        });
+    }
+    sys.give_matrix(jc);
+    Ok(())
+}
+
 /// The `C`s of the consistent initialisation's `(J(C) − J(0))/C`, tried in turn for columns
 /// whose `∂F/∂ẏ` is lost in `J(1) − J(0)`: powers of two (the division is exact), each
 /// reaching a `∂F/∂ẏ` smaller than `|∂F/∂y|` by about 10⁶ less than the power (2⁶⁰ ≈ 10¹⁸
@@ -204,11 +267,13 @@ const fn pow2(k: i64) -> f64 {
 /// 2⁻⁴⁰ of its largest `|∂F/∂y|` entry. Columns with a change of that size or more keep the
 /// cheaper difference (and the bits they always had).
 fn cancelled(j0: &[f64], j1: &[f64]) -> bool {
+    lost_to_rounding(j0, j0.iter().zip(j1).map(|(a, b)| b - a))
+}
+
+/// [`cancelled`], given the column's `J(0)` and its change.
+fn lost_to_rounding(j0: &[f64], change: impl Iterator<Item = f64>) -> bool {
     let scale = j0.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let change = j0
-        .iter()
-        .zip(j1)
-        .fold(0.0f64, |m, (a, b)| m.max((b - a).abs()));
+    let change = change.fold(0.0f64, |m, x| m.max(x.abs()));
     change < scale * (2.0f64).powi(-40)
 }
 

@@ -27,7 +27,8 @@ pub struct Options {
     pub bdf: BdfOptions,
     /// Exclude algebraic components from the local error test (as IDA's `suppressalg`).
     pub suppress_algebraic: bool,
-    /// Event location tolerance on t (absolute).
+    /// Event location tolerance on t: absolute, scaled by the solve's time scale when its
+    /// times stay below 1 ([`crate::solver::event_tolerance`]).
     pub event_tol: f64,
     /// Use a finite-difference Jacobian even if the problem provides exact ones.
     pub force_fd_jacobian: bool,

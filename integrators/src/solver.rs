@@ -14,8 +14,8 @@
 //!    After each accepted step `[t_prev, t]`, event functions
 //!    are evaluated at `t` and compared with their values at the previous accepted point; the
 //!    earliest sign change is located on the method's dense output by an Illinois-safeguarded
-//!    secant iteration to [`Options::event_tol`]. Outputs in `(t_prev, t]` come from the dense
-//!    output.
+//!    secant iteration to [`Options::event_tol`] (scaled down for a solve on times below 1,
+//!    see [`event_tolerance`]). Outputs in `(t_prev, t]` come from the dense output.
 //! 4. At a located event `t*`, outputs before `t*` are emitted, the problem's
 //!    [`Problem::handle_event`] is called with the interpolated state, and the action is applied.
 //!
@@ -424,7 +424,9 @@ impl<O> Run<'_, O> {
     /// differential ones. Without this, algebraic outputs carry the interpolation error of a
     /// component that is not error-controlled when [`Options::suppress_algebraic`] is set, and
     /// a step's end the Newton iterate's distance from the constraints. (Counted in the
-    /// statistics; if the projection fails the unprojected values are kept.)
+    /// statistics; if the projection fails the unprojected values are kept.) A problem whose
+    /// outputs read `ẏ` ([`Problem::outputs_read_rates`]) is projected the same way: its
+    /// differential components are kept and `ẏ` solved from them.
     fn emit_interp<P: Problem>(
         &mut self,
         p: &mut P,
@@ -450,7 +452,7 @@ impl<O> Run<'_, O> {
                 // also at a step's own end: its algebraic components are a Newton iterate,
                 // accepted by a convergence test and not error-controlled, so they can sit
                 // farther from the constraints than the differential ones' accuracy
-                if self.cache.algebraic.iter().any(|&a| a) {
+                if self.cache.outputs_read_rates || self.cache.algebraic.iter().any(|&a| a) {
                     let (y0, yp0) = (self.ybuf.clone(), self.ypbuf.clone());
                     let mut sys = System::new(p, opts, &mut self.stats, &mut self.cache);
                     if sys
@@ -486,6 +488,23 @@ impl<O> Run<'_, O> {
             self.next_out += 1;
         }
     }
+}
+
+/// The event tolerance of a solve from `t0` to `t_end`: [`Options::event_tol`] times the
+/// solve's time scale `max(|t₀|, |t_end|)` when that is below 1, else `event_tol` itself.
+/// An absolute tolerance of 1e-12 meant nothing to a problem posed on times of 1e-100 (a
+/// dividing line at that scale divided at the ends of steps, 600·rtol off); scaled, the
+/// same problem divides at the same relative times. Solves reaching times of 1 or more keep
+/// the absolute tolerance (and, far beyond, the secant's floor `4ε|t|` takes over).
+///
+/// ```
+/// use integrators::solver::event_tolerance;
+/// assert_eq!(event_tolerance(1e-12, 0.0, 18.0), 1e-12);
+/// assert_eq!(event_tolerance(1e-12, 0.0, 0.5), 0.5e-12);
+/// assert!((event_tolerance(1e-12, 0.0, 3e-100) / 3e-112 - 1.0).abs() < 1e-15);
+/// ```
+pub fn event_tolerance(event_tol: f64, t0: f64, t_end: f64) -> f64 {
+    event_tol * t0.abs().max(t_end.abs()).min(1.0)
 }
 
 fn residual_error_kind(e: ResidualError) -> ErrorKind {
@@ -595,6 +614,7 @@ where
     }
     run.emit_at(p, t0, &y, &yp);
     let t_end = *t_out.last().expect("non-empty");
+    let event_tol = event_tolerance(opts.event_tol, t0, t_end);
     if run.next_out == t_out.len() {
         run.sol.stats = run.stats;
         return Ok(run.sol);
@@ -695,7 +715,7 @@ where
                 let located = locate(
                     p,
                     method,
-                    opts.event_tol,
+                    event_tol,
                     a,
                     g_prev.clone(),
                     t,
@@ -715,7 +735,7 @@ where
                     Err(e) => return Err(run.fail(e, t, None)),
                 };
                 // outputs before the event (those within event_tol of it count as at it)
-                run.emit_interp(p, opts, method, ts - opts.event_tol, false);
+                run.emit_interp(p, opts, method, ts - event_tol, false);
                 let nn = method.y().len();
                 let [mut ye, mut ype, mut ynew, mut ypnew] = std::mem::take(&mut run.event_bufs);
                 for v in [&mut ye, &mut ype] {

@@ -99,6 +99,8 @@ pub struct SystemCache {
     pub(crate) ncolours: usize,
     pub(crate) atol: Vec<f64>,
     pub(crate) algebraic: Vec<bool>,
+    /// [`Problem::outputs_read_rates`], read with the algebraic flags.
+    pub(crate) outputs_read_rates: bool,
     /// Columns of each colour (`colour_cols[k]` = the columns `j` with `colour[j] == k`).
     pub(crate) colour_cols: Vec<Vec<usize>>,
     /// Work vectors of the Jacobian assembly (kept across calls: a large line would otherwise
@@ -229,6 +231,7 @@ impl SystemCache {
         self.map = map;
         self.atol = atol;
         self.algebraic = algebraic;
+        self.outputs_read_rates = problem.outputs_read_rates();
         self.colour_cols = colour_cols;
         // Spares survive a resize that keeps a band (a dividing line): vectors are resized
         // when taken, band matrices and solvers grow in place here; anything else is dropped.
@@ -893,6 +896,46 @@ impl<'a> System<'a> {
         jacobian::assemble(self, t, y, yp, Columns::Iteration { c }, None, jac)
     }
 
+    /// Both halves of the iteration matrix at `(t, y, ẏ)`: `∂F/∂y` into `jy` and `∂F/∂ẏ` into
+    /// `jyp`, for a method that refactorises `∂F/∂y + α·∂F/∂ẏ` as `α` changes (BDF). A
+    /// differential column whose `∂F/∂ẏ` is lost to rounding in `J(1) − J(0)` (below about
+    /// 2⁻⁴⁰ of its `∂F/∂y`) is read from `(J(C) − J(0))/C` with `C` a large power of two, as in
+    /// the consistent initialisation. Counted as the matrix evaluations it took: two, or more
+    /// when such columns were restored.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// /// K·ẏ + y = 0 with K far below the unit stiffness: J(1) − J(0) = (1 + K) − 1 = 0.
+    /// struct FaintDrag;
+    /// impl Problem for FaintDrag {
+    ///     fn dim(&self) -> usize { 1 }
+    ///     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    ///         r[0] = 1e-20 * yp[0] + y[0];
+    ///         Ok(())
+    ///     }
+    /// }
+    /// # let (mut p, opts, mut stats) = (FaintDrag, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// let (mut jy, mut jyp) = (sys.new_matrix(), sys.new_matrix());
+    /// sys.jacobian_pair(0.0, &[1.0], &[0.0], &mut jy, &mut jyp).unwrap();
+    /// assert_eq!(jy.get(0, 0), 1.0);
+    /// assert!((jyp.get(0, 0) / 1e-20 - 1.0).abs() < 1e-6);
+    /// assert_eq!(sys.stats.jacobian_evals, 3); // J(0), J(1) and one J(C)
+    /// ```
+    pub fn jacobian_pair(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        jy: &mut Matrix,
+        jyp: &mut Matrix,
+    ) -> Result<(), StepFailure> {
+        jacobian::pair(self, t, y, yp, jy, jyp)
+    }
+
     /// As [`jacobian`](System::jacobian), for a caller that already holds `r0 = F(t, y, ẏ)`:
     /// finite differences then cost exactly one residual call per colour
     /// ([`SystemCache::colour_count`]; bandwidth+1 for banded) instead of one more.
@@ -1124,11 +1167,15 @@ impl<'a> System<'a> {
         }
     }
 
-    /// Weighted RMS norm `sqrt(mean((v_i·w_i)²))`.
+    /// Weighted RMS norm `sqrt(mean((v_i·w_i)²))`. Finite whenever every `v_i·w_i` is: when
+    /// the squares overflow (terms beyond about 1e154, as the initial rates of a drag far
+    /// below the stiffness), the sum is taken over the terms divided by the largest.
     ///
     /// ```
     /// use integrators::System;
     /// assert!((System::wrms(&[3.0, 4.0], &[1.0, 1.0]) - 12.5f64.sqrt()).abs() < 1e-15);
+    /// assert!((System::wrms(&[3e200, 4e200], &[1.0, 1.0]) / (12.5f64.sqrt() * 1e200) - 1.0).abs() < 1e-15);
+    /// assert!(System::wrms(&[1.0, f64::NAN], &[1.0, 1.0]).is_nan());
     /// ```
     pub fn wrms(v: &[f64], w: &[f64]) -> f64 {
         assert_eq!(v.len(), w.len(), "wrms: length mismatch");
@@ -1136,7 +1183,20 @@ impl<'a> System<'a> {
             return 0.0;
         }
         let s: f64 = v.iter().zip(w).map(|(a, b)| (a * b) * (a * b)).sum();
-        (s / v.len() as f64).sqrt()
+        let n = v.len() as f64;
+        if s.is_finite() || v.iter().zip(w).any(|(a, b)| !(a * b).is_finite()) {
+            return (s / n).sqrt();
+        }
+        let big = v
+            .iter()
+            .zip(w)
+            .fold(0.0f64, |m, (a, b)| m.max((a * b).abs()));
+        let s: f64 = v
+            .iter()
+            .zip(w)
+            .map(|(a, b)| (a * b / big) * (a * b / big))
+            .sum();
+        big * (s / n).sqrt()
     }
 
     /// Index of the component with the largest `|v_i·w_i|` (for error messages).

@@ -111,6 +111,13 @@ pub trait CellArray {
         vec![false; self.dim()]
     }
 
+    /// Whether the outputs read rates beyond the state (a Kelvin–Voigt stress reads the strain
+    /// rate): the solver then solves each output's `ẏ` from its `y`
+    /// ([`integrators::Problem::outputs_read_rates`]).
+    fn outputs_read_rates(&self) -> bool {
+        false
+    }
+
     /// Number of event functions (e.g. one per cell for division).
     fn num_events(&self) -> usize {
         0

@@ -225,6 +225,11 @@ impl<E: StrainEnergy> CellArray for ThesisLine<E> {
             .map(|i| self.k[i] == 0.0 && self.eta[i] == 0.0)
             .collect()
     }
+
+    /// A Kelvin–Voigt cell's stress reads its strain rate.
+    fn outputs_read_rates(&self) -> bool {
+        self.eta.iter().any(|&e| e != 0.0)
+    }
 }
 
 impl<E: StrainEnergy> LineModel for ThesisLine<E> {

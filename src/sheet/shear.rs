@@ -409,6 +409,11 @@ impl<E: StrainEnergy> CellArray for ShearColumn<E> {
         Ok(())
     }
 
+    /// A Kelvin–Voigt cell's shear stress reads its shear rate.
+    fn outputs_read_rates(&self) -> bool {
+        self.params.eta != 0.0
+    }
+
     /// Edge `k` tested through its cell's shear `tan θ_k = (x_k − x_{k−1})/h`
     /// (docs/model.md §8.1): differenced with edge `k − 1`; the first edge (above the fixed
     /// base) is an anchor measured in segment heights.

@@ -153,4 +153,9 @@ impl<E: StrainEnergy> CellArray for Line<E> {
         }
         alg
     }
+
+    /// A Kelvin–Voigt cell's stress (and pressure) reads its strain rate.
+    fn outputs_read_rates(&self) -> bool {
+        self.cells.eta.iter().any(|&e| e != 0.0)
+    }
 }

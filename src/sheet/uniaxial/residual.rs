@@ -390,6 +390,11 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
         Some(map)
     }
 
+    /// A Kelvin–Voigt cell's stresses and pressure read its stretch rates.
+    fn outputs_read_rates(&self) -> bool {
+        self.params.eta != 0.0
+    }
+
     fn algebraic(&self) -> Vec<bool> {
         // without drag the face rows hold no rate, unless through the Kelvin–Voigt stress
         let mut v = vec![self.params.drag == 0.0 && self.params.eta == 0.0; self.dim()];

@@ -7,9 +7,16 @@ use super::*;
 /// Newton-form interpolation through the nodes `z` (newest first; two equal adjacent nodes mean
 /// the second carries the derivative item, index `z.len()`): coefficients over the items of
 /// `p(t)` and `p'(t)`.
+///
+/// Time is measured in a power of two `H` near the nodes' spread, so the divided differences
+/// stay of order one however short the steps: in seconds, a step of 1e-80 made the order-5
+/// table entries 1/h⁵ overflow while the products `Π (t − z)` underflowed (a shear column at
+/// K = 1e-80 took 4× the steps and erred by 280·rtol). Scaling by a power of two is exact,
+/// so wherever nothing over- or underflowed every coefficient is bitwise the unscaled one.
 pub(super) fn interp_coeffs(z: &[f64], t: f64, p: &mut [f64; NC], dp: &mut [f64; NC]) {
     let m = z.len();
     debug_assert!((1..NC).contains(&m));
+    let (unit, inv_unit) = time_unit(z, t);
     let mut table = [[0.0; NC]; NC];
     for (i, row) in table.iter_mut().enumerate().take(m) {
         row[i] = 1.0;
@@ -26,13 +33,15 @@ pub(super) fn interp_coeffs(z: &[f64], t: f64, p: &mut [f64; NC], dp: &mut [f64;
         if level + 1 == m {
             break;
         }
-        dw = dw * (t - z[level]) + w;
-        w *= t - z[level];
+        let d = (t - z[level]) * inv_unit;
+        dw = dw * d + w;
+        w *= d;
         for i in 0..m - level - 1 {
-            let den = z[i + level + 1] - z[i];
+            let den = (z[i + level + 1] - z[i]) * inv_unit;
             if den == 0.0 {
+                // the derivative item, in units of H: dy/d(t/H) = H·ẏ
                 let mut e = [0.0; NC];
-                e[m] = 1.0;
+                e[m] = unit;
                 table[i] = e;
             } else {
                 let next = table[i + 1];
@@ -42,6 +51,25 @@ pub(super) fn interp_coeffs(z: &[f64], t: f64, p: &mut [f64; NC], dp: &mut [f64;
             }
         }
     }
+    // p' in units of H back to units of t
+    for d in dp.iter_mut() {
+        *d *= inv_unit;
+    }
+}
+
+/// The time unit `H` of [`interp_coeffs`] and `1/H`: the power of two nearest the larger of
+/// `|t − z₀|` and the nodes' spread (1 when both vanish), its exponent kept within ±1000 so
+/// both are normal numbers.
+fn time_unit(z: &[f64], t: f64) -> (f64, f64) {
+    let spread = z
+        .iter()
+        .fold((t - z[0]).abs(), |m, &zi| m.max((zi - z[0]).abs()));
+    if spread == 0.0 || !spread.is_finite() {
+        return (1.0, 1.0);
+    }
+    let e = (spread.log2().round() as i64).clamp(-1000, 1000);
+    let pow2 = |k: i64| f64::from_bits(((1023 + k) as u64) << 52);
+    (pow2(e), pow2(-e))
 }
 
 /// Where a vector pass of length `n` is split in two halves (run by [`rayon::join`]): a

@@ -18,10 +18,8 @@ impl Bdf {
         if !self.jac_valid || self.steps_since_jac >= sys.opts.bdf.max_jacobian_age {
             let jy = self.jy.as_mut().expect("allocated");
             let jyp = self.jyp.as_mut().expect("allocated");
-            let r = sys
-                .jacobian(t_new, &self.ycur, &self.ypcur, 0.0, jy)
-                .and_then(|_| sys.jacobian(t_new, &self.ycur, &self.ypcur, 1.0, jyp));
-            match r {
+            // ∂F/∂y and ∂F/∂ẏ (J(1) − J(0), with columns lost to rounding restored)
+            match sys.jacobian_pair(t_new, &self.ycur, &self.ypcur, jy, jyp) {
                 Ok(()) => {}
                 Err(StepFailure::Recoverable { reason, component }) => {
                     self.jac_valid = false;
@@ -29,8 +27,6 @@ impl Bdf {
                 }
                 Err(StepFailure::Fatal(e)) => return Err(NewtonFail::Fatal(e)),
             }
-            // jyp = J(1) - J(0) = ∂F/∂ẏ
-            jyp.axpby(1.0, -1.0, jy);
             self.jac_valid = true;
             self.jac_current = true;
             self.steps_since_jac = 0;

@@ -16,6 +16,46 @@ fn interpolation_reproduces_polynomials() {
 }
 
 #[test]
+fn interpolation_coefficients_do_not_depend_on_the_time_scale() {
+    // order-5 nodes with a double (derivative) node, as after a start: at steps of 1e-80
+    // the unscaled divided differences (1/h⁵ ≈ 1e400) overflowed; in time units of a power
+    // of two the coefficients are the unit-scale ones, the derivative's scaled by 1/s and
+    // the derivative item's value coefficient by s, exactly (s a power of two) or to
+    // rounding (s = 10^-k)
+    let z = [1.0, 0.7, 0.45, 0.2, 0.0, 0.0];
+    let t = 1.3;
+    let (mut p, mut dp) = ([0.0; NC], [0.0; NC]);
+    interp_coeffs(&z, t, &mut p, &mut dp);
+    let m = z.len();
+    for (s, exact) in [
+        (2f64.powi(-300), true),
+        (1e-80, false),
+        (1e-250, false),
+        (1e250, false),
+    ] {
+        let zs = z.map(|x| x * s);
+        let (mut ps, mut dps) = ([0.0; NC], [0.0; NC]);
+        interp_coeffs(&zs, t * s, &mut ps, &mut dps);
+        for q in 0..=m {
+            // the derivative item's coefficients carry one power of time more
+            let unit = if q == m { s } else { 1.0 };
+            let (want, dwant) = (p[q] * unit, dp[q] * unit / s);
+            for (got, want) in [(ps[q], want), (dps[q], dwant)] {
+                assert!(got.is_finite(), "s = {s:e}, item {q}: {got}");
+                if exact {
+                    assert_eq!(got, want, "s = {s:e}, item {q}");
+                } else {
+                    assert!(
+                        (got - want).abs() <= 1e-12 * want.abs().max(unit),
+                        "s = {s:e}, item {q}: {got:e} against {want:e}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
 fn split_vector_passes_match_the_whole_pass() {
     // the two-thread split of the predictor/weights pass and of the error-norm sweep, run
     // here on one thread at a block boundary: predictor and weights bitwise, norms merged

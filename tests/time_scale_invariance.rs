@@ -1,0 +1,93 @@
+//! Time-scale invariance: a line posed on times of 1e-100 or 1e100 (its drag, growth rate,
+//! ramp time and viscosity scaled with them) is as accurate as the unit-time line: against a
+//! tight unit-time reference, its stretches and pressures err by at most twice what the
+//! unit-time run's do at the same tolerance. (Not bit for bit: a_tol is absolute, so the
+//! weights of the rates, and with them the starting step, change with the time scale.) Three limits of absolute time broke it and are fixed: events
+//! located to an absolute 1e-12 (a dividing line at 1e-100 divided at the ends of steps and
+//! erred by 600·rtol), BDF's interpolation coefficients overflowing at steps below 1e-62 and
+//! the starting step reading an overflowed norm as a negligible one (docs/model.md §2.9, §8.1).
+
+use celltissue::observe::RunRecord;
+use celltissue::scenario::{execute::run_spec, load_str};
+
+/// The model keys that carry time, for a time scale `s`.
+type TimedKeys = dyn Fn(f64) -> String;
+
+/// The discrete run of a line with time scale `s` at `rtol` (a_tol = rtol/100); `extra(s)`
+/// adds the model's timed keys.
+fn line(s: f64, rtol: f64, k: f64, extra: &TimedKeys) -> RunRecord {
+    let text = format!(
+        "name = \"ts\"\n[solver]\nrtol = {rtol:e}\natol = {:e}\n[output]\nseries = [0]\n\
+         profiles = [{:e}, {:e}, {:e}]\n[model]\nkind = \"line\"\nmodels = [\"discrete\"]\n\
+         cells = 50\nK = {:e}\n{}",
+        rtol * 1e-2,
+        0.5 * s,
+        s,
+        3.0 * s,
+        k * s,
+        extra(s)
+    );
+    let scenario = load_str(&text, std::path::Path::new("ts.toml"), &[]).unwrap();
+    let rec = run_spec(&scenario.runs[0]);
+    assert!(rec.error.is_none(), "s = {s:e}: {:?}", rec.error);
+    rec
+}
+
+/// Largest relative difference of a profile field between two runs.
+fn gap(a: &RunRecord, b: &RunRecord, field: fn(&celltissue::observe::Profile) -> &[f64]) -> f64 {
+    assert_eq!(a.profiles.len(), b.profiles.len());
+    a.profiles
+        .iter()
+        .zip(&b.profiles)
+        .flat_map(|(p, q)| {
+            assert_eq!(field(p).len(), field(q).len(), "cell counts differ");
+            field(p).iter().zip(field(q))
+        })
+        .map(|(x, y)| ((x - y) / y).abs())
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn lines_on_times_of_1e_minus_100_and_1e100_match_the_unit_time_line() {
+    let cases: [(&str, f64, &TimedKeys); 3] = [
+        ("dividing, free end", 1e-2, &|s| {
+            format!(
+                "right_end = \"free\"\ngrowth = {{ sigma0 = 0.1, gm = {:e} }}\n\
+                 division = {{ rule = \"area\", ratio = 2 }}\n",
+                1.0 / s
+            )
+        }),
+        ("viscous, prescribed ramp", 1.0, &|s| {
+            format!("t_ramp = {s:e}\neta = {:e}\n", 0.5 * s)
+        }),
+        ("active ring", 0.1, &|s| {
+            format!(
+                "right_end = \"periodic\"\nactive = {{ beta = -1, omega = {:e} }}\n",
+                0.2 / s
+            )
+        }),
+    ];
+    let rtol = 1e-8;
+    for (name, k, extra) in cases {
+        let reference = line(1.0, 1e-11, k, extra);
+        let errors = |rec: &RunRecord| {
+            (
+                gap(rec, &reference, |p| &p.stretch),
+                gap(rec, &reference, |p| &p.pressure),
+            )
+        };
+        let unit = errors(&line(1.0, rtol, k, extra));
+        // powers of two near 1e∓100, so the scaled inputs are exact
+        for s in [2f64.powi(-332), 2f64.powi(332)] {
+            let scaled = errors(&line(s, rtol, k, extra));
+            eprintln!(
+                "{name}, s = {s:e}: stretch {:.2e}, pressure {:.2e} (at s = 1: {:.2e}, {:.2e})",
+                scaled.0, scaled.1, unit.0, unit.1
+            );
+            assert!(
+                scaled.0 <= 2.0 * unit.0.max(rtol) && scaled.1 <= 2.0 * unit.1.max(rtol),
+                "{name}, s = {s:e}: {scaled:?} against {unit:?} at s = 1"
+            );
+        }
+    }
+}
