@@ -897,11 +897,12 @@ impl<'a> System<'a> {
     }
 
     /// Both halves of the iteration matrix at `(t, y, ẏ)`: `∂F/∂y` into `jy` and `∂F/∂ẏ` into
-    /// `jyp`, for a method that refactorises `∂F/∂y + α·∂F/∂ẏ` as `α` changes (BDF). A
-    /// differential column whose `∂F/∂ẏ` is lost to rounding in `J(1) − J(0)` (below about
-    /// 2⁻⁴⁰ of its `∂F/∂y`) is read from `(J(C) − J(0))/C` with `C` a large power of two, as in
-    /// the consistent initialisation. Counted as the matrix evaluations it took: two, or more
-    /// when such columns were restored.
+    /// `jyp`, for a method that refactorises `∂F/∂y + α·∂F/∂ẏ` as `α` changes (BDF), `alpha`
+    /// the coefficient it needs now. A differential column whose `∂F/∂ẏ` is lost to rounding
+    /// in `J(1) − J(0)` (below about 2⁻⁴⁰ of its `∂F/∂y`) is read from `(J(C) − J(0))/C` with
+    /// `C` a large power of two, as in the consistent initialisation, when `alpha` exceeds 2³⁰
+    /// (below, such a column changes the Newton matrix by less than 2⁻¹⁰). Counted as the
+    /// matrix evaluations it took: two, or more when such columns were restored.
     ///
     /// ```
     /// # use integrators::system::SystemCache;
@@ -920,7 +921,7 @@ impl<'a> System<'a> {
     /// # cache.rebuild(&p, &opts).unwrap();
     /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
     /// let (mut jy, mut jyp) = (sys.new_matrix(), sys.new_matrix());
-    /// sys.jacobian_pair(0.0, &[1.0], &[0.0], &mut jy, &mut jyp).unwrap();
+    /// sys.jacobian_pair(0.0, &[1.0], &[0.0], 1e12, &mut jy, &mut jyp).unwrap();
     /// assert_eq!(jy.get(0, 0), 1.0);
     /// assert!((jyp.get(0, 0) / 1e-20 - 1.0).abs() < 1e-6);
     /// assert_eq!(sys.stats.jacobian_evals, 3); // J(0), J(1) and one J(C)
@@ -930,10 +931,11 @@ impl<'a> System<'a> {
         t: f64,
         y: &[f64],
         yp: &[f64],
+        alpha: f64,
         jy: &mut Matrix,
         jyp: &mut Matrix,
     ) -> Result<(), StepFailure> {
-        jacobian::pair(self, t, y, yp, jy, jyp)
+        jacobian::pair(self, t, y, yp, alpha, jy, jyp)
     }
 
     /// As [`jacobian`](System::jacobian), for a caller that already holds `r0 = F(t, y, ẏ)`:

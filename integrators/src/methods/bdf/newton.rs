@@ -19,7 +19,7 @@ impl Bdf {
             let jy = self.jy.as_mut().expect("allocated");
             let jyp = self.jyp.as_mut().expect("allocated");
             // ∂F/∂y and ∂F/∂ẏ (J(1) − J(0), with columns lost to rounding restored)
-            match sys.jacobian_pair(t_new, &self.ycur, &self.ypcur, jy, jyp) {
+            match sys.jacobian_pair(t_new, &self.ycur, &self.ypcur, alpha, jy, jyp) {
                 Ok(()) => {}
                 Err(StepFailure::Recoverable { reason, component }) => {
                     self.jac_valid = false;
