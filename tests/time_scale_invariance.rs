@@ -1,4 +1,4 @@
-//! Time-scale invariance: a line posed on times of 1e-100 or 1e100 (its drag, growth rate,
+//! Scale invariance. Time: a line posed on times of 1e-100 or 1e100 (its drag, growth rate,
 //! ramp time and viscosity scaled with them) is as accurate as the unit-time line: against a
 //! tight unit-time reference, its stretches and pressures err by at most twice what the
 //! unit-time run's do at the same tolerance. (Not bit for bit: a_tol is absolute, so the
@@ -6,6 +6,7 @@
 //! located to an absolute 1e-12 (a dividing line at 1e-100 divided at the ends of steps and
 //! erred by 600·rtol), BDF's interpolation coefficients overflowing at steps below 1e-62 and
 //! the starting step reading an overflowed norm as a negligible one (docs/model.md §2.9, §8.1).
+//! Lengths and stresses: scaled by powers of two near 1e±100, nothing changes by a bit.
 
 use celltissue::observe::RunRecord;
 use celltissue::scenario::{execute::run_spec, load_str};
@@ -88,6 +89,63 @@ fn lines_on_times_of_1e_minus_100_and_1e100_match_the_unit_time_line() {
                 scaled.0 <= 2.0 * unit.0.max(rtol) && scaled.1 <= 2.0 * unit.1.max(rtol),
                 "{name}, s = {s:e}: {scaled:?} against {unit:?} at s = 1"
             );
+        }
+    }
+}
+
+/// The discrete run of a line with lengths scaled by `l` and stresses by `m` (cell length, μ,
+/// drag `K·m/l`, and the model's stress keys through `extra(m)`), at rtol 1e-8.
+fn scaled_line(l: f64, m: f64, k: f64, extra: &TimedKeys) -> RunRecord {
+    let text = format!(
+        "name = \"ls\"\n[solver]\nrtol = 1e-8\natol = 1e-10\n[output]\nseries = [0]\n\
+         profiles = [0.5, 1, 3]\n[model]\nkind = \"line\"\nmodels = [\"discrete\"]\ncells = 50\n\
+         cell_length = {l:e}\nlaw = {{ law = \"neo_hookean\", mu = {m:e} }}\nK = {:e}\n{}",
+        k * m / l,
+        extra(m)
+    );
+    let scenario = load_str(&text, std::path::Path::new("ls.toml"), &[]).unwrap();
+    let rec = run_spec(&scenario.runs[0]);
+    assert!(rec.error.is_none(), "l = {l:e}, m = {m:e}: {:?}", rec.error);
+    rec
+}
+
+#[test]
+fn lengths_and_stresses_scaled_by_powers_of_two_near_1e100_change_no_bit() {
+    // the tested quantities are stretches in cell units and the residual rows scale as one,
+    // so scaling by powers of two (exact) must give the same steps and stretches bit for bit
+    // and the pressures times m exactly
+    let cases: [(&str, f64, &TimedKeys); 3] = [
+        ("dividing, free end", 1e-2, &|m| {
+            format!(
+                "right_end = \"free\"\ngrowth = {{ sigma0 = {:e} }}\n\
+                 division = {{ rule = \"area\", ratio = 2 }}\n",
+                0.1 * m
+            )
+        }),
+        ("viscous, prescribed ramp", 1.0, &|m| {
+            format!("t_ramp = 1\neta = {:e}\n", 0.5 * m)
+        }),
+        ("active ring", 0.1, &|m| {
+            format!(
+                "right_end = \"periodic\"\nactive = {{ beta = -1, omega = 0.2 }}\n\
+                 active_amplitude = {m:e}\n"
+            )
+        }),
+    ];
+    let (tiny, huge) = (2f64.powi(-332), 2f64.powi(332));
+    for (name, k, extra) in cases {
+        let unit = scaled_line(1.0, 1.0, k, extra);
+        for (l, m) in [(tiny, 1.0), (huge, 1.0), (1.0, tiny), (1.0, huge)] {
+            let rec = scaled_line(l, m, k, extra);
+            assert_eq!(
+                rec.stats.steps, unit.stats.steps,
+                "{name}, l = {l:e}, m = {m:e}"
+            );
+            for (p, q) in rec.profiles.iter().zip(&unit.profiles) {
+                assert_eq!(p.stretch, q.stretch, "{name}, l = {l:e}, m = {m:e}");
+                let scaled: Vec<f64> = q.pressure.iter().map(|x| x * m).collect();
+                assert_eq!(p.pressure, scaled, "{name}, l = {l:e}, m = {m:e}");
+            }
         }
     }
 }
