@@ -55,6 +55,11 @@ pub struct SolveSettings {
     /// [`integrators::Options::land_on_outputs`]). Left out of the echo when not set.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub land_on_outputs: Option<bool>,
+    /// Whether outputs that read rates (a Kelvin–Voigt cell's stress and pressure) take the
+    /// interpolated `ẏ` instead of one solved from the output's state (default `false`;
+    /// [`integrators::Options::interpolate_rates`]). Left out of the echo when false.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub interpolate_rates: bool,
 }
 
 impl Default for SolveSettings {
@@ -70,6 +75,7 @@ impl Default for SolveSettings {
             threads: 1,
             jacobian_age: integrators::BdfOptions::default().max_jacobian_age,
             land_on_outputs: None,
+            interpolate_rates: false,
         }
     }
 }
@@ -93,6 +99,7 @@ impl SolveSettings {
             linear_solver: self.linear_solver,
             parallel: Parallelism::from_threads(self.threads)?,
             land_on_outputs: self.land_on_outputs,
+            interpolate_rates: self.interpolate_rates,
             bdf: integrators::BdfOptions {
                 max_jacobian_age: self.jacobian_age,
                 ..Default::default()

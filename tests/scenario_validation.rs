@@ -470,6 +470,26 @@ fn the_jacobian_age_is_bdf_only_and_bounded() {
 }
 
 #[test]
+fn interpolated_rates_are_read_checked_and_echoed_only_when_asked_for() {
+    let set = load(&line(""), &["solver.interpolate_rates=true"]).unwrap();
+    assert!(set.runs[0].solver.interpolate_rates);
+    assert!(set.runs[0].solver.options().unwrap().interpolate_rates);
+    let echo = serde_json::to_value(set.runs[0].solver).unwrap();
+    assert_eq!(echo["interpolate_rates"], true);
+    let plain = load(&line(""), &[]).unwrap();
+    assert!(!plain.runs[0].solver.interpolate_rates);
+    assert!(serde_json::to_value(plain.runs[0].solver)
+        .unwrap()
+        .get("interpolate_rates")
+        .is_none());
+    rejects(
+        &line(""),
+        &["solver.interpolate_rates=2"],
+        "solver.interpolate_rates",
+    );
+}
+
+#[test]
 fn landing_on_outputs_is_read_and_echoed_only_when_set() {
     let set = load(&line(""), &["solver.land_on_outputs=false"]).unwrap();
     assert_eq!(set.runs[0].solver.land_on_outputs, Some(false));

@@ -426,7 +426,8 @@ impl<O> Run<'_, O> {
     /// a step's end the Newton iterate's distance from the constraints. (Counted in the
     /// statistics; if the projection fails the unprojected values are kept.) A problem whose
     /// outputs read `ẏ` ([`Problem::outputs_read_rates`]) is projected the same way: its
-    /// differential components are kept and `ẏ` solved from them.
+    /// differential components are kept and `ẏ` solved from them (unless
+    /// [`Options::interpolate_rates`]).
     fn emit_interp<P: Problem>(
         &mut self,
         p: &mut P,
@@ -452,7 +453,8 @@ impl<O> Run<'_, O> {
                 // also at a step's own end: its algebraic components are a Newton iterate,
                 // accepted by a convergence test and not error-controlled, so they can sit
                 // farther from the constraints than the differential ones' accuracy
-                if self.cache.outputs_read_rates || self.cache.algebraic.iter().any(|&a| a) {
+                let rates = self.cache.outputs_read_rates && !opts.interpolate_rates;
+                if rates || self.cache.algebraic.iter().any(|&a| a) {
                     let (y0, yp0) = (self.ybuf.clone(), self.ypbuf.clone());
                     let mut sys = System::new(p, opts, &mut self.stats, &mut self.cache);
                     if sys

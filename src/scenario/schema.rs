@@ -74,6 +74,9 @@ pub struct SolverSection {
     /// Whether steps end at every output time instead of interpolating (default: for every
     /// method but BDF, whose dense output is error-controlled).
     pub land_on_outputs: Option<bool>,
+    /// Whether outputs that read rates keep the interpolated ones (default false: solved from
+    /// each output's state).
+    pub interpolate_rates: bool,
 }
 
 impl Default for SolverSection {
@@ -90,6 +93,7 @@ impl Default for SolverSection {
             threads: 1,
             jacobian_age: None,
             land_on_outputs: None,
+            interpolate_rates: false,
         }
     }
 }
@@ -195,6 +199,7 @@ impl SolverSection {
             threads: self.threads,
             jacobian_age,
             land_on_outputs: self.land_on_outputs,
+            interpolate_rates: self.interpolate_rates,
         })
     }
 }
