@@ -194,8 +194,7 @@ fn user_jacobian_columns(
 /// impulsive start, where `α·∂F/∂ẏ` dominates): those are read from `(J(C) − J(0))/C` as the
 /// consistent initialisation does. Only for a coefficient `alpha` above [`PAIR_RESCUE_ALPHA`]:
 /// a lost column's `∂F/∂ẏ` is below 2⁻⁴⁰ of its `∂F/∂y`, so below that `α` it changes the
-/// Newton matrix by less than 2⁻¹⁰ (and the pass over every column, 3 % of a 10⁵-cell line's
-/// run, is skipped). A step that later shrinks past it with the same matrices is caught by
+/// Newton matrix by less than 2⁻¹⁰, and the pass over every column is skipped. A step that later shrinks past it with the same matrices is caught by
 /// the Newton failure that refreshes them. Each matrix evaluation is counted in
 /// `jacobian_evals` (two, or more when columns were restored).
 #[allow(clippy::too_many_arguments)]

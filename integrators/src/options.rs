@@ -60,7 +60,7 @@ pub struct Options {
     /// Interpolated rates save one Jacobian and factorisation per output and are not
     /// error-controlled: a viscous line's pressure erred by 13·rtol at rtol 1e-6 through
     /// them, 2.5·rtol with solved rates, and the solved rates took a 10⁵-cell viscous line
-    /// with 101 outputs from 1.40 s to 2.54 s.
+    /// with 101 outputs from about 1.3 s to 2.4 s.
     pub interpolate_rates: bool,
 }
 

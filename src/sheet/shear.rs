@@ -535,6 +535,11 @@ impl<E: StrainEnergy> CellArray for ShearCellCentre<E> {
         self.params.cells
     }
 
+    /// A Kelvin–Voigt cell's shear stress reads its shear rate.
+    fn outputs_read_rates(&self) -> bool {
+        self.params.eta != 0.0
+    }
+
     fn pattern(&self) -> Pattern {
         Pattern::Dense
     }
