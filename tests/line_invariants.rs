@@ -120,8 +120,9 @@ fn stress_spread(rec: &RunRecord) -> f64 {
 /// K = 0, heterogeneous μ and η (0..2), prescribed exponential ramp: σ_j is one value along
 /// the line at every profile time (both models), although λ_j varies by 6–8 % between
 /// cells. σ holds η·α̇, and a profile between two steps is a dense-output state whose rates
-/// the solver solves from that state (`Problem::outputs_read_rates`), so the constraint
-/// holds to rounding at every tolerance. (From the interpolant's derivative, as before, the
+/// the solver solves from that state (`Problem::outputs_read_rates`) to 10⁻³ of the
+/// tolerance, so the constraint holds to that: measured 3.8e-12, 5.7e-14 and 5.6e-15 at
+/// rtol 1e-6, 1e-8 and 1e-10. (From the interpolant's derivative, as before, the
 /// relative spread was 1.0e-5 / 1.5e-7 / 8.8e-9 at rtol 1e-6 / 1e-8 / 1e-10 for the
 /// discrete line and 3.5e-6 / 7.5e-7 / 5.3e-9 for the continuum.)
 #[test]
@@ -135,7 +136,8 @@ fn without_drag_the_stress_is_uniform() {
         (ModelKind::Continuum, Some(200)),
     ] {
         let mut spreads = Vec::new();
-        for rtol in [1e-6, 1e-8, 1e-10] {
+        let rtols = [1e-6, 1e-8, 1e-10];
+        for rtol in rtols {
             let s = SolveSettings {
                 rtol,
                 atol: 1e-2 * rtol,
@@ -148,7 +150,9 @@ fn without_drag_the_stress_is_uniform() {
         println!("{model:?}: relative σ spread at rtol 1e-6, 1e-8, 1e-10: {spreads:?}");
         // (a model that did not balance σ would leave a spread of the order of the 6–8 %
         // stretch spread)
-        assert!(spreads.iter().all(|&s| s < 1e-12), "{spreads:?}");
+        for (s, rtol) in spreads.iter().zip(rtols) {
+            assert!(*s < 1e-3 * rtol, "{spreads:?}");
+        }
         assert!(spreads[2] < 1e-6, "{spreads:?}");
     }
 }

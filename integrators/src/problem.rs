@@ -160,12 +160,13 @@ pub trait Problem {
     }
 
     /// Whether what is read from the outputs depends on `ẏ` beyond the state (a Kelvin–Voigt
-    /// cell's stress reads its strain rate). The solver then makes each output's `ẏ`
-    /// consistent with its `y` ([`crate::System::consistent_init`] at the output time), as it
-    /// does for a problem with algebraic components: an interpolated `ẏ` is not
-    /// error-controlled (a viscous line's pressure erred by 13·rtol at rtol 1e-6 and 66·rtol at
-    /// 1e-8 from it, against 2.5 and 6 from consistent rates). Costs one Jacobian and
-    /// factorisation per output. Default: false.
+    /// cell's stress reads its strain rate). The solver then solves each output's `ẏ` from its
+    /// `y`, as it makes a problem with algebraic components consistent: an interpolated `ẏ` is
+    /// not error-controlled (a viscous line's pressure erred by 13·rtol at rtol 1e-6 and
+    /// 66·rtol at 1e-8 from it, against 2.5 and 6 from solved rates). Costs about three
+    /// residuals and solves per output (∂F/∂ẏ is factorised once and kept across outputs), or
+    /// a consistent initialisation per output when the problem has algebraic components.
+    /// Default: false.
     fn outputs_read_rates(&self) -> bool {
         false
     }

@@ -368,6 +368,9 @@ struct Run<'o, O> {
     /// kept across events: a problem that grows at each event (a dividing line) then extends
     /// them in place instead of receiving fresh vectors of its old size.
     event_bufs: [Vec<f64>; 4],
+    /// The factorised `∂F/∂ẏ` of the last output whose rates were solved from its state
+    /// ([`System::rates_from_state`]) and its dimension, kept for the next output.
+    rates_lu: Option<(usize, crate::linalg::LinearSolver)>,
 }
 
 impl<O> Run<'_, O> {
@@ -454,7 +457,17 @@ impl<O> Run<'_, O> {
                 // accepted by a convergence test and not error-controlled, so they can sit
                 // farther from the constraints than the differential ones' accuracy
                 let rates = self.cache.outputs_read_rates && !opts.interpolate_rates;
-                if rates || self.cache.algebraic.iter().any(|&a| a) {
+                let algebraic = self.cache.algebraic.iter().any(|&a| a);
+                if rates && !algebraic {
+                    let yp0 = self.ypbuf.clone();
+                    let mut sys = System::new(p, opts, &mut self.stats, &mut self.cache);
+                    if sys
+                        .rates_from_state(to, &self.ybuf, &mut self.ypbuf, &mut self.rates_lu)
+                        .is_err()
+                    {
+                        self.ypbuf = yp0;
+                    }
+                } else if rates || algebraic {
                     let (y0, yp0) = (self.ybuf.clone(), self.ypbuf.clone());
                     let mut sys = System::new(p, opts, &mut self.stats, &mut self.cache);
                     if sys
@@ -541,6 +554,7 @@ where
         ybuf: Vec::new(),
         ypbuf: Vec::new(),
         event_bufs: Default::default(),
+        rates_lu: None,
     };
     let invalid =
         |run: Run<'_, O>, msg: String| Err(run.fail(ErrorKind::InvalidInput(msg), t0, None));

@@ -409,3 +409,56 @@ fn a_factorisation_on_an_overflowed_jacobian_names_the_entry_not_a_zero_pivot() 
     assert_eq!(e.partial.t, vec![0.5]);
     assert!(e.to_string().contains("derivatives overflowed"), "{e}");
 }
+
+/// `K(1 + y²)·ẏ + (1 + t)·y = 0`, `K = 1, 2` (a drag that changes with the state against a
+/// stiffening spring; exact rates `ẏ = −(1 + t)y/(K(1 + y²))`), telling the solver whether its
+/// outputs read `ẏ`. The drag's change makes a kept factorisation of `∂F/∂ẏ` stale.
+struct Relaxing {
+    reads_rates: bool,
+}
+
+impl Problem for Relaxing {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn residual(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        r: &mut [f64],
+    ) -> Result<(), ResidualError> {
+        for i in 0..2 {
+            let k = 1.0 + i as f64;
+            r[i] = k * (1.0 + y[i] * y[i]) * yp[i] + (1.0 + t) * y[i];
+        }
+        Ok(())
+    }
+    fn outputs_read_rates(&self) -> bool {
+        self.reads_rates
+    }
+}
+
+#[test]
+fn outputs_that_read_rates_get_them_solved_from_their_state() {
+    // interpolated, the outputs' ẏ err by the interpolant's derivative; solved from y they
+    // satisfy F(t, y, ẏ) = 0 to the consistent initialisation's 1e-3 of the tolerance
+    let times: Vec<f64> = (1..=40).map(|k| 0.1 * k as f64).collect();
+    let worst = |reads_rates: bool| {
+        let sol = bdf()
+            .solve(&mut Relaxing { reads_rates }, 0.0, &[1.0, 2.0], &times)
+            .unwrap();
+        let mut worst = 0.0f64;
+        for ((t, y), yp) in sol.t.iter().zip(&sol.y).zip(&sol.yp) {
+            for i in 0..2 {
+                let exact = -(1.0 + t) * y[i] / ((1.0 + i as f64) * (1.0 + y[i] * y[i]));
+                worst = worst.max((yp[i] - exact).abs() / (1e-6 * exact.abs() + 1e-8));
+            }
+        }
+        worst
+    };
+    let (solved, interpolated) = (worst(true), worst(false));
+    eprintln!("ẏ error in tolerances: solved {solved:.2e}, interpolated {interpolated:.2e}");
+    assert!(solved < 1e-3, "{solved:e}");
+    assert!(interpolated > 1.0, "{interpolated:e}");
+}
