@@ -7,6 +7,7 @@
 //! erred by 600·rtol), BDF's interpolation coefficients overflowing at steps below 1e-62 and
 //! the starting step reading an overflowed norm as a negligible one (docs/model.md §2.9, §8.1).
 //! Lengths and stresses: scaled by powers of two near 1e±100, nothing changes by a bit.
+//! Sheets (free top, elastic and Kelvin–Voigt) on times of 1e∓100: as accurate as at unit time.
 
 use celltissue::observe::RunRecord;
 use celltissue::scenario::{execute::run_spec, load_str};
@@ -145,6 +146,57 @@ fn lengths_and_stresses_scaled_by_powers_of_two_near_1e100_change_no_bit() {
                 assert_eq!(p.stretch, q.stretch, "{name}, l = {l:e}, m = {m:e}");
                 let scaled: Vec<f64> = q.pressure.iter().map(|x| x * m).collect();
                 assert_eq!(p.pressure, scaled, "{name}, l = {l:e}, m = {m:e}");
+            }
+        }
+    }
+}
+
+/// The discrete and continuum runs of a 10 × 6 free-top sheet with time scale `s` at `rtol`
+/// (drag, ramp time and a Kelvin–Voigt η scaled with it).
+fn sheet(s: f64, rtol: f64, eta: f64) -> Vec<RunRecord> {
+    let text = format!(
+        "name = \"ss\"\n[solver]\nrtol = {rtol:e}\natol = {:e}\n[output]\nseries = [0]\n\
+         profiles = [{:e}, {s:e}, {:e}]\n[model]\nkind = \"sheet\"\n\
+         models = [\"discrete\", \"continuum\"]\ncells_x = 10\ncells_y = 6\nk_th = {s:e}\n\
+         k1 = 0.1\nramp = {{ kind = \"exponential\", t_ramp = {s:e} }}\ntop = \"free\"\n\
+         viscosity = {{ model = \"kelvin_voigt\", eta = {:e} }}\n",
+        rtol * 1e-2,
+        0.5 * s,
+        3.0 * s,
+        eta * s
+    );
+    let scenario = load_str(&text, std::path::Path::new("ss.toml"), &[]).unwrap();
+    scenario
+        .runs
+        .iter()
+        .map(|spec| {
+            let rec = run_spec(spec);
+            assert!(rec.error.is_none(), "s = {s:e}: {:?}", rec.error);
+            rec
+        })
+        .collect()
+}
+
+#[test]
+fn sheets_on_times_of_1e_minus_100_and_1e100_are_as_accurate_as_the_unit_time_sheet() {
+    // measured at rtol 1e-8: 6e-9 to 6.4e-8 in stretch and pressure, as at unit time
+    let rtol = 1e-8;
+    for eta in [0.0, 0.5] {
+        let reference = sheet(1.0, 1e-11, eta);
+        let errors = |runs: &[RunRecord]| -> Vec<(f64, f64)> {
+            runs.iter()
+                .zip(&reference)
+                .map(|(rec, r)| (gap(rec, r, |p| &p.stretch), gap(rec, r, |p| &p.pressure)))
+                .collect()
+        };
+        let unit = errors(&sheet(1.0, rtol, eta));
+        for s in [2f64.powi(-332), 2f64.powi(332)] {
+            for (scaled, unit) in errors(&sheet(s, rtol, eta)).iter().zip(&unit) {
+                eprintln!("η = {eta}, s = {s:e}: {scaled:?} against {unit:?} at s = 1");
+                assert!(
+                    scaled.0 <= 2.0 * unit.0.max(rtol) && scaled.1 <= 2.0 * unit.1.max(rtol),
+                    "η = {eta}, s = {s:e}: {scaled:?} against {unit:?}"
+                );
             }
         }
     }
