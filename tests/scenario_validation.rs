@@ -471,22 +471,31 @@ fn the_jacobian_age_is_bdf_only_and_bounded() {
 
 #[test]
 fn interpolated_rates_are_read_checked_and_echoed_only_when_asked_for() {
-    let set = load(&line(""), &["solver.interpolate_rates=true"]).unwrap();
+    let viscous = line("eta = 0.5");
+    let set = load(&viscous, &["solver.interpolate_rates=true"]).unwrap();
     assert!(set.runs[0].solver.interpolate_rates);
     assert!(set.runs[0].solver.options().unwrap().interpolate_rates);
     let echo = serde_json::to_value(set.runs[0].solver).unwrap();
     assert_eq!(echo["interpolate_rates"], true);
-    let plain = load(&line(""), &[]).unwrap();
+    let plain = load(&viscous, &[]).unwrap();
     assert!(!plain.runs[0].solver.interpolate_rates);
     assert!(serde_json::to_value(plain.runs[0].solver)
         .unwrap()
         .get("interpolate_rates")
         .is_none());
     rejects(
-        &line(""),
+        &viscous,
         &["solver.interpolate_rates=2"],
         "solver.interpolate_rates",
     );
+    // on cells whose outputs read no rates it would change nothing: rejected, not ignored
+    let m = rejects(
+        &line(""),
+        &["solver.interpolate_rates=true"],
+        "solver.interpolate_rates",
+    );
+    assert!(m.contains("η > 0"), "{m}");
+    assert!(load(&line(""), &["solver.interpolate_rates=false"]).is_ok());
 }
 
 #[test]

@@ -357,7 +357,7 @@ impl LineConfig {
     }
 
     /// The Kelvin–Voigt viscosity field: `viscosity.eta` if given, else `eta`.
-    fn kv_eta(&self) -> Field {
+    pub(crate) fn kv_eta(&self) -> Field {
         match self.viscosity {
             Some(ViscosityModel::KelvinVoigt { eta }) => Field::Constant(eta),
             _ => self.eta.clone(),

@@ -251,6 +251,14 @@ pub fn resolve(table: toml::Table) -> Result<Scenario, ScenarioError> {
                     .to_string(),
             )));
         }
+        if solver.interpolate_rates && section.config.outputs_read_rates() == Some(false) {
+            return Err(ctx(ScenarioError::key(
+                "solver.interpolate_rates",
+                "applies to models whose outputs read rates (Kelvin–Voigt cells, η > 0), and \
+                 this model's cells have none: remove it"
+                    .to_string(),
+            )));
+        }
         for &model in &section.models {
             let mut label = model_name(model).to_string();
             if let Some(p) = &point {

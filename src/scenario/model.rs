@@ -63,6 +63,34 @@ pub enum ModelConfig {
 }
 
 impl ModelConfig {
+    /// Whether the model's outputs read rates (Kelvin–Voigt cells: η given and not 0), which
+    /// `solver.interpolate_rates` is about; `None` for a registered mode, which the scenario
+    /// cannot see into.
+    ///
+    /// ```
+    /// use celltissue::scenario::model::parse_model;
+    /// let line = |extra: &str| -> Result<Option<bool>, Box<dyn std::error::Error>> {
+    ///     let t: toml::Table = toml::from_str(&format!("kind = \"line\"\ncells = 4\n{extra}"))?;
+    ///     Ok(parse_model(&t)?.config.outputs_read_rates())
+    /// };
+    /// assert_eq!(line("")?, Some(false));
+    /// assert_eq!(line("eta = 0.5")?, Some(true));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn outputs_read_rates(&self) -> Option<bool> {
+        use crate::cell::ViscosityModel;
+        let kelvin_voigt = |v: &Option<ViscosityModel>| matches!(v, Some(ViscosityModel::KelvinVoigt { eta }) if *eta != 0.0);
+        let line =
+            |c: &LineConfig| !matches!(c.kv_eta(), crate::cell::Field::Constant(e) if e == 0.0);
+        match self {
+            ModelConfig::Line(c) => Some(line(c)),
+            ModelConfig::Proliferating(c) => Some(line(&c.line)),
+            ModelConfig::Sheet(c, _) => Some(kelvin_voigt(&c.viscosity)),
+            ModelConfig::Shear(c, _) => Some(kelvin_voigt(&c.viscosity)),
+            ModelConfig::Mode(_) => None,
+        }
+    }
+
     /// The `kind` string.
     ///
     /// ```
