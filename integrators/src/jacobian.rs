@@ -166,17 +166,8 @@ fn user_jacobian_columns(
                     sys.give_matrix(j1);
                     return Err(sys.residual_failure(e, t));
                 }
-                lost.retain(|&j| {
-                    let (j0, jc) = (column_slots(jac, j), column_slots(&j1, j));
-                    if cancelled(j0, jc) {
-                        return true;
-                    }
-                    let dst = column_slots_mut(jac, j);
-                    for (a, b) in dst.iter_mut().zip(column_slots(&j1, j)) {
-                        *a = (b - *a) / scale;
-                    }
-                    false
-                });
+                // `jac`'s lost columns still hold J(0)
+                restore_columns(&mut lost, None, jac, &j1, scale);
             }
             for &j in &lost {
                 column_slots_mut(jac, j).iter_mut().for_each(|a| *a = 0.0);
@@ -243,19 +234,46 @@ pub(crate) fn pair(
             sys.give_matrix(jc);
             return Err(e);
         }
-        lost.retain(|&j| {
-            let (j0, c) = (column_slots(jy, j), column_slots(&jc, j));
-            if cancelled(j0, c) {
-                return true;
-            }
-            for ((d, a), b) in column_slots_mut(jyp, j).iter_mut().zip(j0).zip(c) {
-                *d = (b - a) / scale;
-            }
-            false
-        });
+        restore_columns(&mut lost, Some(jy), jyp, &jc, scale);
     }
     sys.give_matrix(jc);
     Ok(())
+}
+
+/// One rung of the `(J(C) − J(0))/C` ladder shared by the consistent initialisation and
+/// [`pair`]: each column in `lost` whose change shows in `jc = J(C)` gets `(J(C) − J(0))/C` in
+/// `dst` and leaves the list. `J(0)` is read from `j0`, or (`None`) from `dst` itself, whose
+/// lost columns still hold it.
+fn restore_columns(
+    lost: &mut Vec<usize>,
+    j0: Option<&Matrix>,
+    dst: &mut Matrix,
+    jc: &Matrix,
+    scale: f64,
+) {
+    lost.retain(|&j| {
+        let c = column_slots(jc, j);
+        match j0 {
+            Some(m) => {
+                let a = column_slots(m, j);
+                if cancelled(a, c) {
+                    return true;
+                }
+                for ((d, a), b) in column_slots_mut(dst, j).iter_mut().zip(a).zip(c) {
+                    *d = (b - a) / scale;
+                }
+            }
+            None => {
+                if cancelled(column_slots(dst, j), c) {
+                    return true;
+                }
+                for (d, b) in column_slots_mut(dst, j).iter_mut().zip(c) {
+                    *d = (b - *d) / scale;
+                }
+            }
+        }
+        false
+    });
 }
 
 /// The coefficient `α` of `∂F/∂y + α·∂F/∂ẏ` above which [`pair`] restores the columns of
