@@ -459,14 +459,10 @@ impl<O> Run<'_, O> {
                 let rates = self.cache.outputs_read_rates && !opts.interpolate_rates;
                 let algebraic = self.cache.algebraic.iter().any(|&a| a);
                 if rates && !algebraic {
-                    let yp0 = self.ypbuf.clone();
+                    // (a failure leaves the interpolated ẏ, as a failed projection does)
                     let mut sys = System::new(p, opts, &mut self.stats, &mut self.cache);
-                    if sys
-                        .rates_from_state(to, &self.ybuf, &mut self.ypbuf, &mut self.rates_lu)
-                        .is_err()
-                    {
-                        self.ypbuf = yp0;
-                    }
+                    let _ =
+                        sys.rates_from_state(to, &self.ybuf, &mut self.ypbuf, &mut self.rates_lu);
                 } else if rates || algebraic {
                     let (y0, yp0) = (self.ybuf.clone(), self.ypbuf.clone());
                     let mut sys = System::new(p, opts, &mut self.stats, &mut self.cache);

@@ -1231,8 +1231,8 @@ impl<'a> System<'a> {
     /// state only slowly, so a residual and a solve per iteration, about three, replace a
     /// Jacobian and a factorisation per output (3.7 ms against 10 ms per output at 10⁵
     /// cells); it is
-    /// refreshed when missing, of another size, or slow to converge (rate above ½). `Err(())`
-    /// when even a fresh matrix does not converge: the caller keeps the interpolated `ẏ`.
+    /// refreshed when missing, of another size, or slow to converge (rate above ½). `Err(())`,
+    /// with `yp` as given, when even a fresh matrix does not converge.
     pub(crate) fn rates_from_state(
         &mut self,
         t: f64,
@@ -1247,6 +1247,9 @@ impl<'a> System<'a> {
         }
         start.copy_from_slice(yp);
         let outcome = self.rates_iterations(t, y, yp, lu, n, &mut r, &w, &start);
+        if outcome.is_err() {
+            yp.copy_from_slice(&start);
+        }
         self.give_vec(r);
         self.give_vec(w);
         self.give_vec(start);
