@@ -403,26 +403,13 @@ fn sheet_50_by_50_free_top_stretch_error_is_a_few_rtol() {
     assert!(err <= 1e-5, "sheet stretch error {err:e}");
 }
 
-/// The largest relative difference of the profiles' `field` between two runs of one scenario.
-fn profile_gap(
-    a: &celltissue::observe::RunRecord,
-    b: &celltissue::observe::RunRecord,
-    field: fn(&celltissue::observe::Profile) -> &[f64],
-) -> f64 {
-    a.profiles
-        .iter()
-        .zip(&b.profiles)
-        .flat_map(|(p, q)| field(p).iter().zip(field(q)))
-        .map(|(x, y)| ((x - y) / y).abs())
-        .fold(0.0, f64::max)
-}
-
 #[test]
 fn a_viscous_lines_pressure_holds_the_contract_as_its_stretch_does() {
     // A Kelvin–Voigt cell's pressure reads its strain rate; the interpolated ẏ at an output is
     // not error-controlled, and the pressure erred by 13·rtol (rtol 1e-6) and 66·rtol (1e-8)
     // through it while the stretch erred by 6.5 and 12. The outputs' rates are now solved from
     // their state (`Problem::outputs_read_rates`): 2.5 and 6, below the stretch's.
+    use crate::common::profile_gap;
     use celltissue::scenario::{execute::run_spec, load_str};
     let run = |rtol: f64| {
         let text = format!(

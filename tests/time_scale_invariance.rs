@@ -9,6 +9,7 @@
 //! Lengths and stresses: scaled by powers of two near 1e±100, nothing changes by a bit.
 //! Sheets (free top, elastic and Kelvin–Voigt) on times of 1e∓100: as accurate as at unit time.
 
+use crate::common::profile_gap as gap;
 use celltissue::observe::RunRecord;
 use celltissue::scenario::{execute::run_spec, load_str};
 
@@ -33,20 +34,6 @@ fn line(s: f64, rtol: f64, k: f64, extra: &TimedKeys) -> RunRecord {
     let rec = run_spec(&scenario.runs[0]);
     assert!(rec.error.is_none(), "s = {s:e}: {:?}", rec.error);
     rec
-}
-
-/// Largest relative difference of a profile field between two runs.
-fn gap(a: &RunRecord, b: &RunRecord, field: fn(&celltissue::observe::Profile) -> &[f64]) -> f64 {
-    assert_eq!(a.profiles.len(), b.profiles.len());
-    a.profiles
-        .iter()
-        .zip(&b.profiles)
-        .flat_map(|(p, q)| {
-            assert_eq!(field(p).len(), field(q).len(), "cell counts differ");
-            field(p).iter().zip(field(q))
-        })
-        .map(|(x, y)| ((x - y) / y).abs())
-        .fold(0.0, f64::max)
 }
 
 #[test]

@@ -106,3 +106,22 @@ pub fn division_cost(
         length: traj.snapshots.last().expect("a snapshot").length(),
     }
 }
+
+/// The largest relative difference of a profile field between two runs of one scenario,
+/// profile by profile and cell by cell (the runs must have the same profiles and cells).
+pub fn profile_gap(
+    a: &celltissue::observe::RunRecord,
+    b: &celltissue::observe::RunRecord,
+    field: fn(&celltissue::observe::Profile) -> &[f64],
+) -> f64 {
+    assert_eq!(a.profiles.len(), b.profiles.len(), "profile counts differ");
+    a.profiles
+        .iter()
+        .zip(&b.profiles)
+        .flat_map(|(p, q)| {
+            assert_eq!(field(p).len(), field(q).len(), "cell counts differ");
+            field(p).iter().zip(field(q))
+        })
+        .map(|(x, y)| ((x - y) / y).abs())
+        .fold(0.0, f64::max)
+}
