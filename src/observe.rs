@@ -223,6 +223,35 @@ pub struct RunRecord {
     pub reference: Option<AnalyticReference>,
 }
 
+impl RunRecord {
+    /// The record's label, model, parameters, counters and error, without its data (series,
+    /// profiles, divisions, reference): what a progress line reads, at no copy of the
+    /// profiles.
+    ///
+    /// ```
+    /// use celltissue::observe::{ModelKind, Profile, RunRecord, RunStats};
+    /// let mut rec = RunRecord { label: "discrete".into(), model: ModelKind::Discrete,
+    ///     parameters: serde_json::json!({"K": 1.0}), series: Default::default(),
+    ///     profiles: vec![Profile::default()], stats: RunStats { steps: 7, ..Default::default() },
+    ///     divisions: vec![], error: None, reference: None };
+    /// let light = rec.without_data();
+    /// assert!(light.profiles.is_empty() && light.stats.steps == 7 && light.label == "discrete");
+    /// ```
+    pub fn without_data(&self) -> RunRecord {
+        RunRecord {
+            label: self.label.clone(),
+            model: self.model,
+            parameters: self.parameters.clone(),
+            series: Series::default(),
+            profiles: Vec::new(),
+            stats: self.stats.clone(),
+            divisions: Vec::new(),
+            error: self.error.clone(),
+            reference: None,
+        }
+    }
+}
+
 /// An analytic solution beside a run, evaluated by the runner at the run's requested times
 /// where it applies (times where it does not are left out; nothing is NaN). The plots draw it
 /// dashed.

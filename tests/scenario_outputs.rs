@@ -155,7 +155,7 @@ fn csv_files_are_complete() {
     let rows: Vec<&str> = prof.lines().collect();
     assert_eq!(rows[0], "t,X,x,stretch,pressure");
     assert_eq!(rows.len(), 1 + 3 * 8);
-    assert!(rows[1].starts_with("0,0.5,0.5,1,"), "{}", rows[1]);
+    assert!(rows[1].starts_with("0.0,0.5,0.5,1.0,"), "{}", rows[1]);
     let back: toml::Table =
         toml::from_str(&std::fs::read_to_string(dir.join("scenario.toml")).unwrap()).unwrap();
     assert_eq!(back["name"].as_str(), Some("fake"));

@@ -18,6 +18,7 @@
 //! realisations in seed order, so the files do not depend on `--jobs` or on sharding.
 
 use super::files::{series_columns, slug};
+use super::number::push_f64;
 use super::OutputError;
 use crate::observe::{RunRecord, Summary};
 use crate::scenario::Scenario;
@@ -148,7 +149,8 @@ pub(crate) fn statistics_csv(g: &Group<'_>) -> String {
     out.push('\n');
     let columns: Vec<Vec<(String, &Vec<f64>)>> = runs.iter().map(|r| series_columns(r)).collect();
     for (i, t) in first.series.t.iter().enumerate() {
-        let _ = write!(out, "{t},{}", runs.len());
+        push_f64(&mut out, *t);
+        let _ = write!(out, ",{}", runs.len());
         for name in &names {
             let mut v: Vec<f64> = columns
                 .iter()
@@ -161,7 +163,8 @@ pub(crate) fn statistics_csv(g: &Group<'_>) -> String {
                 continue;
             }
             for x in describe(&mut v) {
-                let _ = write!(out, ",{x}");
+                out.push(',');
+                push_f64(&mut out, x);
             }
         }
         out.push('\n');
@@ -181,12 +184,17 @@ pub(crate) fn divisions_csv(g: &Group<'_>) -> Option<String> {
     out.push_str(",fraction\n");
     let half = 0.5 / LOCATION_BINS as f64;
     for (centre, d) in &hist {
-        let _ = write!(out, "{},{}", centre - half, centre + half);
+        push_f64(&mut out, centre - half);
+        out.push(',');
+        push_f64(&mut out, centre + half);
         for x in d {
-            let _ = write!(out, ",{x}");
+            out.push(',');
+            push_f64(&mut out, *x);
         }
         // the mean count over the total of the means is the bin's share of all divisions
-        let _ = writeln!(out, ",{}", d[0] / total);
+        out.push(',');
+        push_f64(&mut out, d[0] / total);
+        out.push('\n');
     }
     Some(out)
 }

@@ -4,6 +4,7 @@
 //! `scenario.toml`. File names come from run labels via [`slug`]; every file is written
 //! atomically ([`super::atomic`]).
 
+use super::number::push_f64;
 use super::provenance::Provenance;
 use super::OutputError;
 use crate::observe::{DivisionRecord, ModelKind, RunRecord, RunStats, Summary};
@@ -338,7 +339,7 @@ pub fn series_csv(rec: &RunRecord) -> String {
 ///                             stretch: vec![0.9, 0.9], pressure: vec![1.2, 1.2], ..Default::default() });
 /// let csv = celltissue::output::files::profiles_csv(&rec);
 /// assert_eq!(csv.lines().collect::<Vec<_>>(),
-///            ["t,X,x,stretch,pressure", "1,0.5,0.45,0.9,1.2", "1,1.5,1.35,0.9,1.2"]);
+///            ["t,X,x,stretch,pressure", "1.0,0.5,0.45,0.9,1.2", "1.0,1.5,1.35,0.9,1.2"]);
 /// ```
 pub fn profiles_csv(rec: &RunRecord) -> String {
     let mut extra: Vec<&str> = rec
@@ -394,11 +395,12 @@ pub fn profiles_csv(rec: &RunRecord) -> String {
 pub fn divisions_csv(rec: &RunRecord) -> String {
     let mut out = String::from("t,parent,x,x_over_length,cells_after\n");
     for d in &rec.divisions {
-        let _ = writeln!(
-            out,
-            "{},{},{},{},{}",
-            d.t, d.parent, d.x, d.x_over_length, d.cells_after
-        );
+        push_f64(&mut out, d.t);
+        let _ = write!(out, ",{},", d.parent);
+        push_f64(&mut out, d.x);
+        out.push(',');
+        push_f64(&mut out, d.x_over_length);
+        let _ = writeln!(out, ",{}", d.cells_after);
     }
     out
 }
@@ -417,7 +419,7 @@ fn table(cols: &[(&str, &Vec<f64>)], rows: usize, t: Option<f64>) -> String {
     for i in 0..rows {
         let mut first = true;
         if let Some(t) = t {
-            let _ = write!(out, "{t}");
+            push_f64(&mut out, t);
             first = false;
         }
         for (_, v) in cols {
@@ -425,8 +427,8 @@ fn table(cols: &[(&str, &Vec<f64>)], rows: usize, t: Option<f64>) -> String {
                 out.push(',');
             }
             first = false;
-            if let Some(x) = v.get(i) {
-                let _ = write!(out, "{x}");
+            if let Some(&x) = v.get(i) {
+                push_f64(&mut out, x);
             }
         }
         out.push('\n');
