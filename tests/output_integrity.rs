@@ -1,7 +1,7 @@
 //! Output integrity (issue #11 §4) through the built binary: a used output directory is
 //! refused unless `--replace`, which removes only files celltissue wrote; `--no-plots` writes
-//! data only; no temporary file survives a run; SIGINT during a sweep keeps the finished runs
-//! and lists the interrupted ones in `summary.json`.
+//! data only; no temporary file survives a run; SIGINT during a sweep keeps the finished runs,
+//! stops the one in progress with what it computed, and lists it in `summary.json`.
 
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
@@ -176,9 +176,16 @@ values = [10, 1000000]
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     let runs = v["runs"].as_array().unwrap();
-    assert_eq!(runs.len(), 1);
+    assert_eq!(runs.len(), 2, "{rest:?}");
     assert_eq!(runs[0]["label"], "discrete cells=10");
+    assert!(runs[0].get("error").is_none());
+    // the run in progress was stopped, not abandoned: its record holds what it computed
+    assert_eq!(runs[1]["label"], "discrete cells=1e6");
+    let error = runs[1]["error"].as_str().unwrap();
+    assert!(error.contains("interrupted"), "{error}");
+    assert_eq!(runs[1]["series"]["t"][0], 0.0, "{}", runs[1]["series"]);
     assert_eq!(v["interrupted"], serde_json::json!(["discrete cells=1e6"]));
     assert!(out.join("run_discrete_cells=10.npz").exists());
+    assert!(out.join("run_discrete_cells=1e6.npz").exists());
     assert!(names(&out).iter().all(|f| !f.contains(".partial")));
 }

@@ -65,6 +65,10 @@ pub enum ErrorKind {
         /// The entry.
         value: f64,
     },
+    /// The solve's [`crate::interrupt::Interrupt`] was raised (e.g. by SIGINT or a Python
+    /// `KeyboardInterrupt`); the steps taken before it are kept.
+    #[error("interrupted")]
+    Interrupted,
     /// The problem's residual reported a fatal error.
     #[error("residual error: {0}")]
     Residual(String),

@@ -47,6 +47,7 @@ pub mod adapters;
 pub mod error;
 pub mod error_map;
 mod initial_step;
+pub mod interrupt;
 pub mod jacobian;
 pub mod linalg;
 pub mod method;

@@ -643,11 +643,17 @@ where
         .unwrap_or(!method.dense_output_controlled());
     let mut g_new = Vec::new();
     let mut unchecked = ROUNDOFF_CHECK_EVERY;
+    let interrupt = crate::interrupt::Interrupt::current();
     loop {
         if run.stats.steps >= opts.max_steps {
             let t = method.t();
             run.keep_last(method.y());
             return Err(run.fail(ErrorKind::TooManySteps(opts.max_steps), t, None));
+        }
+        if interrupt.as_ref().is_some_and(|i| i.is_raised()) {
+            let t = method.t();
+            run.keep_last(method.y());
+            return Err(run.fail(ErrorKind::Interrupted, t, None));
         }
         if unchecked >= ROUNDOFF_CHECK_EVERY {
             unchecked = 0;

@@ -5,6 +5,7 @@ mod common;
 
 use common::opts;
 use common::{residual_fn, Decay};
+use integrators::interrupt::Interrupt;
 use integrators::methods::bdf::Bdf;
 use integrators::{ErrorKind, MethodKind, Options, Problem, ResidualError, Solver};
 
@@ -461,4 +462,61 @@ fn outputs_that_read_rates_get_them_solved_from_their_state() {
     eprintln!("ẏ error in tolerances: solved {solved:.2e}, interpolated {interpolated:.2e}");
     assert!(solved < 1e-3, "{solved:e}");
     assert!(interpolated > 1.0, "{interpolated:e}");
+}
+
+/// Raises an [`Interrupt`] at its `after`-th accepted step.
+struct RaiseAfter {
+    stop: Interrupt,
+    after: usize,
+    seen: usize,
+    t_raised: f64,
+}
+
+impl<P> integrators::Observer<P> for RaiseAfter {
+    fn accepted(&mut self, _: &P, step: &integrators::observer::AcceptedStep, _: &[f64]) {
+        self.seen += 1;
+        if self.seen == self.after {
+            self.t_raised = step.t;
+            self.stop.raise();
+        }
+    }
+}
+
+#[test]
+fn an_interrupt_stops_the_solve_before_its_next_step_and_keeps_what_it_computed() {
+    for kind in [MethodKind::Bdf, MethodKind::Radau, MethodKind::Esdirk] {
+        let stop = Interrupt::new();
+        let mut raise = RaiseAfter {
+            stop: stop.clone(),
+            after: 7,
+            seen: 0,
+            t_raised: f64::NAN,
+        };
+        let solver = Solver::new(kind, opts(1e-8, 1e-10));
+        let t_out = [0.0, 1e-3, 100.0];
+        let e = stop
+            .scope(|| solver.solve_observed(&mut Decay, 0.0, &[1.0], &t_out, &mut raise))
+            .unwrap_err();
+        assert_eq!(e.error.kind, ErrorKind::Interrupted, "{kind:?}");
+        // stopped where the flag went up, with the state there and the outputs before it
+        assert_eq!(e.partial.stats.steps, 7, "{kind:?}");
+        assert_eq!(e.error.t, raise.t_raised, "{kind:?}");
+        assert_eq!(e.partial.t_last, raise.t_raised, "{kind:?}");
+        assert!((e.partial.y_last[0] - (-raise.t_raised).exp()).abs() < 1e-6);
+        assert_eq!(e.partial.t, [0.0, 1e-3], "{kind:?}");
+        // the same solver, outside the scope, is not interrupted
+        assert!(solver.solve(&mut Decay, 0.0, &[1.0], &t_out).is_ok());
+    }
+}
+
+#[test]
+fn a_solve_on_another_thread_does_not_see_this_threads_interrupt() {
+    let stop = Interrupt::new();
+    stop.raise();
+    let other = std::thread::spawn(|| bdf().solve(&mut Decay, 0.0, &[1.0], &[10.0]));
+    let here = stop.scope(|| bdf().solve(&mut Decay, 0.0, &[1.0], &[10.0]));
+    assert!(other.join().unwrap().is_ok());
+    let e = here.unwrap_err();
+    assert_eq!((e.error.kind, e.error.t), (ErrorKind::Interrupted, 0.0));
+    assert_eq!(e.partial.y_last, [1.0]);
 }

@@ -10,9 +10,12 @@ mod input;
 mod record;
 mod rim;
 
+use celltissue::integrators::interrupt::Interrupt;
 use celltissue::output::finite;
 use celltissue::scenario::{execute, parallel};
 use pyo3::prelude::*;
+use std::sync::mpsc::RecvTimeoutError;
+use std::time::Duration;
 
 /// Runs a scenario and returns its runs (in scenario order).
 ///
@@ -21,7 +24,8 @@ use pyo3::prelude::*;
 /// string, a list of them, or a dict `{"model.K": 0.1}`. `jobs` runs that many of the sweep's
 /// runs at once (results do not depend on it). Invalid input raises `ScenarioError` (a
 /// `ValueError` with `.key` and `.message`) before anything runs; a run whose solver fails is
-/// returned with its partial data and `.error` set.
+/// returned with its partial data and `.error` set. A `KeyboardInterrupt` while it runs stops
+/// every solve before its next step and is raised as soon as they have stopped.
 #[pyfunction]
 #[pyo3(signature = (scenario, set = None, jobs = 1))]
 fn run(
@@ -37,23 +41,52 @@ fn run(
     }
     let scenario = input::scenario(py, scenario, set)?;
     let indices: Vec<usize> = (0..scenario.runs.len()).collect();
-    let records = py
-        .detach(|| {
-            parallel::run_parallel(
-                &scenario,
-                &indices,
-                jobs,
-                |spec| {
-                    let mut rec = execute::run_spec(spec);
-                    finite::sanitize(&mut rec);
-                    rec
-                },
-                |_| {},
-            )
+    let stop = Interrupt::new();
+    let records = py.detach(|| {
+        let (done, finished) = std::sync::mpsc::channel();
+        std::thread::scope(|s| {
+            let worker = s.spawn(|| {
+                let records = parallel::run_parallel(
+                    &scenario,
+                    &indices,
+                    jobs,
+                    |spec| {
+                        let mut rec = stop.scope(|| execute::run_spec(spec));
+                        finite::sanitize(&mut rec);
+                        rec
+                    },
+                    |_| {},
+                );
+                let _ = done.send(());
+                records
+            });
+            // Python's signal handlers run here, between waits: a KeyboardInterrupt (Ctrl-C,
+            // a notebook's "interrupt kernel") stops every solve before its next step
+            let signal = loop {
+                match finished.recv_timeout(SIGNAL_POLL) {
+                    Err(RecvTimeoutError::Timeout) => {
+                        if let Err(e) = Python::attach(|py| py.check_signals()) {
+                            stop.raise();
+                            break Some(e);
+                        }
+                    }
+                    _ => break None,
+                }
+            };
+            let records = worker
+                .join()
+                .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+            match signal {
+                Some(e) => Err(e),
+                None => records.map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string())),
+            }
         })
-        .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+    })?;
     Ok(records.into_iter().map(record::Run::from).collect())
 }
+
+/// How often a running `run` lets Python handle its signals.
+const SIGNAL_POLL: Duration = Duration::from_millis(50);
 
 /// Validates a scenario (as for `run`) without running it; returns the labels of its runs.
 #[pyfunction]

@@ -132,3 +132,27 @@ def test_a_run_carries_its_analytic_reference():
     scenario["model"].update({"right_end": "free", "growth": {"sigma0": 0.1}})
     (grown,) = celltissue.run(scenario)
     assert grown.reference is None
+
+
+def test_keyboard_interrupt_stops_a_long_run_promptly():
+    import _thread
+    import threading
+    import time
+
+    # 10⁶ cells to t = 1000 take many seconds; Ctrl-C (here simulated) arrives after 1 s
+    slow = {
+        "name": "slow",
+        "output": {"series": [0, 1, 1000]},
+        "model": {"kind": "line", "models": ["discrete"], "cells": 1000000, "K": 10.0},
+    }
+    timer = threading.Timer(1.0, _thread.interrupt_main)
+    t0 = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            celltissue.run(slow)
+    finally:
+        timer.cancel()
+    assert time.monotonic() - t0 < 5.0
+    # the interpreter and the library are fine afterwards
+    assert celltissue.run("fig2_5", set=SMALL_FIG2_5)[0].error is None

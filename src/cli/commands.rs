@@ -9,11 +9,12 @@ use crate::output::{self, finite, interrupt};
 use crate::scenario::parallel::{run_parallel, Shard};
 use crate::scenario::{self, execute};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use integrators::interrupt::Interrupt;
 use std::io::IsTerminal as _;
 use std::path::Path;
 use std::sync::atomic::Ordering;
 use std::sync::{Arc, Mutex};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// Switches of `celltissue run`.
 #[derive(Clone, Debug, Default)]
@@ -61,6 +62,14 @@ fn load(source: &Source, sets: &[String]) -> Result<scenario::Scenario, i32> {
     })
 }
 
+/// A run's record as the runs' thread kept it, and whether an interrupt cut the run short.
+type Finished = (RunRecord, bool);
+
+/// How long after the first SIGINT/SIGTERM the runs' thread is given to hand over the records
+/// of its stopped solves (a solve stops before its next step; what runs outside the solver,
+/// building a model or its analytic reference, is not interrupted).
+const STOP_GRACE: Duration = Duration::from_secs(5);
+
 /// `celltissue run`.
 pub fn run(source: &Source, out: &Path, sets: &[String], opts: RunOptions) -> i32 {
     let quiet = opts.quiet;
@@ -103,15 +112,19 @@ pub fn run(source: &Source, out: &Path, sets: &[String], opts: RunOptions) -> i3
         quiet,
         "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} runs  {msg}",
     );
-    // finished records by position in `indices`, kept as they finish so an interrupt keeps them
-    let done: Arc<Mutex<Vec<Option<RunRecord>>>> = Arc::new(Mutex::new(vec![None; total]));
+    // finished records by position in `indices`, kept as they finish so an interrupt keeps
+    // them, each with whether the interrupt cut it short
+    let done: Arc<Mutex<Vec<Option<Finished>>>> = Arc::new(Mutex::new(vec![None; total]));
+    // raised at the first signal: every solve stops before its next step, keeping its steps
+    let solves = Interrupt::new();
     let worker = {
-        let (scenario, indices, done, stop, pb) = (
+        let (scenario, indices, done, stop, pb, solves) = (
             scenario.clone(),
             indices.clone(),
             Arc::clone(&done),
             Arc::clone(&stop),
             pb.clone(),
+            solves.clone(),
         );
         let jobs = opts.jobs;
         // woken as soon as the runs end, instead of at the next progress tick
@@ -133,8 +146,9 @@ pub fn run(source: &Source, out: &Path, sets: &[String], opts: RunOptions) -> i3
                     jobs,
                     |spec| {
                         log::info!("run: {}", spec.label);
-                        let mut rec = execute::run_spec(spec);
+                        let mut rec = solves.scope(|| execute::run_spec(spec));
                         finite::sanitize(&mut rec);
+                        let cut = rec.error.is_some() && solves.is_raised();
                         // the record itself is kept where an interrupt finds it; the runner
                         // gets its label and counters only, so no profile is ever copied
                         // (240 MB at 10⁶ cells and three times)
@@ -145,7 +159,7 @@ pub fn run(source: &Source, out: &Path, sets: &[String], opts: RunOptions) -> i3
                             return rec;
                         };
                         let light = rec.without_data();
-                        d[p] = Some(rec);
+                        d[p] = Some((rec, cut));
                         light
                     },
                     |rec| {
@@ -184,45 +198,71 @@ pub fn run(source: &Source, out: &Path, sets: &[String], opts: RunOptions) -> i3
             return RUN_FAILED;
         }
     };
-    while !handle.is_finished() && !stop.load(Ordering::SeqCst) {
+    // after the first signal the solves stop within a step; a worker still busy after
+    // `STOP_GRACE` (a long step, a long write of its own) is left to the exit
+    let mut deadline = None;
+    while !handle.is_finished() {
+        if stop.load(Ordering::SeqCst) {
+            let d = *deadline.get_or_insert_with(|| {
+                solves.raise();
+                Instant::now() + STOP_GRACE
+            });
+            if Instant::now() >= d {
+                break;
+            }
+        }
         pb.tick();
         std::thread::park_timeout(Duration::from_millis(20));
     }
-    let interrupted_now = stop.load(Ordering::SeqCst);
-    let (runs, interrupted): (Vec<RunRecord>, Vec<String>) =
-        if handle.is_finished() && !interrupted_now {
-            match handle.join() {
-                Ok(Ok(light)) => {
-                    // each run's full record, from where the worker kept it (in the same order)
-                    let kept = done.lock().map(|mut d| std::mem::take(&mut *d));
-                    let mut kept = kept.unwrap_or_default().into_iter();
-                    let runs = light
-                        .into_iter()
-                        .map(|r| kept.next().flatten().unwrap_or(r));
-                    (runs.collect(), Vec::new())
-                }
-                Ok(Err(e)) => {
-                    eprintln!("error: {e}");
-                    return BAD_INPUT;
-                }
-                Err(_) => {
-                    eprintln!("error: a run panicked");
-                    return RUN_FAILED;
-                }
+    let (runs, interrupted): (Vec<RunRecord>, Vec<String>) = if handle.is_finished() {
+        match handle.join() {
+            Ok(Ok(light)) => {
+                // each run's full record, from where the worker kept it (in the same order);
+                // the runs the interrupt cut short are named
+                let kept = done.lock().map(|mut d| std::mem::take(&mut *d));
+                let mut kept = kept.unwrap_or_default().into_iter();
+                let mut cut = Vec::new();
+                let runs: Vec<RunRecord> = light
+                    .into_iter()
+                    .map(|r| match kept.next().flatten() {
+                        Some((rec, true)) => {
+                            cut.push(rec.label.clone());
+                            rec
+                        }
+                        Some((rec, false)) => rec,
+                        None => r,
+                    })
+                    .collect();
+                (runs, cut)
             }
-        } else {
-            // interrupted: keep what finished, name the rest (the worker is left to the exit)
-            let d = done.lock().map(|d| d.clone()).unwrap_or_default();
-            let mut runs = Vec::new();
-            let mut rest = Vec::new();
-            for (slot, &k) in d.into_iter().zip(&indices) {
-                match slot {
-                    Some(r) => runs.push(r),
-                    None => rest.push(scenario.runs[k].label.clone()),
-                }
+            Ok(Err(e)) => {
+                eprintln!("error: {e}");
+                return BAD_INPUT;
             }
-            (runs, rest)
-        };
+            Err(_) => {
+                eprintln!("error: a run panicked");
+                return RUN_FAILED;
+            }
+        }
+    } else {
+        // still busy after the grace: keep what finished, name the rest (the worker is
+        // left to the exit)
+        let d = done.lock().map(|d| d.clone()).unwrap_or_default();
+        let mut runs = Vec::new();
+        let mut rest = Vec::new();
+        for (slot, &k) in d.into_iter().zip(&indices) {
+            match slot {
+                Some((r, cut)) => {
+                    if cut {
+                        rest.push(r.label.clone());
+                    }
+                    runs.push(r);
+                }
+                None => rest.push(scenario.runs[k].label.clone()),
+            }
+        }
+        (runs, rest)
+    };
     pb.finish_and_clear();
     if let Some(shard) = shard {
         if interrupted.is_empty() {

@@ -1,7 +1,8 @@
 //! SIGINT/SIGTERM handling for a sweep (crate `ctrlc`, with its `termination` feature): the
-//! first signal sets a flag that the caller polls between and during runs, so it can stop
-//! waiting for the run in progress, write the finished runs and record the others as
-//! interrupted; a second signal exits at once (status 130).
+//! first signal sets a flag that the caller polls between and during runs; it then stops the
+//! solves in progress (`integrators::interrupt`: each keeps the steps it took), writes the
+//! finished runs with those cut short, and records the latter as interrupted; a second signal
+//! exits at once (status 130).
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, OnceLock};
@@ -22,7 +23,8 @@ pub(crate) fn install() -> Arc<AtomicBool> {
                 std::process::exit(INTERRUPTED);
             }
             eprintln!(
-                "\ninterrupted: writing the finished runs (interrupt again to quit without writing)"
+                "\ninterrupted: stopping the runs and writing what they computed (interrupt again \
+                 to quit without writing)"
             );
         });
         if let Err(e) = result {
