@@ -128,7 +128,8 @@ fn no_plots_writes_data_only_and_leaves_no_temporary_file() {
 fn sigint_keeps_finished_runs_and_names_the_interrupted_ones() {
     let d = tmp("integrity_sigint");
     let out = d.join("out");
-    // the first run takes milliseconds, the second (10⁶ cells up to t = 1000) many seconds
+    // the first run takes milliseconds, the second (10⁶ cells up to t = 1000) many seconds;
+    // the third is not reached
     let file = d.join("slow.toml");
     std::fs::write(
         &file,
@@ -143,7 +144,7 @@ cells = 1000000
 K = 10.0
 [sweep]
 parameter = "cells"
-values = [10, 1000000]
+values = [10, 1000000, 20]
 "#,
     )
     .unwrap();
@@ -159,7 +160,7 @@ values = [10, 1000000]
     let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
     // wait for the first run's progress line, then interrupt
     let first = lines.next().unwrap().unwrap();
-    assert!(first.starts_with("[1/2]"), "{first}");
+    assert!(first.starts_with("[1/3]"), "{first}");
     let t0 = Instant::now();
     let kill = Command::new("kill")
         .args(["-INT", &child.id().to_string()])
@@ -184,8 +185,12 @@ values = [10, 1000000]
     let error = runs[1]["error"].as_str().unwrap();
     assert!(error.contains("interrupted"), "{error}");
     assert_eq!(runs[1]["series"]["t"][0], 0.0, "{}", runs[1]["series"]);
-    assert_eq!(v["interrupted"], serde_json::json!(["discrete cells=1e6"]));
+    assert_eq!(
+        v["interrupted"],
+        serde_json::json!(["discrete cells=1e6", "discrete cells=20"])
+    );
     assert!(out.join("run_discrete_cells=10.npz").exists());
     assert!(out.join("run_discrete_cells=1e6.npz").exists());
+    assert!(!out.join("run_discrete_cells=20.npz").exists());
     assert!(names(&out).iter().all(|f| !f.contains(".partial")));
 }

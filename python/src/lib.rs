@@ -51,6 +51,9 @@ fn run(
                     &indices,
                     jobs,
                     |spec| {
+                        if stop.is_raised() {
+                            return execute::not_run(spec, "interrupted before it started");
+                        }
                         let mut rec = stop.scope(|| execute::run_spec(spec));
                         finite::sanitize(&mut rec);
                         rec

@@ -62,8 +62,19 @@ fn load(source: &Source, sets: &[String]) -> Result<scenario::Scenario, i32> {
     })
 }
 
-/// A run's record as the runs' thread kept it, and whether an interrupt cut the run short.
-type Finished = (RunRecord, bool);
+/// How a run ended, as far as an interrupt is concerned.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Ended {
+    /// Ran to its end (or failed on its own).
+    Complete,
+    /// Stopped by the interrupt: its record holds what it computed.
+    Stopped,
+    /// The interrupt came before it started: named, not written.
+    NotStarted,
+}
+
+/// A run's record as the runs' thread kept it, and how it ended.
+type Finished = (RunRecord, Ended);
 
 /// How long after the first SIGINT/SIGTERM the runs' thread is given to hand over the records
 /// of its stopped solves (a solve stops before its next step; what runs outside the solver,
@@ -146,9 +157,17 @@ pub fn run(source: &Source, out: &Path, sets: &[String], opts: RunOptions) -> i3
                     jobs,
                     |spec| {
                         log::info!("run: {}", spec.label);
-                        let mut rec = solves.scope(|| execute::run_spec(spec));
+                        let (mut rec, ended) = if solves.is_raised() {
+                            (
+                                execute::not_run(spec, "interrupted before it started"),
+                                Ended::NotStarted,
+                            )
+                        } else {
+                            let rec = solves.scope(|| execute::run_spec(spec));
+                            let cut = rec.error.is_some() && solves.is_raised();
+                            (rec, if cut { Ended::Stopped } else { Ended::Complete })
+                        };
                         finite::sanitize(&mut rec);
-                        let cut = rec.error.is_some() && solves.is_raised();
                         // the record itself is kept where an interrupt finds it; the runner
                         // gets its label and counters only, so no profile is ever copied
                         // (240 MB at 10⁶ cells and three times)
@@ -159,7 +178,7 @@ pub fn run(source: &Source, out: &Path, sets: &[String], opts: RunOptions) -> i3
                             return rec;
                         };
                         let light = rec.without_data();
-                        d[p] = Some((rec, cut));
+                        d[p] = Some((rec, ended));
                         light
                     },
                     |rec| {
@@ -221,18 +240,13 @@ pub fn run(source: &Source, out: &Path, sets: &[String], opts: RunOptions) -> i3
                 // the runs the interrupt cut short are named
                 let kept = done.lock().map(|mut d| std::mem::take(&mut *d));
                 let mut kept = kept.unwrap_or_default().into_iter();
-                let mut cut = Vec::new();
-                let runs: Vec<RunRecord> = light
-                    .into_iter()
-                    .map(|r| match kept.next().flatten() {
-                        Some((rec, true)) => {
-                            cut.push(rec.label.clone());
-                            rec
-                        }
-                        Some((rec, false)) => rec,
-                        None => r,
-                    })
-                    .collect();
+                let (mut runs, mut cut) = (Vec::new(), Vec::new());
+                for r in light {
+                    match kept.next().flatten() {
+                        Some((rec, ended)) => keep(rec, ended, &mut runs, &mut cut),
+                        None => runs.push(r),
+                    }
+                }
                 (runs, cut)
             }
             Ok(Err(e)) => {
@@ -252,12 +266,7 @@ pub fn run(source: &Source, out: &Path, sets: &[String], opts: RunOptions) -> i3
         let mut rest = Vec::new();
         for (slot, &k) in d.into_iter().zip(&indices) {
             match slot {
-                Some((r, cut)) => {
-                    if cut {
-                        rest.push(r.label.clone());
-                    }
-                    runs.push(r);
-                }
+                Some((r, ended)) => keep(r, ended, &mut runs, &mut rest),
                 None => rest.push(scenario.runs[k].label.clone()),
             }
         }
@@ -312,6 +321,17 @@ pub fn run(source: &Source, out: &Path, sets: &[String], opts: RunOptions) -> i3
         return interrupt::INTERRUPTED;
     }
     code
+}
+
+/// Files a run's record by how it ended: written unless it never started, named in `cut`
+/// unless it ran to its end.
+fn keep(rec: RunRecord, ended: Ended, runs: &mut Vec<RunRecord>, cut: &mut Vec<String>) {
+    if ended != Ended::Complete {
+        cut.push(rec.label.clone());
+    }
+    if ended != Ended::NotStarted {
+        runs.push(rec);
+    }
 }
 
 /// Writes every output of a finished scenario and reports what was written and what failed;

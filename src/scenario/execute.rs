@@ -43,6 +43,24 @@ pub fn run_spec(spec: &RunSpec) -> RunRecord {
     rec
 }
 
+/// The record of a run that was not run, with the reason as its error (e.g. a sweep
+/// interrupted before it reached the run).
+///
+/// ```
+/// use celltissue::scenario::{execute, load_str};
+/// let s = load_str("name = \"x\"\n[output]\nseries = [1]\n[model]\nkind = \"line\"\ncells = 3",
+///                  "x.toml".as_ref(), &[])?;
+/// let rec = execute::not_run(&s.runs[0], "interrupted before it started");
+/// assert_eq!(rec.label, s.runs[0].label);
+/// assert!(rec.series.t.is_empty() && rec.error.unwrap().contains("interrupted"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn not_run(spec: &RunSpec, why: &str) -> RunRecord {
+    let mut rec = failed(spec, why.to_string());
+    finish(spec, &mut rec);
+    rec
+}
+
 /// An empty record carrying an error.
 fn failed(spec: &RunSpec, error: String) -> RunRecord {
     RunRecord {
