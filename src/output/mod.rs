@@ -146,9 +146,10 @@ pub fn write_all(
     write_all_with(dir, scenario, summary, &WriteOptions::default())
 }
 
-/// Creates `dir` and writes every output of a scenario run: the data files (JSON, NPZ, CSV,
-/// VTU, TOML) in that order and, alongside them on the rayon pool, the plots. The summary is
-/// checked for non-finite numbers before anything is written.
+/// Creates `dir` and writes every output of a scenario run: the data files (`summary.json`;
+/// then the `.npz` beside the CSV and VTU files; then `scenario.toml`) and, alongside them on
+/// the rayon pool, the plots. The summary is checked for non-finite numbers before anything
+/// is written.
 ///
 /// ```
 /// use celltissue::output::{write_all_with, WriteOptions, Written};
@@ -191,18 +192,31 @@ pub fn write_all_with(
             opts.provenance.as_ref(),
             &opts.interrupted,
         )?);
-        stage("arrays (.npz)");
-        data.extend(files::write_arrays(dir, summary)?);
-        #[cfg(feature = "hdf5")]
-        {
-            stage("results.h5");
-            data.push(h5::write_results(dir, summary, opts.provenance.as_ref())?);
-        }
-        stage("CSV");
-        data.extend(files::write_csvs(dir, summary)?);
-        data.extend(ensemble::write_ensemble(dir, scenario, summary)?);
-        stage("VTU/PVD");
-        data.extend(vtu::write_snapshots(dir, scenario, summary)?);
+        // the arrays (one thread: zip and its checksums) beside the text and the snapshots
+        // (the VTU's compression on the pool)
+        let arrays = || -> Result<Vec<PathBuf>, OutputError> {
+            stage("arrays (.npz)");
+            let arrays = files::write_arrays(dir, summary)?;
+            #[cfg(feature = "hdf5")]
+            let arrays = {
+                stage("results.h5");
+                let mut arrays = arrays;
+                arrays.push(h5::write_results(dir, summary, opts.provenance.as_ref())?);
+                arrays
+            };
+            Ok(arrays)
+        };
+        let text_and_snapshots = || -> Result<Vec<PathBuf>, OutputError> {
+            stage("CSV");
+            let mut written = files::write_csvs(dir, summary)?;
+            written.extend(ensemble::write_ensemble(dir, scenario, summary)?);
+            stage("VTU/PVD");
+            written.extend(vtu::write_snapshots(dir, scenario, summary)?);
+            Ok(written)
+        };
+        let (arrays, rest) = rayon::join(arrays, text_and_snapshots);
+        data.extend(arrays?);
+        data.extend(rest?);
         data.push(files::write_scenario(dir, &scenario.table)?);
         Ok(data)
     };
