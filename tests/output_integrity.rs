@@ -174,6 +174,13 @@ values = [10, 1000000, 20]
         "the interrupt was not prompt"
     );
     assert_eq!(status.code(), Some(130), "{rest:?}");
+    // the stopped run is reported as interrupted, not as failed
+    assert!(
+        rest.iter()
+            .any(|l| l.starts_with("interrupted: 2 run(s) not finished"))
+            && !rest.iter().any(|l| l.contains("run(s) failed")),
+        "{rest:?}"
+    );
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     let runs = v["runs"].as_array().unwrap();

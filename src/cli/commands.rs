@@ -290,7 +290,7 @@ pub fn run(source: &Source, out: &Path, sets: &[String], opts: RunOptions) -> i3
                     if let Err(e) = output::manifest::finish(out, &scenario.name, &prepared) {
                         eprintln!("warning: {e}");
                     }
-                    report_failures(&runs)
+                    report_failures(&runs, &[])
                 }
                 Err(e) => {
                     eprintln!("error: {e}");
@@ -384,7 +384,7 @@ pub fn write_outputs(
             out.display()
         );
     }
-    let code = report_failures(&summary.runs);
+    let code = report_failures(&summary.runs, interrupted);
     if code != OK {
         return code;
     }
@@ -394,11 +394,12 @@ pub fn write_outputs(
     OK
 }
 
-/// Prints the failed runs, if any; returns the exit code.
-fn report_failures(runs: &[crate::observe::RunRecord]) -> i32 {
+/// Prints the failed runs, if any (a run an interrupt stopped, named in `interrupted`, is
+/// reported as interrupted instead); returns the exit code.
+fn report_failures(runs: &[crate::observe::RunRecord], interrupted: &[String]) -> i32 {
     let failed: Vec<&str> = runs
         .iter()
-        .filter(|r| r.error.is_some())
+        .filter(|r| r.error.is_some() && !interrupted.contains(&r.label))
         .map(|r| r.label.as_str())
         .collect();
     if failed.is_empty() {
