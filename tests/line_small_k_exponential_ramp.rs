@@ -1,9 +1,9 @@
 //! Small-displacement exponential ramp, η = 0 (docs/model.md §5.3): the discrete line (N = 100,
 //! k₁ = 1e-4) against the complete linear series solution (particular term + Fourier series);
 //! Ref thresholds max_j |λ_j − λ_lin|/k₁ < 1e-5 (K = 1e-4) and < 1e-3 (K = 1e-2) at t = 0.5, 1, 3.
-//! And the quasi-static limit: a drag far below the cells' stiffness (K = 1e-20 … 1e-200, where
-//! the consistent initialisation's `∂F/∂ẏ` used to cancel to zero, "singular") runs and gives
-//! the K = 0 line.
+//! And the quasi-static limit: a drag far below the cells' stiffness (K = 1e-20 down to the
+//! smallest normal double, where the consistent initialisation's `∂F/∂ẏ` used to cancel to
+//! zero, "singular") runs and gives the K = 0 line.
 
 use celltissue::line::{run_line, LineConfig, OutputTimes, SolveSettings};
 use celltissue::observe::ModelKind;
@@ -101,7 +101,9 @@ fn a_drag_far_below_the_stiffness_gives_the_quasi_static_line() {
             .collect::<Vec<f64>>()
     };
     let quasi_static = run(0.0);
-    for k in [1e-20, 1e-100, 1e-200] {
+    // (the last: the smallest normal double, 2.2e-308, rounded up; a subnormal K is rejected
+    // by the configuration's validation)
+    for k in [1e-20, 1e-100, 1e-200, 1e-300, 2.3e-308] {
         let d = run(k)
             .iter()
             .zip(&quasi_static)

@@ -108,6 +108,33 @@ fn gaussian_fields_need_a_finite_centre_and_a_resolvable_width() {
 }
 
 #[test]
+fn subnormal_numbers_are_rejected_naming_their_key() {
+    // 5e-324 is the smallest subnormal double: a sheet's k_th = 5e-324 halved to K = 0 and ran
+    // as an undragged sheet; a line's K = 5e-324 stopped at t = 0 ("singular")
+    let sheet = "name = \"t\"\n[output]\nseries = [0, 1]\n[model]\nkind = \"sheet\"\n\
+                 cells_x = 4\ncells_y = 4\nk_th = 5e-324\n";
+    let m = rejects(sheet, &[], "model.k_th");
+    assert!(
+        m.contains("subnormal") && m.contains("2.2250738585072014e-308"),
+        "{m}"
+    );
+    rejects(LINE, &["model.K=5e-324"], "model.K");
+    rejects(LINE, &["model.K=-1e-310"], "model.K");
+    rejects(LINE, &["output.series=[0, 5e-324, 1]"], "output.series[1]");
+    rejects(
+        &line("mu = { type = \"gaussian\", base = 1, amplitude = 1, centre = 0.5, width = 0.1 }\nK = { type = \"piecewise\", breaks = [0.5], values = [1, 1e-310] }"),
+        &[],
+        "model.K.values[1]",
+    );
+    // the swept value is named where it is written
+    let swept = line("[sweep]\nparameter = \"K\"\nvalues = [1, 1e-320]");
+    rejects(&swept, &[], "sweep.values[1]");
+    // the smallest normal double and 0 itself stay allowed
+    assert!(load(LINE, &["model.K=2.2250738585072014e-308"]).is_ok());
+    assert!(load(LINE, &["model.K=0"]).is_ok());
+}
+
+#[test]
 fn type_errors_inside_a_field_name_the_innermost_key() {
     for (k, v) in [
         ("base", "\"one\""),

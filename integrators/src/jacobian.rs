@@ -283,9 +283,10 @@ const PAIR_RESCUE_ALPHA: f64 = (1u64 << 30) as f64;
 /// The `C`s of the consistent initialisation's `(J(C) − J(0))/C`, tried in turn for columns
 /// whose `∂F/∂ẏ` is lost in `J(1) − J(0)`: powers of two (the division is exact), each
 /// reaching a `∂F/∂ẏ` smaller than `|∂F/∂y|` by about 10⁶ less than the power (2⁶⁰ ≈ 10¹⁸
-/// recovers 10⁻³⁰, 2⁹⁰⁰ ≈ 10²⁷¹ recovers 10⁻²⁶⁰); only the lost columns read `J(C)`, so an
-/// entry that overflows elsewhere does no harm.
-const INIT_SCALES: [f64; 4] = [pow2(60), pow2(200), pow2(500), pow2(900)];
+/// recovers 10⁻³⁰, 2⁹⁰⁰ ≈ 10²⁷¹ recovers 10⁻²⁶⁰, the largest power 2¹⁰²³ ≈ 9·10³⁰⁷ a drag of
+/// 2.3e-308 on a line of unit stiffness, the smallest normal double); only the lost columns
+/// read `J(C)`, so an entry that overflows elsewhere does no harm.
+const INIT_SCALES: [f64; 5] = [pow2(60), pow2(200), pow2(500), pow2(900), pow2(1023)];
 
 /// `2ᵏ` exactly (`k` in −1022..=1023), from its bits.
 const fn pow2(k: i64) -> f64 {

@@ -459,8 +459,61 @@ impl Field {
     /// assert_eq!(bad.validate("mu", true).unwrap_err().key, "mu.centre");
     /// assert!(Field::Constant(0.0).validate("eta", false).is_ok());
     /// assert!(Field::Constant(0.0).validate("mu", true).is_err()); // μ must be > 0
+    /// // a subnormal value (below 2.2e-308 in magnitude) is named, not run
+    /// assert_eq!(Field::Constant(5e-324).validate("K", false).unwrap_err().key, "K");
     /// ```
     pub fn validate(&self, key: &str, positive: bool) -> Result<(), FieldError> {
+        self.validate_range(key, positive)?;
+        self.validate_normal(key)
+    }
+
+    /// Rejects a nonzero value below the smallest normal double (`f64::MIN_POSITIVE`,
+    /// 2.2e-308) in magnitude: such a value keeps only a few significant bits, and the terms
+    /// it scales underflow to zero in the solver's matrices (a drag `K = 5e-324` made the
+    /// consistent initialisation's `∂F/∂ẏ` exactly singular). Zero itself stays allowed.
+    fn validate_normal(&self, key: &str) -> Result<(), FieldError> {
+        let subnormal = |v: f64| v != 0.0 && v.abs() < f64::MIN_POSITIVE;
+        let found = match self {
+            Field::Constant(v) => subnormal(*v).then_some(("", *v)),
+            Field::Gaussian {
+                base, amplitude, ..
+            } => [
+                ("base", *base),
+                ("amplitude", *amplitude),
+                ("amplitude", base + amplitude),
+            ]
+            .into_iter()
+            .find(|&(_, v)| subnormal(v)),
+            Field::Piecewise { values, .. } | Field::PerCell { values } => {
+                values.iter().find(|v| subnormal(**v)).map(|v| ("", *v))
+            }
+            Field::Random { low, high, .. } => [*low, *high]
+                .into_iter()
+                .find(|&v| subnormal(v))
+                .map(|v| ("", v)),
+            Field::Closure(_) => None,
+        };
+        match found {
+            None => Ok(()),
+            Some((sub, v)) => Err(FieldError {
+                key: if sub.is_empty() {
+                    key.to_string()
+                } else {
+                    format!("{key}.{sub}")
+                },
+                message: format!(
+                    "{key}{}{sub} = {v:e} is subnormal: a nonzero value must be at least \
+                     {:e} in magnitude (the smallest normal double; below it the value keeps \
+                     only a few digits and the solver's matrices underflow), or exactly 0",
+                    if sub.is_empty() { "" } else { "." },
+                    f64::MIN_POSITIVE
+                ),
+            }),
+        }
+    }
+
+    /// The range part of [`validate`](Self::validate).
+    fn validate_range(&self, key: &str, positive: bool) -> Result<(), FieldError> {
         let err = |sub: &str, message: String| FieldError {
             key: if sub.is_empty() {
                 key.to_string()

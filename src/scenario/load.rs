@@ -213,6 +213,7 @@ pub fn resolve(table: toml::Table) -> Result<Scenario, ScenarioError> {
             })
         }
     };
+    reject_subnormal("", &toml::Value::Table(table.clone()))?;
     let mut runs = Vec::new();
     let mut slugs = std::collections::HashMap::new();
     for point in points {
@@ -225,6 +226,7 @@ pub fn resolve(table: toml::Table) -> Result<Scenario, ScenarioError> {
                 let mut t = table.clone();
                 for part in &p.parts {
                     let key: Vec<String> = part.key.split('.').map(str::to_string).collect();
+                    reject_subnormal(&part.key, &part.raw).map_err(ctx)?;
                     apply(&mut t, &key, part.raw.clone()).map_err(ctx)?;
                 }
                 deserialize_at::<RawScenario>("", toml::Value::Table(t)).map_err(ctx)?
@@ -336,6 +338,41 @@ fn check_sweep_profiles(times: &[f64], swept: bool, runs: &[RunSpec]) -> Result<
         }
     }
     Ok(())
+}
+
+/// Rejects any nonzero number below the smallest normal double (2.2e-308) in magnitude, naming
+/// its key (`model.K`, `output.series[1]`): such a value keeps only a few significant bits,
+/// halving or squaring it gives 0 (a sheet's `k_th = 5e-324` became `K = 0` without a word),
+/// and the terms it scales underflow in the solver's matrices. Exactly 0 stays allowed.
+fn reject_subnormal(path: &str, v: &toml::Value) -> Result<(), ScenarioError> {
+    let child = |k: &str| {
+        if path.is_empty() {
+            k.to_string()
+        } else {
+            format!("{path}.{k}")
+        }
+    };
+    match v {
+        toml::Value::Float(f) if *f != 0.0 && f.abs() < f64::MIN_POSITIVE => {
+            Err(ScenarioError::key(
+                path,
+                format!(
+                    "= {f:e} is subnormal: a nonzero value must be at least {:e} in magnitude \
+                     (the smallest normal double; below it the value keeps only a few digits \
+                     and what it scales underflows to 0), or exactly 0",
+                    f64::MIN_POSITIVE
+                ),
+            ))
+        }
+        toml::Value::Table(t) => t
+            .iter()
+            .try_for_each(|(k, v)| reject_subnormal(&child(k), v)),
+        toml::Value::Array(a) => a
+            .iter()
+            .enumerate()
+            .try_for_each(|(i, v)| reject_subnormal(&format!("{path}[{i}]"), v)),
+        _ => Ok(()),
+    }
 }
 
 /// `"discrete"` / `"continuum"`.
