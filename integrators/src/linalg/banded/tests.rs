@@ -384,3 +384,73 @@ fn condensed_solve_on_two_threads_is_the_one_thread_solve_bit_for_bit() {
         }
     }
 }
+
+/// [`BandMatrix::remap`] entry by entry (its definition), for checking the whole-column copies.
+fn remap_by_entry(m: &mut BandMatrix, src: &[usize], fresh_rows: &[bool]) {
+    let (n, ld, diag) = (m.n, m.ld(), m.lower + m.upper);
+    for j in (0..n).rev() {
+        let sj = src[j];
+        for i in j.saturating_sub(m.upper)..=(j + m.lower).min(n - 1) {
+            let off = diag + i - j;
+            let moved =
+                sj != usize::MAX && !fresh_rows[i] && src[i] != usize::MAX && src[i] + j == sj + i;
+            m.data[j * ld + off] = if moved { m.data[sj * ld + off] } else { 0.0 };
+        }
+    }
+}
+
+#[test]
+fn remap_moves_whole_columns_as_it_moves_entries() {
+    // insertions at the start, in the middle (adjacent and apart), at the end; fresh rows
+    // around some of them; bands (1, 1), (2, 2) and (2, 1)
+    for (l, u) in [(1, 1), (2, 2), (2, 1)] {
+        for inserted in [
+            vec![0],
+            vec![5, 6],
+            vec![3, 17, 40],
+            vec![1, 2, 3, 30, 59],
+            vec![59],
+            vec![],
+        ] {
+            let n = 60;
+            let old = n - inserted.len();
+            let mut src = Vec::with_capacity(n);
+            let mut next = 0;
+            for i in 0..n {
+                if inserted.contains(&i) {
+                    src.push(usize::MAX);
+                } else {
+                    src.push(next);
+                    next += 1;
+                }
+            }
+            assert_eq!(next, old);
+            let fresh: Vec<bool> = (0..n)
+                .map(|i| inserted.iter().any(|&k| i + 2 >= k && i <= k + 1) && i % 3 != 0)
+                .collect();
+            // the old matrix in the grown storage (as `grow` leaves it), fill slots zero
+            let mut m = filled(old, l, u);
+            let ld = m.ld();
+            assert!(m.grow(n));
+            for j in old..n {
+                for v in &mut m.data[j * ld..(j + 1) * ld] {
+                    *v = 1e3 + j as f64; // stale values the map must overwrite or zero
+                }
+            }
+            let mut reference = m.clone();
+            assert!(m.remap(&src, &fresh));
+            remap_by_entry(&mut reference, &src, &fresh);
+            // every band entry is the definition's, bit for bit
+            for j in 0..n {
+                for i in j.saturating_sub(u)..=(j + l).min(n - 1) {
+                    let k = j * ld + l + u + i - j;
+                    assert_eq!(
+                        m.data[k].to_bits(),
+                        reference.data[k].to_bits(),
+                        "band ({l}, {u}), inserted {inserted:?}: entry ({i}, {j})"
+                    );
+                }
+            }
+        }
+    }
+}
