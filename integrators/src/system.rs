@@ -174,7 +174,12 @@ impl SystemCache {
                         a.len()
                     )));
                 }
-                if let Some(i) = a.iter().position(|&x| !(x > 0.0 && x.is_finite())) {
+                // (a branch-free sweep first: this runs at every division of a dividing line)
+                let positive = a.iter().fold(true, |ok, &x| ok & (x > 0.0) & x.is_finite());
+                if let Some(i) = (!positive)
+                    .then(|| a.iter().position(|&x| !(x > 0.0 && x.is_finite())))
+                    .flatten()
+                {
                     return Err(ErrorKind::InvalidInput(format!(
                         "atol()[{i}] = {} must be positive and finite",
                         a[i]

@@ -25,6 +25,10 @@ use crate::scalar::Scalar;
 use integrators::linalg::Matrix;
 use integrators::{EventAction, ResidualError};
 
+/// Cells whose division-rule views are built and evaluated per call of
+/// [`DivisionRule::event_batch`] (the views live on the stack: 128 of 96 bytes).
+const EVENT_CHUNK: usize = 128;
+
 /// Largest change of the division invariants (docs/model.md §5.5) seen over all events, measured
 /// just before and just after each split (enable with [`Dividing::check_invariants`]).
 ///
@@ -646,12 +650,17 @@ impl<E: StrainEnergy> CellArray for Dividing<E> {
         }
         let (gi, rule) = (&self.line.layout.gi, &self.rule);
         let (birth, threshold) = (&self.birth, &self.threshold);
-        // cells j0.. into `out`
+        // cells j0.. into `out`, a chunk of views per call of the rule
         let eval = |out: &mut [f64], j0: usize| {
-            for (j, out) in (j0..).zip(out.iter_mut()) {
-                let k = gi[j];
-                let gj = if k == NONE { 1.0 } else { y[k] };
-                *out = rule.event(&CellView::growth_only(gj * g2, t - birth[j], threshold[j]));
+            let mut views = [CellView::growth_only(0.0, 0.0, f64::NAN); EVENT_CHUNK];
+            for (c, out) in out.chunks_mut(EVENT_CHUNK).enumerate() {
+                let first = j0 + c * EVENT_CHUNK;
+                for (view, j) in views.iter_mut().zip(first..first + out.len()) {
+                    let k = gi[j];
+                    let gj = if k == NONE { 1.0 } else { y[k] };
+                    *view = CellView::growth_only(gj * g2, t - birth[j], threshold[j]);
+                }
+                rule.event_batch(&views[..out.len()], out);
             }
         };
         // every cell's value is its own: two halves give the same values as one sweep

@@ -98,6 +98,26 @@ pub trait DivisionRule: Send + Sync {
     /// Event value for a cell (negative before division, crosses zero upwards at division).
     fn event(&self, cell: &CellView) -> f64;
 
+    /// [`event`](DivisionRule::event) of several cells at once, `out[i]` for `cells[i]`.
+    /// The dividing line evaluates its cells in chunks through this method, so the rule's
+    /// own `event` is inlined into the loop rather than called through the trait object cell
+    /// by cell (that call and its view had cost 60 instructions per cell at every step).
+    /// The default is that loop; override it only to do better.
+    ///
+    /// ```
+    /// use celltissue::events::{AreaDoubling, CellView, DivisionRule};
+    /// let rule: Box<dyn DivisionRule> = Box::new(AreaDoubling::default());
+    /// let cells = [CellView::growth_only(1.5, 0.0, f64::NAN), CellView::growth_only(2.5, 0.0, f64::NAN)];
+    /// let mut out = [0.0; 2];
+    /// rule.event_batch(&cells, &mut out);
+    /// assert_eq!(out, [rule.event(&cells[0]), rule.event(&cells[1])]);
+    /// ```
+    fn event_batch(&self, cells: &[CellView], out: &mut [f64]) {
+        for (c, o) in cells.iter().zip(out) {
+            *o = self.event(c);
+        }
+    }
+
     /// Per-cell threshold drawn when a cell is born (default: none, `NaN`).
     fn draw_threshold(&self, _rng: &mut SplitMix64) -> f64 {
         f64::NAN
@@ -129,6 +149,9 @@ pub trait DivisionRule: Send + Sync {
 impl<R: DivisionRule + ?Sized> DivisionRule for std::sync::Arc<R> {
     fn event(&self, cell: &CellView) -> f64 {
         (**self).event(cell)
+    }
+    fn event_batch(&self, cells: &[CellView], out: &mut [f64]) {
+        (**self).event_batch(cells, out)
     }
     fn draw_threshold(&self, rng: &mut SplitMix64) -> f64 {
         (**self).draw_threshold(rng)

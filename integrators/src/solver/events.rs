@@ -25,7 +25,7 @@ pub(super) fn eval_events<P: Problem>(
         return Ok(());
     }
     p.events(t, y, g);
-    if let Some(i) = g.iter().position(|v| !v.is_finite()) {
+    if let Some(i) = crate::linalg::first_non_finite(g) {
         return Err(ErrorKind::Residual(format!(
             "event function {i} is not finite at t = {t}"
         )));
