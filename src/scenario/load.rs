@@ -213,7 +213,7 @@ pub fn resolve(table: toml::Table) -> Result<Scenario, ScenarioError> {
             })
         }
     };
-    reject_subnormal("", &toml::Value::Table(table.clone()))?;
+    table.iter().try_for_each(|(k, v)| reject_subnormal(k, v))?;
     let mut runs = Vec::new();
     let mut slugs = std::collections::HashMap::new();
     for point in points {
