@@ -175,11 +175,9 @@ impl SystemCache {
                     )));
                 }
                 // (a branch-free sweep first: this runs at every division of a dividing line)
-                let positive = a.iter().fold(true, |ok, &x| ok & (x > 0.0) & x.is_finite());
-                if let Some(i) = (!positive)
-                    .then(|| a.iter().position(|&x| !(x > 0.0 && x.is_finite())))
-                    .flatten()
-                {
+                let valid = |x: f64| x > 0.0 && x.is_finite();
+                if !a.iter().fold(true, |ok, &x| ok & valid(x)) {
+                    let i = a.iter().position(|&x| !valid(x)).unwrap_or_default();
                     return Err(ErrorKind::InvalidInput(format!(
                         "atol()[{i}] = {} must be positive and finite",
                         a[i]

@@ -472,7 +472,6 @@ impl Field {
     /// it scales underflow to zero in the solver's matrices (a drag `K = 5e-324` made the
     /// consistent initialisation's `∂F/∂ẏ` exactly singular). Zero itself stays allowed.
     fn validate_normal(&self, key: &str) -> Result<(), FieldError> {
-        let subnormal = |v: f64| v != 0.0 && v.abs() < f64::MIN_POSITIVE;
         let found = match self {
             Field::Constant(v) => subnormal(*v).then_some(("", *v)),
             Field::Gaussian {
@@ -502,11 +501,9 @@ impl Field {
                     format!("{key}.{sub}")
                 },
                 message: format!(
-                    "{key}{}{sub} = {v:e} is subnormal: a nonzero value must be at least \
-                     {:e} in magnitude (the smallest normal double; below it the value keeps \
-                     only a few digits and the solver's matrices underflow), or exactly 0",
+                    "{key}{}{sub} = {}",
                     if sub.is_empty() { "" } else { "." },
-                    f64::MIN_POSITIVE
+                    subnormal_text(v)
                 ),
             }),
         }
@@ -611,6 +608,23 @@ impl Field {
             _ => Ok(()),
         }
     }
+}
+
+/// Whether `v` is nonzero and below the smallest normal double (`f64::MIN_POSITIVE`,
+/// 2.2e-308) in magnitude: a value that keeps only a few significant bits, and whose products
+/// underflow (what [`Field::validate`] and the scenario loader reject).
+pub(crate) fn subnormal(v: f64) -> bool {
+    v != 0.0 && v.abs() < f64::MIN_POSITIVE
+}
+
+/// Why a [`subnormal`] value is rejected, after its `key = ` (one text for every layer).
+pub(crate) fn subnormal_text(v: f64) -> String {
+    format!(
+        "{v:e} is subnormal: a nonzero value must be at least {:e} in magnitude (the smallest \
+         normal double; below it the value keeps only a few digits and what it scales \
+         underflows to 0), or exactly 0",
+        f64::MIN_POSITIVE
+    )
 }
 
 #[cfg(test)]

@@ -20,6 +20,7 @@ pub mod growth_laws;
 mod viscosity;
 
 pub use active::Active;
+pub(crate) use field::{subnormal, subnormal_text};
 pub use field::{Field, FieldError, FieldFn, Sampling};
 pub(crate) use growth::growth_at;
 pub use growth::{GrowthLaw, GrowthRate, TanhGrowth};

@@ -353,17 +353,10 @@ fn reject_subnormal(path: &str, v: &toml::Value) -> Result<(), ScenarioError> {
         }
     };
     match v {
-        toml::Value::Float(f) if *f != 0.0 && f.abs() < f64::MIN_POSITIVE => {
-            Err(ScenarioError::key(
-                path,
-                format!(
-                    "= {f:e} is subnormal: a nonzero value must be at least {:e} in magnitude \
-                     (the smallest normal double; below it the value keeps only a few digits \
-                     and what it scales underflows to 0), or exactly 0",
-                    f64::MIN_POSITIVE
-                ),
-            ))
-        }
+        toml::Value::Float(f) if crate::cell::subnormal(*f) => Err(ScenarioError::key(
+            path,
+            format!("= {}", crate::cell::subnormal_text(*f)),
+        )),
         toml::Value::Table(t) => t
             .iter()
             .try_for_each(|(k, v)| reject_subnormal(&child(k), v)),
