@@ -141,3 +141,27 @@ fn fig2_8_every_method_converges_and_bdf_meets_the_contract() {
 fn fig2_5_dopri_converges_where_the_line_is_not_stiff() {
     check_methods("fig2_5", "sweep.values=[10]", &["dopri", "bdf"]);
 }
+
+/// Dormand–Prince where the line is stiff (Fig 2.5 at K = 1e-5, to t = 1000): its steps are
+/// held at the stability limit, about 2e-6, so the span would take ~5e8 steps. The run stops
+/// as soon as the stiffness test finds that (≈ 1 015 steps, at t ≈ 2e-3), saying why and
+/// what to use, where it used to crawl to the 10⁶-step cap (t = 1.8, 35 s for the two runs).
+#[test]
+fn fig2_5_dopri_stops_early_where_the_line_is_stiff_and_says_why() {
+    let f = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/fig2_5.toml");
+    let sets = ["sweep.values=[1e-5]", "solver.method=\"dopri\""].map(String::from);
+    let s = celltissue::scenario::load(&f, &sets).expect("scenario loads");
+    for r in &s.runs {
+        let rec = run_spec(r);
+        let err = rec
+            .error
+            .as_deref()
+            .expect("a stiff line cannot be run explicitly");
+        assert!(
+            err.contains("stiff") && err.contains("use an implicit method"),
+            "{}: {err}",
+            r.label
+        );
+        assert!(rec.stats.steps < 1100, "{}: {:?}", r.label, rec.stats);
+    }
+}

@@ -75,6 +75,24 @@ pub enum ErrorKind {
     /// Consistent initial ẏ (or algebraic y) could not be found.
     #[error("consistent initialisation failed: {0}")]
     Initialisation(String),
+    /// An explicit method's steps are held at its stability limit (the problem is stiff here;
+    /// see [`crate::method::StabilityLimit`]) and the rest of the span at the current step
+    /// would take more than `Options::max_steps` steps: the solve stops now rather than creep
+    /// towards that limit.
+    #[error(
+        "the problem is stiff here: the explicit method's step is held at its stability limit \
+         (h·ρ = {h_rho:.2}, ρ the problem's fastest rate), and the rest of the span at that step \
+         would take about {projected_steps:.1e} steps, beyond max_steps = {max_steps}; use an \
+         implicit method (bdf, esdirk or radau)"
+    )]
+    Stiff {
+        /// `h·ρ` at the method's last stiffness test.
+        h_rho: f64,
+        /// Steps taken plus the rest of the span over the current step.
+        projected_steps: f64,
+        /// `Options::max_steps`.
+        max_steps: usize,
+    },
     /// The method cannot handle this problem (e.g. Dormand–Prince with algebraic components).
     #[error("method not applicable: {0}")]
     NotApplicable(String),

@@ -63,7 +63,7 @@ pub mod system;
 
 pub use error::{ErrorKind, RecoverableCause, SolveFailure, SolverError};
 pub use error_map::{ErrorMap, ErrorMapError, Row};
-pub use method::{CustomMethod, Method, MethodChoice, MethodKind};
+pub use method::{CustomMethod, Method, MethodChoice, MethodKind, StabilityLimit};
 pub use observer::Observer;
 pub use options::{
     BdfOptions, ErrorNorm, IterativeSettings, LinearSolverChoice, Options, OptionsError,

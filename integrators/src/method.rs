@@ -86,6 +86,42 @@ pub trait Method {
     fn dense_output_controlled(&self) -> bool {
         false
     }
+
+    /// Whether an explicit method's steps are held at its stability limit on a stiff problem
+    /// (see [`StabilityLimit`]); `None` (the default, and always for an implicit method)
+    /// otherwise. The driver warns once per solve when it first is, and stops with
+    /// [`ErrorKind::Stiff`](crate::ErrorKind::Stiff) when the rest of the span at the current
+    /// step would take more than [`Options::max_steps`](crate::Options::max_steps).
+    ///
+    /// ```
+    /// use integrators::methods::{bdf::Bdf, dopri::Dopri5};
+    /// use integrators::Method;
+    /// assert!(Bdf::new().stability_limit().is_none());
+    /// assert!(Dopri5::new().stability_limit().is_none()); // not before its test has failed
+    /// ```
+    fn stability_limit(&self) -> Option<StabilityLimit> {
+        None
+    }
+}
+
+/// Where an explicit method found its steps held at its stability limit: since `since`, its
+/// stiffness test has failed repeatedly (DOPRI5: `h·ρ > 3.25` at 15 tests running, `ρ` the
+/// problem's fastest rate estimated from two stages). Steps there are set by stability, not
+/// accuracy; an implicit method would take far fewer.
+///
+/// ```
+/// use integrators::method::StabilityLimit;
+/// let s = StabilityLimit { since: 2.0, h_rho: 3.3, component: Some(7) };
+/// assert!(s.h_rho > 3.25);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StabilityLimit {
+    /// End of the step whose test made the count of failed tests reach the limit.
+    pub since: f64,
+    /// `h·ρ` at the last test.
+    pub h_rho: f64,
+    /// The component whose rate changed most between the two stages (the fastest), if known.
+    pub component: Option<usize>,
 }
 
 /// The available methods, selectable in one line of code or by name.

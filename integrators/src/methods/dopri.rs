@@ -7,6 +7,12 @@
 //!   error estimate `h Σ e_i k_i`, and DOPRI5's PI step-size controller (`β = 0.04`,
 //!   `h_new/h ∈ [0.2, 10]`, safety 0.9, no increase right after a rejection).
 //! * Dense output of order 4 with Hairer's coefficients (`CONTD5`), for `y` and `ẏ`.
+//! * DOPRI5's stiffness test: every 1000 accepted steps, and at every step while it fails, `h·ρ`
+//!   is estimated from the two stages at `t + h`; above 3.25 (the stability boundary) at 15
+//!   tests running, the steps are held at the stability limit ([`Method::stability_limit`]):
+//!   the driver warns, and stops with [`ErrorKind::Stiff`] when the rest of the span would
+//!   take more than `max_steps` such steps, instead of creeping on to that limit (a line of
+//!   100 cells at drag 1e-5 had taken 10⁶ steps to t = 1.8 before `max_steps` stopped it).
 //! * **Residual form.** Every stage needs its derivative `k = ẏ` from `F(t, Y, k) = 0`. It is
 //!   computed by Newton on `k` with the frozen matrix `J1 = ∂F/∂ẏ`, obtained at start from two
 //!   [`System::jacobian`] evaluations (`J(c) − J(0)`)/`c` with `c = 1/h`) and factorised once;
@@ -31,7 +37,7 @@
 
 use crate::error::{ErrorKind, SolverError};
 use crate::linalg::{LinearSolver, Matrix};
-use crate::method::Method;
+use crate::method::{Method, StabilityLimit};
 use crate::methods::one_step::{self, Attempt};
 use crate::methods::radau::{classify, error_weights, newton_weights, worst, Fail};
 use crate::system::{StepFailure, System};
@@ -93,6 +99,17 @@ const BETA: f64 = 0.04;
 const MAX_DOT_ITERS: usize = 8;
 /// Re-measure the contraction rate of the stage-derivative iteration every this many steps.
 const REMEASURE_EVERY: usize = 16;
+/// Stiffness test (Hairer's DOPRI5): every this many accepted steps, and at every accepted step
+/// while a test has failed, `h·ρ` is estimated with `ρ = ‖k₇ − k₆‖ / ‖y₁ − Y₆‖`, the two
+/// stages at `t + h`.
+const STIFF_TEST_EVERY: usize = 1000;
+/// `h·ρ` above this is the stability boundary of DOPRI5 on the negative real axis (≈ 3.3).
+const STIFF_H_RHO: f64 = 3.25;
+/// Failed tests in a row after which the steps count as held at the stability limit
+/// ([`Method::stability_limit`]).
+const STIFF_TESTS: usize = 15;
+/// Passed tests in a row that clear the count of failed ones.
+const NONSTIFF_TESTS: usize = 6;
 
 /// Dormand–Prince 5(4) (see the [module documentation](self)).
 ///
@@ -128,6 +145,12 @@ pub struct Dopri5 {
     steps_since_measure: usize,
     facold: f64,
     reject: bool,
+    /// Stiffness test: accepted steps since the start, tests failed and passed in a row, and
+    /// what it found.
+    accepted: usize,
+    stiff_tests: usize,
+    nonstiff_tests: usize,
+    stiff_found: Option<StabilityLimit>,
 }
 
 impl Default for Dopri5 {
@@ -171,6 +194,56 @@ impl Dopri5 {
             steps_since_measure: 0,
             facold: 1e-4,
             reject: false,
+            accepted: 0,
+            stiff_tests: 0,
+            nonstiff_tests: 0,
+            stiff_found: None,
+        }
+    }
+
+    /// Hairer's stiffness test after an accepted step of size `h` ending at `t_new` (stages in
+    /// `self.k`, before they are overwritten): `h·ρ` with `ρ = ‖k₇ − k₆‖ / ‖y₁ − Y₆‖`, where
+    /// `y₁ − Y₆ = h Σ (a₇ⱼ − a₆ⱼ) kⱼ` needs no stored stage state.
+    fn stiffness_test(&mut self, h: f64, t_new: f64) {
+        self.accepted += 1;
+        if !self.accepted.is_multiple_of(STIFF_TEST_EVERY) && self.stiff_tests == 0 {
+            return;
+        }
+        let (mut num, mut den) = (0.0, 0.0);
+        let mut fastest: Option<(usize, f64)> = None;
+        for l in 0..self.n {
+            let dk = self.k[6][l] - self.k[5][l];
+            let dy: f64 = h
+                * (0..6)
+                    .map(|j| (A[6][j] - A[5][j]) * self.k[j][l])
+                    .sum::<f64>();
+            num += dk * dk;
+            den += dy * dy;
+            let x = (dk * self.wt[l]).abs();
+            if fastest.is_none_or(|(_, m)| x > m) {
+                fastest = Some((l, x));
+            }
+        }
+        if den <= 0.0 || !den.is_finite() || !num.is_finite() {
+            return;
+        }
+        let h_rho = h * (num / den).sqrt();
+        if h_rho > STIFF_H_RHO {
+            self.nonstiff_tests = 0;
+            self.stiff_tests += 1;
+            if self.stiff_tests >= STIFF_TESTS {
+                self.stiff_found = Some(StabilityLimit {
+                    since: self.stiff_found.map_or(t_new, |f| f.since),
+                    h_rho,
+                    component: fastest.map(|(l, _)| l),
+                });
+            }
+        } else {
+            self.nonstiff_tests += 1;
+            if self.nonstiff_tests >= NONSTIFF_TESTS {
+                self.stiff_tests = 0;
+                self.stiff_found = None;
+            }
         }
     }
 
@@ -348,6 +421,7 @@ impl Dopri5 {
         let expo1 = 0.2 - BETA * 0.75;
         let fac11 = err.max(1e-300).powf(expo1);
         if err <= 1.0 {
+            self.stiffness_test(h, t_new);
             // Dense output (DOPRI5's CONTD5 coefficients).
             for l in 0..n {
                 let y0 = self.y[l];
@@ -452,6 +526,10 @@ impl Method for Dopri5 {
         self.steps_since_measure = 0;
         self.facold = 1e-4;
         self.reject = false;
+        self.accepted = 0;
+        self.stiff_tests = 0;
+        self.nonstiff_tests = 0;
+        self.stiff_found = None;
         self.started = true;
         self.h = one_step::start_h(h, sys.opts);
         // ∂F/∂ẏ now, so that a singular one is reported at start.
@@ -471,6 +549,10 @@ impl Method for Dopri5 {
     }
 
     super::method_accessors!(one_step);
+
+    fn stability_limit(&self) -> Option<StabilityLimit> {
+        self.stiff_found
+    }
 
     fn interpolate(&self, t: f64, y: &mut [f64], yp: &mut [f64]) {
         let h = self.h_last;
