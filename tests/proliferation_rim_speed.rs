@@ -10,7 +10,7 @@
 //! divide.
 
 use celltissue::boundary::RightEnd;
-use celltissue::cell::TanhGrowth;
+use celltissue::cell::{GrowthLaw, TanhGrowth};
 use celltissue::events::{AreaDoubling, Dividing};
 use celltissue::line::build::{discrete, LineParams};
 use celltissue::line::observe::Snapshot;
@@ -179,4 +179,39 @@ fn rim_speed_holds_for_other_moduli_and_stress_scales() {
         );
         assert!(err.abs() < 5e-3, "{err}");
     }
+}
+
+/// Drags far beyond the thesis's. Large K: the tip is compressed until its growth is below
+/// 1 % of the unstressed rate, so the growth zone (`width`) is narrower than the tip cell: 0,
+/// where this used to fail ("growth never falls to 1e-2", K ≥ 1e3), and the bracket's first
+/// trial speed is halved until it is slow (K = 1e8 failed with "no slow branch"). The rim is
+/// still found, slower as K grows. Too small a K (1e-8: the profile would have to be followed
+/// over more than 10⁶ cells) fails saying so, not with the solver's bare step count.
+#[test]
+fn the_rim_is_found_at_large_drags_and_too_small_a_drag_says_why() {
+    let (e, g) = (NeoHookean::new(1.0).unwrap(), TanhGrowth::default());
+    let mut slower_than = f64::INFINITY;
+    for k in [1e3, 1e5, 1e8] {
+        let rim = travelling_rim(&e, &g, k, 1.0).unwrap_or_else(|err| panic!("K = {k}: {err}"));
+        assert!(
+            rim.speed > 0.0 && rim.speed < slower_than,
+            "K = {k}: {rim:?}"
+        );
+        slower_than = rim.speed;
+        assert_eq!(rim.width, 0.0, "K = {k}");
+        // width 0 means: at the tip itself, growth is already below 1 % of G(0)
+        let tip = rim_profile(&e, &g, k, 1.0, rim.speed, &[0.0]).unwrap()[0];
+        assert!(
+            g.rate(tip.0).0 < 1e-2 * g.rate(0.0).0,
+            "K = {k}: tip σ = {}",
+            tip.0
+        );
+        assert!(rim.cell_rate > 0.0, "K = {k}: the tip cell still divides");
+    }
+    let err = travelling_rim(&e, &g, 1e-8, 1.0).expect_err("K = 1e-8 is too small");
+    let msg = err.to_string();
+    assert!(
+        msg.contains("too small") && msg.contains("K = 1e-8"),
+        "{msg}"
+    );
 }

@@ -4,7 +4,7 @@
 use crate::errors::{from_scenario, scenario_error};
 use celltissue::scenario::{self, Scenario};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyString, PyTuple};
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use std::path::{Path, PathBuf};
 
 /// The text of a bundled scenario, or a `ScenarioError` listing the names.
@@ -23,22 +23,75 @@ pub fn bundled(name: &str) -> PyResult<&'static str> {
     })
 }
 
-/// A Python value (dict, list, number, string, bool) as TOML, via its JSON form.
+/// Nesting deeper than this is refused (a scenario is at most four tables deep; a dict that
+/// holds itself would otherwise recurse without end).
+const MAX_DEPTH: usize = 32;
+
+/// A Python value (dict, list, tuple, bool, int, float, str, or a NumPy array or scalar) as
+/// TOML, converted directly: NaN and ±inf stay numbers, so the scenario's validation names
+/// their key and its range (through JSON they failed as "expected value at column 74").
 fn to_toml(py: Python<'_>, value: &Bound<'_, PyAny>, what: &str) -> PyResult<toml::Value> {
-    let json: String = py
-        .import("json")?
-        .call_method1("dumps", (value,))
-        .map_err(|e| scenario_error(py, None, format!("{what}: not JSON-like data: {e}")))?
-        .extract()?;
-    let v: serde_json::Value = serde_json::from_str(&json)
-        .map_err(|e| scenario_error(py, None, format!("{what}: {e}")))?;
-    toml::Value::try_from(v).map_err(|e| {
-        scenario_error(
-            py,
-            None,
-            format!("{what}: cannot be written as TOML ({e}; None is not allowed)"),
-        )
-    })
+    to_toml_at(py, value, what, 0)
+}
+
+fn to_toml_at(
+    py: Python<'_>,
+    value: &Bound<'_, PyAny>,
+    what: &str,
+    depth: usize,
+) -> PyResult<toml::Value> {
+    let bad = |message: String| scenario_error(py, None, format!("{what}: {message}"));
+    if depth > MAX_DEPTH {
+        return Err(bad(format!("nested more than {MAX_DEPTH} levels deep")));
+    }
+    if value.is_none() {
+        return Err(bad("None is not allowed (leave the key out instead)".into()));
+    }
+    if let Ok(b) = value.cast::<PyBool>() {
+        return Ok(toml::Value::Boolean(b.is_true()));
+    }
+    if let Ok(s) = value.cast::<PyString>() {
+        return Ok(toml::Value::String(s.to_cow()?.into_owned()));
+    }
+    if let Ok(d) = value.cast::<PyDict>() {
+        let mut table = toml::Table::new();
+        for (k, v) in d.iter() {
+            let key: String = k
+                .extract()
+                .map_err(|_| bad("dict keys must be strings".into()))?;
+            let inner = to_toml_at(py, &v, &format!("{what}.{key}"), depth + 1)?;
+            table.insert(key, inner);
+        }
+        return Ok(toml::Value::Table(table));
+    }
+    if value.cast::<PyList>().is_ok() || value.cast::<PyTuple>().is_ok() {
+        let items = value
+            .try_iter()?
+            .enumerate()
+            .map(|(i, v)| to_toml_at(py, &v?, &format!("{what}[{i}]"), depth + 1))
+            .collect::<PyResult<Vec<_>>>()?;
+        return Ok(toml::Value::Array(items));
+    }
+    if let Ok(i) = value.cast::<PyInt>() {
+        return i
+            .extract::<i64>()
+            .map(toml::Value::Integer)
+            .map_err(|_| bad(format!("the integer {i} does not fit in 64 bits")));
+    }
+    if let Ok(f) = value.cast::<PyFloat>() {
+        return Ok(toml::Value::Float(f.value()));
+    }
+    // NumPy arrays and scalars (and anything else with `tolist`): their Python form
+    if value.hasattr("tolist")? {
+        let plain = value.call_method0("tolist")?;
+        if !plain.is(value) {
+            return to_toml_at(py, &plain, what, depth + 1);
+        }
+    }
+    Err(bad(format!(
+        "a {} cannot be written as TOML (expected a dict, list, number, string or bool)",
+        value.get_type().name()?
+    )))
 }
 
 /// `set` as `key=value` strings.

@@ -61,3 +61,42 @@ def test_unusable_python_values():
 def test_zero_jobs_is_refused():
     with pytest.raises(ValueError, match="jobs must be an integer"):
         celltissue.run("fig2_5", set={"model.cells": 4, "model.nodes": 5}, jobs=0)
+
+
+@pytest.mark.parametrize(
+    "params, times, key, needle",
+    [
+        ({"K": float("nan")}, [0.0, 1.0], "model.K", "finite"),
+        ({"K": float("inf")}, [0.0, 1.0], "model.K", "finite"),
+        ({"K": 1.0}, [0.0, float("nan")], "output.series", "finite"),
+        ({"K": 1.0}, [0.0, float("inf")], "output.series", "finite"),
+    ],
+)
+def test_non_finite_numbers_name_their_key(params, times, key, needle):
+    # they used to fail in the JSON step as "scenario: expected value at line 1 column 74"
+    with pytest.raises(celltissue.ScenarioError) as info:
+        celltissue.line(cells=5, **params).solve(times)
+    assert info.value.key == key, str(info.value)
+    assert needle in info.value.message
+
+
+def test_numpy_values_and_nesting():
+    np = pytest.importorskip("numpy")
+    # NumPy arrays and scalars are taken as their Python values
+    r = celltissue.run(
+        {
+            "name": "np",
+            "output": {"series": np.linspace(0.0, 1.0, 3)},
+            "model": {"kind": "line", "cells": np.int64(5), "K": np.float64(0.1),
+                      "models": ["discrete"]},
+        },
+        set={"output.profiles": np.array([1.0])},
+    )
+    assert list(r[0].series["t"]) == [0.0, 0.5, 1.0]
+    assert len(r[0].profiles) == 1
+    loop = {"name": "x"}
+    loop["model"] = loop
+    with pytest.raises(celltissue.ScenarioError, match="nested more than"):
+        celltissue.run(loop)
+    with pytest.raises(celltissue.ScenarioError, match="64 bits"):
+        celltissue.line(cells=2**70).solve([0.0, 1.0])

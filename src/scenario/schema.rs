@@ -185,7 +185,11 @@ impl SolverSection {
             Some(_) if method.name() != "bdf" => {
                 return Err(ScenarioError::key(
                     "solver.jacobian_age",
-                    format!("applies to method \"bdf\" only, not \"{}\"", method.name()),
+                    format!(
+                        "applies to method \"bdf\" only, not \"{}\" (remove it from [solver] \
+                         to run another method)",
+                        method.name()
+                    ),
                 ))
             }
             Some(a) => a,
