@@ -206,6 +206,39 @@ fn inputs_a_run_would_reject_exit_2_before_anything_is_written() {
     );
 }
 
+/// The runs of a sweep are held together until they are written: each run's profiles fit
+/// the machine's memory, but three of them would not. `validate` passes (a run alone fits, as
+/// on a cluster with one run per shard); `run` exits 2 naming `output.profiles` before writing.
+#[test]
+fn profiles_of_a_whole_sweep_that_cannot_be_held_exit_2() {
+    let Some(avail) = celltissue::scenario::limits::available_memory() else {
+        return; // no /proc/meminfo: the check is skipped there too
+    };
+    // each run ≈ 0.5 of the available memory at 160 B per value: 1 000 profile times
+    let cells = (0.5 * avail / 160.0 / 1000.0).round();
+    let text = format!(
+        "name = \"p\"\n[output]\nseries = [0, 1]\n\
+         profiles = {{ start = 0, stop = 1, count = 1000, spacing = \"linear\" }}\n\
+         [model]\nkind = \"line\"\nmodels = [\"discrete\"]\ncells = {cells}\n\
+         [sweep]\nparameter = \"K\"\nvalues = [1, 2, 3]\n"
+    );
+    let dir = tmp("cli_err_profiles_sweep");
+    let file = dir.join("s.toml");
+    std::fs::write(&file, &text).unwrap();
+    let validated = Command::new(env!("CARGO_BIN_EXE_celltissue"))
+        .arg("validate")
+        .arg(&file)
+        .output()
+        .unwrap();
+    assert_eq!(
+        validated.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&validated.stderr)
+    );
+    rejects("profiles_sweep", &text, &[], "output.profiles");
+}
+
 #[test]
 fn set_of_a_swept_key_exits_2_naming_the_conflict() {
     let swept = format!("{GOOD}[sweep]\nparameter = \"K\"\nvalues = [0.1, 1]\n");

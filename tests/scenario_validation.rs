@@ -59,6 +59,31 @@ fn sizes_that_cannot_be_allocated_are_capped_with_the_memory_needed() {
     );
 }
 
+/// Profiles are capped like cells: 10⁶ cells at 10⁵ profile times (10¹¹ values, 16 TB) used
+/// to pass `validate` and then grow the run's records until the allocation aborted.
+#[test]
+fn profiles_that_cannot_be_held_are_capped_with_the_memory_needed() {
+    let big = "profiles = { start = 0, stop = 1, count = 100000, spacing = \"linear\" }";
+    let m = rejects(
+        &LINE.replace("profiles = [1]", big),
+        &["model.cells=1000000"],
+        "output.profiles",
+    );
+    assert!(
+        m.contains("100000000000 cell values") && m.contains("16.0 TB") && m.contains("in run"),
+        "{m}"
+    );
+    // the continuum's grid counts its nodes
+    let m = rejects(
+        &LINE.replace("profiles = [1]", big),
+        &["model.nodes=10000000", "model.models=[\"continuum\"]"],
+        "output.profiles",
+    );
+    assert!(m.contains("1000000000000 cell values"), "{m}");
+    // a modest request passes
+    assert!(load(&LINE.replace("profiles = [1]", big), &[]).is_ok());
+}
+
 #[test]
 fn a_ten_thousand_part_set_key_is_an_error_not_a_stack_overflow() {
     let key = vec!["a"; 10_000].join(".");

@@ -272,7 +272,7 @@ fn shards_that_do_not_fit_are_refused() {
         assert!(!root.join(m).exists(), "{m} written");
     }
     for (shard, needle) in [
-        ("2/2", "0..1"),
+        ("2/2", "from 0 to 1"),
         ("x", "i/n"),
         ("auto", "SLURM_ARRAY_TASK_ID"),
     ] {
@@ -280,6 +280,6 @@ fn shards_that_do_not_fit_are_refused() {
         assert!(e.contains(needle), "{shard}: {e}");
     }
     let e = err(&["run", s, "--jobs", "0", "--out", &out("never")]);
-    assert!(e.contains("--jobs"), "{e}");
+    assert!(e.contains("--jobs") && e.contains("≥ 1"), "{e}");
     assert!(!root.join("never").exists());
 }

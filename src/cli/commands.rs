@@ -103,6 +103,19 @@ pub fn run(source: &Source, out: &Path, sets: &[String], opts: RunOptions) -> i3
         eprintln!("error: `--jobs`: must be an integer ≥ 1 (got 0)");
         return BAD_INPUT;
     }
+    let indices: Vec<usize> = match shard {
+        Some(s) => s.indices(scenario.runs.len()),
+        None => (0..scenario.runs.len()).collect(),
+    };
+    // the records of every run this process runs are held until they are written
+    let values: f64 = indices
+        .iter()
+        .map(|&i| scenario.runs[i].profile_values())
+        .sum();
+    if let Err(e) = scenario::limits::check_profiles(values, indices.len()) {
+        eprintln!("error: {e}");
+        return BAD_INPUT;
+    }
     // the directory is checked (and claimed in its manifest) before anything runs
     let prepared = match output::manifest::prepare(out, &scenario.name, opts.replace) {
         Ok(p) => p,
@@ -112,10 +125,6 @@ pub fn run(source: &Source, out: &Path, sets: &[String], opts: RunOptions) -> i3
         }
     };
     let stop = interrupt::install();
-    let indices: Vec<usize> = match shard {
-        Some(s) => s.indices(scenario.runs.len()),
-        None => (0..scenario.runs.len()).collect(),
-    };
     let total = indices.len();
     let terminal = std::io::stderr().is_terminal();
     let pb = bar(

@@ -60,8 +60,7 @@ enum Command {
         #[arg(long)]
         no_plots: bool,
         /// Runs of the sweep to run at once (threads); outputs are the same as with 1.
-        #[arg(long, short, default_value_t = 1, value_name = "N",
-              value_parser = clap::value_parser!(u64).range(1..))]
+        #[arg(long, short, default_value_t = 1, value_name = "N")]
         jobs: u64,
         /// Run only shard I of N of the sweep (0-based; run k goes to shard k mod N), or
         /// `auto` for a SLURM job array (SLURM_ARRAY_TASK_ID / SLURM_ARRAY_TASK_COUNT).

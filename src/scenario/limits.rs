@@ -33,6 +33,52 @@ pub const LINE_BYTES_PER_CELL: f64 = 500.0;
 /// 11 MB at 20 × 20, 77 MB at 100 × 100 (discrete, direct solver).
 pub const SHEET_BYTES_PER_CELL: f64 = 8000.0;
 
+/// Memory per recorded profile value (one cell or grid point at one profile time), in bytes.
+/// Measured: a 10⁴-cell line with 1 000 profile times peaked at 1.58 GB against 36 MB with 10
+/// (154 B per cell and time: the record's fields and the `.npz` written from them).
+pub const PROFILE_BYTES_PER_VALUE: f64 = 160.0;
+
+/// Checks the profiles a set of runs would record: `values` cells (or grid points) summed over
+/// the runs and profile times, `runs` of them, must fit the machine's available memory at
+/// [`PROFILE_BYTES_PER_VALUE`]. The error names `output.profiles` and the memory needed.
+///
+/// ```
+/// use celltissue::scenario::limits::check_profiles;
+/// assert!(check_profiles(1e6, 4).is_ok()); // 160 MB
+/// let e = check_profiles(1e12, 4).unwrap_err(); // a 10⁶-cell line at 10⁶ profile times
+/// assert_eq!(e.key_name(), Some("output.profiles"));
+/// ```
+pub fn check_profiles(values: f64, runs: usize) -> Result<(), ScenarioError> {
+    let need = values * PROFILE_BYTES_PER_VALUE;
+    let avail = available_memory().unwrap_or(f64::INFINITY);
+    // a fixed limit as well, so that the answer does not depend on the machine for absurd sizes
+    let max = 1e10;
+    if values > max || need > avail {
+        let limit = if values > max {
+            format!("the limit is {} values", count_words(max))
+        } else {
+            format!("{} is available", bytes_words(avail))
+        };
+        return Err(ScenarioError::key(
+            "output.profiles",
+            format!(
+                "asks for more than memory holds: {} would record {} cell values at their \
+                 profile times, about {} of memory ({} each), and {limit}; ask for fewer \
+                 profile times or fewer cells",
+                if runs == 1 {
+                    "the run".to_string()
+                } else {
+                    format!("{runs} runs")
+                },
+                count_words(values),
+                bytes_words(need),
+                bytes_words(PROFILE_BYTES_PER_VALUE)
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Checks a size: `count` (as given; may be huge or fractional before conversion) must be at
 /// most `max`, and `count · bytes_per_cell` must fit the machine's available memory. The error
 /// names `key`, the limit and the memory the run would need.
@@ -83,7 +129,12 @@ pub fn check_cells(
 }
 
 /// `MemAvailable` from `/proc/meminfo`, in bytes (`None` where unavailable).
-pub(crate) fn available_memory() -> Option<f64> {
+///
+/// ```
+/// let avail = celltissue::scenario::limits::available_memory();
+/// assert!(avail.is_none_or(|b| b > 0.0));
+/// ```
+pub fn available_memory() -> Option<f64> {
     let text = std::fs::read_to_string("/proc/meminfo").ok()?;
     let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
     let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;

@@ -50,6 +50,43 @@ pub struct RunSpec {
     pub sweep: Option<SweepPoint>,
 }
 
+impl RunSpec {
+    /// Cell (or grid point) values the run records over its profile times: the profile times
+    /// times the cells of a discrete model or the points of a continuum grid (for a dividing
+    /// line, its initial cells: a lower bound). 0 for a registered mode, which the scenario
+    /// cannot see into.
+    ///
+    /// ```
+    /// use celltissue::scenario::load_str;
+    /// let text = "name = \"p\"\n[output]\nseries = [1]\nprofiles = [0.5, 1]\n[model]\n\
+    ///             kind = \"line\"\ncells = 50\nnodes = 11";
+    /// let s = load_str(text, "p.toml".as_ref(), &[])?;
+    /// let values: Vec<f64> = s.runs.iter().map(|r| r.profile_values()).collect();
+    /// assert_eq!(values, [100.0, 22.0]); // discrete: 2 × 50 cells; continuum: 2 × 11 nodes
+    /// # Ok::<(), celltissue::scenario::ScenarioError>(())
+    /// ```
+    pub fn profile_values(&self) -> f64 {
+        let continuum = self.model == ModelKind::Continuum;
+        let points = match &self.config {
+            ModelConfig::Line(c) if continuum => self.nodes.unwrap_or(c.n_cells()),
+            ModelConfig::Line(c) => c.n_cells(),
+            ModelConfig::Proliferating(c) if continuum => self.nodes.unwrap_or(c.line.n_cells()),
+            ModelConfig::Proliferating(c) => c.line.n_cells(),
+            ModelConfig::Sheet(c, _) if continuum => {
+                let (n, m) = self.grid.unwrap_or((2 * c.cells_x, 2 * c.cells_y));
+                n.saturating_mul(m)
+            }
+            ModelConfig::Sheet(c, _) => c.cells_x.saturating_mul(c.cells_y),
+            ModelConfig::Shear(c, _) if continuum => {
+                self.nodes.unwrap_or(c.cells.saturating_mul(4))
+            }
+            ModelConfig::Shear(c, _) => c.cells,
+            ModelConfig::Mode(_) => 0,
+        };
+        points as f64 * self.times.profiles.len() as f64
+    }
+}
+
 /// The sweep as declared.
 ///
 /// ```
@@ -290,6 +327,11 @@ pub fn resolve(table: toml::Table) -> Result<Scenario, ScenarioError> {
         }
     }
     check_sweep_profiles(&raw.plots.sweep_profiles, sweep.is_some(), &runs)?;
+    // each run alone must fit (wherever it runs; `run` checks the runs it holds together)
+    for r in &runs {
+        super::limits::check_profiles(r.profile_values(), 1)
+            .map_err(|e| e.with_note(&format!("in run `{}`", r.label)))?;
+    }
     Ok(Scenario {
         name: raw.name,
         description: raw.description,

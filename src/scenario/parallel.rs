@@ -77,7 +77,7 @@ impl Shard {
         }
         if index >= count {
             return Err(ParallelError::Shard(format!(
-                "the shard index must be in 0..{} (got {index}/{count}; shards count from 0)",
+                "the shard index must be from 0 to {} (got {index}/{count}; shards count from 0)",
                 count - 1
             )));
         }
@@ -253,7 +253,7 @@ mod tests {
             .parse::<Shard>()
             .unwrap_err()
             .to_string()
-            .contains("0..1"));
+            .contains("from 0 to 1"));
     }
 
     #[test]
