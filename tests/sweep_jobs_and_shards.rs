@@ -267,7 +267,10 @@ fn shards_that_do_not_fit_are_refused() {
     let e = err(&["merge", &out("a1"), &out("other"), "--out", &out("m3")]);
     assert!(e.contains("different runs"), "{e}");
     let e = err(&["merge", &out("nothing"), "--out", &out("m4")]);
-    assert!(e.contains("shard.json"), "{e}");
+    assert!(
+        e.contains("shard.json") && e.contains("is not the output of `celltissue run --shard"),
+        "{e}"
+    );
     for m in ["m1", "m2", "m3", "m4"] {
         assert!(!root.join(m).exists(), "{m} written");
     }

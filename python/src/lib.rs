@@ -41,6 +41,10 @@ fn run(
     }
     let scenario = input::scenario(py, scenario, set)?;
     let indices: Vec<usize> = (0..scenario.runs.len()).collect();
+    // every run's record is held until the list is returned
+    let values = scenario.runs.iter().map(|r| r.profile_values()).sum();
+    celltissue::scenario::limits::check_profiles(values, scenario.runs.len())
+        .map_err(|e| errors::from_scenario(py, &e))?;
     let stop = Interrupt::new();
     let records = py.detach(|| {
         let (done, finished) = std::sync::mpsc::channel();

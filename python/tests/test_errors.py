@@ -100,3 +100,13 @@ def test_numpy_values_and_nesting():
         celltissue.run(loop)
     with pytest.raises(celltissue.ScenarioError, match="64 bits"):
         celltissue.line(cells=2**70).solve([0.0, 1.0])
+
+
+def test_profiles_beyond_memory_name_output_profiles():
+    # 10⁶ cells at 10⁵ profile times: 1e11 values, 16 TB; refused before anything runs
+    with pytest.raises(celltissue.ScenarioError) as info:
+        celltissue.line(cells=1_000_000, K=1.0).solve(
+            [0.0, 1.0], profiles=[i * 1e-5 for i in range(100_000)]
+        )
+    assert info.value.key == "output.profiles"
+    assert "16.0 TB" in info.value.message

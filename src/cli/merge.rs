@@ -117,6 +117,12 @@ fn collect(dirs: &[PathBuf]) -> Result<(Scenario, Summary), MergeError> {
     let mut seen_shards: Vec<usize> = Vec::new();
     for dir in dirs {
         let path = dir.join(SHARD_FILE);
+        if !path.is_file() {
+            return Err(MergeError::Mismatch(format!(
+                "`{}` is not the output of `celltissue run --shard I/N` (it has no {SHARD_FILE})",
+                dir.display()
+            )));
+        }
         let text = std::fs::read_to_string(&path).map_err(io(&path))?;
         let mut file: ShardFile = serde_json::from_str(&text).map_err(|e| MergeError::Format {
             path: path.clone(),
