@@ -215,7 +215,7 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
             nodes = Some(node_count(&v).ok_or_else(|| {
                 ScenarioError::key(
                     "model.nodes",
-                    format!("= {v} must be an integer in 1..=100000000"),
+                    format!("= {v} must be an integer from 1 to 100000000"),
                 )
             })?);
         }

@@ -323,7 +323,7 @@ fn axes(sw: &SweepSection) -> Result<Vec<Vec<Axis>>, ScenarioError> {
             return Err(ScenarioError::key(
                 "sweep.ensemble.realisations",
                 format!(
-                    "= {} must be in 2..={MAX_SWEEP_POINTS} (an ensemble has several realisations)",
+                    "= {} must be from 2 to {MAX_SWEEP_POINTS} (an ensemble has several realisations)",
                     e.realisations
                 ),
             ));

@@ -88,7 +88,7 @@ impl TimeRange {
         if !(2..=1_000_000).contains(&self.count) {
             return Err(bad(
                 "count",
-                format!("= {} must be in 2..=1000000", self.count),
+                format!("= {} must be from 2 to 1000000", self.count),
             ));
         }
         let n = self.count - 1;
