@@ -202,3 +202,62 @@ fn a_stiff_solve_that_would_exceed_max_steps_stops_early_and_says_why() {
     let last = sol.y.last().expect("outputs")[0];
     assert!((last - 100f64.cos()).abs() < 1e-5, "{last}");
 }
+
+/// Prothero–Robinson with an event every 0.01 (about 30 steps at the stability limit) that
+/// leaves `y` as it is but restarts the method (`Modified`), as a dividing line does.
+struct RestartingProtheroRobinson {
+    inner: ProtheroRobinson,
+    next: f64,
+}
+
+impl integrators::Problem for RestartingProtheroRobinson {
+    fn dim(&self) -> usize {
+        1
+    }
+    fn residual(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        r: &mut [f64],
+    ) -> Result<(), integrators::ResidualError> {
+        self.inner.residual(t, y, yp, r)
+    }
+    fn num_events(&self) -> usize {
+        1
+    }
+    fn events(&mut self, t: f64, _y: &[f64], g: &mut [f64]) {
+        g[0] = t - self.next;
+    }
+    fn handle_event(
+        &mut self,
+        _t: f64,
+        _fired: &[usize],
+        _y: &mut Vec<f64>,
+        _yp: &[f64],
+    ) -> Result<integrators::EventAction, integrators::ResidualError> {
+        self.next += 0.01;
+        Ok(integrators::EventAction::Modified)
+    }
+}
+
+/// The stiffness test's counts carry across the restarts of events, so a stiff problem with
+/// an event every 30 steps is still found (its counts used to start again at each restart,
+/// and the first test comes after 1 000 steps).
+#[test]
+fn a_stiff_solve_with_frequent_restarts_is_still_found() {
+    let o = integrators::Options {
+        max_steps: 100_000,
+        ..opts(1e-6, 1e-8)
+    };
+    let mut p = RestartingProtheroRobinson {
+        inner: ProtheroRobinson { lambda: 1e4 },
+        next: 0.01,
+    };
+    let e = integrators::Solver::new(DOPRI, o)
+        .solve(&mut p, 0.0, &[1.0], &[100.0])
+        .expect_err("3e5 steps exceed 1e5");
+    assert!(matches!(e.error.kind, ErrorKind::Stiff { .. }), "{e}");
+    assert!(e.partial.stats.events > 10, "{:?}", e.partial.stats);
+    assert!(e.partial.stats.steps < 1300, "{:?}", e.partial.stats);
+}
