@@ -256,6 +256,77 @@ fn set_of_a_swept_key_exits_2_naming_the_conflict() {
     );
 }
 
+/// `--unset` removes a key so that it takes its default: the way to run a scenario that sets
+/// a BDF-only key (`solver.jacobian_age`) with another method. Unsetting a key the scenario
+/// does not have, or a swept one, exits 2 naming it.
+#[test]
+fn unset_removes_a_key_and_names_one_it_cannot_remove() {
+    let validate = |sets: &[&str]| {
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_celltissue"));
+        cmd.arg("validate").arg("fig3_3");
+        for s in sets {
+            cmd.arg(s);
+        }
+        let o = cmd.output().unwrap();
+        (
+            o.status.code(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    let (code, err) = validate(&["--set", "solver.method=radau"]);
+    assert_eq!(code, Some(2));
+    assert!(
+        err.contains("solver.jacobian_age") && err.contains("remove it"),
+        "{err}"
+    );
+    let (code, err) = validate(&[
+        "--set",
+        "solver.method=radau",
+        "--unset",
+        "solver.jacobian_age",
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    let (code, err) = validate(&["--unset", "solver.jacobian_ag"]);
+    assert_eq!(code, Some(2));
+    assert!(
+        err.contains("solver.jacobian_ag") && err.contains("does not have"),
+        "{err}"
+    );
+    let (code, err) = validate(&["--unset", "model.K"]);
+    assert_eq!(code, Some(2));
+    assert!(err.contains("model.K") && err.contains("swept"), "{err}");
+    // the run itself: a ring that unsets its random stiffness runs with the default μ = 1
+    let dir = tmp("cli_unset_run");
+    let out = Command::new(env!("CARGO_BIN_EXE_celltissue"))
+        .args([
+            "run",
+            "ch5_ring_division",
+            "-q",
+            "--no-plots",
+            "--unset",
+            "model.mu",
+        ])
+        .args([
+            "--set",
+            "output.series=[0, 1]",
+            "--set",
+            "output.profiles=[1]",
+        ])
+        .arg("--out")
+        .arg(dir.join("out"))
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let written = std::fs::read_to_string(dir.join("out/scenario.toml")).unwrap();
+    let table: toml::Table = toml::from_str(&written).unwrap();
+    assert!(table["model"].get("mu").is_none(), "{written}");
+}
+
 #[test]
 fn validate_exits_2_on_what_run_rejects() {
     let dir = tmp("cli_err_validate");

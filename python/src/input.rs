@@ -95,32 +95,42 @@ fn to_toml_at(
 }
 
 /// `set` as `key=value` strings.
-fn overrides(py: Python<'_>, set: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<String>> {
+/// `set` as `key=value` strings, and the keys a dict maps to `None` (removed, as `--unset`).
+type Overrides = (Vec<String>, Vec<String>);
+
+fn overrides(py: Python<'_>, set: Option<&Bound<'_, PyAny>>) -> PyResult<Overrides> {
     let Some(set) = set else {
-        return Ok(Vec::new());
+        return Ok((Vec::new(), Vec::new()));
     };
     if let Ok(s) = set.cast::<PyString>() {
-        return Ok(vec![s.to_cow()?.into_owned()]);
+        return Ok((vec![s.to_cow()?.into_owned()], Vec::new()));
     }
     if let Ok(d) = set.cast::<PyDict>() {
-        let mut out = Vec::new();
+        let (mut out, mut unset) = (Vec::new(), Vec::new());
         for (k, v) in d.iter() {
             let key: String = k.extract().map_err(|_| {
                 scenario_error(py, None, "set: dict keys must be dotted key strings".into())
             })?;
+            if v.is_none() {
+                unset.push(key);
+                continue;
+            }
             let value = to_toml(py, &v, &format!("set[{key:?}]"))?;
             out.push(format!("{key}={value}"));
         }
-        return Ok(out);
+        return Ok((out, unset));
     }
     if set.cast::<PyList>().is_ok() || set.cast::<PyTuple>().is_ok() {
-        return set.extract::<Vec<String>>().map_err(|_| {
-            scenario_error(
-                py,
-                None,
-                "set: a list must hold \"key=value\" strings".into(),
-            )
-        });
+        return set
+            .extract::<Vec<String>>()
+            .map(|v| (v, Vec::new()))
+            .map_err(|_| {
+                scenario_error(
+                    py,
+                    None,
+                    "set: a list must hold \"key=value\" strings".into(),
+                )
+            });
     }
     Err(scenario_error(
         py,
@@ -129,19 +139,25 @@ fn overrides(py: Python<'_>, set: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<Str
     ))
 }
 
-/// Loads and validates `scenario` with the overrides `set`.
+/// Loads and validates `scenario` with the overrides `set` (a dict's `None` values remove
+/// their keys, so that they take their defaults).
 pub fn scenario(
     py: Python<'_>,
     scenario: &Bound<'_, PyAny>,
     set: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Scenario> {
-    let sets = overrides(py, set)?;
+    let (sets, unsets) = overrides(py, set)?;
     let lib = |r: Result<Scenario, scenario::ScenarioError>| r.map_err(|e| from_scenario(py, &e));
     if let Ok(d) = scenario.cast::<PyDict>() {
         let table = to_toml(py, d.as_any(), "scenario")?;
         let text = toml::to_string(&table)
             .map_err(|e| scenario_error(py, None, format!("scenario: {e}")))?;
-        return lib(scenario::load_str(&text, Path::new("<dict>"), &sets));
+        return lib(scenario::load_str_with(
+            &text,
+            Path::new("<dict>"),
+            &sets,
+            &unsets,
+        ));
     }
     let path: PathBuf = if let Ok(s) = scenario.cast::<PyString>() {
         PathBuf::from(s.to_cow()?.into_owned())
@@ -158,13 +174,14 @@ pub fn scenario(
         ));
     };
     if path.exists() || path.extension().is_some() {
-        return lib(scenario::load(&path, &sets));
+        return lib(scenario::load_with(&path, &sets, &unsets));
     }
     let name = path.to_string_lossy();
     let text = bundled(&name)?;
-    lib(scenario::load_str(
+    lib(scenario::load_str_with(
         text,
         Path::new(&format!("{name}.toml")),
         &sets,
+        &unsets,
     ))
 }

@@ -21,7 +21,9 @@ use std::time::Duration;
 ///
 /// `scenario` is a bundled scenario's name (see `scenarios()`), a path to a TOML file, or a
 /// dict with the file's structure. `set` overrides keys before validation: a `"key=value"`
-/// string, a list of them, or a dict `{"model.K": 0.1}`. `jobs` runs that many of the sweep's
+/// string, a list of them, or a dict `{"model.K": 0.1}`, where `None` removes a key so that it
+/// takes its default (`{"solver.jacobian_age": None, "solver.method": "radau"}`, as the
+/// command line's `--unset`). `jobs` runs that many of the sweep's
 /// runs at once (results do not depend on it). Invalid input raises `ScenarioError` (a
 /// `ValueError` with `.key` and `.message`) before anything runs; a run whose solver fails is
 /// returned with its partial data and `.error` set. A `KeyboardInterrupt` while it runs stops

@@ -110,3 +110,15 @@ def test_profiles_beyond_memory_name_output_profiles():
         )
     assert info.value.key == "output.profiles"
     assert "16.0 TB" in info.value.message
+
+
+def test_none_in_set_removes_a_key():
+    # fig3_3 sets the BDF-only solver.jacobian_age: removed, another method runs
+    with pytest.raises(celltissue.ScenarioError) as info:
+        celltissue.validate("fig3_3", set={"solver.method": "radau"})
+    assert info.value.key == "solver.jacobian_age"
+    s = celltissue.validate("fig3_3", set={"solver.jacobian_age": None, "solver.method": "radau"})
+    assert s == celltissue.validate("fig3_3")  # the same runs
+    with pytest.raises(celltissue.ScenarioError) as info:
+        celltissue.validate("fig3_3", set={"solver.jacobian_ag": None})
+    assert info.value.key == "solver.jacobian_ag" and "does not have" in info.value.message

@@ -43,7 +43,7 @@ fn bar(len: u64, quiet: bool, template: &str) -> ProgressBar {
 }
 
 /// Loads and validates, or prints the error (exit code 2).
-fn load(source: &Source, sets: &[String]) -> Result<scenario::Scenario, i32> {
+fn load(source: &Source, sets: &[String], unsets: &[String]) -> Result<scenario::Scenario, i32> {
     let loaded = match source {
         Source::File(path) if !path.exists() && path.extension().is_none() => {
             eprintln!(
@@ -53,8 +53,10 @@ fn load(source: &Source, sets: &[String]) -> Result<scenario::Scenario, i32> {
             );
             return Err(BAD_INPUT);
         }
-        Source::File(path) => scenario::load(path, sets),
-        Source::Embedded { text, .. } => scenario::load_str(text, &source.display_path(), sets),
+        Source::File(path) => scenario::load_with(path, sets, unsets),
+        Source::Embedded { text, .. } => {
+            scenario::load_str_with(text, &source.display_path(), sets, unsets)
+        }
     };
     loaded.map_err(|e| {
         eprintln!("error: {e}");
@@ -82,9 +84,15 @@ type Finished = (RunRecord, Ended);
 const STOP_GRACE: Duration = Duration::from_secs(5);
 
 /// `celltissue run`.
-pub fn run(source: &Source, out: &Path, sets: &[String], opts: RunOptions) -> i32 {
+pub fn run(
+    source: &Source,
+    out: &Path,
+    sets: &[String],
+    unsets: &[String],
+    opts: RunOptions,
+) -> i32 {
     let quiet = opts.quiet;
-    let scenario = match load(source, sets) {
+    let scenario = match load(source, sets, unsets) {
         Ok(s) => s,
         Err(code) => return code,
     };
@@ -423,8 +431,8 @@ fn report_failures(runs: &[crate::observe::RunRecord], interrupted: &[String]) -
 }
 
 /// `celltissue validate`.
-pub fn validate(source: &Source, sets: &[String]) -> i32 {
-    match load(source, sets) {
+pub fn validate(source: &Source, sets: &[String], unsets: &[String]) -> i32 {
+    match load(source, sets, unsets) {
         Ok(s) => {
             println!(
                 "{}: ok — {} run(s): {}",

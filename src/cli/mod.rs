@@ -49,6 +49,10 @@ enum Command {
         /// --set sweep.values=[0.1].
         #[arg(long = "set", value_name = "KEY=VALUE")]
         sets: Vec<String>,
+        /// Remove a key of the scenario before validation, so that it takes its default, e.g.
+        /// --unset solver.jacobian_age --set solver.method=radau (a BDF-only key).
+        #[arg(long = "unset", value_name = "KEY")]
+        unsets: Vec<String>,
         /// No progress lines on stderr.
         #[arg(long, short)]
         quiet: bool,
@@ -87,6 +91,9 @@ enum Command {
         /// Override a key before validation.
         #[arg(long = "set", value_name = "KEY=VALUE")]
         sets: Vec<String>,
+        /// Remove a key before validation (it takes its default).
+        #[arg(long = "unset", value_name = "KEY")]
+        unsets: Vec<String>,
     },
     /// List the bundled scenarios (models/*.toml beside the crate and in the current directory).
     List,
@@ -133,6 +140,7 @@ where
             scenario,
             out,
             sets,
+            unsets,
             quiet,
             replace,
             no_plots,
@@ -142,6 +150,7 @@ where
             &catalogue::resolve(&scenario),
             &out,
             &sets,
+            &unsets,
             commands::RunOptions {
                 quiet,
                 replace,
@@ -151,9 +160,11 @@ where
             },
         ),
         Command::Merge { dirs, out, quiet } => merge::merge(&dirs, &out, quiet),
-        Command::Validate { scenario, sets } => {
-            commands::validate(&catalogue::resolve(&scenario), &sets)
-        }
+        Command::Validate {
+            scenario,
+            sets,
+            unsets,
+        } => commands::validate(&catalogue::resolve(&scenario), &sets, &unsets),
         Command::List => commands::list(),
     }
 }

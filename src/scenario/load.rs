@@ -146,12 +146,33 @@ pub struct Scenario {
 /// # Ok::<(), celltissue::scenario::ScenarioError>(())
 /// ```
 pub fn load(path: impl AsRef<Path>, sets: &[String]) -> Result<Scenario, ScenarioError> {
+    load_with(path, sets, &[])
+}
+
+/// As [`load`], also removing the keys `unsets` (`--unset`, dotted) before the overrides, so
+/// that they take their defaults.
+///
+/// ```no_run
+/// // fig3_3 sets the BDF-only `solver.jacobian_age`: unset it to run another method
+/// let s = celltissue::scenario::load_with(
+///     "models/fig3_3.toml",
+///     &["solver.method=radau".to_string()],
+///     &["solver.jacobian_age".to_string()],
+/// )?;
+/// assert_eq!(s.runs[0].solver.method.name(), "radau");
+/// # Ok::<(), celltissue::scenario::ScenarioError>(())
+/// ```
+pub fn load_with(
+    path: impl AsRef<Path>,
+    sets: &[String],
+    unsets: &[String],
+) -> Result<Scenario, ScenarioError> {
     let path = path.as_ref();
     let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Read {
         path: path.to_path_buf(),
         source,
     })?;
-    load_str(&text, path, sets)
+    load_str_with(&text, path, sets, unsets)
 }
 
 /// As [`load`], from text (`origin` is used in messages).
@@ -168,9 +189,50 @@ pub fn load(path: impl AsRef<Path>, sets: &[String]) -> Result<Scenario, Scenari
 /// # Ok::<(), celltissue::scenario::ScenarioError>(())
 /// ```
 pub fn load_str(text: &str, origin: &Path, sets: &[String]) -> Result<Scenario, ScenarioError> {
+    load_str_with(text, origin, sets, &[])
+}
+
+/// As [`load_str`], also removing the keys `unsets` before the overrides (see [`load_with`]).
+///
+/// ```
+/// use celltissue::scenario::load_str_with;
+/// let text = "name = \"u\"\n[solver]\njacobian_age = 100\n[output]\nseries = [1]\n\
+///             [model]\nkind = \"line\"\ncells = 5";
+/// let radau = ["solver.method=radau".to_string()];
+/// assert!(load_str_with(text, "u.toml".as_ref(), &radau, &[]).is_err()); // BDF-only key
+/// let unset = ["solver.jacobian_age".to_string()];
+/// let s = load_str_with(text, "u.toml".as_ref(), &radau, &unset)?;
+/// assert_eq!(s.runs[0].solver.method.name(), "radau");
+/// # Ok::<(), celltissue::scenario::ScenarioError>(())
+/// ```
+pub fn load_str_with(
+    text: &str,
+    origin: &Path,
+    sets: &[String],
+    unsets: &[String],
+) -> Result<Scenario, ScenarioError> {
     let mut table: toml::Table =
         toml::from_str(text).map_err(|e| ScenarioError::syntax(origin, &e.to_string()))?;
     let mut set_keys = Vec::new();
+    for key in unsets {
+        let path = super::overrides::parse_path(key).ok_or_else(|| {
+            ScenarioError::set(
+                key,
+                "the key must be dotted names, e.g. solver.jacobian_age",
+            )
+        })?;
+        if let Some(s) = swept_under(&table, &path)? {
+            return Err(ScenarioError::key(
+                key.as_str(),
+                format!(
+                    "cannot be unset: `{s}` is swept, so every run takes it from [sweep]; \
+                     change the swept values instead"
+                ),
+            ));
+        }
+        super::overrides::remove(&mut table, &path)
+            .map_err(|e| e.with_note(&format!("from --unset {key}")))?;
+    }
     for arg in sets {
         let (key, value) = parse_set(arg)?;
         apply(&mut table, &key, value).map_err(|e| e.with_note(&format!("from --set {arg}")))?;
@@ -186,18 +248,8 @@ fn check_set_against_sweep(
     table: &toml::Table,
     sets: &[(&String, Vec<String>)],
 ) -> Result<(), ScenarioError> {
-    let Some(sweep) = table.get("sweep") else {
-        return Ok(());
-    };
-    let sw: SweepSection = deserialize_at("sweep", sweep.clone())?;
-    let swept = swept_keys(&sw)?;
     for (arg, key) in sets {
-        // `--set K=…` means `model.K` exactly as a sweep's `parameter = "K"` does
-        let full = super::sweep::sweep_key("", &key.join("."))?.join(".");
-        if let Some(s) = swept
-            .iter()
-            .find(|s| full == **s || full.starts_with(&format!("{s}.")))
-        {
+        if let Some(s) = swept_under(table, key)? {
             return Err(ScenarioError::set(
                 arg,
                 format!(
@@ -209,6 +261,19 @@ fn check_set_against_sweep(
         }
     }
     Ok(())
+}
+
+/// The swept key that `key` is or lies inside, if the table sweeps one.
+fn swept_under(table: &toml::Table, key: &[String]) -> Result<Option<String>, ScenarioError> {
+    let Some(sweep) = table.get("sweep") else {
+        return Ok(None);
+    };
+    let sw: SweepSection = deserialize_at("sweep", sweep.clone())?;
+    // `--set K=…` means `model.K` exactly as a sweep's `parameter = "K"` does
+    let full = super::sweep::sweep_key("", &key.join("."))?.join(".");
+    Ok(swept_keys(&sw)?
+        .into_iter()
+        .find(|s| full == *s || full.starts_with(&format!("{s}."))))
 }
 
 /// Validates a scenario table (already overridden) and expands its sweep.

@@ -40,6 +40,9 @@ pub mod sweep;
 pub mod times;
 
 pub use error::ScenarioError;
-pub use load::{format_number, load, load_str, resolve, RunSpec, Scenario, SweepInfo, SweepPoint};
+pub use load::{
+    format_number, load, load_str, load_str_with, load_with, resolve, RunSpec, Scenario, SweepInfo,
+    SweepPoint,
+};
 pub use model::ModelConfig;
 pub use schema::{PlotSettings, ProfileAxis, Scale};

@@ -147,6 +147,36 @@ pub fn apply(table: &mut Table, path: &[String], value: Value) -> Result<(), Sce
     Ok(())
 }
 
+/// Removes the key at `path` (`--unset`), so that it takes its default: a key the scenario
+/// does not have is an error naming it (a misspelt key must not pass silently).
+///
+/// ```
+/// use celltissue::scenario::overrides::{parse_path, remove};
+/// let mut t: toml::Table = toml::from_str("[solver]\nmethod = \"bdf\"\njacobian_age = 100").unwrap();
+/// remove(&mut t, &parse_path("solver.jacobian_age").unwrap()).unwrap();
+/// assert!(t["solver"].get("jacobian_age").is_none());
+/// let e = remove(&mut t, &parse_path("solver.jacobian_ag").unwrap()).unwrap_err();
+/// assert_eq!(e.key_name(), Some("solver.jacobian_ag"));
+/// ```
+pub fn remove(table: &mut Table, path: &[String]) -> Result<(), ScenarioError> {
+    let dotted = path.join(".");
+    let absent = || {
+        ScenarioError::key(
+            dotted.clone(),
+            "cannot be unset: the scenario does not have this key",
+        )
+    };
+    let (last, parents) = path.split_last().ok_or_else(absent)?;
+    let mut node: &mut Table = table;
+    for part in parents {
+        node = match node.get_mut(part) {
+            Some(Value::Table(t)) => t,
+            _ => return Err(absent()),
+        };
+    }
+    node.remove(last).map(|_| ()).ok_or_else(absent)
+}
+
 fn set_in_array(
     items: &mut [Value],
     at: &str,
