@@ -501,42 +501,6 @@ impl<O> Run<'_, O> {
     }
 }
 
-/// What the driver does when the method's steps are held at its stability limit
-/// ([`Method::stability_limit`]): warn once per solve, and stop with [`ErrorKind::Stiff`] when
-/// the steps taken plus the rest of the span (`t` to `t_end`) at the next step `h` would pass
-/// `max_steps`, the budget the solve would otherwise crawl to.
-#[allow(clippy::too_many_arguments)]
-fn stiff_stop(
-    limit: &crate::method::StabilityLimit,
-    method: &str,
-    t: f64,
-    t_end: f64,
-    h: f64,
-    steps: usize,
-    max_steps: usize,
-    warned: &mut bool,
-) -> Result<(), ErrorKind> {
-    if !*warned {
-        *warned = true;
-        log::warn!(
-            "{method}: the problem is stiff from t = {:e} (h·ρ = {:.2} at the stability limit): \
-             the steps are set by stability, not accuracy; an implicit method (bdf, esdirk or \
-             radau) would take far fewer",
-            limit.since,
-            limit.h_rho
-        );
-    }
-    let projected_steps = steps as f64 + ((t_end - t) / h).ceil();
-    if projected_steps > max_steps as f64 {
-        return Err(ErrorKind::Stiff {
-            h_rho: limit.h_rho,
-            projected_steps,
-            max_steps,
-        });
-    }
-    Ok(())
-}
-
 /// The event tolerance of a solve from `t0` to `t_end`: [`Options::event_tol`] times the
 /// solve's time scale `max(|t₀|, |t_end|)` when that is below 1, else `event_tol` itself.
 /// An absolute tolerance of 1e-12 meant nothing to a problem posed on times of 1e-100 (a
@@ -746,18 +710,28 @@ where
             run.keep_last(method.y());
             return Err(run.fail(ErrorKind::NonFinite, t, Some(i)));
         }
+        // an explicit method held at its stability limit: warn once, and stop when the rest of
+        // the span at this step would pass `max_steps`, the budget it would otherwise crawl to
         if let Some(limit) = method.stability_limit() {
-            if let Err(kind) = stiff_stop(
-                &limit,
-                method.name(),
-                t,
-                t_end,
-                method.h_next(),
-                run.stats.steps,
-                opts.max_steps,
-                &mut warned_stiff,
-            ) {
+            if !warned_stiff {
+                warned_stiff = true;
+                log::warn!(
+                    "{}: the problem is stiff from t = {:e} (h·ρ = {:.2} at the stability \
+                     limit): the steps are set by stability, not accuracy; an implicit method \
+                     (bdf, esdirk or radau) would take far fewer",
+                    method.name(),
+                    limit.since,
+                    limit.h_rho
+                );
+            }
+            let projected_steps = run.stats.steps as f64 + ((t_end - t) / method.h_next()).ceil();
+            if projected_steps > opts.max_steps as f64 {
                 run.keep_last(method.y());
+                let kind = ErrorKind::Stiff {
+                    h_rho: limit.h_rho,
+                    projected_steps,
+                    max_steps: opts.max_steps,
+                };
                 return Err(run.fail(kind, t, limit.component));
             }
         }

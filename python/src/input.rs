@@ -94,10 +94,10 @@ fn to_toml_at(
     )))
 }
 
-/// `set` as `key=value` strings.
-/// `set` as `key=value` strings, and the keys a dict maps to `None` (removed, as `--unset`).
+/// The `key=value` overrides and the keys to remove.
 type Overrides = (Vec<String>, Vec<String>);
 
+/// `set` as `key=value` strings, and the keys a dict maps to `None` (removed, as `--unset`).
 fn overrides(py: Python<'_>, set: Option<&Bound<'_, PyAny>>) -> PyResult<Overrides> {
     let Some(set) = set else {
         return Ok((Vec::new(), Vec::new()));

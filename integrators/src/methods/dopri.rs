@@ -145,8 +145,8 @@ pub struct Dopri5 {
     steps_since_measure: usize,
     facold: f64,
     reject: bool,
-    /// Stiffness test: accepted steps since the start, tests failed and passed in a row, and
-    /// what it found.
+    /// Stiffness test: accepted steps, tests failed and passed in a row (all three carried
+    /// across restarts), and what it found since the last (re)start.
     accepted: usize,
     stiff_tests: usize,
     nonstiff_tests: usize,
