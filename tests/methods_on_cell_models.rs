@@ -145,7 +145,8 @@ fn fig2_5_dopri_converges_where_the_line_is_not_stiff() {
 /// Dormand–Prince where the line is stiff (Fig 2.5 at K = 1e-5, to t = 1000): its steps are
 /// held at the stability limit, about 2e-6, so the span would take ~5e8 steps. The run stops
 /// as soon as the stiffness test finds that (≈ 1 015 steps, at t ≈ 2e-3), saying why and
-/// what to use, where it used to crawl to the 10⁶-step cap (t = 1.8, 35 s for the two runs).
+/// what to use, where it used to crawl to the 10⁶-step cap (t = 1.8, 10.5 s for each of the
+/// two runs).
 #[test]
 fn fig2_5_dopri_stops_early_where_the_line_is_stiff_and_says_why() {
     let f = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/fig2_5.toml");
