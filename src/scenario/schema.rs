@@ -186,8 +186,8 @@ impl SolverSection {
                 return Err(ScenarioError::key(
                     "solver.jacobian_age",
                     format!(
-                        "applies to method \"bdf\" only, not \"{}\" (remove it from [solver] \
-                         to run another method)",
+                        "applies to method \"bdf\" only, not \"{}\" (remove it from [solver], \
+                         or --unset solver.jacobian_age, to run another method)",
                         method.name()
                     ),
                 ))
