@@ -187,46 +187,69 @@ fn a_drag_far_below_the_stiffness_follows_the_exact_impulsive_start() {
     // Below K ≈ 1e-16 the drag cancelled in BDF's ∂F/∂ẏ = J(1) − J(0) and Newton ran on the
     // stiffness alone inside the layer, failing at every step size at t = 0. Inside the
     // layer (t = K/2 … 50K) and after it, the edges follow the exact eigen-expansion.
-    for drag in [1e-16, 1e-20, 1e-60, 1e-100, 1e-150, 1e-250] {
-        let p = ShearParams {
-            cells: 6,
-            drag,
-            ..ShearParams::default()
-        };
-        let col = ShearColumn::discrete(nh(1.0), &p).unwrap();
-        let y0 = col.initial_state();
-        let times = [0.5 * drag, drag, 10.0 * drag, 50.0 * drag, 1.0];
-        let mut prob = ArrayProblem::new(col);
-        let opts = Options {
-            rtol: 1e-10,
-            atol: 1e-12,
-            ..Options::default()
-        };
-        let sol = Solver::new(MethodKind::Bdf, opts)
-            .solve(&mut prob, 0.0, &y0, &times)
-            .unwrap();
-        let ex = ShearDiscreteExact::new(6, p.gamma0, p.beta0, 1.0, drag, p.force);
-        let mut worst = 0.0f64;
-        for (t, y) in sol.t.iter().zip(&sol.y) {
-            for (a, b) in y.iter().zip(ex.edges(*t)) {
-                worst = worst.max((a - b).abs());
-            }
+    // Radau IIA and ESDIRK form ∂F/∂ẏ as (J(γ/h) − J(0))·h/γ at their step, without BDF's
+    // rescue of lost columns: checked here on the same layer, where their steps shrink from
+    // the starting estimate into it. Radau IIA meets the same bound (measured 7.7e-11).
+    // ESDIRK, second order under error-per-step control, errs by 1.13e-7 at this rtol at
+    // every drag from 1e-3 to 1e-250 (docs/model.md §8.1, tolerance proportionality ~rtol^0.7):
+    // what is asserted for it is that the error does not grow once the drag is lost to
+    // rounding, against its own run at K = 1e-3, where no column is lost.
+    for (method, bound) in [
+        (MethodKind::Bdf, None),
+        (MethodKind::Radau, None),
+        (MethodKind::Esdirk, Some(1e-3)),
+    ] {
+        let bound = bound.map_or(1e-8, |k| 1.5 * impulsive_start_error(method, k).0);
+        for drag in [1e-16, 1e-20, 1e-60, 1e-100, 1e-150, 1e-250] {
+            let (worst, steps) = impulsive_start_error(method, drag);
+            assert!(
+                worst < bound,
+                "{method:?} K = {drag:e}: {worst:e} (bound {bound:e})"
+            );
+            // the layer, then the climb through the decades between K and 1 (about 3.3 steps
+            // each); with the BDF history's coefficients overflowing, K = 1e-80 took 2 881
+            let most = 700.0 + 4.0 * (1.0 / drag).log10();
+            assert!(
+                method != MethodKind::Bdf || (steps as f64) < most,
+                "K = {drag:e}: {steps} steps"
+            );
         }
-        eprintln!(
-            "K = {drag:e}: {} steps, max |x_e − exact| = {worst:.2e}",
-            sol.stats.steps
-        );
-        assert_eq!(sol.t.len(), times.len());
-        assert!(worst < 1e-8, "K = {drag:e}: {worst:e}");
-        // the layer, then the climb through the decades between K and 1 (about 3.3 steps
-        // each); with the BDF history's coefficients overflowing, K = 1e-80 took 2 881
-        let bound = 700.0 + 4.0 * (1.0 / drag).log10();
-        assert!(
-            (sol.stats.steps as f64) < bound,
-            "K = {drag:e}: {} steps",
-            sol.stats.steps
-        );
     }
+}
+
+/// Largest error of the edges against the exact eigen-expansion inside the impulsive layer of
+/// drag `drag` and after it (M = 6, rtol 1e-10), and the steps taken.
+fn impulsive_start_error(method: MethodKind, drag: f64) -> (f64, usize) {
+    let p = ShearParams {
+        cells: 6,
+        drag,
+        ..ShearParams::default()
+    };
+    let col = ShearColumn::discrete(nh(1.0), &p).unwrap();
+    let y0 = col.initial_state();
+    let times = [0.5 * drag, drag, 10.0 * drag, 50.0 * drag, 1.0];
+    let mut prob = ArrayProblem::new(col);
+    let opts = Options {
+        rtol: 1e-10,
+        atol: 1e-12,
+        ..Options::default()
+    };
+    let sol = Solver::new(method, opts)
+        .solve(&mut prob, 0.0, &y0, &times)
+        .unwrap_or_else(|e| panic!("{method:?} K = {drag:e}: {e}"));
+    let ex = ShearDiscreteExact::new(6, p.gamma0, p.beta0, 1.0, drag, p.force);
+    let mut worst = 0.0f64;
+    for (t, y) in sol.t.iter().zip(&sol.y) {
+        for (a, b) in y.iter().zip(ex.edges(*t)) {
+            worst = worst.max((a - b).abs());
+        }
+    }
+    eprintln!(
+        "{method:?} K = {drag:e}: {} steps, {} Jacobians, max |x_e − exact| = {worst:.2e}",
+        sol.stats.steps, sol.stats.jacobian_evals
+    );
+    assert_eq!(sol.t.len(), times.len());
+    (worst, sol.stats.steps)
 }
 
 #[test]
