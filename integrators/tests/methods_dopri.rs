@@ -86,6 +86,20 @@ fn algebraic_components_are_not_applicable() {
 /// every `λ`, and the problem is stiff for `λ ≫ 1` (its rate `λ`, the solution's `1`).
 struct ProtheroRobinson {
     lambda: f64,
+    /// With `Some(d)`: an event every `d` that leaves `y` as it is but restarts the method
+    /// (`Modified`), as a dividing line's divisions do; the next one at `next`.
+    restart_every: Option<f64>,
+    next: f64,
+}
+
+impl ProtheroRobinson {
+    fn new(lambda: f64) -> Self {
+        Self {
+            lambda,
+            restart_every: None,
+            next: f64::INFINITY,
+        }
+    }
 }
 
 impl integrators::Problem for ProtheroRobinson {
@@ -102,6 +116,22 @@ impl integrators::Problem for ProtheroRobinson {
         r[0] = yp[0] + self.lambda * (y[0] - t.cos()) + t.sin();
         Ok(())
     }
+    fn num_events(&self) -> usize {
+        usize::from(self.restart_every.is_some())
+    }
+    fn events(&mut self, t: f64, _y: &[f64], g: &mut [f64]) {
+        g[0] = t - self.next;
+    }
+    fn handle_event(
+        &mut self,
+        _t: f64,
+        _fired: &[usize],
+        _y: &mut Vec<f64>,
+        _yp: &[f64],
+    ) -> Result<integrators::EventAction, integrators::ResidualError> {
+        self.next += self.restart_every.unwrap_or(f64::INFINITY);
+        Ok(integrators::EventAction::Modified)
+    }
 }
 
 /// Hairer's stiffness test finds the stiff case, with `h·ρ` at DOPRI5's stability boundary
@@ -115,7 +145,7 @@ fn the_stiffness_test_finds_the_stability_limit_only_where_the_problem_is_stiff(
         let t_end = if stiff { 1.0 } else { 2000.0 };
         let run = integrate(
             m.as_mut(),
-            &mut ProtheroRobinson { lambda },
+            &mut ProtheroRobinson::new(lambda),
             &o,
             0.0,
             &[1.0],
@@ -163,7 +193,7 @@ fn a_stiff_solve_that_would_exceed_max_steps_stops_early_and_says_why() {
             ..opts(1e-6, 1e-8)
         };
         integrators::Solver::new(DOPRI, o).solve(
-            &mut ProtheroRobinson { lambda: 1e4 },
+            &mut ProtheroRobinson::new(1e4),
             0.0,
             &[1.0],
             &[1.0, 100.0],
@@ -203,44 +233,6 @@ fn a_stiff_solve_that_would_exceed_max_steps_stops_early_and_says_why() {
     assert!((last - 100f64.cos()).abs() < 1e-5, "{last}");
 }
 
-/// Prothero–Robinson with an event every 0.01 (about 30 steps at the stability limit) that
-/// leaves `y` as it is but restarts the method (`Modified`), as a dividing line does.
-struct RestartingProtheroRobinson {
-    inner: ProtheroRobinson,
-    next: f64,
-}
-
-impl integrators::Problem for RestartingProtheroRobinson {
-    fn dim(&self) -> usize {
-        1
-    }
-    fn residual(
-        &mut self,
-        t: f64,
-        y: &[f64],
-        yp: &[f64],
-        r: &mut [f64],
-    ) -> Result<(), integrators::ResidualError> {
-        self.inner.residual(t, y, yp, r)
-    }
-    fn num_events(&self) -> usize {
-        1
-    }
-    fn events(&mut self, t: f64, _y: &[f64], g: &mut [f64]) {
-        g[0] = t - self.next;
-    }
-    fn handle_event(
-        &mut self,
-        _t: f64,
-        _fired: &[usize],
-        _y: &mut Vec<f64>,
-        _yp: &[f64],
-    ) -> Result<integrators::EventAction, integrators::ResidualError> {
-        self.next += 0.01;
-        Ok(integrators::EventAction::Modified)
-    }
-}
-
 /// The stiffness test's counts carry across the restarts of events, so a stiff problem with
 /// an event every 30 steps is still found (its counts used to start again at each restart,
 /// and the first test comes after 1 000 steps).
@@ -250,9 +242,11 @@ fn a_stiff_solve_with_frequent_restarts_is_still_found() {
         max_steps: 100_000,
         ..opts(1e-6, 1e-8)
     };
-    let mut p = RestartingProtheroRobinson {
-        inner: ProtheroRobinson { lambda: 1e4 },
+    // an event every 0.01: about 30 steps at the stability limit
+    let mut p = ProtheroRobinson {
+        restart_every: Some(0.01),
         next: 0.01,
+        ..ProtheroRobinson::new(1e4)
     };
     let e = integrators::Solver::new(DOPRI, o)
         .solve(&mut p, 0.0, &[1.0], &[100.0])
