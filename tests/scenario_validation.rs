@@ -617,3 +617,17 @@ fn end_keys_the_right_end_does_not_read_are_rejected_not_ignored() {
         assert!(m.contains("right = \"prescribed\""), "{m}");
     }
 }
+
+#[test]
+fn an_error_unrelated_to_the_swept_key_names_the_run_but_no_swept_value() {
+    let swept = line("[sweep]\nparameter = \"K\"\nvalues = [1, 2]\n[solver]\nrtol = -1");
+    let m = rejects(&swept, &[], "solver.rtol");
+    assert!(
+        m.contains("in run `K=1`") && !m.contains("swept value"),
+        "{m}"
+    );
+    // an error on the swept key itself still names the value it came from
+    let swept = line("[sweep]\nparameter = \"K\"\nvalues = [1, -2]");
+    let m = rejects(&swept, &[], "model.K");
+    assert!(m.contains("swept value sweep.values[1] = -2"), "{m}");
+}

@@ -484,7 +484,9 @@ pub(crate) fn model_name(m: ModelKind) -> &'static str {
 }
 
 /// A sweep point's validation error: the key stays the model's (`model.k1`); the message
-/// says which swept value it came from (`sweep.values[1] = 1.5`) and the run.
+/// says which swept value it came from (`sweep.values[1] = 1.5`) and the run. An error on a
+/// key that no swept value sets or lies inside names the run only: the swept values may
+/// have nothing to do with it (a bad `solver.jacobian_age` in an ensemble).
 fn sweep_context(e: ScenarioError, p: &SweepPoint) -> ScenarioError {
     let Some(key) = e.key_name().map(str::to_string) else {
         return e;
@@ -494,12 +496,10 @@ fn sweep_context(e: ScenarioError, p: &SweepPoint) -> ScenarioError {
             || key.starts_with(&format!("{}.", part.key))
             || part.key.starts_with(&format!("{key}."))
     };
-    let mine: Vec<_> = p.parts.iter().filter(|part| inside(part)).collect();
-    let from: Vec<_> = if mine.is_empty() {
-        p.parts.iter().collect()
-    } else {
-        mine
-    };
+    let from: Vec<_> = p.parts.iter().filter(|part| inside(part)).collect();
+    if from.is_empty() {
+        return e.with_note(&format!("in run `{}`", p.assignment()));
+    }
     let values = from
         .iter()
         .map(|part| format!("{} = {}", part.origin, value_text(&part.raw)))
