@@ -12,6 +12,7 @@ use crate::array::{ArrayProblem, CellArray};
 use crate::drive::{drive_observed, DriveError, DriveObserver};
 use crate::observe::{Profile, RunStats, Series};
 use crate::settings::SolveSettings;
+use integrators::error::short_number;
 use integrators::observer::{Observer, RejectCause, RejectedStep};
 use integrators::{RecoverableCause, SolveFailure};
 use std::time::Instant;
@@ -80,10 +81,10 @@ impl From<integrators::ResidualError> for ObservationError {
 #[derive(Debug, thiserror::Error)]
 enum RecordError {
     /// The recorder could not observe the state.
-    #[error("observation at t = {t} failed: {source}")]
+    #[error("observation at t = {} failed: {source}", short_number(*.t))]
     Observation { t: f64, source: ObservationError },
     /// What was observed holds a NaN or an infinity.
-    #[error("non-finite state at t = {t} ({what})")]
+    #[error("non-finite state at t = {} ({what})", short_number(*.t))]
     NonFinite { t: f64, what: String },
 }
 
@@ -309,8 +310,13 @@ pub fn model_reason(failure: &SolveFailure, rejected: Option<&RejectedStep>) -> 
         return None;
     };
     let solver = failure.error.to_string();
-    (r.t >= failure.error.t && !solver.contains(reason.as_str()))
-        .then(|| format!("{reason} in the step from t = {} (h = {:.1e})", r.t, r.h))
+    (r.t >= failure.error.t && !solver.contains(reason.as_str())).then(|| {
+        format!(
+            "{reason} in the step from t = {} (h = {:.1e})",
+            short_number(r.t),
+            r.h
+        )
+    })
 }
 
 /// What [`run_recorded`] returns: the recorded series and profiles, the work counters and

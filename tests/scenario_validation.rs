@@ -631,3 +631,60 @@ fn an_error_unrelated_to_the_swept_key_names_the_run_but_no_swept_value() {
     let m = rejects(&swept, &[], "model.K");
     assert!(m.contains("swept value sweep.values[1] = -2"), "{m}");
 }
+
+#[test]
+fn a_force_against_a_drag_too_small_to_step_is_rejected_and_the_bound_runs() {
+    // F_A = 1 at atol = 1e-10 started the top edge at 2e300 cell widths per unit time at
+    // k_th = 1e-298: the solver's first rate in tolerance units overflowed and the run stopped
+    // at t = 0 ("non-finite Newton update") after `validate` had passed.
+    use celltissue::scenario::execute::run_spec;
+    let column = |extra: &str| {
+        format!(
+            "name = \"s\"\n[solver]\nrtol = 1e-8\natol = 1e-10\n[output]\nseries = [0, 0.5, 1]\n\
+             [model]\nkind = \"shear\"\nmodels = [\"discrete\", \"continuum\"]\nnodes = 20\n\
+             cells = 10\nforce = 1.0\n{extra}\n"
+        )
+    };
+    for (k, least) in [
+        ("k_th = 1e-298", "k_th ≥ 2e-290"),
+        ("drag = 1e-300", "drag ≥ 1e-290"),
+    ] {
+        let key = format!("model.{}", k.split(' ').next().unwrap());
+        let m = rejects(&column(k), &[], &key);
+        assert!(m.contains(least) && m.contains("atol = 1e-10"), "{m}");
+    }
+    // at the bound both models run
+    let s = load(&column("k_th = 2e-290"), &[]).unwrap();
+    for spec in &s.runs {
+        let rec = run_spec(spec);
+        assert!(rec.error.is_none(), "{:?}", rec.error);
+    }
+    // Kelvin–Voigt cells bound the rate by their viscosity: any drag runs
+    let viscous = column("k_th = 1e-305\nviscosity = { model = \"kelvin_voigt\", eta = 1 }");
+    for spec in &load(&viscous, &[]).unwrap().runs {
+        let rec = run_spec(spec);
+        assert!(rec.error.is_none(), "{:?}", rec.error);
+    }
+    // a sheet's external pressure on its free top, the same
+    let sheet = |extra: &str| {
+        format!(
+            "name = \"p\"\n[solver]\nrtol = 1e-8\natol = 1e-10\n[output]\nseries = [0, 1]\n\
+             [model]\nkind = \"sheet\"\ncells_x = 4\ncells_y = 4\n{extra}\n"
+        )
+    };
+    let m = rejects(
+        &sheet("k_th = 1e-299\nexternal_pressure = 1.0"),
+        &[],
+        "model.k_th",
+    );
+    assert!(
+        m.contains("external pressure") && m.contains("k_th ≥ 2e-290"),
+        "{m}"
+    );
+    for ok in ["k_th = 1e-300", "k_th = 2e-290\nexternal_pressure = 1.0"] {
+        for spec in &load(&sheet(ok), &[]).unwrap().runs {
+            let rec = run_spec(spec);
+            assert!(rec.error.is_none(), "{ok}: {:?}", rec.error);
+        }
+    }
+}

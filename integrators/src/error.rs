@@ -46,9 +46,10 @@ pub enum ErrorKind {
     /// cells crushed to λ = 0.026 at rtol 1e-10 took 10⁶ steps for 0.4 time units).
     #[error(
         "tolerance too close to round-off: the round-off of this component's tested quantity is \
-         {ratio:.2} of its tolerance (its error test would measure rounding noise); raise rtol \
-         and atol at least {factor:.0}-fold",
-        factor = (ratio / crate::solver::ROUNDOFF_ADVISED).ceil()
+         {} of its tolerance (its error test would measure rounding noise); raise rtol \
+         and atol at least {}-fold",
+        short_number((ratio * 100.0).round() / 100.0),
+        short_number((ratio / crate::solver::ROUNDOFF_ADVISED).ceil())
     )]
     TooMuchAccuracy {
         /// Round-off of the component's tested quantity over its tolerance.
@@ -161,6 +162,27 @@ impl From<RecoverableCause> for ErrorKind {
     }
 }
 
+/// A number as a message shows it: the shortest decimal that reads back as `v`, plainly
+/// between 1e-4 and 1e9 (`2.5`), otherwise in scientific notation (`1.25e-130`,
+/// where `Display` writes 130 digits).
+///
+/// ```
+/// use integrators::error::short_number;
+/// assert_eq!(short_number(2.5), "2.5");
+/// assert_eq!(short_number(0.0), "0");
+/// assert_eq!(short_number(19213991.25), "19213991.25");
+/// assert_eq!(short_number(1.25e-130), "1.25e-130");
+/// assert_eq!(short_number(-3e300), "-3e300");
+/// assert_eq!(short_number(f64::INFINITY), "inf");
+/// ```
+pub fn short_number(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-4..1e9).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
 /// A solver error with its location in time and state.
 ///
 /// ```
@@ -169,7 +191,7 @@ impl From<RecoverableCause> for ErrorKind {
 /// assert_eq!(e.to_string(), "at t = 2.5: Newton iteration failed to converge (worst component 7)");
 /// ```
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("at t = {t}: {kind}{}", component.map(|c| format!(" (worst component {c})")).unwrap_or_default())]
+#[error("at t = {}: {kind}{}", short_number(*.t), component.map(|c| format!(" (worst component {c})")).unwrap_or_default())]
 pub struct SolverError {
     /// What went wrong.
     pub kind: ErrorKind,

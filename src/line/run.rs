@@ -197,7 +197,12 @@ impl<A: LineModel> Observer<ArrayProblem<A>> for Watch {
     fn output(&mut self, p: &ArrayProblem<A>, t: f64, y: &[f64], yp: &[f64]) {
         match p.array.observe(t, y, yp) {
             Ok(s) => self.snapshots.push(s),
-            Err(e) => self.refusal = Some(format!("observation at t = {t} failed: {e}")),
+            Err(e) => {
+                self.refusal = Some(format!(
+                    "observation at t = {} failed: {e}",
+                    integrators::error::short_number(t)
+                ))
+            }
         }
     }
 

@@ -29,6 +29,7 @@
 pub mod bundled;
 pub mod error;
 pub mod execute;
+pub mod impulse;
 pub mod limits;
 pub mod load;
 pub mod model;

@@ -21,7 +21,11 @@ impl Bdf {
         // written to reject NaN too
         if t_stop.partial_cmp(&self.t) != Some(std::cmp::Ordering::Greater) {
             return Err(SolverError::new(
-                ErrorKind::InvalidInput(format!("t_stop = {t_stop} is not after t = {}", self.t)),
+                ErrorKind::InvalidInput(format!(
+                    "t_stop = {} is not after t = {}",
+                    crate::error::short_number(t_stop),
+                    crate::error::short_number(self.t)
+                )),
                 self.t,
                 None,
             ));
