@@ -716,11 +716,11 @@ where
             if !warned_stiff {
                 warned_stiff = true;
                 log::warn!(
-                    "{}: the problem is stiff from t = {:e} (h·ρ = {:.2} at the stability \
+                    "{}: the problem is stiff from t = {} (h·ρ = {:.2} at the stability \
                      limit): the steps are set by stability, not accuracy; an implicit method \
                      (bdf, esdirk or radau) would take far fewer",
                     method.name(),
-                    limit.since,
+                    crate::error::short_number(limit.since),
                     limit.h_rho
                 );
             }

@@ -52,9 +52,15 @@ fn robertson_conserves_mass_and_matches_radau_reference() {
     check_robertson(ESDIRK);
 }
 
+/// At `rtol = 1e-6` this order-2 method's phase error through the relaxation jumps is not a
+/// smooth function of the tolerance: `|Δy1(3000)|` measured 1.8e-3 … 2.9e-2 over nine rtol
+/// from 5e-7 to 2e-6 (7.7e-4 … 2.8e-2 before the retry cap after repeated error-test failures;
+/// at 1e-6 itself 2.4e-2, before 9.8e-3), so a tight bound there would pin luck: at 1e-6 it
+/// must complete on the right branch; its accuracy is checked at 1e-8, where it errs by 9.8e-6.
 #[test]
 fn van_der_pol_mu_1000_completes_and_matches_radau() {
-    check_van_der_pol(ESDIRK, 1e-2);
+    check_van_der_pol(ESDIRK, 1e-6, 3e-2);
+    check_van_der_pol(ESDIRK, 1e-8, 1e-4);
 }
 
 #[test]

@@ -65,7 +65,7 @@ fn robertson_conserves_mass_and_matches_tight_reference() {
 
 #[test]
 fn van_der_pol_mu_1000_completes_and_matches_tight_run() {
-    let run = check_van_der_pol(RADAU, 1e-3);
+    let run = check_van_der_pol(RADAU, 1e-6, 1e-3);
     assert!(run.stats.steps < 2000, "{:?}", run.stats);
 }
 

@@ -13,6 +13,15 @@ use crate::system::System;
 /// Consecutive rejected attempts after which a step gives up.
 pub(crate) const MAX_CONSECUTIVE_FAILURES: usize = 60;
 
+/// The largest retry step, as a fraction of the rejected one, from the second error-test
+/// failure in a row (ARKODE's `etamxf` after `small_nef` failures). A transient far faster
+/// than the step (the daughters' relaxation after a division under drag) gives an error
+/// estimate that hardly falls with `h` until `h` reaches its time scale, so the method's own
+/// proposal, `0.9·err^(−1/(q+1))` with `err` just above 1, shrinks the step by about 0.9 per
+/// try: ESDIRK on a dividing line at K = 1e-5 failed 60 times in a row from h = 1.1e-2 down
+/// to 3e-6 and stopped. With the cap the same retries span a factor 0.3 each.
+pub(crate) const REPEATED_ERROR_FAILURE_CAP: f64 = 0.3;
+
 /// Outcome of one step attempt.
 pub(crate) enum Attempt {
     /// The step was taken; the method has advanced its state and proposed the next `h`.
@@ -121,6 +130,7 @@ pub(crate) fn step<M: OneStep>(
     }
     let fixed = sys.opts.fixed_step;
     let mut failures = 0usize;
+    let mut error_failures = 0usize;
     loop {
         let t = m.time();
         let remaining = t_stop - t;
@@ -145,7 +155,15 @@ pub(crate) fn step<M: OneStep>(
                 }
                 return Ok(1);
             }
-            Attempt::Rejected(fail, h_new) => {
+            Attempt::Rejected(fail, mut h_new) => {
+                if matches!(fail, Fail::ErrorTest { .. }) && fixed.is_none() {
+                    error_failures += 1;
+                    if error_failures >= 2 {
+                        h_new = h_new.min(REPEATED_ERROR_FAILURE_CAP * h);
+                    }
+                } else {
+                    error_failures = 0;
+                }
                 log::debug!(
                     "{} step rejected at t = {t:e}, h = {h:e}: {fail:?}; retrying with h = {h_new:e}",
                     std::any::type_name::<M>().rsplit("::").next().unwrap_or("one-step")
