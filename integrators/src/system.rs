@@ -1422,11 +1422,17 @@ impl<'a> System<'a> {
             )
             .map_err(|f| to_error(f, "Jacobian at the initial state"))?;
             self.factor(lu, jac).map_err(|f| {
-                to_error(
-                    f,
-                    "∂F/∂(ẏ differential, y algebraic) is singular (index > 1, or a component \
-                     flagged differential whose ẏ does not appear in F)",
-                )
+                let what = match &f {
+                    StepFailure::Recoverable {
+                        reason: RecoverableCause::NonFiniteMatrix { .. },
+                        ..
+                    } => "∂F/∂(ẏ differential, y algebraic) overflowed",
+                    _ => {
+                        "∂F/∂(ẏ differential, y algebraic) is singular (index > 1, or a \
+                         component flagged differential whose ẏ does not appear in F)"
+                    }
+                };
+                to_error(f, what)
             })?;
             delta.copy_from_slice(r);
             self.solve(lu, delta);

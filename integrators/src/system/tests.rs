@@ -484,3 +484,43 @@ fn consistent_init_keeps_a_drag_far_below_the_stiffness() {
         assert!(res.unwrap_err().to_string().contains("singular"));
     }
 }
+
+/// `y₀ − 1 + 1e300·(1e300·ẏ₀) = 0`: its `∂F/∂ẏ` is 1e600, beyond the doubles.
+struct OverflowingRate;
+impl Problem for OverflowingRate {
+    fn dim(&self) -> usize {
+        1
+    }
+    fn residual(
+        &mut self,
+        _t: f64,
+        y: &[f64],
+        yp: &[f64],
+        r: &mut [f64],
+    ) -> Result<(), ResidualError> {
+        r[0] = y[0] - 1.0 + 1e300 * (1e300 * yp[0]);
+        Ok(())
+    }
+    fn jacobian(
+        &mut self,
+        _t: f64,
+        _y: &[f64],
+        _yp: &[f64],
+        c: f64,
+        jac: &mut crate::problem::JacobianSink,
+    ) -> Result<bool, ResidualError> {
+        jac.add(0, 0, 1.0 + 1e300 * (1e300 * c));
+        Ok(true)
+    }
+}
+
+#[test]
+fn consistent_init_says_an_overflowed_matrix_overflowed() {
+    // it used to read "∂F/∂(ẏ …) is singular (index > 1, …)", which it is not
+    let (mut y, mut yp) = (vec![0.5], vec![0.0]);
+    let (res, _) = with_system(&mut OverflowingRate, &Options::default(), |s| {
+        s.consistent_init(0.0, &mut y, &mut yp)
+    });
+    let m = res.unwrap_err().to_string();
+    assert!(m.contains("overflowed") && !m.contains("singular"), "{m}");
+}
