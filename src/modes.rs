@@ -272,6 +272,7 @@ pub fn run_mode<M: Mode>(
         stats: Default::default(),
         divisions: Vec::new(),
         error: None,
+        notes: Vec::new(),
         reference: None,
     };
     if let Err(e) = out.check() {

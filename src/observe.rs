@@ -217,6 +217,10 @@ pub struct RunRecord {
     /// If the solver failed: its message (the record holds what was computed before).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
+    /// What the reader of a finished run should know about its numbers, each a sentence (a
+    /// dividing line that reached its `max_cells` cap and divided no more, for one).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
     /// The analytic solution of the run's own configuration, where one applies (lines with a
     /// prescribed end; see [`crate::line::analytic`]), at the requested times.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -233,7 +237,7 @@ impl RunRecord {
     /// let mut rec = RunRecord { label: "discrete".into(), model: ModelKind::Discrete,
     ///     parameters: serde_json::json!({"K": 1.0}), series: Default::default(),
     ///     profiles: vec![Profile::default()], stats: RunStats { steps: 7, ..Default::default() },
-    ///     divisions: vec![], error: None, reference: None };
+    ///     divisions: vec![], error: None, notes: vec![], reference: None };
     /// let light = rec.without_data();
     /// assert!(light.profiles.is_empty() && light.stats.steps == 7 && light.label == "discrete");
     /// ```
@@ -247,6 +251,7 @@ impl RunRecord {
             stats: self.stats.clone(),
             divisions: Vec::new(),
             error: self.error.clone(),
+            notes: self.notes.clone(),
             reference: None,
         }
     }

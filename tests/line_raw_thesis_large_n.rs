@@ -125,6 +125,7 @@ fn length_driven_through_zero_names_the_cell_and_keeps_the_partial_run() {
         stats: RunStats::default(),
         divisions: Vec::new(),
         error: None,
+        notes: Vec::new(),
         reference: None,
     };
     run_model(line, &SolveSettings::default(), &times, &mut rec);

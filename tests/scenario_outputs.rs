@@ -69,6 +69,7 @@ fn fake(spec: &RunSpec) -> RunRecord {
         },
         divisions: vec![],
         error: None,
+        notes: Vec::new(),
         reference: None,
     };
     execute::finish(spec, &mut rec);

@@ -217,6 +217,13 @@ impl Run {
         self.rec.error.as_deref()
     }
 
+    /// What to know about a finished run's numbers, one sentence each (a dividing line that
+    /// reached its `max_cells` cap, for one); empty for most runs.
+    #[getter]
+    fn notes(&self) -> Vec<String> {
+        self.rec.notes.clone()
+    }
+
     /// The record as JSON (the `summary.json` schema of one run).
     fn to_json(&self) -> PyResult<String> {
         serde_json::to_string(&self.rec).map_err(|e| PyValueError::new_err(e.to_string()))

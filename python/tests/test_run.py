@@ -156,3 +156,18 @@ def test_keyboard_interrupt_stops_a_long_run_promptly():
     assert time.monotonic() - t0 < 5.0
     # the interpreter and the library are fine afterwards
     assert celltissue.run("fig2_5", set=SMALL_FIG2_5)[0].error is None
+
+
+def test_a_run_that_reaches_its_cell_cap_notes_it():
+    scenario = {
+        "name": "cap",
+        "output": {"series": [0, 1, 2, 3, 4]},
+        "model": {"kind": "line", "models": ["discrete"], "cells": 10, "right_end": "free",
+                  "K": 0.1, "growth": {"sigma0": 10.0},
+                  "division": {"rule": "age", "period": 1.0, "max_cells": 50}},
+    }
+    (capped,) = celltissue.run(scenario)
+    assert list(capped.series["cells"]) == [10, 20, 40, 50, 50]
+    assert len(capped.notes) == 1 and "max_cells = 50" in capped.notes[0]
+    (free,) = celltissue.run(scenario, set={"model.division.max_cells": 1000})
+    assert free.series["cells"][-1] == 160 and free.notes == []

@@ -192,6 +192,7 @@ pub fn run_proliferation(
         stats: RunStats::default(),
         divisions: Vec::new(),
         error: None,
+        notes: Vec::new(),
         reference: None,
     };
     if let Err(e) = cfg.validate() {
@@ -211,7 +212,26 @@ pub fn run_proliferation(
         times,
         &mut rec,
     );
+    note_cap(&mut rec, cfg.division.max_cells);
     rec
+}
+
+/// A dividing run that reached its `max_cells` cap divides no more: from then on its N(t) and
+/// l(t) are the cap's, not the model's. Noted in the record (`summary.json`, Python's
+/// `Run.notes`) and warned of.
+fn note_cap(rec: &mut RunRecord, cap: Option<usize>) {
+    let Some(cap) = cap else { return };
+    let Some(d) = rec.divisions.iter().find(|d| d.cells_after >= cap) else {
+        return;
+    };
+    let note = format!(
+        "the division cap max_cells = {cap} was reached at t = {}: no cell divided after it, \
+         so N(t) and l(t) from then on are the cap's, not the model's; raise \
+         model.division.max_cells (up to 10⁸) to follow the growth",
+        integrators::error::short_number(d.t)
+    );
+    log::warn!("{}: {note}", rec.label);
+    rec.notes.push(note);
 }
 
 fn with_law<E: StrainEnergy + Clone>(

@@ -309,6 +309,7 @@ pub fn run_line(
         stats: RunStats::default(),
         divisions: Vec::new(),
         error: None,
+        notes: Vec::new(),
         reference: None,
     };
     if let Err(e) = cfg.validate() {
@@ -375,7 +376,7 @@ fn run_with_law<E: StrainEnergy + Clone>(
 /// let line = discrete(celltissue::NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(6)).unwrap();
 /// let mut rec = RunRecord { label: "six cells".into(), model: ModelKind::Discrete,
 ///     parameters: serde_json::Value::Null, series: Default::default(), profiles: vec![],
-///     stats: Default::default(), divisions: vec![], error: None, reference: None };
+///     stats: Default::default(), divisions: vec![], error: None, notes: vec![], reference: None };
 /// let times = OutputTimes { series: vec![0.0, 1.0], profiles: vec![1.0] };
 /// let problem = run_model(line, &SolveSettings::default(), &times, &mut rec);
 /// assert!(rec.error.is_none());

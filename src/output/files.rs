@@ -33,6 +33,8 @@ struct RunEntry<'a> {
     divisions: &'a [DivisionRecord],
     #[serde(skip_serializing_if = "Option::is_none")]
     error: &'a Option<String>,
+    #[serde(skip_serializing_if = "<[String]>::is_empty")]
+    notes: &'a [String],
     /// The analytic reference's label and series (its profiles are in the `.npz`).
     #[serde(skip_serializing_if = "Option::is_none")]
     reference: Option<ReferenceEntry<'a>>,
@@ -71,7 +73,7 @@ fn is_shear(rec: &RunRecord) -> bool {
 /// use celltissue::observe::*;
 /// let mut rec = RunRecord { label: "r".into(), model: ModelKind::Discrete,
 ///     parameters: serde_json::json!({"kind": "shear"}), series: Series::default(),
-///     profiles: vec![], stats: RunStats::default(), divisions: vec![], error: None,
+///     profiles: vec![], stats: RunStats::default(), divisions: vec![], error: None, notes: vec![],
 ///     reference: None };
 /// let names: Vec<String> = celltissue::output::files::series_columns(&rec)
 ///     .into_iter().map(|c| c.0).collect();
@@ -105,7 +107,7 @@ pub fn series_columns(rec: &RunRecord) -> Vec<(String, &Vec<f64>)> {
 /// use celltissue::output::files::profile_field_name;
 /// let rec = RunRecord { label: "discrete N=10".into(), model: ModelKind::Discrete,
 ///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
-///     stats: RunStats::default(), divisions: vec![], error: None, reference: None };
+///     stats: RunStats::default(), divisions: vec![], error: None, notes: vec![], reference: None };
 /// assert_eq!(profile_field_name(&rec, "stretch"), "stretch"); // a line keeps its names
 /// ```
 pub fn profile_field_name<'a>(rec: &RunRecord, field: &'a str) -> &'a str {
@@ -162,7 +164,7 @@ pub fn clean_parameters(p: &serde_json::Value) -> serde_json::Value {
 /// use celltissue::observe::{ModelKind, RunRecord, Summary};
 /// let run = |label: &str| RunRecord {
 ///     label: label.into(), model: ModelKind::Discrete, parameters: serde_json::Value::Null,
-///     series: Default::default(), profiles: vec![], stats: Default::default(), divisions: vec![], error: None,
+///     series: Default::default(), profiles: vec![], stats: Default::default(), divisions: vec![], error: None, notes: vec![],
 ///     reference: None,
 /// };
 /// let s = Summary { scenario: "demo".into(), runs: vec![run("discrete"), run("continuum")] };
@@ -237,7 +239,7 @@ fn write(path: &Path, text: &str) -> Result<PathBuf, OutputError> {
 /// use celltissue::observe::*;
 /// let rec = RunRecord { label: "discrete".into(), model: ModelKind::Discrete,
 ///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
-///     stats: RunStats::default(), divisions: vec![], error: None, reference: None };
+///     stats: RunStats::default(), divisions: vec![], error: None, notes: vec![], reference: None };
 /// let summary = Summary { scenario: "demo".into(), runs: vec![rec] };
 /// let dir = std::env::temp_dir().join(format!("ct_summary_doc_{}", std::process::id()));
 /// std::fs::create_dir_all(&dir).unwrap();
@@ -279,6 +281,7 @@ pub(crate) fn write_summary_with(
                 stats: &r.stats,
                 divisions: &r.divisions,
                 error: &r.error,
+                notes: &r.notes,
                 reference: r.reference.as_ref().map(|x| ReferenceEntry {
                     label: &x.label,
                     series: &x.series,
@@ -334,7 +337,7 @@ pub fn series_csv(rec: &RunRecord) -> String {
 /// use celltissue::observe::*;
 /// let mut rec = RunRecord { label: "discrete".into(), model: ModelKind::Discrete,
 ///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
-///     stats: RunStats::default(), divisions: vec![], error: None, reference: None };
+///     stats: RunStats::default(), divisions: vec![], error: None, notes: vec![], reference: None };
 /// rec.profiles.push(Profile { t: 1.0, x_ref: vec![0.5, 1.5], x: vec![0.45, 1.35],
 ///                             stretch: vec![0.9, 0.9], pressure: vec![1.2, 1.2], ..Default::default() });
 /// let csv = celltissue::output::files::profiles_csv(&rec);
@@ -385,7 +388,7 @@ pub fn profiles_csv(rec: &RunRecord) -> String {
 /// use celltissue::observe::{DivisionRecord, ModelKind, RunRecord};
 /// let mut rec = RunRecord {
 ///     label: "discrete".into(), model: ModelKind::Discrete, parameters: serde_json::Value::Null,
-///     series: Default::default(), profiles: vec![], stats: Default::default(), divisions: vec![], error: None,
+///     series: Default::default(), profiles: vec![], stats: Default::default(), divisions: vec![], error: None, notes: vec![],
 ///     reference: None,
 /// };
 /// rec.divisions.push(DivisionRecord { t: 2.5, parent: 7, x: 6.5, x_over_length: 0.5, cells_after: 11 });

@@ -72,6 +72,7 @@ fn failed(spec: &RunSpec, error: String) -> RunRecord {
         stats: RunStats::default(),
         divisions: Vec::new(),
         error: Some(error),
+        notes: Vec::new(),
         reference: None,
     }
 }

@@ -355,6 +355,7 @@ fn record(
         stats: r.stats,
         divisions: Vec::new(),
         error: r.error,
+        notes: Vec::new(),
         reference: None,
     }
 }
