@@ -394,6 +394,11 @@ pub fn write_outputs(
         eprintln!("warning: plot not written: {e}");
     }
     if !quiet {
+        for l in &written.left_out {
+            eprintln!("note: {l}");
+        }
+    }
+    if !quiet {
         eprintln!(
             "wrote {} data files and {} plots to {}",
             written.data.len(),

@@ -439,6 +439,59 @@ fn table(cols: &[(&str, &Vec<f64>)], rows: usize, t: Option<f64>) -> String {
     out
 }
 
+/// A run's profile values per field: its cells (or nodes) summed over the profile times, the
+/// rows of its `profiles_<label>.csv` and the cells of its `.vtu` snapshots.
+pub(crate) fn profile_rows(rec: &RunRecord) -> usize {
+    rec.profiles.iter().map(|p| p.x_ref.len()).sum()
+}
+
+/// What the size limits kept out of the text and snapshot files, one sentence per run that
+/// lost any (its profiles are in its `.npz` all the same).
+///
+/// ```
+/// use celltissue::observe::{ModelKind, Profile, RunRecord, Summary};
+/// let run = |label: &str, cells: usize| RunRecord {
+///     label: label.into(), model: ModelKind::Discrete, parameters: serde_json::Value::Null,
+///     series: Default::default(),
+///     profiles: vec![Profile { t: 1.0, x_ref: vec![0.0; cells], ..Default::default() }; 3],
+///     stats: Default::default(), divisions: vec![], error: None, notes: vec![], reference: None,
+/// };
+/// let s = Summary { scenario: "demo".into(), runs: vec![run("small", 100), run("big", 100_000)] };
+/// let out = celltissue::output::files::left_out(&s);
+/// assert_eq!(out, ["big: 300000 profile values per field; the profile CSV (over 200000 rows) \
+///                   left out, the profiles are in run_big.npz"]);
+/// ```
+pub fn left_out(summary: &Summary) -> Vec<String> {
+    let names = npz_names(summary);
+    summary
+        .runs
+        .iter()
+        .zip(names)
+        .filter_map(|(rec, npz)| {
+            let rows = profile_rows(rec);
+            let mut what = Vec::new();
+            if rows > PROFILE_CSV_MAX_ROWS {
+                what.push(format!(
+                    "the profile CSV (over {PROFILE_CSV_MAX_ROWS} rows)"
+                ));
+            }
+            if rows > super::vtu::VTU_MAX_CELLS {
+                what.push(format!(
+                    "the VTU snapshots (over {} cells)",
+                    super::vtu::VTU_MAX_CELLS
+                ));
+            }
+            (!what.is_empty()).then(|| {
+                format!(
+                    "{}: {rows} profile values per field; {} left out, the profiles are in {npz}",
+                    rec.label,
+                    what.join(" and ")
+                )
+            })
+        })
+        .collect()
+}
+
 /// Writes the CSV files of every run; returns their paths.
 pub(crate) fn write_csvs(dir: &Path, summary: &Summary) -> Result<Vec<PathBuf>, OutputError> {
     let slugs = unique_slugs(summary.runs.iter().map(|r| r.label.as_str()));
@@ -448,8 +501,7 @@ pub(crate) fn write_csvs(dir: &Path, summary: &Summary) -> Result<Vec<PathBuf>, 
             &dir.join(format!("series_{s}.csv")),
             &series_csv(rec),
         )?);
-        let rows: usize = rec.profiles.iter().map(|p| p.x_ref.len()).sum();
-        if !rec.profiles.is_empty() && rows <= PROFILE_CSV_MAX_ROWS {
+        if !rec.profiles.is_empty() && profile_rows(rec) <= PROFILE_CSV_MAX_ROWS {
             files.push(write(
                 &dir.join(format!("profiles_{s}.csv")),
                 &profiles_csv(rec),

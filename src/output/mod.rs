@@ -96,6 +96,9 @@ pub struct Written {
     pub plots: Vec<PathBuf>,
     /// Plots that could not be drawn, with the reason (data files are unaffected).
     pub plot_errors: Vec<String>,
+    /// Runs whose profile CSV or VTU snapshots the size limits left out
+    /// ([`files::PROFILE_CSV_MAX_ROWS`], [`vtu::VTU_MAX_CELLS`]), one sentence each.
+    pub left_out: Vec<String>,
 }
 
 /// Options of [`write_all_with`].
@@ -252,6 +255,7 @@ pub fn write_all_with(
     {
         w.data = data()?;
     }
+    w.left_out = files::left_out(summary);
     Ok(w)
 }
 

@@ -334,8 +334,7 @@ pub(crate) fn write_snapshots(
             Some(ModelConfig::Sheet(..)) => |p| crate::sheet::vtk::grid(&sheet_cells(p)),
             _ => continue,
         };
-        let total: usize = rec.profiles.iter().map(|p| p.x_ref.len()).sum();
-        if rec.profiles.is_empty() || total > VTU_MAX_CELLS {
+        if rec.profiles.is_empty() || super::files::profile_rows(rec) > VTU_MAX_CELLS {
             continue;
         }
         let mut entries = Vec::new();
