@@ -80,7 +80,10 @@ fn check_shear(c: &ShearConfig, atol: f64) -> Result<(), ScenarioError> {
 }
 
 /// A free face under `p_e` starts at about `p_e·H·L/K` (docs/model.md, the sheet's face
-/// rows), bounded here by `|p_e|·max(γ₀, 1/γ₀)/K` over the discrete cells' centres.
+/// rows); in tolerance units the first rate scales as `1/γ₀` (at `p_e = 1`, `atol = 1e-10`
+/// the run stopped from `k_th = 1e-298` at `γ₀ = 1`, from 1e-297 at `γ₀ = 0.1` and from
+/// 1e-299 at `γ₀ = 10`), bounded here by `|p_e|·max(1, 1/γ₀)/K` over the discrete cells'
+/// centres.
 fn check_sheet(c: &SheetConfig, atol: f64) -> Result<(), ScenarioError> {
     if matches!(c.viscosity, Some(ViscosityModel::KelvinVoigt { eta }) if eta > 0.0) {
         return Ok(());
@@ -94,7 +97,7 @@ fn check_sheet(c: &SheetConfig, atol: f64) -> Result<(), ScenarioError> {
     if p == 0.0 {
         return Ok(());
     }
-    let geometry = c.gamma0.max(1.0 / c.gamma0);
+    let geometry = (1.0 / c.gamma0).max(1.0);
     let drag = c.drag();
     if p * geometry / (drag * atol) <= RATE_LIMIT {
         return Ok(());
@@ -125,21 +128,28 @@ fn drag_error(
     } else {
         ("model.drag", drag, needed)
     };
+    let remedy = if least.is_finite() {
+        format!(
+            "give {key} ≥ {} (or a larger solver.atol, {other_remedy})",
+            round_up(least)
+        )
+    } else {
+        format!("no finite {key} carries it: give a larger solver.atol, {other_remedy}")
+    };
     ScenarioError::key(
         key,
         format!(
             "= {} is too small for {what}: the boundaries it pushes would start at about \
              force/drag, more than 1e300 times atol = {} per unit time, beyond what double \
              precision can step through (the first step would be below the smallest double); \
-             give {key} ≥ {} (or a larger solver.atol, {other_remedy})",
+             {remedy}",
             format_number(given),
             format_number(atol),
-            round_up(least),
         ),
     )
 }
 
-/// `x > 0` rounded up to two significant digits, as text (`1.9999999999999999e-290` reads
+/// `x > 0` (finite) rounded up to two significant digits, as text (`1.9999999999999999e-290` reads
 /// `2e-290`, `2.01e-290` reads `2.1e-290`).
 fn round_up(x: f64) -> String {
     let mut e = x.log10().floor() as i32;
