@@ -120,6 +120,8 @@ const NONSTIFF_TESTS: usize = 6;
 /// ```
 pub struct Dopri5 {
     started: bool,
+    /// Restarts after events ([`one_step::Resume`]).
+    resume: one_step::Resume,
     n: usize,
     t: f64,
     t_prev: f64,
@@ -170,6 +172,7 @@ impl Dopri5 {
     pub fn new() -> Self {
         Self {
             started: false,
+            resume: Default::default(),
             n: 0,
             t: 0.0,
             t_prev: 0.0,
@@ -530,6 +533,7 @@ impl Method for Dopri5 {
         // keep a stiff problem from ever being tested); what it found is found again by the
         // next failed test
         self.stiff_found = None;
+        self.resume.on_start(self.started);
         self.started = true;
         self.h = one_step::start_h(h, sys.opts);
         // ∂F/∂ẏ now, so that a singular one is reported at start.

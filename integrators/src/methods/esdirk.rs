@@ -60,6 +60,8 @@ const THETA_REFRESH: f64 = 0.3;
 /// ```
 pub struct Esdirk {
     started: bool,
+    /// Restarts after events ([`one_step::Resume`]).
+    resume: one_step::Resume,
     n: usize,
     t: f64,
     t_prev: f64,
@@ -133,6 +135,7 @@ impl Esdirk {
     pub fn new() -> Self {
         Self {
             started: false,
+            resume: Default::default(),
             n: 0,
             t: 0.0,
             t_prev: 0.0,
@@ -459,6 +462,7 @@ impl Method for Esdirk {
         self.lu_h = f64::NAN;
         self.reject = false;
         self.eta = 1.0;
+        self.resume.on_start(self.started);
         self.started = true;
         self.h = one_step::start_h(h, sys.opts);
         self.h_old = self.h;

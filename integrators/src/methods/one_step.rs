@@ -22,6 +22,26 @@ pub(crate) const MAX_CONSECUTIVE_FAILURES: usize = 60;
 /// to 3e-6 and stopped. With the cap the same retries span a factor 0.3 each.
 pub(crate) const REPEATED_ERROR_FAILURE_CAP: f64 = 0.3;
 
+/// After the first rejection of a restart, the retry is at most this multiple of the first
+/// step the previous restart accepted (BDF's `RESUME_GROWTH`): the restarts of one solve
+/// follow alike events (the divisions of a line), so their transients ask for alike steps.
+pub(crate) const RESUME_GROWTH: f64 = 2.0;
+
+/// A one-step method's memory of its restarts after events: whether the first step after a
+/// restart is still to be accepted, and the first step the last restart accepted.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Resume {
+    pending: bool,
+    first_h: f64,
+}
+
+impl Resume {
+    /// At a start: a start of a method already started is a restart after an event.
+    pub(crate) fn on_start(&mut self, was_started: bool) {
+        self.pending = was_started;
+    }
+}
+
 /// Outcome of one step attempt.
 pub(crate) enum Attempt {
     /// The step was taken; the method has advanced its state and proposed the next `h`.
@@ -42,6 +62,8 @@ pub(crate) trait OneStep {
     fn planned_h(&self) -> f64;
     /// Sets the step size to try next (also the method's "previous step" after a start).
     fn set_h(&mut self, h: f64, after_start: bool);
+    /// The method's memory of its restarts ([`Resume`]).
+    fn resume(&mut self) -> &mut Resume;
     /// Order of the local error estimate minus one, for the starting-step estimate.
     fn start_order(&self) -> usize;
     /// Whether `∂F/∂ẏ` is known to be the identity.
@@ -58,7 +80,8 @@ pub(crate) trait OneStep {
     ) -> Result<Attempt, SolverError>;
 }
 
-/// Implements [`OneStep`] for a method struct with the fields `started`, `t`, `y`, `yp` and `h`
+/// Implements [`OneStep`] for a method struct with the fields `started`, `t`, `y`, `yp`, `h`
+/// and `resume`
 /// (plus `h_old`, reset at a start, when `h_old: true`), forwarding `attempt` to the type's
 /// inherent `attempt` and answering `unit_mass` with the given expression of `self`.
 macro_rules! impl_one_step {
@@ -82,6 +105,9 @@ macro_rules! impl_one_step {
             }
             fn start_order(&self) -> usize {
                 $order
+            }
+            fn resume(&mut self) -> &mut $crate::methods::one_step::Resume {
+                &mut self.resume
             }
             fn unit_mass(&self) -> bool {
                 let $s = self;
@@ -148,6 +174,11 @@ pub(crate) fn step<M: OneStep>(
         }
         match m.attempt(sys, h, fixed.is_some(), t_new)? {
             Attempt::Accepted => {
+                let resume = m.resume();
+                if resume.pending {
+                    resume.pending = false;
+                    resume.first_h = h;
+                }
                 if clipped && fixed.is_none() {
                     // a step shortened to land on the stop must not shrink the next one
                     let next = m.planned_h().max(planned.min(sys.opts.h_max));
@@ -163,6 +194,11 @@ pub(crate) fn step<M: OneStep>(
                     }
                 } else {
                     error_failures = 0;
+                }
+                // a restart's first rejection: straight to about where the last one succeeded
+                let resume = *m.resume();
+                if failures == 0 && resume.pending && resume.first_h > 0.0 && fixed.is_none() {
+                    h_new = h_new.min(RESUME_GROWTH * resume.first_h);
                 }
                 log::debug!(
                     "{} step rejected at t = {t:e}, h = {h:e}: {fail:?}; retrying with h = {h_new:e}",

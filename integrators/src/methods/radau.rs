@@ -190,6 +190,8 @@ pub(crate) fn newton_iters(opt: usize, fixed: bool) -> usize {
 pub struct Radau5 {
     k: Consts,
     started: bool,
+    /// Restarts after events ([`one_step::Resume`]).
+    resume: one_step::Resume,
     n: usize,
     t: f64,
     t_prev: f64,
@@ -254,6 +256,7 @@ impl Radau5 {
         Self {
             k: Consts::new(),
             started: false,
+            resume: Default::default(),
             n: 0,
             t: 0.0,
             t_prev: 0.0,
@@ -751,6 +754,7 @@ impl Method for Radau5 {
         self.n_accept = 0;
         self.h_acc = 0.0;
         self.err_acc = 1e-2;
+        self.resume.on_start(self.started);
         self.started = true;
         self.h = one_step::start_h(h, sys.opts);
         self.h_old = self.h;
