@@ -397,8 +397,6 @@ pub fn write_outputs(
         for l in &written.left_out {
             eprintln!("note: {l}");
         }
-    }
-    if !quiet {
         eprintln!(
             "wrote {} data files and {} plots to {}",
             written.data.len(),

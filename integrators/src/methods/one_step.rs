@@ -1,7 +1,10 @@
 //! The step loop shared by the one-step methods (ESDIRK, Radau IIA, Dormand–Prince): plan the
 //! step (estimating the starting step on the first call after a start), clip it to the stop
 //! time, attempt it, and on rejection retry with the method's proposed step until it succeeds,
-//! falls below the round-off floor, or fails too often in a row.
+//! falls below the round-off floor, or fails too often in a row. Two rules bound the proposal:
+//! from the second error-test failure in a row it is at most
+//! [`REPEATED_ERROR_FAILURE_CAP`] of the rejected step, and a restart's first rejection
+//! retries at most [`RESUME_GROWTH`] times the first step the previous restart accepted.
 //!
 //! A method supplies only [`OneStep::attempt`] (one step of size `h`, with its own error test
 //! and step proposal) and a few accessors; [`step`] is its `Method::step`.
@@ -81,9 +84,8 @@ pub(crate) trait OneStep {
 }
 
 /// Implements [`OneStep`] for a method struct with the fields `started`, `t`, `y`, `yp`, `h`
-/// and `resume`
-/// (plus `h_old`, reset at a start, when `h_old: true`), forwarding `attempt` to the type's
-/// inherent `attempt` and answering `unit_mass` with the given expression of `self`.
+/// and `resume` (plus `h_old`, reset at a start, when `h_old: true`), forwarding `attempt` to
+/// the type's inherent `attempt` and answering `unit_mass` with the given expression of `self`.
 macro_rules! impl_one_step {
     ($ty:ident, order: $order:expr, h_old: $h_old:tt, unit_mass: |$s:ident| $unit:expr) => {
         impl $crate::methods::one_step::OneStep for $ty {
