@@ -50,6 +50,11 @@ pub struct SolveSettings {
     /// of the echo at its default.
     #[serde(skip_serializing_if = "is_default_age")]
     pub jacobian_age: usize,
+    /// Most steps a solve may take; it stops at the next with
+    /// [`integrators::ErrorKind::TooManySteps`], keeping what it computed (default 10⁶,
+    /// [`integrators::Options::max_steps`]). Left out of the echo at its default.
+    #[serde(skip_serializing_if = "is_default_max_steps")]
+    pub max_steps: usize,
     /// Whether steps end at every output time instead of interpolating there (default `None`:
     /// for every method but BDF, whose dense output its error test controls;
     /// [`integrators::Options::land_on_outputs`]). Left out of the echo when not set.
@@ -74,6 +79,7 @@ impl Default for SolveSettings {
             linear_solver: LinearSolverChoice::Direct,
             threads: 1,
             jacobian_age: integrators::BdfOptions::default().max_jacobian_age,
+            max_steps: Options::default().max_steps,
             land_on_outputs: None,
             interpolate_rates: false,
         }
@@ -100,6 +106,7 @@ impl SolveSettings {
             parallel: Parallelism::from_threads(self.threads)?,
             land_on_outputs: self.land_on_outputs,
             interpolate_rates: self.interpolate_rates,
+            max_steps: self.max_steps,
             bdf: integrators::BdfOptions {
                 max_jacobian_age: self.jacobian_age,
                 ..Default::default()
@@ -109,6 +116,10 @@ impl SolveSettings {
         opts.validate()?;
         Ok(opts)
     }
+}
+
+fn is_default_max_steps(m: &usize) -> bool {
+    *m == Options::default().max_steps
 }
 
 fn is_default_age(a: &usize) -> bool {

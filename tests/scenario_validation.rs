@@ -520,6 +520,46 @@ fn the_jacobian_age_is_bdf_only_and_bounded() {
     assert!(m.contains("bdf"), "{m}");
 }
 
+/// `solver.max_steps` caps a run's steps (default 10⁶): echoed only when set, bounded, and a
+/// run that reaches it stops saying so, with the steps it took kept.
+#[test]
+fn the_step_cap_is_a_key_that_stops_a_run_by_name() {
+    use celltissue::scenario::execute;
+    let plain = load(&line(""), &[]).unwrap();
+    assert_eq!(plain.runs[0].solver.max_steps, 1_000_000);
+    assert!(serde_json::to_value(plain.runs[0].solver)
+        .unwrap()
+        .get("max_steps")
+        .is_none());
+    for bad in ["0", "-3", "1.5", "1000000000001"] {
+        rejects(
+            &line(""),
+            &[&format!("solver.max_steps={bad}")],
+            "solver.max_steps",
+        );
+    }
+    let capped = load(&line(""), &["solver.max_steps=5"]).unwrap();
+    assert_eq!(capped.runs[0].solver.options().unwrap().max_steps, 5);
+    assert_eq!(
+        serde_json::to_value(capped.runs[0].solver).unwrap()["max_steps"],
+        5
+    );
+    let summary = execute::run_all(&capped, execute::run_spec, |_| {});
+    let rec = &summary.runs[0];
+    let err = rec
+        .error
+        .as_deref()
+        .expect("five steps do not reach the end");
+    assert!(err.contains("max_steps = 5"), "{err}");
+    assert_eq!(rec.stats.steps, 5);
+    assert!(
+        !rec.series.t.is_empty(),
+        "the outputs before the cap are kept"
+    );
+    let free = execute::run_all(&plain, execute::run_spec, |_| {});
+    assert!(free.runs[0].error.is_none() && free.runs[0].stats.steps > 5);
+}
+
 #[test]
 fn interpolated_rates_are_read_checked_and_echoed_only_when_asked_for() {
     let viscous = line("eta = 0.5");

@@ -37,7 +37,7 @@ pub enum ErrorKind {
     #[error("the problem rejected the state at every retry: {0}")]
     Rejected(String),
     /// More than `Options::max_steps` steps.
-    #[error("maximum number of steps ({0}) exceeded")]
+    #[error("maximum number of steps (max_steps = {0}) exceeded")]
     TooManySteps(usize),
     /// The tolerances ask for more accuracy than the stored state resolves: at the reported
     /// component the round-off of its tested quantity is `ratio` of its tolerance

@@ -502,6 +502,9 @@ impl Options {
         if self.max_newton_iters == 0 {
             return Err(out_of_range("max_newton_iters", 0, "at least 1"));
         }
+        if self.max_steps == 0 {
+            return Err(out_of_range("max_steps", 0, "at least 1"));
+        }
         if let Some(h) = self.fixed_step {
             if !(h > 0.0 && h.is_finite()) {
                 return Err(out_of_range("fixed_step", h, "positive and finite"));

@@ -71,6 +71,8 @@ pub struct SolverSection {
     /// BDF only: steps after which the Newton matrices are refreshed even though Newton
     /// converges, 1 to 10⁶ (default 50).
     pub jacobian_age: Option<usize>,
+    /// Most steps a run may take before it stops, saying so, 1 to 10¹² (default 10⁶).
+    pub max_steps: Option<u64>,
     /// Whether steps end at every output time instead of interpolating (default: for every
     /// method but BDF, whose dense output is error-controlled).
     pub land_on_outputs: Option<bool>,
@@ -78,6 +80,9 @@ pub struct SolverSection {
     /// each output's state).
     pub interpolate_rates: bool,
 }
+
+/// Largest `solver.max_steps` (10¹²): beyond any run that could finish.
+const MAX_STEPS_LIMIT: u64 = 1_000_000_000_000;
 
 impl Default for SolverSection {
     fn default() -> Self {
@@ -92,6 +97,7 @@ impl Default for SolverSection {
             newton_factor: IterativeSettings::default().newton_factor,
             threads: 1,
             jacobian_age: None,
+            max_steps: None,
             land_on_outputs: None,
             interpolate_rates: false,
         }
@@ -194,6 +200,16 @@ impl SolverSection {
             }
             Some(a) => a,
         };
+        let max_steps = match self.max_steps {
+            None => SolveSettings::default().max_steps,
+            Some(m) if !(1..=MAX_STEPS_LIMIT).contains(&m) => {
+                return Err(ScenarioError::key(
+                    "solver.max_steps",
+                    format!("= {m} must be from 1 to 10^12 (steps)"),
+                ))
+            }
+            Some(m) => usize::try_from(m).unwrap_or(usize::MAX),
+        };
         Ok(SolveSettings {
             method,
             rtol: self.rtol,
@@ -202,6 +218,7 @@ impl SolverSection {
             linear_solver,
             threads: self.threads,
             jacobian_age,
+            max_steps,
             land_on_outputs: self.land_on_outputs,
             interpolate_rates: self.interpolate_rates,
         })

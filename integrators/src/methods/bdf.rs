@@ -110,6 +110,12 @@ const DOUBLING_TRIES: usize = 8;
 /// over: an estimate that stays large as the step shrinks is a transient to resolve (at
 /// K = 1e-5 the estimate stays at 3–6 from h = 1.5e-3 down to 1.5e-6).
 const DOUBLING_ERROR_TRIES: usize = 3;
+/// A step-doubled first step whose error estimate falls at least at this observed order
+/// between its last two failed tries goes on past [`DOUBLING_ERROR_TRIES`] (up to
+/// [`DOUBLING_TRIES`]): the halves' error is `O(h²)` once the event's transient is shorter
+/// than the step, so the estimate is converging and one more cut passes, whereas the
+/// ordinary error test measures the jump of `ẏ` at the event and falls only as `h`.
+const CONVERGING_ORDER: f64 = 1.5;
 /// When the first attempt after a [`Method::resume`] fails, the retry is at most this multiple
 /// of the first step accepted after the previous resume (instead of a cut by the error
 /// estimate's factor, at least 0.1). Successive events of one kind (cell divisions) excite

@@ -1,7 +1,8 @@
 //! The first step after a resizing event ([`Method::resume`]): backward Euler over `h` and over
 //! two halves, the halves accepted when their step-doubled error estimate, measured in cell
 //! units through the error map, passes; up to `DOUBLING_TRIES` Newton failures and
-//! `DOUBLING_ERROR_TRIES` error-test failures before the ordinary error test takes over.
+//! `DOUBLING_ERROR_TRIES` error-test failures (more while the estimate falls at about the
+//! halves' order, `CONVERGING_ORDER`) before the ordinary error test takes over.
 
 use super::*;
 
@@ -14,8 +15,9 @@ impl Bdf {
     /// is shorter than `h/2`. On rejection `h` shrinks by the usual factor (the Newton
     /// matrices are kept: `α` changes by a refactorisation), after the first rejection to at
     /// most [`RESUME_GROWTH`] times the first step the previous resume accepted; after
-    /// [`DOUBLING_TRIES`] failed attempts the ordinary step (error test against the restart's
-    /// `ẏ`) takes over. On success the history is the post-event nodes `t + h, t + h/2, t`,
+    /// [`DOUBLING_TRIES`] failed attempts, or [`DOUBLING_ERROR_TRIES`] failed error tests
+    /// whose estimate has stopped falling at [`CONVERGING_ORDER`], the ordinary step (error
+    /// test against the restart's `ẏ`) takes over. On success the history is the post-event nodes `t + h, t + h/2, t`,
     /// from which the ordinary steps go on.
     pub(super) fn step_doubled(
         &mut self,
@@ -28,6 +30,8 @@ impl Bdf {
         let mut h = self.h;
         let mut nef = 0usize;
         let mut ncf = 0usize;
+        // the last failed error test's step and estimate, to read the estimate's order
+        let mut last_error: Option<(f64, f64)> = None;
         let mut full = sys.take_vec();
         loop {
             let h_floor = opts.h_min.max(1e-14 * t0.abs());
@@ -140,7 +144,24 @@ impl Bdf {
                 if nef + ncf == 1 && self.resume_h > 0.0 {
                     h = h.min(RESUME_GROWTH * self.resume_h);
                 }
-                if nef >= DOUBLING_ERROR_TRIES || nef + ncf >= DOUBLING_TRIES || h < h_floor {
+                // an estimate falling at about the halves' order (2) has found the transient
+                // shorter than the step: go on doubling, cut by that observed order
+                let converging = match (fail.is_none(), last_error) {
+                    (true, Some((h_prev, e_prev))) => {
+                        let p = (e_prev / err).ln() / (h_prev / h_try).ln();
+                        (p >= CONVERGING_ORDER && p.is_finite())
+                            .then(|| h_try * (0.5 / err).powf(1.0 / p).clamp(0.1, 0.9))
+                    }
+                    _ => None,
+                };
+                if fail.is_none() {
+                    last_error = Some((h_try, err));
+                }
+                let out_of_tries = nef >= DOUBLING_ERROR_TRIES && converging.is_none();
+                if let (true, Some(h_conv)) = (nef >= DOUBLING_ERROR_TRIES, converging) {
+                    h = h_conv;
+                }
+                if out_of_tries || nef + ncf >= DOUBLING_TRIES || h < h_floor {
                     // the transient is not shorter than the step: resolve it with the
                     // ordinary error test from the same restart node
                     sys.give_vec(full);
