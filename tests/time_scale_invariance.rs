@@ -188,3 +188,33 @@ fn sheets_on_times_of_1e_minus_100_and_1e100_are_as_accurate_as_the_unit_time_sh
         }
     }
 }
+
+/// An output far beyond the problem's time scale: a unit-time line (K = 1, the end moved by
+/// 0.1 over a unit ramp) asked for t = 1e50, 1e100 and 1e300 reaches it, at its exact
+/// equilibrium (every stretch 0.9, to the default rtol 1e-6), with each implicit method. The starting step's probes
+/// began at 1e-6 of the span and gave up after eight shrinks by 1e-2, leaving 1e28 at a span
+/// of 1e50, untested: BDF then cut it by 0.25 per failure and stopped at t = 0 ("cell 10 has
+/// non-positive stretch"). The probes now shrink to the step floor.
+#[test]
+fn an_output_at_1e300_of_a_unit_time_line_is_its_equilibrium() {
+    for method in ["bdf", "radau", "esdirk"] {
+        for t_end in ["1e50", "1e100", "1e300"] {
+            let text = format!(
+                "name = \"far\"\n[solver]\nmethod = \"{method}\"\n[output]\nseries = [0, {t_end}]\n\
+                 [model]\nkind = \"line\"\nmodels = [\"discrete\"]\ncells = 10\nK = 1.0\nk1 = 0.1\n"
+            );
+            let scenario = load_str(&text, std::path::Path::new("far.toml"), &[]).unwrap();
+            let rec = run_spec(&scenario.runs[0]);
+            assert!(
+                rec.error.is_none(),
+                "{method}, t = {t_end}: {:?}",
+                rec.error
+            );
+            let s = &rec.series;
+            for lam in [s.min_stretch[1], s.max_stretch[1]] {
+                // (measured: BDF and Radau IIA within 6e-16, ESDIRK 4.5e-9 to 7.1e-9)
+                assert!((lam - 0.9).abs() < 1e-6, "{method}, t = {t_end}: λ = {lam}");
+            }
+        }
+    }
+}

@@ -108,10 +108,17 @@ impl System<'_> {
         // (what `0.01·d₀/d₁` gives when `d₁` is rounding noise) carries the end past its
         // neighbour and the trial initialisation fails. A failed probe is not an answer: it
         // says `h₀` is far beyond the problem's time scale, so shrink it and probe again.
+        // (as many shrinks as it takes down to the step floor: a span of 1e50 over a problem
+        // whose time scale is 1 starts at h₀ = 1e44, and eight shrinks left it at 1e28,
+        // untested, which the method then cut by 0.25 per failure until it gave up at t₀)
+        let floor = self.opts.h_min.max(1e-14 * t0.abs()).max(f64::MIN_POSITIVE);
         let mut probed = false;
         for _ in 0..PROBE_TRIES {
             if self.probe(t0, y0, yp0, h0, unit_mass, y1, yp1) {
                 probed = true;
+                break;
+            }
+            if h0 <= floor {
                 break;
             }
             // (at most the time in which `ẏ₀` moves `y` by one tolerance: with rates of 1e200
@@ -140,9 +147,11 @@ impl System<'_> {
     }
 }
 
-/// Probes of [`System::initial_step`] before it settles for the last `h₀` untested.
-const PROBE_TRIES: usize = 8;
-/// Factor by which a failed probe shrinks `h₀` (eight tries span 10⁻¹⁶).
+/// Probes of [`System::initial_step`] before it settles for the last `h₀` untested: enough
+/// shrinks to reach any step floor from any span (200 tries span 10⁻⁴⁰⁰); the loop also stops
+/// at the floor.
+const PROBE_TRIES: usize = 200;
+/// Factor by which a failed probe shrinks `h₀`.
 const PROBE_SHRINK: f64 = 1e-2;
 
 impl System<'_> {
