@@ -122,3 +122,19 @@ def test_none_in_set_removes_a_key():
     with pytest.raises(celltissue.ScenarioError) as info:
         celltissue.validate("fig3_3", set={"solver.jacobian_ag": None})
     assert info.value.key == "solver.jacobian_ag" and "does not have" in info.value.message
+
+
+def test_output_times_of_the_wrong_shape_name_their_key():
+    import numpy as np
+
+    line = celltissue.line(cells=5, K=1.0, k1=0.1)
+    with pytest.raises(celltissue.ScenarioError) as info:
+        line.solve(np.zeros((2, 2)))
+    assert info.value.key == "output.series" and "(2, 2)" in info.value.message
+    with pytest.raises(celltissue.ScenarioError) as info:
+        line.solve([0.0, 1.0], profiles=["late"])
+    assert info.value.key == "output.profiles" and "numbers" in info.value.message
+    # one number is one output time (a 0-d array too)
+    for t in (1.0, 2, np.float64(1.5), np.array(0.5)):
+        run = line.solve(t)
+        assert run.error is None and run.series["t"].tolist() == [float(t)]

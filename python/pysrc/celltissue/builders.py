@@ -11,11 +11,32 @@ from __future__ import annotations
 
 from typing import Any, Iterable, Optional, Sequence
 
-from ._celltissue import Run, run
+from ._celltissue import Run, ScenarioError, run
 
 
-def _times(values: Iterable[float]) -> list:
-    return [float(t) for t in values]
+def _times(values: Any, key: str) -> list:
+    """Output times as a list of floats: one number, or a flat sequence (list, tuple, 1-D
+    numpy array) of numbers; anything else raises :class:`ScenarioError` naming ``key``."""
+    shape = getattr(values, "shape", None)
+    if shape is not None and len(shape) > 1:
+        raise _error(
+            key,
+            f"`{key}`: times must be one number or a flat list, "
+            f"not an array of shape {tuple(shape)}",
+        )
+    if isinstance(values, (int, float)) or (shape is not None and len(shape) == 0):
+        values = [values]
+    try:
+        return [float(t) for t in values]
+    except (TypeError, ValueError) as e:
+        raise _error(key, f"`{key}`: times must be numbers ({e})") from None
+
+
+def _error(key: str, message: str) -> ScenarioError:
+    err = ScenarioError(message)
+    err.key = key
+    err.message = message
+    return err
 
 
 class _Model:
@@ -39,9 +60,9 @@ class _Model:
         m = {"kind": self.kind, "models": [model], **self.params}
         if nodes is not None:
             m["nodes"] = nodes
-        out = {"series": _times(times)}
+        out = {"series": _times(times, "output.series")}
         if profiles is not None:
-            out["profiles"] = _times(profiles)
+            out["profiles"] = _times(profiles, "output.profiles")
         sol = {"method": method, **solver}
         if rtol is not None:
             sol["rtol"] = rtol
@@ -52,8 +73,8 @@ class _Model:
     def solve(self, times: Iterable[float], model: str = "discrete", **options: Any) -> Run:
         """Solves the model and returns its :class:`celltissue.Run`.
 
-        ``times``: output times of the series (every model starts at t = 0; include 0 to
-        record the initial state). ``model``: ``"discrete"`` or
+        ``times``: output times of the series, a flat sequence or one number (every model
+        starts at t = 0; include 0 to record the initial state). ``model``: ``"discrete"`` or
         ``"continuum"``. Options: ``profiles`` (times of the per-cell profiles), ``nodes``
         (continuum grid), ``method`` (``"bdf"``, ``"esdirk"``, ``"radau"``, ``"dopri"``),
         ``rtol``, ``atol`` and further ``[solver]`` keys.
