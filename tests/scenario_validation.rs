@@ -728,3 +728,53 @@ fn a_force_against_a_drag_too_small_to_step_is_rejected_and_the_bound_runs() {
         }
     }
 }
+
+/// Cells far stiffer than their growth law's stress scale (μ = 1e8 against σ₀ = 0.1, the
+/// `fig3_1` line at K = 1e-2): at rtol 1e-6 a stretch tolerance leaves the stress that sets
+/// growth free by 4μ·(rtol + atol) ≈ 400, and the run ended "ok" with l(1) 22 % too long after
+/// 8.6·10⁵ steps. `validate` rejects it, naming `solver.rtol` and the tolerance that runs; at
+/// that tolerance the length is within 10·rtol of an rtol 1e-11 run (measured 3.6e-11).
+#[test]
+fn cells_too_stiff_for_their_growth_law_at_the_tolerance_are_rejected() {
+    use celltissue::scenario::execute;
+    let growing = |mu: &str, rtol: &str, atol: &str| {
+        format!(
+            "name = \"stiff\"\n[solver]\nrtol = {rtol}\natol = {atol}\n[output]\n\
+             series = [0, 1]\n[model]\nkind = \"line\"\nmodels = [\"discrete\"]\ncells = 100\n\
+             right_end = \"free\"\nK = 1e-2\nmu = {mu}\ngrowth = {{ sigma0 = 0.1 }}\n"
+        )
+    };
+    let m = rejects(&growing("1e8", "1e-6", "1e-8"), &[], "solver.rtol");
+    assert!(
+        m.contains("E·(rtol + atol) = 4.04e2") && m.contains("rtol + atol ≤ 2.50e-9"),
+        "{m}"
+    );
+    // soft cells, the thesis's μ = 1, at the same tolerance
+    assert!(load(&growing("1.0", "1e-6", "1e-8"), &[]).is_ok());
+    // a gaussian μ is bounded by its peak; a growing sheet by its law's modulus
+    let bump = growing(
+        "{ type = \"gaussian\", base = 1.0, amplitude = 1e8, centre = 0.5, width = 0.1 }",
+        "1e-6",
+        "1e-8",
+    );
+    rejects(&bump, &[], "solver.rtol");
+    let sheet = "name = \"s\"\n[output]\nseries = [0, 1]\n[model]\nkind = \"sheet\"\n\
+                 cells_x = 4\ncells_y = 4\nright = \"free\"\nlaw = { law = \"neo_hookean\", mu = 1e8 }\n\
+                 growth = { sigma0 = 0.1 }\n";
+    assert!(rejects(sheet, &[], "solver.rtol").contains("model.law"));
+
+    let length = |rtol: &str, atol: &str| {
+        let s = load(&growing("1e8", rtol, atol), &[]).unwrap();
+        let rec = execute::run_all(&s, execute::run_spec, |_| {})
+            .runs
+            .remove(0);
+        assert!(rec.error.is_none(), "{:?}", rec.error);
+        rec.series.length[1]
+    };
+    let (runs, tight) = (length("2.4e-9", "1e-11"), length("1e-11", "1e-13"));
+    let err = (runs / tight - 1.0).abs();
+    assert!(
+        err < 10.0 * 2.4e-9,
+        "l(1) = {runs} against {tight}: {err:e}"
+    );
+}

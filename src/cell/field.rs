@@ -427,6 +427,30 @@ impl Field {
         }
     }
 
+    /// An upper bound of every sample of the field, whatever the grid: the constant, the
+    /// gaussian's `base + max(amplitude, 0)`, the largest piecewise or per-cell value, the
+    /// random range's `high`; `None` for a program's function.
+    ///
+    /// ```
+    /// use celltissue::cell::Field;
+    /// assert_eq!(Field::gaussian_bump(1.0, 2.0, 0.5, 0.1).upper_bound(), Some(3.0));
+    /// assert_eq!(Field::gaussian_bump(1.0, -0.5, 0.5, 0.1).upper_bound(), Some(1.0));
+    /// assert_eq!(Field::Random { low: 0.5, high: 2.0, seed: 1 }.upper_bound(), Some(2.0));
+    /// ```
+    pub fn upper_bound(&self) -> Option<f64> {
+        match self {
+            Field::Constant(v) => Some(*v),
+            Field::Gaussian {
+                base, amplitude, ..
+            } => Some(base + amplitude.max(0.0)),
+            Field::Piecewise { values, .. } | Field::PerCell { values } => {
+                values.iter().copied().reduce(f64::max)
+            }
+            Field::Random { high, .. } => Some(*high),
+            Field::Closure(_) => None,
+        }
+    }
+
     /// Whether every sample of the field is exactly 0 whatever the grid (a zero constant, a
     /// gaussian with base and amplitude 0, piecewise or per-cell values all 0, a random range
     /// `[0, 0]`). Used to reject a drag that leaves a ring's rigid translation undetermined.

@@ -346,6 +346,7 @@ pub fn resolve(table: toml::Table) -> Result<Scenario, ScenarioError> {
         let section = parse_model(&one.model).map_err(ctx)?;
         super::roundoff::check_section(&section, &solver).map_err(ctx)?;
         super::impulse::check_section(&section, &solver).map_err(ctx)?;
+        super::growth_stress::check_section(&section, &solver).map_err(ctx)?;
         if solver.linear_solver != LinearSolverChoice::Direct
             && !matches!(section.config, ModelConfig::Sheet(..))
         {

@@ -29,6 +29,7 @@
 pub mod bundled;
 pub mod error;
 pub mod execute;
+pub mod growth_stress;
 pub mod impulse;
 pub mod limits;
 pub mod load;
