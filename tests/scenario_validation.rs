@@ -778,3 +778,26 @@ fn cells_too_stiff_for_their_growth_law_at_the_tolerance_are_rejected() {
         "l(1) = {runs} against {tight}: {err:e}"
     );
 }
+
+/// `plots.position` and `plots.rectangles` draw a line of cells. On a sheet the position plot
+/// drew the rows end to end as one sawtooth, and the rectangles were skipped in silence; on a
+/// shear column the position plot was x against x. They are rejected there, and the
+/// rectangles without a discrete run.
+#[test]
+fn line_plots_are_rejected_for_sheets_and_shear_columns() {
+    let sheet = "name = \"s\"\n[output]\nseries = [0, 1]\n[model]\nkind = \"sheet\"\n\
+                 cells_x = 4\ncells_y = 4\n";
+    let shear = "name = \"c\"\n[output]\nseries = [0, 1]\n[model]\nkind = \"shear\"\ncells = 4\n";
+    for key in ["plots.position", "plots.rectangles"] {
+        let set = format!("{key}=true");
+        assert!(rejects(sheet, &[&set], key).contains("not a sheet"));
+        assert!(rejects(shear, &[&set], key).contains("not a shear column"));
+        assert!(load(&line(""), &[&set]).is_ok());
+    }
+    let m = rejects(
+        &line(""),
+        &["plots.rectangles=true", "model.models=[\"continuum\"]"],
+        "plots.rectangles",
+    );
+    assert!(m.contains("discrete"), "{m}");
+}

@@ -41,8 +41,6 @@ top = "free"
 parameter = "drag_exponent"
 values = [0.0, 1.0]
 labels = ["0", "1"]
-[plots]
-rectangles = true
 "#;
 
 fn tmp(name: &str) -> PathBuf {

@@ -357,9 +357,12 @@ pub(crate) fn write_figures(
     if scenario.plots.histories {
         let ylabel = if shear { "tan θ" } else { "λ" };
         for (gi, g) in groups.iter().enumerate() {
-            let suffix = match (&g.label, &sweep_name) {
-                (Some(l), Some(n)) => format!("_{}", slug(&format!("{n}={l}"))),
-                _ => String::new(),
+            let (suffix, at) = match (&g.label, &sweep_name) {
+                (Some(l), Some(n)) => (
+                    format!("_{}", slug(&format!("{n}={l}"))),
+                    format!(" ({n} = {l})"),
+                ),
+                _ => (String::new(), String::new()),
             };
             let curves = g
                 .runs
@@ -367,7 +370,7 @@ pub(crate) fn write_figures(
                 .flat_map(|(rec, _)| histories(rec, gi))
                 .collect();
             let chart = Chart {
-                title: title(&format!("{ylabel} of every cell against time{suffix}")),
+                title: title(&format!("{ylabel} of every cell against time{at}")),
                 x_label: "t".into(),
                 y_label: ylabel.into(),
                 x_axis: axis(scenario.plots.time_axis),

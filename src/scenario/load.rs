@@ -394,6 +394,7 @@ pub fn resolve(table: toml::Table) -> Result<Scenario, ScenarioError> {
         }
     }
     check_sweep_profiles(&raw.plots.sweep_profiles, sweep.is_some(), &runs)?;
+    check_line_plots(&raw.plots, &runs)?;
     // each run alone must fit (wherever it runs; `run` checks the runs it holds together)
     for r in &runs {
         super::limits::check_profiles(r.profile_values(), 1)
@@ -408,6 +409,51 @@ pub fn resolve(table: toml::Table) -> Result<Scenario, ScenarioError> {
         runs,
         table,
     })
+}
+
+/// `plots.position` (x against X along a line, Fig 2.6) and `plots.rectangles` (a line's cells
+/// as one row of rectangles per profile time, Fig 2.10e) draw a line: a sheet (whose rows
+/// would be drawn end to end as one sawtooth line, and which draws its own cell arrays) or a
+/// shear column (whose profile coordinate is the height) would get a meaningless plot or
+/// none, so the keys are rejected there; the rectangles also need a discrete run.
+fn check_line_plots(plots: &PlotSettings, runs: &[RunSpec]) -> Result<(), ScenarioError> {
+    let keys = [
+        ("plots.position", plots.position),
+        ("plots.rectangles", plots.rectangles),
+    ];
+    for (key, on) in keys {
+        if !on {
+            continue;
+        }
+        if let Some(run) = runs
+            .iter()
+            .find(|r| matches!(r.config, ModelConfig::Sheet(..) | ModelConfig::Shear(..)))
+        {
+            return Err(ScenarioError::key(
+                key,
+                match run.config {
+                    ModelConfig::Sheet(..) => format!(
+                        "= true draws a line of cells, not a sheet (run `{}`): remove it; a \
+                         sheet's cells are drawn at every profile time anyway \
+                         (`<run>_pressure_NNNN.png`)",
+                        run.label
+                    ),
+                    _ => format!(
+                        "= true draws a line of cells, not a shear column (run `{}`): remove \
+                         it; the column's edges are drawn in `profiles_displacement*.png`",
+                        run.label
+                    ),
+                },
+            ));
+        }
+    }
+    if plots.rectangles && !runs.iter().any(|r| r.model == ModelKind::Discrete) {
+        return Err(ScenarioError::key(
+            "plots.rectangles",
+            "= true draws the cells of discrete runs, and this scenario has none (models)",
+        ));
+    }
+    Ok(())
 }
 
 /// `plots.sweep_profiles`: only with a sweep, each time finite and one of every run's profile
