@@ -124,12 +124,16 @@ fn no_plots_writes_data_only_and_leaves_no_temporary_file() {
     assert_eq!(listed.len(), n.len() - 1, "manifest {listed:?} vs {n:?}");
 }
 
-#[test]
-fn sigint_keeps_finished_runs_and_names_the_interrupted_ones() {
-    let d = tmp("integrity_sigint");
-    let out = d.join("out");
-    // the first run takes milliseconds, the second (10⁶ cells up to t = 1000) many seconds;
-    // the third is not reached
+/// Writes the slow three-run sweep into `d` and starts `run` on it: the first run takes
+/// milliseconds, the second (10⁶ cells up to t = 1000) many seconds; the third is not reached.
+/// Returns the child once the first run's progress line has been read, and the other lines.
+fn start_slow_sweep(
+    d: &Path,
+    out: &Path,
+) -> (
+    std::process::Child,
+    std::io::Lines<BufReader<std::process::ChildStderr>>,
+) {
     let file = d.join("slow.toml");
     std::fs::write(
         &file,
@@ -152,15 +156,23 @@ values = [10, 1000000, 20]
         .arg("run")
         .arg(&file)
         .arg("--out")
-        .arg(&out)
+        .arg(out)
         .arg("--no-plots")
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
     let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
-    // wait for the first run's progress line, then interrupt
     let first = lines.next().unwrap().unwrap();
     assert!(first.starts_with("[1/3]"), "{first}");
+    (child, lines)
+}
+
+#[test]
+fn sigint_keeps_finished_runs_and_names_the_interrupted_ones() {
+    let d = tmp("integrity_sigint");
+    let out = d.join("out");
+    // wait for the first run's progress line, then interrupt
+    let (mut child, lines) = start_slow_sweep(&d, &out);
     let t0 = Instant::now();
     let kill = Command::new("kill")
         .args(["-INT", &child.id().to_string()])
@@ -200,4 +212,26 @@ values = [10, 1000000, 20]
     assert!(out.join("run_discrete_cells=1e6.npz").exists());
     assert!(!out.join("run_discrete_cells=20.npz").exists());
     assert!(names(&out).iter().all(|f| !f.contains(".partial")));
+}
+
+/// One SIGTERM delivered twice within microseconds (coreutils' `timeout` signals the program
+/// and then its process group) is one interrupt: the finished and stopped runs are written.
+/// Taken as "interrupt again", the second copy made the program quit without writing.
+#[test]
+fn a_signal_delivered_twice_at_once_is_one_interrupt() {
+    let d = tmp("integrity_sigterm_twice");
+    let out = d.join("out");
+    let (mut child, lines) = start_slow_sweep(&d, &out);
+    let id = child.id().to_string();
+    for _ in 0..2 {
+        let kill = Command::new("kill").args(["-TERM", &id]).status().unwrap();
+        assert!(kill.success());
+    }
+    let rest: Vec<String> = lines.map_while(Result::ok).collect();
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130), "{rest:?}");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(v["runs"].as_array().unwrap().len(), 2, "{rest:?}");
+    assert!(out.join("run_discrete_cells=10.npz").exists());
 }
