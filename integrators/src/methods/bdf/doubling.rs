@@ -17,8 +17,8 @@ impl Bdf {
     /// most [`RESUME_GROWTH`] times the first step the previous resume accepted; after
     /// [`DOUBLING_TRIES`] failed attempts, or [`DOUBLING_ERROR_TRIES`] failed error tests
     /// whose estimate has stopped falling at [`CONVERGING_ORDER`], the ordinary step (error
-    /// test against the restart's `ẏ`) takes over. On success the history is the post-event nodes `t + h, t + h/2, t`,
-    /// from which the ordinary steps go on.
+    /// test against the restart's `ẏ`) takes over. On success the history is the post-event
+    /// nodes `t + h, t + h/2, t`, from which the ordinary steps go on.
     pub(super) fn step_doubled(
         &mut self,
         sys: &mut System<'_>,
