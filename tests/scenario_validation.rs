@@ -196,6 +196,11 @@ fn messages_use_researchers_words_and_short_numbers() {
     assert!(!m.contains("0000000000"), "no 300-digit integer: {m}");
     let m = rejects(LINE, &["model.cells=-3"], "model.cells");
     assert!(m.contains("non-negative integer"), "{m}");
+    // a whole number written as a float says how to write it; a fraction does not
+    let m = rejects(LINE, &["model.cells=1e5"], "model.cells");
+    assert!(m.contains("write 100000)"), "{m}");
+    let m = rejects(LINE, &["model.cells=2.5"], "model.cells");
+    assert!(!m.contains("write"), "{m}");
 }
 
 #[test]

@@ -228,6 +228,9 @@ pub const MAX_MESSAGE_CHARS: usize = 400;
 /// let short = researcher_words(&long);
 /// assert!(short.contains("e299") && short.len() < 50, "{short}");
 /// assert!(researcher_words(&"x".repeat(10_000_000)).len() < 1000);
+/// // a whole number written as a float, where an integer is expected
+/// assert!(researcher_words("invalid type: floating point `100000.0`, expected usize")
+///     .ends_with("(TOML reads `100000.0` as a float: write 100000)"));
 /// ```
 pub fn researcher_words(message: &str) -> String {
     // cut first (cheaply) so that nothing below works on megabytes
@@ -242,7 +245,30 @@ pub fn researcher_words(message: &str) -> String {
     ] {
         s = s.replace(rust, words);
     }
-    shorten(&long_numbers_scientific(&s))
+    shorten(&long_numbers_scientific(&integer_hint(s)))
+}
+
+/// A whole number written as a float (`cells = 1e5`, `--set model.cells=100.0`) where an integer
+/// is expected: TOML reads it as a float, so the message says how to write it.
+fn integer_hint(s: String) -> String {
+    const PREFIX: &str = "invalid type: floating point `";
+    let Some(start) = s.find(PREFIX).map(|i| i + PREFIX.len()) else {
+        return s;
+    };
+    let Some(len) = s[start..].find('`') else {
+        return s;
+    };
+    let integer_expected = s[start + len..].starts_with("`, expected a non-negative integer")
+        || s[start + len..].starts_with("`, expected an integer");
+    match s[start..start + len].parse::<f64>() {
+        Ok(v) if integer_expected && v.fract() == 0.0 && v.abs() < 9.0e15 => {
+            format!(
+                "{s} (TOML reads `{}` as a float: write {v:.0})",
+                &s[start..start + len]
+            )
+        }
+        _ => s,
+    }
 }
 
 /// Digit runs longer than 17 characters (optionally with a fractional part) as `d.ddde±x`.
