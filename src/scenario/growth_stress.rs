@@ -47,22 +47,26 @@ pub const STRESS_RESOLUTION_LIMIT: f64 = 10.0;
 /// growth law. Models without growth, a growth law flat at zero stress (no scale), and a
 /// `mu` field given by a program's function pass.
 pub fn check_section(section: &ModelSection, solver: &SolveSettings) -> Result<(), ScenarioError> {
-    let (growth, mu, law_key) = match &section.config {
-        ModelConfig::Line(c) => (&c.growth, c.mu.upper_bound(), "model.mu"),
-        ModelConfig::Proliferating(p) => (&p.line.growth, p.line.mu.upper_bound(), "model.mu"),
-        ModelConfig::Sheet(c, _) => (&c.growth, Some(1.0), "model.law"),
+    let line = match &section.config {
+        ModelConfig::Line(c) => &**c,
+        ModelConfig::Proliferating(p) => &p.line,
+        ModelConfig::Sheet(c, law) => {
+            return match &c.growth {
+                Some(g) => check(g, 4.0 * law.shear_modulus(), "model.law", solver),
+                None => Ok(()),
+            };
+        }
         _ => return Ok(()),
     };
-    let (Some(growth), Some(mu)) = (growth, mu) else {
+    let (Some(growth), Some(mu)) = (&line.growth, line.mu.upper_bound()) else {
         return Ok(());
     };
-    let law = match &section.config {
-        ModelConfig::Line(c) => &c.law,
-        ModelConfig::Proliferating(p) => &p.line.law,
-        ModelConfig::Sheet(_, law) => law,
-        _ => return Ok(()),
-    };
-    check(growth, 4.0 * law.shear_modulus() * mu, law_key, solver)
+    check(
+        growth,
+        4.0 * line.law.shear_modulus() * mu,
+        "model.mu",
+        solver,
+    )
 }
 
 /// The check for a cell modulus `modulus` (`dσ/dα` at rest); `stiffness_key` names where the
