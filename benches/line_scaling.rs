@@ -2,7 +2,8 @@
 //! docs/model.md §5.4 where N cells and n continuum segments resolve the same tissue problem:
 //! `l₀ = N`, `K = 1/N`, exponential ramp with ramp time `N`, `k₁ = 0.1`, `t ∈ [0, N]`, BDF with
 //! rtol 1e-6 (η = 0, and η = N as the viscous case). Plus the thesis's raw Chapter 2 problem
-//! (K = 1, η = 0, l₀ = N, unit ramp, t ∈ [0, 10]) at N = 1000.
+//! (K = 1, η = 0, l₀ = N, unit ramp, t ∈ [0, 10]) at N = 1000, and the linear-theory reference
+//! a Fig 2.5 run records.
 //!
 //! Sizes 10²…10⁵ (N = 10⁶ is a one-shot run of `examples/line_accuracy_vs_cost.rs`).
 //! Run: `cargo bench --bench line_scaling` (all groups), or one group, e.g.
@@ -103,5 +104,37 @@ fn thesis_raw(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, discrete_vs_n, continuum_vs_n, thesis_raw);
+/// The linear-theory reference of a Fig 2.5 run (η = 0, exponential ramp, K = 10) at `fig2_5.toml`'s
+/// 122 series times: its Fourier series summed at ≤ 201 positions per time, the part of a run's
+/// record outside the solve that grows with l₀ (more terms until the series converges).
+fn linear_reference(c: &mut Criterion) {
+    let mut g = c.benchmark_group("linear_reference_fig2_5_K10");
+    g.sample_size(10);
+    let series: Vec<f64> = std::iter::once(0.0)
+        .chain((0..121).map(|i| 10f64.powf(-3.0 + 6.0 * i as f64 / 120.0)))
+        .collect();
+    for n in [100usize, 1_000] {
+        let cfg = LineConfig {
+            cells: n,
+            k: 10.0.into(),
+            ..Default::default()
+        };
+        g.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+            b.iter(|| {
+                let r = celltissue::line::analytic::reference(&cfg, &series, &[0.0, 1.0, 10.0])
+                    .expect("a linear-theory reference");
+                r.series.t.len()
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(
+    benches,
+    discrete_vs_n,
+    continuum_vs_n,
+    thesis_raw,
+    linear_reference
+);
 criterion_main!(benches);
