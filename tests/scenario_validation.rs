@@ -186,6 +186,12 @@ fn type_errors_inside_a_field_name_the_innermost_key() {
         &[],
         "model.K.sead",
     );
+    // a list is one value per cell: an element that is not a number is named by its index
+    let m = rejects(&line("mu = [1, \"stiff\", 1]"), &[], "model.mu[1]");
+    assert!(m.contains("expected a number"), "{m}");
+    rejects(&line("mu = [1, -2]"), &[], "model.mu");
+    let ok = load(&line("mu = [1, 4, 1]"), &[]).expect("a per-cell list");
+    assert!(format!("{:?}", ok.runs[0].config).contains("PerCell(3 values)"));
 }
 
 #[test]

@@ -171,3 +171,19 @@ def test_a_run_that_reaches_its_cell_cap_notes_it():
     assert len(capped.notes) == 1 and "max_cells = 50" in capped.notes[0]
     (free,) = celltissue.run(scenario, set={"model.division.max_cells": 1000})
     assert free.series["cells"][-1] == 160 and free.notes == []
+
+
+def test_a_field_given_as_an_array_is_one_value_per_cell():
+    # a stiff middle cell (mu = 4) among unit ones, nearly quasi-static (K = 1e-3, t = 100):
+    # every cell at the same stress mu_j (lam_j^2 - lam_j^-2), the stretches summing to the
+    # prescribed length 0.9 * 3
+    mu = np.array([1.0, 4.0, 1.0])
+    r = celltissue.line(cells=3, K=1e-3, mu=mu).solve([0, 100], profiles=[100], rtol=1e-9)
+    lam = r.profile("stretch")[0]
+    stress = mu * (lam**2 - lam**-2)
+    assert np.allclose(stress, stress[0], rtol=1e-6, atol=0)
+    assert abs(lam.sum() - 2.7) < 1e-9
+    assert lam[1] > lam[0] and abs(lam[0] - lam[2]) < 1e-9
+    assert r.parameters["mu"] == {"type": "per_cell", "values": [1.0, 4.0, 1.0]}
+    with pytest.raises(celltissue.ScenarioError, match=r"`model\.mu\[1\]`"):
+        celltissue.line(cells=2, mu=[1.0, "stiff"]).solve([0, 1])

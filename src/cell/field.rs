@@ -216,7 +216,15 @@ impl<'de> Deserialize<'de> for Field {
         impl<'de> serde::de::Visitor<'de> for V {
             type Value = Field;
             fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("a number or a table with `type` = constant | gaussian | piecewise | per_cell | random")
+                f.write_str("a number, a list of numbers (one per cell) or a table with `type` = constant | gaussian | piecewise | per_cell | random")
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut s: A) -> Result<Field, A::Error> {
+                // a list of numbers is the `per_cell` field of those values
+                let mut values = Vec::with_capacity(s.size_hint().unwrap_or(0).min(1 << 20));
+                while let Some(v) = s.next_element::<f64>()? {
+                    values.push(v);
+                }
+                Ok(Field::PerCell { values })
             }
             fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Field, E> {
                 Ok(Field::Constant(v))
@@ -744,6 +752,18 @@ mod tests {
         let missing = de(r#"{"type":"random","low":0.5,"high":2}"#).unwrap_err();
         assert!(missing.contains("missing field `seed`"), "{missing}");
         let wrong = de(r#""mu""#).unwrap_err();
-        assert!(wrong.contains("a number or a table with `type`"), "{wrong}");
+        assert!(
+            wrong.contains("a list of numbers (one per cell) or a table with `type`"),
+            "{wrong}"
+        );
+        // a list of numbers is a per-cell field; anything else in it is named
+        assert_eq!(
+            de("[1, 2.5, 3]").unwrap(),
+            Field::PerCell {
+                values: vec![1.0, 2.5, 3.0]
+            }
+        );
+        let not_a_number = de(r#"[1, "a"]"#).unwrap_err();
+        assert!(not_a_number.contains("expected f64"), "{not_a_number}");
     }
 }
