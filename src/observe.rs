@@ -107,6 +107,51 @@ pub struct Profile {
     pub extra: BTreeMap<String, Vec<f64>>,
 }
 
+impl Profile {
+    /// Each cell's current ends `(left, right)` along the line: `x ∓ ℓ/2` with `ℓ` the current
+    /// cell length (the `"length"` field a line records); for a profile without one, `ℓ` is
+    /// the total stretch (`"lambda"`, else `stretch`) times the spacing of the reference
+    /// centres (one-sided at the ends), exact for cells of equal reference length.
+    ///
+    /// ```
+    /// use celltissue::observe::Profile;
+    /// // two cells of current lengths 2 and 1.5, as a line records them
+    /// let mut p = Profile { t: 1.0, x_ref: vec![0.5, 1.25], x: vec![1.0, 2.75],
+    ///     stretch: vec![1.0, 1.0], pressure: vec![1.0, 1.0], ..Default::default() };
+    /// p.extra.insert("length".into(), vec![2.0, 1.5]);
+    /// assert_eq!(p.cell_ends(), [(0.0, 2.0), (2.0, 3.5)]);
+    /// // without lengths: λ times the centres' spacing
+    /// p.extra.clear();
+    /// p.extra.insert("lambda".into(), vec![2.0, 2.0]);
+    /// assert_eq!(p.cell_ends(), [(0.25, 1.75), (2.0, 3.5)]);
+    /// ```
+    pub fn cell_ends(&self) -> Vec<(f64, f64)> {
+        let n = self.x_ref.len().min(self.x.len()).min(self.stretch.len());
+        let field = |name: &str| self.extra.get(name).filter(|v| v.len() >= n);
+        let lengths: Vec<f64> = match field("length") {
+            Some(l) => l[..n].to_vec(),
+            None => {
+                let lam = field("lambda").unwrap_or(&self.stretch);
+                let x = &self.x_ref;
+                (0..n)
+                    .map(|j| {
+                        let spacing = match n {
+                            0 | 1 => 1.0,
+                            _ if j == 0 => x[1] - x[0],
+                            _ if j == n - 1 => x[n - 1] - x[n - 2],
+                            _ => 0.5 * (x[j + 1] - x[j - 1]),
+                        };
+                        lam[j] * spacing
+                    })
+                    .collect()
+            }
+        };
+        (0..n)
+            .map(|j| (self.x[j] - 0.5 * lengths[j], self.x[j] + 0.5 * lengths[j]))
+            .collect()
+    }
+}
+
 /// Integrator work for a run.
 ///
 /// ```

@@ -183,3 +183,66 @@ fn rings_and_lines_get_binary_vtu_with_a_pvd() {
     let (lines, _) = run("arrays_line_vtu", LINE);
     assert!(lines.join("continuum.pvd").exists() && lines.join("discrete_0002.vtu").exists());
 }
+
+/// The points of a `.vtu` (x coordinates of each segment's two ends, in order).
+fn vtu_segment_ends(text: &str) -> Vec<(f64, f64)> {
+    let key = "NumberOfComponents=\"3\" format=\"binary\">";
+    let i = text.find(key).unwrap();
+    let fake = format!(
+        "Name=\"points\" format=\"binary\">{}",
+        &text[i + key.len()..]
+    );
+    let pts = vtu_array(&fake, "points");
+    pts.chunks(6).map(|s| (s[0], s[3])).collect()
+}
+
+#[test]
+fn growing_and_dividing_cells_tile_their_line_in_the_vtu() {
+    // cells that grow (g ≠ 1) and divide (daughters of their own reference length): each
+    // drawn segment is the cell's current length about its centre, so the segments meet end
+    // to end from the wall at 0 to the line's length (drawn from the elastic stretch times the
+    // reference spacing, a growing cell was 1/g of its length, with gaps between the cells)
+    let dividing = r#"
+name = "tiles"
+[output]
+series = [0, 2, 4]
+profiles = [2, 4]
+[model]
+kind = "line"
+models = ["discrete"]
+cells = 4
+K = 0.01
+right_end = "free"
+growth = { law = "tanh", sigma0 = 0.1, gm = 1 }
+division = { rule = "area", ratio = 2 }
+"#;
+    let (dir, summary) = run("arrays_tiles", dividing);
+    let rec = &summary.runs[0];
+    assert!(
+        rec.profiles.last().unwrap().x.len() > 4,
+        "the cells divided"
+    );
+    for (k, p) in rec.profiles.iter().enumerate() {
+        let text = std::fs::read_to_string(dir.join(format!("discrete_{k:04}.vtu"))).unwrap();
+        let ends = vtu_segment_ends(&text);
+        let length = rec.series.length[k + 1]; // series [0, 2, 4], profiles [2, 4]
+        assert_eq!(ends.len(), p.x.len());
+        assert!(ends[0].0.abs() < 1e-12, "t = {}: {:?}", p.t, ends[0]);
+        assert!((ends.last().unwrap().1 - length).abs() < 1e-9 * length);
+        for (j, w) in ends.windows(2).enumerate() {
+            assert!(
+                (w[0].1 - w[1].0).abs() < 1e-9 * length,
+                "t = {}, cells {j}, {}",
+                p.t,
+                j + 1
+            );
+        }
+        // each segment is the cell's total stretch times its own reference length: the
+        // recorded `length`, and more than its elastic stretch alone gives where g > 1
+        let lengths = &p.extra["length"];
+        for (j, &(a, b)) in ends.iter().enumerate() {
+            assert!(((b - a) - lengths[j]).abs() < 1e-12 * length, "cell {j}");
+        }
+        assert!(p.extra["g"].iter().any(|&g| g > 1.1));
+    }
+}

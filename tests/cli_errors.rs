@@ -214,8 +214,9 @@ fn profiles_of_a_whole_sweep_that_cannot_be_held_exit_2() {
     let Some(avail) = celltissue::scenario::limits::available_memory() else {
         return; // no /proc/meminfo: the check is skipped there too
     };
-    // each run ≈ 0.5 of the available memory at 160 B per value: 1 000 profile times
-    let cells = (0.5 * avail / 160.0 / 1000.0).round();
+    // each run ≈ 0.5 of the available memory at its bytes per value: 1 000 profile times
+    let per_value = celltissue::scenario::limits::PROFILE_BYTES_PER_VALUE;
+    let cells = (0.5 * avail / per_value / 1000.0).round();
     let text = format!(
         "name = \"p\"\n[output]\nseries = [0, 1]\n\
          profiles = {{ start = 0, stop = 1, count = 1000, spacing = \"linear\" }}\n\

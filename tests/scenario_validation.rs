@@ -70,7 +70,7 @@ fn profiles_that_cannot_be_held_are_capped_with_the_memory_needed() {
         "output.profiles",
     );
     assert!(
-        m.contains("100000000000 cell values") && m.contains("16.0 TB") && m.contains("in run"),
+        m.contains("100000000000 cell values") && m.contains("17.5 TB") && m.contains("in run"),
         "{m}"
     );
     // the continuum's grid counts its nodes

@@ -103,13 +103,13 @@ def test_numpy_values_and_nesting():
 
 
 def test_profiles_beyond_memory_name_output_profiles():
-    # 10⁶ cells at 10⁵ profile times: 1e11 values, 16 TB; refused before anything runs
+    # 10⁶ cells at 10⁵ profile times: 1e11 values, 17.5 TB; refused before anything runs
     with pytest.raises(celltissue.ScenarioError) as info:
         celltissue.line(cells=1_000_000, K=1.0).solve(
             [0.0, 1.0], profiles=[i * 1e-5 for i in range(100_000)]
         )
     assert info.value.key == "output.profiles"
-    assert "16.0 TB" in info.value.message
+    assert "17.5 TB" in info.value.message
 
 
 def test_none_in_set_removes_a_key():

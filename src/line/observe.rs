@@ -147,7 +147,7 @@ impl Snapshot {
     }
 
     /// The profile record (X, x = current centres, stretch = α, pressure, plus `g`, `sigma`,
-    /// `width`, `lambda`, `kappa`, `mu` in `extra`).
+    /// `width`, `length` (current cell length), `lambda`, `kappa`, `mu` in `extra`).
     ///
     /// ```
     /// use celltissue::line::{discrete, LineParams};
@@ -164,6 +164,15 @@ impl Snapshot {
         let mut extra = BTreeMap::new();
         extra.insert("sigma".to_string(), self.sigma.clone());
         extra.insert("width".to_string(), self.width.clone());
+        // the current cell lengths x_j − x_{j−1}: with the centres, the cells' ends exactly
+        // (`Profile::cell_ends`), whatever their reference lengths after divisions (a grid of
+        // nodes, the thesis's continuum scheme, has no cells between its boundaries)
+        if self.x.len() == self.centre.len() + 1 {
+            extra.insert(
+                "length".to_string(),
+                self.x.windows(2).map(|w| w[1] - w[0]).collect(),
+            );
+        }
         extra.insert("lambda".to_string(), self.lambda.clone());
         extra.insert("kappa".to_string(), self.kappa.clone());
         extra.insert("mu".to_string(), self.mu.clone());

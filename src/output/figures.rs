@@ -695,9 +695,9 @@ fn sweep_curves(scenario: &Scenario, summary: &Summary, key: &str) -> Vec<Curve>
     curves
 }
 
-/// Cell rectangles `[x − L/2, x + L/2] × [−W/2, W/2]` per profile, one row per profile (the
-/// first on top); `L = λ·ΔX` with ΔX the reference spacing, `W` from the profile's `"width"`
-/// field or `1/λ` (incompressible unit cell).
+/// Cell rectangles `[left, right] × [−W/2, W/2]` per profile, one row per profile (the first on
+/// top): each cell's current extent ([`Profile::cell_ends`]: its current length λ·L about its
+/// centre), `W` from the profile's `"width"` field or `1/λ` (incompressible unit cell).
 pub(crate) fn rectangles(profiles: &[Profile]) -> Vec<(f64, f64, f64, f64, f64)> {
     let mut out = Vec::new();
     let max_w = profiles
@@ -707,26 +707,9 @@ pub(crate) fn rectangles(profiles: &[Profile]) -> Vec<(f64, f64, f64, f64, f64)>
     let gap = 1.4 * max_w.max(1e-9);
     for (row, p) in profiles.iter().enumerate() {
         let yc = -(row as f64) * gap;
-        let n = p.x_ref.len();
-        for j in 0..n.min(p.x.len()).min(p.stretch.len()).min(p.pressure.len()) {
-            let dx = if n < 2 {
-                1.0
-            } else if j == 0 {
-                p.x_ref[1] - p.x_ref[0]
-            } else if j == n - 1 {
-                p.x_ref[n - 1] - p.x_ref[n - 2]
-            } else {
-                0.5 * (p.x_ref[j + 1] - p.x_ref[j - 1])
-            };
-            let len = p.stretch[j] * dx;
+        for (j, &(left, right)) in p.cell_ends().iter().enumerate().take(p.pressure.len()) {
             let w = width(p, j);
-            out.push((
-                p.x[j] - 0.5 * len,
-                yc - 0.5 * w,
-                p.x[j] + 0.5 * len,
-                yc + 0.5 * w,
-                p.pressure[j],
-            ));
+            out.push((left, yc - 0.5 * w, right, yc + 0.5 * w, p.pressure[j]));
         }
     }
     out

@@ -324,23 +324,8 @@ pub fn line_grid(p: &Profile, ring: bool) -> Grid {
         .min(p.x.len())
         .min(p.stretch.len())
         .min(p.pressure.len());
-    let dx = |j: usize| -> f64 {
-        if n < 2 {
-            1.0
-        } else if j == 0 {
-            p.x_ref[1] - p.x_ref[0]
-        } else if j == n - 1 {
-            p.x_ref[n - 1] - p.x_ref[n - 2]
-        } else {
-            0.5 * (p.x_ref[j + 1] - p.x_ref[j - 1])
-        }
-    };
-    let ends: Vec<(f64, f64)> = (0..n)
-        .map(|j| {
-            let h = 0.5 * p.stretch[j] * dx(j);
-            (p.x[j] - h, p.x[j] + h)
-        })
-        .collect();
+    let mut ends = p.cell_ends();
+    ends.truncate(n);
     let circumference: f64 = ends.iter().map(|(a, b)| b - a).sum();
     let place = |s: f64| -> [f64; 3] {
         if ring && circumference > 0.0 {

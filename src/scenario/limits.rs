@@ -34,9 +34,10 @@ pub const LINE_BYTES_PER_CELL: f64 = 500.0;
 pub const SHEET_BYTES_PER_CELL: f64 = 8000.0;
 
 /// Memory per recorded profile value (one cell or grid point at one profile time), in bytes.
-/// Measured: a 10⁴-cell line with 1 000 profile times peaked at 1.58 GB against 36 MB with 10
-/// (154 B per cell and time: the record's fields and the `.npz` written from them).
-pub const PROFILE_BYTES_PER_VALUE: f64 = 160.0;
+/// Measured: a 10⁴-cell line with 1 000 profile times peaked at 1.73 GB against 36 MB with 10
+/// (170 B per cell and time: the record's fields, the cell lengths among them, and the
+/// `.npz` written from them).
+pub const PROFILE_BYTES_PER_VALUE: f64 = 175.0;
 
 /// Checks the profiles a set of runs would record: `values` cells (or grid points) summed over
 /// the runs and profile times, `runs` of them, must fit the machine's available memory at
