@@ -9,6 +9,8 @@
 //!   2.10a–b), colour = time;
 //! * `sweep_pressure.png`, `sweep_stretch.png` — `max p`/`min λ` at each profile time, and the
 //!   peaks and troughs over all series times, against the swept value (Figs 2.5c–d, 2.10c–d);
+//!   a growing line's stretch is its elastic stretch `α` (Figs 3.1b, 3.1d), and its axes say so
+//!   ([`StretchName`]);
 //!   `sweep_length.png` — `l` at each profile time against the swept value (Fig 3.1a inset);
 //! * with `plots.sweep_profiles`: `sweep_profiles_pressure_t=<t>.png`,
 //!   `sweep_profiles_stretch_t=<t>.png` — every swept value's profile at one time on one plot,
@@ -90,6 +92,7 @@ pub(crate) fn write_figures(
         .runs
         .iter()
         .any(|r| matches!(r.config, ModelConfig::Shear(..)));
+    let stretch = stretch_name(scenario);
     // time courses
     let mut series: Vec<(&str, &str, &str)> = if shear {
         vec![
@@ -99,7 +102,7 @@ pub(crate) fn write_figures(
     } else {
         vec![
             ("max_pressure", "max_x p", "maximum pressure"),
-            ("min_stretch", "min_x λ", "minimum stretch"),
+            ("min_stretch", stretch.min_axis, stretch.min_words),
             ("length", "l", "length"),
         ]
     };
@@ -217,7 +220,10 @@ pub(crate) fn write_figures(
                 ("displacement", "x_e (edge position)", "edge displacement"),
             ]
         } else {
-            vec![("pressure", "p", "pressure"), ("stretch", "λ", "stretch")]
+            vec![
+                ("pressure", "p", "pressure"),
+                ("stretch", stretch.symbol, stretch.words),
+            ]
         };
         if scenario.plots.position {
             quantities.push(("position", "x", "current position"));
@@ -296,7 +302,7 @@ pub(crate) fn write_figures(
             .as_ref()
             .is_some_and(|s| s.ensemble.is_some());
         if numeric && groups.len() >= 2 && !ensemble {
-            let stretch_label = if shear { "tan θ" } else { "λ" };
+            let stretch_label = if shear { "tan θ" } else { stretch.symbol };
             for (key, ylabel) in [
                 ("pressure", "p"),
                 ("stretch", stretch_label),
@@ -355,7 +361,7 @@ pub(crate) fn write_figures(
 
     // per-cell histories through the profile times (Fig 4.6c)
     if scenario.plots.histories {
-        let ylabel = if shear { "tan θ" } else { "λ" };
+        let ylabel = if shear { "tan θ" } else { stretch.symbol };
         for (gi, g) in groups.iter().enumerate() {
             let (suffix, at) = match (&g.label, &sweep_name) {
                 (Some(l), Some(n)) => (
@@ -444,7 +450,11 @@ fn sweep_profile_charts(
     xdesc: &str,
 ) -> Vec<(String, Chart)> {
     let name = scenario.sweep.as_ref().map_or("", |s| s.name.as_str());
-    let stretch = if shear { "tan θ" } else { "λ" };
+    let stretch = if shear {
+        "tan θ"
+    } else {
+        stretch_name(scenario).symbol
+    };
     let mut out = Vec::new();
     for &t in &scenario.plots.sweep_profiles {
         for (key, ylabel) in [("pressure", "p"), ("stretch", stretch)] {
@@ -595,6 +605,7 @@ fn sweep_curves(scenario: &Scenario, summary: &Summary, key: &str) -> Vec<Curve>
         .runs
         .iter()
         .any(|r| matches!(r.config, ModelConfig::Shear(..)));
+    let stretch = stretch_name(scenario);
     let mut times: Vec<f64> = scenario
         .runs
         .iter()
@@ -637,7 +648,7 @@ fn sweep_curves(scenario: &Scenario, summary: &Summary, key: &str) -> Vec<Curve>
                 ("pressure", _) => "max p",
                 ("length", _) => "l",
                 (_, true) => "min tan θ",
-                _ => "min λ",
+                _ => stretch.min_legend,
             };
             curves.push(Curve::new(
                 format!("{word} {what} at t={}", format_number(t)),
@@ -695,6 +706,48 @@ fn sweep_curves(scenario: &Scenario, summary: &Summary, key: &str) -> Vec<Curve>
     curves
 }
 
+/// What a line's `stretch` fields hold, for axis labels and titles: the elastic stretch α when
+/// any of the scenario's lines grows (its profile and series record α = λ/g; the total stretch
+/// λ is the profile's `lambda`), else the stretch λ (a sheet's λ₁ is its total stretch).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct StretchName {
+    /// The symbol on a profile axis.
+    symbol: &'static str,
+    /// In words.
+    words: &'static str,
+    /// The series' minimum over the cells, on an axis.
+    min_axis: &'static str,
+    /// The series' minimum, in words.
+    min_words: &'static str,
+    /// The minimum in a legend.
+    min_legend: &'static str,
+}
+
+fn stretch_name(scenario: &Scenario) -> StretchName {
+    let growing = scenario.runs.iter().any(|r| match &r.config {
+        ModelConfig::Line(c) => c.growth.is_some(),
+        ModelConfig::Proliferating(_) => true,
+        _ => false,
+    });
+    if growing {
+        StretchName {
+            symbol: "α (elastic stretch)",
+            words: "elastic stretch",
+            min_axis: "min_x α",
+            min_words: "minimum elastic stretch",
+            min_legend: "min α",
+        }
+    } else {
+        StretchName {
+            symbol: "λ",
+            words: "stretch",
+            min_axis: "min_x λ",
+            min_words: "minimum stretch",
+            min_legend: "min λ",
+        }
+    }
+}
+
 /// Cell rectangles `[left, right] × [−W/2, W/2]` per profile, one row per profile (the first on
 /// top): each cell's current extent ([`Profile::cell_ends`]: its current length λ·L about its
 /// centre), `W` from the profile's `"width"` field or `1/λ` (incompressible unit cell).
@@ -724,3 +777,29 @@ fn width(p: &Profile, j: usize) -> f64 {
 
 mod references;
 use references::{profile_references, series_reference, sweep_references};
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::load_str;
+    use std::path::Path;
+
+    fn scenario(model: &str) -> Scenario {
+        let text = format!("name = \"s\"\n[output]\nseries = [0, 1]\n[model]\n{model}\n");
+        load_str(&text, Path::new("s.toml"), &[]).unwrap()
+    }
+
+    #[test]
+    fn a_growing_lines_stretch_axis_is_the_elastic_stretch() {
+        let growing = "kind = \"line\"\nright_end = \"free\"\nK = 0.01\ngrowth = { sigma0 = 0.1 }";
+        assert_eq!(
+            stretch_name(&scenario(growing)).symbol,
+            "α (elastic stretch)"
+        );
+        let dividing = format!("{growing}\ndivision = {{ rule = \"area\" }}");
+        assert_eq!(stretch_name(&scenario(&dividing)).min_legend, "min α");
+        assert_eq!(stretch_name(&scenario("kind = \"line\"")).symbol, "λ");
+        let sheet = "kind = \"sheet\"\ncells_x = 2\ncells_y = 2";
+        assert_eq!(stretch_name(&scenario(sheet)).symbol, "λ");
+    }
+}
