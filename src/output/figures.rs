@@ -10,7 +10,7 @@
 //! * `sweep_pressure.png`, `sweep_stretch.png` — `max p`/`min λ` at each profile time, and the
 //!   peaks and troughs over all series times, against the swept value (Figs 2.5c–d, 2.10c–d);
 //!   a growing line's stretch is its elastic stretch `α` (Figs 3.1b, 3.1d), and its axes say so
-//!   ([`StretchName`]);
+//!   (`StretchName`);
 //!   `sweep_length.png` — `l` at each profile time against the swept value (Fig 3.1a inset);
 //! * with `plots.sweep_profiles`: `sweep_profiles_pressure_t=<t>.png`,
 //!   `sweep_profiles_stretch_t=<t>.png` — every swept value's profile at one time on one plot,
