@@ -136,8 +136,8 @@ fn npz_holds_series_and_profiles_and_summary_does_not_repeat_them() {
     }
 }
 
-/// Decodes one `format="binary"` zlib-compressed array of a `.vtu` by name.
-fn vtu_array(text: &str, name: &str) -> Vec<f64> {
+/// The bytes of one `format="binary"` zlib-compressed array of a `.vtu`, by name.
+fn vtu_bytes(text: &str, name: &str) -> Vec<u8> {
     let key = format!("Name=\"{name}\" format=\"binary\">");
     let start = text.find(&key).unwrap_or_else(|| panic!("{name}")) + key.len();
     let body = &text[start..start + text[start..].find('<').unwrap()];
@@ -151,7 +151,13 @@ fn vtu_array(text: &str, name: &str) -> Vec<f64> {
         .read_to_end(&mut raw)
         .unwrap();
     assert_eq!(raw.len(), raw_len);
-    raw.chunks(8)
+    raw
+}
+
+/// Decodes one Float64 array of a `.vtu` by name.
+fn vtu_array(text: &str, name: &str) -> Vec<f64> {
+    vtu_bytes(text, name)
+        .chunks(8)
         .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
         .collect()
 }
@@ -184,7 +190,8 @@ fn rings_and_lines_get_binary_vtu_with_a_pvd() {
     assert!(lines.join("continuum.pvd").exists() && lines.join("discrete_0002.vtu").exists());
 }
 
-/// The points of a `.vtu` (x coordinates of each segment's two ends, in order).
+/// The x coordinates of each segment's two ends of a `.vtu`, in cell order (points by
+/// connectivity, Int32).
 fn vtu_segment_ends(text: &str) -> Vec<(f64, f64)> {
     let key = "NumberOfComponents=\"3\" format=\"binary\">";
     let i = text.find(key).unwrap();
@@ -193,7 +200,14 @@ fn vtu_segment_ends(text: &str) -> Vec<(f64, f64)> {
         &text[i + key.len()..]
     );
     let pts = vtu_array(&fake, "points");
-    pts.chunks(6).map(|s| (s[0], s[3])).collect()
+    assert!(text.contains("type=\"Int32\" Name=\"connectivity\""));
+    let ints: Vec<usize> = vtu_bytes(text, "connectivity")
+        .chunks(4)
+        .map(|c| i32::from_le_bytes(c.try_into().unwrap()) as usize)
+        .collect();
+    ints.chunks(2)
+        .map(|c| (pts[3 * c[0]], pts[3 * c[1]]))
+        .collect()
 }
 
 #[test]
@@ -227,6 +241,8 @@ division = { rule = "area", ratio = 2 }
         let ends = vtu_segment_ends(&text);
         let length = rec.series.length[k + 1]; // series [0, 2, 4], profiles [2, 4]
         assert_eq!(ends.len(), p.x.len());
+        // one polyline: N + 1 points
+        assert!(text.contains(&format!("NumberOfPoints=\"{}\"", p.x.len() + 1)));
         assert!(ends[0].0.abs() < 1e-12, "t = {}: {:?}", p.t, ends[0]);
         assert!((ends.last().unwrap().1 - length).abs() < 1e-9 * length);
         for (j, w) in ends.windows(2).enumerate() {

@@ -306,8 +306,9 @@ pub fn write_pvd(path: &Path, entries: &[(f64, String)]) -> io::Result<()> {
     super::atomic::write(path, s.as_bytes())
 }
 
-/// The cells of a line profile as segments on the x axis (`ring`: as chords on a circle whose
-/// circumference is the ring's current length).
+/// The cells of a line profile as segments on the x axis, each its current extent
+/// ([`Profile::cell_ends`]; `ring`: as chords on a circle whose circumference is the ring's
+/// current length). Cells that meet end to end share their boundary points.
 ///
 /// ```
 /// use celltissue::observe::Profile;
@@ -315,7 +316,12 @@ pub fn write_pvd(path: &Path, entries: &[(f64, String)]) -> io::Result<()> {
 ///     stretch: vec![0.9, 0.9], pressure: vec![1.2, 1.2], extra: Default::default() };
 /// let g = celltissue::output::vtu::line_grid(&p, false);
 /// assert_eq!(g.types.len(), 2);
-/// assert!((g.points[1][0] - 0.9).abs() < 1e-12 && (g.points[3][0] - 1.8).abs() < 1e-12);
+/// // one polyline: boundaries 0, 0.9, 1.8, the second cell from point 1 to point 2
+/// assert_eq!(g.points.len(), 3);
+/// assert!((g.points[1][0] - 0.9).abs() < 1e-12 && (g.points[2][0] - 1.8).abs() < 1e-12);
+/// assert_eq!(g.connectivity, [0, 1, 1, 2]);
+/// // a ring closes on its first point
+/// assert_eq!(celltissue::output::vtu::line_grid(&p, true).connectivity, [0, 1, 1, 0]);
 /// ```
 pub fn line_grid(p: &Profile, ring: bool) -> Grid {
     let n = p
@@ -336,12 +342,36 @@ pub fn line_grid(p: &Profile, ring: bool) -> Grid {
             [s, 0.0, 0.0]
         }
     };
+    // cells that meet end to end (a line's recorded cell lengths) share their boundary points:
+    // one connected polyline of N + 1 points (a ring's N, its last cell closing on the first
+    // point), which ParaView can interpolate along; otherwise two points per cell
+    let scale = ends.last().map_or(0.0, |e| e.1.abs()) + circumference.abs();
+    let joined = n > 0
+        && ends
+            .windows(2)
+            .all(|w| (w[0].1 - w[1].0).abs() <= 1e-9 * scale);
+    let (points, connectivity): (Vec<[f64; 3]>, Vec<i64>) = if joined {
+        let boundaries = ends.iter().map(|e| e.0).chain(ends.last().map(|e| e.1));
+        let points: Vec<[f64; 3]> = boundaries
+            .take(if ring { n } else { n + 1 })
+            .map(place)
+            .collect();
+        let m = points.len() as i64;
+        (
+            points,
+            (0..n as i64).flat_map(|j| [j, (j + 1) % m]).collect(),
+        )
+    } else {
+        (
+            ends.iter()
+                .flat_map(|&(a, b)| [place(a), place(b)])
+                .collect(),
+            (0..2 * n as i64).collect(),
+        )
+    };
     let mut g = Grid {
-        points: ends
-            .iter()
-            .flat_map(|&(a, b)| [place(a), place(b)])
-            .collect(),
-        connectivity: (0..2 * n as i64).collect(),
+        points,
+        connectivity,
         offsets: (1..=n as i64).map(|k| 2 * k).collect(),
         types: vec![VTK_LINE; n],
         cell_data: vec![
