@@ -53,7 +53,7 @@ pub fn neo_hookean_stretch(s: f64) -> f64 {
 /// assert!(l < 1.4143 && (gent.line(l).sigma - 50.0).abs() < 1e-9 * 50.0);
 /// ```
 pub fn invert_stretch<E: StrainEnergy>(energy: &E, scale: f64, s: f64) -> Result<f64, LineError> {
-    let inside = |l: f64| energy.admissible([l, 1.0 / l, 1.0]).is_ok();
+    let inside = |l: f64| crate::energy::in_domain(energy, [l, 1.0 / l, 1.0]);
     let f = |l: f64| {
         let r = energy.line(l);
         (scale * r.sigma - s, scale * r.dsigma)
@@ -145,7 +145,7 @@ fn invert_stretch_near<E: StrainEnergy>(
 ) -> Result<(f64, f64), LineError> {
     let mut l = guess;
     for _ in 0..8 {
-        if !(l > 0.0 && l.is_finite() && energy.admissible([l, 1.0 / l, 1.0]).is_ok()) {
+        if !(l > 0.0 && l.is_finite() && crate::energy::in_domain(energy, [l, 1.0 / l, 1.0])) {
             break;
         }
         let r = energy.line(l);

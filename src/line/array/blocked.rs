@@ -283,7 +283,9 @@ impl BlockCells for Stretches<'_> {
         let mut ok = true;
         for k in 0..len {
             let a = (xr[k] - xl[k]) * inv_l0;
-            ok &= (a > 0.0) & (a < f64::INFINITY) & energy.admissible([a, 1.0 / a, 1.0]).is_ok();
+            ok &= (a > 0.0)
+                & (a < f64::INFINITY)
+                & crate::energy::in_domain(energy, [a, 1.0 / a, 1.0]);
             let inv_a = a.recip();
             let mut s = mu * energy.line(a).sigma;
             if VISCOUS {
@@ -357,7 +359,8 @@ impl LawVisitor for DualBlock<'_, '_> {
         for (k, (sk, wk)) in sig.iter_mut().zip(wid.iter_mut()).enumerate() {
             let lam = (d(cells.xr[k], 1.0) - d(cells.xl[k], 0.0)) * inv_l0;
             let a = lam.re;
-            ok &= (a > 0.0) & (a < f64::INFINITY) & law.admissible([a, 1.0 / a, 1.0]).is_ok();
+            ok &=
+                (a > 0.0) & (a < f64::INFINITY) & crate::energy::in_domain(law, [a, 1.0 / a, 1.0]);
             let alpha_dot = (d(cells.vr[k], cj) - d(cells.vl[k], 0.0)) * inv_l0;
             let resp = law.line(a);
             let mut s = lam.lift(mu * resp.sigma, mu * resp.dsigma);

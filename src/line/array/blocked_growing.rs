@@ -194,7 +194,7 @@ impl BlockCells for &GrowingCells {
             ok &= (a > 0.0)
                 & (a < f64::INFINITY)
                 & (g > 0.0)
-                & energy.admissible([a, 1.0 / a, 1.0]).is_ok();
+                & crate::energy::in_domain(energy, [a, 1.0 / a, 1.0]);
             let mut s = mu * energy.line(a).sigma;
             let inv_a = a.recip();
             if VISCOUS {
