@@ -58,7 +58,7 @@ pub struct Grid {
 
 /// Arrays whose leading [`SAMPLE_BYTES`] deflate to more than this fraction of their size are
 /// stored in their zlib stream rather than deflated: the profile's full-precision fields (x,
-/// pressure, σ) shrink by a quarter to a third at about 170 MB/s, while storing runs at memory
+/// pressure, σ) shrink by a fifth to two fifths at about 170 MB/s, while storing runs at memory
 /// speed (at 10⁵ cells and three snapshots, deflating every array was most of the write phase).
 const DEFLATE_WORTH: f64 = 0.6;
 
