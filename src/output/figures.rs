@@ -723,6 +723,7 @@ struct StretchName {
     min_legend: &'static str,
 }
 
+/// The [`StretchName`] of `scenario`'s lines.
 fn stretch_name(scenario: &Scenario) -> StretchName {
     let growing = scenario.runs.iter().any(|r| match &r.config {
         ModelConfig::Line(c) => c.growth.is_some(),
