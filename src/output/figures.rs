@@ -97,7 +97,7 @@ pub(crate) fn write_figures(
     let mut series: Vec<(&str, &str, &str)> = if shear {
         vec![
             ("max_pressure", "max p", "maximum pressure"),
-            ("min_stretch", "min tan θ", "minimum shear tan θ"),
+            ("min_stretch", stretch.min_axis, stretch.min_words),
         ]
     } else {
         vec![
@@ -216,7 +216,7 @@ pub(crate) fn write_figures(
         let mut quantities: Vec<(&str, &str, &str)> = if shear {
             vec![
                 ("pressure", "p", "pressure"),
-                ("stretch", "tan θ", "shear tan θ"),
+                ("stretch", stretch.symbol, stretch.words),
                 ("displacement", "x_e (edge position)", "edge displacement"),
             ]
         } else {
@@ -302,14 +302,13 @@ pub(crate) fn write_figures(
             .as_ref()
             .is_some_and(|s| s.ensemble.is_some());
         if numeric && groups.len() >= 2 && !ensemble {
-            let stretch_label = if shear { "tan θ" } else { stretch.symbol };
             for (key, ylabel) in [
                 ("pressure", "p"),
-                ("stretch", stretch_label),
+                ("stretch", stretch.symbol),
                 ("length", "l"),
             ] {
                 let what = if shear && key == "stretch" {
-                    "shear tan θ"
+                    stretch.words
                 } else {
                     key
                 };
@@ -351,7 +350,7 @@ pub(crate) fn write_figures(
     }
 
     // every swept value's profile at chosen times on one plot (Fig 3.1b)
-    for (file, chart) in sweep_profile_charts(scenario, &groups, shear, xdesc) {
+    for (file, chart) in sweep_profile_charts(scenario, &groups, xdesc) {
         let chart = Chart {
             title: title(&chart.title),
             ..chart
@@ -361,7 +360,7 @@ pub(crate) fn write_figures(
 
     // per-cell histories through the profile times (Fig 4.6c)
     if scenario.plots.histories {
-        let ylabel = if shear { "tan θ" } else { stretch.symbol };
+        let ylabel = stretch.symbol;
         for (gi, g) in groups.iter().enumerate() {
             let (suffix, at) = match (&g.label, &sweep_name) {
                 (Some(l), Some(n)) => (
@@ -446,15 +445,10 @@ pub(crate) fn write_figures(
 fn sweep_profile_charts(
     scenario: &Scenario,
     groups: &[Group<'_>],
-    shear: bool,
     xdesc: &str,
 ) -> Vec<(String, Chart)> {
     let name = scenario.sweep.as_ref().map_or("", |s| s.name.as_str());
-    let stretch = if shear {
-        "tan θ"
-    } else {
-        stretch_name(scenario).symbol
-    };
+    let stretch = stretch_name(scenario).symbol;
     let mut out = Vec::new();
     for &t in &scenario.plots.sweep_profiles {
         for (key, ylabel) in [("pressure", "p"), ("stretch", stretch)] {
@@ -601,10 +595,6 @@ fn strain_ratio(rec: &RunRecord, t: f64) -> Option<f64> {
 /// series times (peaks and troughs).
 fn sweep_curves(scenario: &Scenario, summary: &Summary, key: &str) -> Vec<Curve> {
     let mut curves = Vec::new();
-    let shear = scenario
-        .runs
-        .iter()
-        .any(|r| matches!(r.config, ModelConfig::Shear(..)));
     let stretch = stretch_name(scenario);
     let mut times: Vec<f64> = scenario
         .runs
@@ -644,10 +634,9 @@ fn sweep_curves(scenario: &Scenario, summary: &Summary, key: &str) -> Vec<Curve>
                     Some((*v, y))
                 })
                 .collect();
-            let what = match (key, shear) {
-                ("pressure", _) => "max p",
-                ("length", _) => "l",
-                (_, true) => "min tan θ",
+            let what = match key {
+                "pressure" => "max p",
+                "length" => "l",
                 _ => stretch.min_legend,
             };
             curves.push(Curve::new(
@@ -706,9 +695,10 @@ fn sweep_curves(scenario: &Scenario, summary: &Summary, key: &str) -> Vec<Curve>
     curves
 }
 
-/// What a line's `stretch` fields hold, for axis labels and titles: the elastic stretch α when
-/// any of the scenario's lines grows (its profile and series record α = λ/g; the total stretch
-/// λ is the profile's `lambda`), else the stretch λ (a sheet's λ₁ is its total stretch).
+/// What the `stretch` fields hold, for axis labels and titles: a shear column's tan θ; the
+/// elastic stretch α when any of the scenario's lines grows (its profile and series record
+/// α = λ/g; the total stretch λ is the profile's `lambda`); else the stretch λ (a sheet's λ₁ is
+/// its total stretch).
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct StretchName {
     /// The symbol on a profile axis.
@@ -723,8 +713,21 @@ struct StretchName {
     min_legend: &'static str,
 }
 
-/// The [`StretchName`] of `scenario`'s lines.
+/// The [`StretchName`] of `scenario`'s runs.
 fn stretch_name(scenario: &Scenario) -> StretchName {
+    if scenario
+        .runs
+        .iter()
+        .any(|r| matches!(r.config, ModelConfig::Shear(..)))
+    {
+        return StretchName {
+            symbol: "tan θ",
+            words: "shear tan θ",
+            min_axis: "min tan θ",
+            min_words: "minimum shear tan θ",
+            min_legend: "min tan θ",
+        };
+    }
     let growing = scenario.runs.iter().any(|r| match &r.config {
         ModelConfig::Line(c) => c.growth.is_some(),
         ModelConfig::Proliferating(_) => true,
@@ -791,7 +794,7 @@ mod tests {
     }
 
     #[test]
-    fn a_growing_lines_stretch_axis_is_the_elastic_stretch() {
+    fn the_stretch_axes_name_what_each_kind_records() {
         let growing = "kind = \"line\"\nright_end = \"free\"\nK = 0.01\ngrowth = { sigma0 = 0.1 }";
         assert_eq!(
             stretch_name(&scenario(growing)).symbol,
@@ -802,5 +805,7 @@ mod tests {
         assert_eq!(stretch_name(&scenario("kind = \"line\"")).symbol, "λ");
         let sheet = "kind = \"sheet\"\ncells_x = 2\ncells_y = 2";
         assert_eq!(stretch_name(&scenario(sheet)).symbol, "λ");
+        let shear = stretch_name(&scenario("kind = \"shear\"\ncells = 4"));
+        assert_eq!((shear.symbol, shear.min_legend), ("tan θ", "min tan θ"));
     }
 }
