@@ -111,11 +111,8 @@ pub(crate) fn write_figures(
         ("mean_pressure", "mean p", "mean pressure"),
         ("mean_height", "mean H", "mean height"),
         ("mean_width", "w (mean top position)", "width"),
-        (
-            "mean_stretch_z_over_y",
-            "mean λ3 / mean λ2",
-            "mean λ3 / mean λ2",
-        ),
+        ("mean_stretch_z_over_y", stretch.z_over_y, stretch.z_over_y),
+        ("max_stretch_y", stretch.max_y_axis, stretch.max_y_words),
         (
             "boundary_mismatch_mean",
             "mean W_err",
@@ -696,9 +693,8 @@ fn sweep_curves(scenario: &Scenario, summary: &Summary, key: &str) -> Vec<Curve>
 }
 
 /// What the `stretch` fields hold, for axis labels and titles: a shear column's tan θ; the
-/// elastic stretch α when any of the scenario's lines grows (its profile and series record
-/// α = λ/g; the total stretch λ is the profile's `lambda`); else the stretch λ (a sheet's λ₁ is
-/// its total stretch).
+/// elastic stretch α when any of the scenario's lines or sheets grows (their profiles and
+/// series record α = λ/g; the total stretch λ is the profile's `lambda`); else the stretch λ.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct StretchName {
     /// The symbol on a profile axis.
@@ -711,6 +707,12 @@ struct StretchName {
     min_words: &'static str,
     /// The minimum in a legend.
     min_legend: &'static str,
+    /// A sheet's series `mean_stretch_z_over_y`, on an axis and in words.
+    z_over_y: &'static str,
+    /// A sheet's series `max_stretch_y` (transverse), on an axis.
+    max_y_axis: &'static str,
+    /// The same in words.
+    max_y_words: &'static str,
 }
 
 /// The [`StretchName`] of `scenario`'s runs.
@@ -726,10 +728,14 @@ fn stretch_name(scenario: &Scenario) -> StretchName {
             min_axis: "min tan θ",
             min_words: "minimum shear tan θ",
             min_legend: "min tan θ",
+            z_over_y: "",
+            max_y_axis: "",
+            max_y_words: "",
         };
     }
     let growing = scenario.runs.iter().any(|r| match &r.config {
         ModelConfig::Line(c) => c.growth.is_some(),
+        ModelConfig::Sheet(c, _) => c.growth.is_some(),
         ModelConfig::Proliferating(_) => true,
         _ => false,
     });
@@ -740,6 +746,9 @@ fn stretch_name(scenario: &Scenario) -> StretchName {
             min_axis: "min_x α",
             min_words: "minimum elastic stretch",
             min_legend: "min α",
+            z_over_y: "mean λ3 / mean α2",
+            max_y_axis: "max α2",
+            max_y_words: "maximum transverse elastic stretch",
         }
     } else {
         StretchName {
@@ -748,6 +757,9 @@ fn stretch_name(scenario: &Scenario) -> StretchName {
             min_axis: "min_x λ",
             min_words: "minimum stretch",
             min_legend: "min λ",
+            z_over_y: "mean λ3 / mean λ2",
+            max_y_axis: "max λ2",
+            max_y_words: "maximum transverse stretch",
         }
     }
 }
@@ -805,6 +817,13 @@ mod tests {
         assert_eq!(stretch_name(&scenario("kind = \"line\"")).symbol, "λ");
         let sheet = "kind = \"sheet\"\ncells_x = 2\ncells_y = 2";
         assert_eq!(stretch_name(&scenario(sheet)).symbol, "λ");
+        assert_eq!(stretch_name(&scenario(sheet)).max_y_axis, "max λ2");
+        let growing_sheet = format!("{sheet}\nright = \"free\"\ngrowth = {{ sigma0 = 0.1 }}");
+        let name = stretch_name(&scenario(&growing_sheet));
+        assert_eq!(
+            (name.symbol, name.z_over_y),
+            ("α (elastic stretch)", "mean λ3 / mean α2")
+        );
         let shear = stretch_name(&scenario("kind = \"shear\"\ncells = 4"));
         assert_eq!((shear.symbol, shear.min_legend), ("tan θ", "min tan θ"));
     }

@@ -13,7 +13,6 @@
 use super::OutputError;
 use crate::observe::{Profile, Summary};
 use crate::scenario::{ModelConfig, Scenario};
-use crate::sheet::observe::sheet_cells;
 use base64::Engine as _;
 use std::fmt::Write as _;
 use std::io::{self, Write};
@@ -410,7 +409,7 @@ pub(crate) fn write_snapshots(
                 |p| line_grid(p, true)
             }
             Some(ModelConfig::Line(_) | ModelConfig::Proliferating(_)) => |p| line_grid(p, false),
-            Some(ModelConfig::Sheet(..)) => |p| crate::sheet::vtk::grid(&sheet_cells(p)),
+            Some(ModelConfig::Sheet(..)) => crate::sheet::vtk::profile_grid,
             _ => continue,
         };
         if rec.profiles.is_empty() || super::files::profile_rows(rec) > VTU_MAX_CELLS {

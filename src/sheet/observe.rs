@@ -17,7 +17,7 @@ use crate::runner::SeriesRow;
 pub const MEAN_PRESSURE: &str = "mean_pressure";
 /// Series key: mean cell height `H = β₀λ₃`.
 pub const MEAN_HEIGHT: &str = "mean_height";
-/// Series key: `mean λ₃ / mean λ₂`.
+/// Series key: `mean λ₃ / mean α₂` (`mean λ₃ / mean λ₂` without growth).
 pub const MEAN_STRETCH_Z_OVER_Y: &str = "mean_stretch_z_over_y";
 /// Series key: mean shared-boundary mismatch `W_err`.
 pub const BOUNDARY_MISMATCH_MEAN: &str = "boundary_mismatch_mean";
@@ -29,9 +29,9 @@ pub const TOP_DISPLACEMENT: &str = "top_displacement";
 pub const SHEAR_SPREAD: &str = "shear_spread";
 /// Series key: mean shear angle θ (radians).
 pub const MEAN_SHEAR_ANGLE: &str = "mean_shear_angle";
-/// Series key: max over cells of the transverse stretch λ₂.
+/// Series key: max over cells of the transverse elastic stretch α₂ (λ₂ without growth).
 pub const MAX_STRETCH_Y: &str = "max_stretch_y";
-/// Series key: min over cells of the transverse stretch λ₂.
+/// Series key: min over cells of the transverse elastic stretch α₂ (λ₂ without growth).
 pub const MIN_STRETCH_Y: &str = "min_stretch_y";
 /// Series key: mean position of the side `y = w` (growing sheets only).
 pub const MEAN_WIDTH: &str = "mean_width";
@@ -60,13 +60,14 @@ pub struct SheetObservables {
     pub width: Option<f64>,
     /// Max / min / mean pressure.
     pub pressure: [f64; 3],
-    /// Max / min `λ₁`.
+    /// Max / min elastic stretch `α₁ = λ₁/g₁` ([`SheetCell::elastic_stretch`]; `λ₁` without
+    /// growth), as a growing line's `stretch` is its elastic stretch.
     pub stretch_x: [f64; 2],
-    /// Max / min `λ₂`.
+    /// Max / min elastic stretch `α₂ = λ₂/g₂` (`λ₂` without growth).
     pub stretch_y: [f64; 2],
     /// Mean height `H`.
     pub mean_height: f64,
-    /// `mean λ₃ / mean λ₂`.
+    /// `mean λ₃ / mean α₂` (`mean λ₃ / mean λ₂` without growth; `λ₃` is elastic).
     pub stretch_z_over_y: f64,
     /// Mean and max `W_err` over interior x-faces (0 for a single column).
     pub mismatch: [f64; 2],
@@ -140,15 +141,16 @@ pub fn sheet_observables<E: StrainEnergy>(
     };
     let (mut l2s, mut l3s) = (0.0, 0.0);
     for c in cells {
+        let [a1, a2] = c.elastic_stretch();
         o.pressure[0] = o.pressure[0].max(c.pressure);
         o.pressure[1] = o.pressure[1].min(c.pressure);
         o.pressure[2] += c.pressure / nc;
-        o.stretch_x[0] = o.stretch_x[0].max(c.stretch[0]);
-        o.stretch_x[1] = o.stretch_x[1].min(c.stretch[0]);
-        o.stretch_y[0] = o.stretch_y[0].max(c.stretch[1]);
-        o.stretch_y[1] = o.stretch_y[1].min(c.stretch[1]);
+        o.stretch_x[0] = o.stretch_x[0].max(a1);
+        o.stretch_x[1] = o.stretch_x[1].min(a1);
+        o.stretch_y[0] = o.stretch_y[0].max(a2);
+        o.stretch_y[1] = o.stretch_y[1].min(a2);
         o.mean_height += c.height / nc;
-        l2s += c.stretch[1];
+        l2s += a2;
         l3s += c.stretch[2];
     }
     o.stretch_z_over_y = l3s / l2s;
@@ -156,7 +158,7 @@ pub fn sheet_observables<E: StrainEnergy>(
     o
 }
 
-/// One sheet state's series values: `length` and the pressure and `λ_x` extremes, extra keys
+/// One sheet state's series values: `length` and the pressure and `α₁` extremes, extra keys
 /// [`MEAN_PRESSURE`], [`MEAN_HEIGHT`], [`MEAN_STRETCH_Z_OVER_Y`], [`BOUNDARY_MISMATCH_MEAN`],
 /// [`BOUNDARY_MISMATCH_MAX`], [`MAX_STRETCH_Y`], [`MIN_STRETCH_Y`] and, for a growing sheet,
 /// [`MEAN_WIDTH`].
@@ -225,7 +227,8 @@ const PROFILE_KEYS: [&str; 14] = [
 pub struct SheetColumns {
     /// `viscous_x`, `viscous_y`: the Maxwell branch's viscous stretches.
     pub viscous: bool,
-    /// `growth_x`, `growth_y`: the growth stretches.
+    /// `growth_x`, `growth_y`: the growth stretches, and `lambda`, `lambda_y`: the total
+    /// stretches (`stretch`, `stretch_y` are then the elastic ones).
     pub growth: bool,
 }
 
@@ -250,12 +253,14 @@ impl SheetColumns {
     }
 }
 
-/// A per-cell sheet [`Profile`]: `X`/`x` are reference/current centre x, `stretch` is `λ₁`;
-/// `extra` holds `Y`, `y`, `stretch_y` (λ₂), `stretch_z` (λ₃), `height`, `sigma11`, `sigma22`,
-/// `kappa`, `column` (j), `row` (k), the cell's extent `x_left`, `x_right`, `y_bottom`, `y_top`
-/// (what [`sheet_cells`] rebuilds the cells from), and the optional [`SheetColumns`]: the viscous stretches
-/// `viscous_x` (a₁), `viscous_y` (a₂) and the growth stretches `growth_x` (g₁), `growth_y`
-/// (g₂). Cells are listed column by column.
+/// A per-cell sheet [`Profile`]: `X`/`x` are reference/current centre x, `stretch` is the
+/// elastic stretch `α₁ = λ₁/g₁` (`λ₁` without growth, [`SheetCell::elastic_stretch`]), as a
+/// growing line's is; `extra` holds `Y`, `y`, `stretch_y` (α₂), `stretch_z` (λ₃), `height`,
+/// `sigma11`, `sigma22`, `kappa`, `column` (j), `row` (k), the cell's extent `x_left`,
+/// `x_right`, `y_bottom`, `y_top` (what [`sheet_cells`] rebuilds the cells from), and the
+/// optional [`SheetColumns`]: the viscous stretches `viscous_x` (a₁), `viscous_y` (a₂), and the
+/// growth stretches `growth_x` (g₁), `growth_y` (g₂) with the total stretches `lambda` (λ₁),
+/// `lambda_y` (λ₂). Cells are listed column by column.
 ///
 /// ```
 /// use celltissue::sheet::observe::{sheet_profile, SheetColumns};
@@ -276,14 +281,15 @@ pub fn sheet_profile(t: f64, cells: &[SheetCell], columns: SheetColumns) -> Prof
     let keys = PROFILE_KEYS;
     let mut cols: Vec<Vec<f64>> = vec![Vec::with_capacity(cells.len()); keys.len()];
     for c in cells {
+        let [a1, a2] = c.elastic_stretch();
         p.x_ref.push(c.reference[0]);
         p.x.push(0.5 * (c.x[0] + c.x[1]));
-        p.stretch.push(c.stretch[0]);
+        p.stretch.push(a1);
         p.pressure.push(c.pressure);
         let v = [
             c.reference[1],
             0.5 * (c.y[0] + c.y[1]),
-            c.stretch[1],
+            a2,
             c.stretch[2],
             c.height,
             c.s11,
@@ -312,6 +318,10 @@ pub fn sheet_profile(t: f64, cells: &[SheetCell], columns: SheetColumns) -> Prof
     if columns.growth {
         for (i, key) in ["growth_x", "growth_y"].into_iter().enumerate() {
             let col = cells.iter().map(|c| c.growth[i]).collect();
+            p.extra.insert(key.to_string(), col);
+        }
+        for (i, key) in ["lambda", "lambda_y"].into_iter().enumerate() {
+            let col = cells.iter().map(|c| c.stretch[i]).collect();
             p.extra.insert(key.to_string(), col);
         }
     }
@@ -348,13 +358,20 @@ pub fn sheet_cells(p: &Profile) -> Vec<SheetCell> {
     (0..n)
         .map(|i| {
             let at = |k: &str| col(k)[i];
+            let growth =
+                [col("growth_x"), col("growth_y")].map(|c| c.get(i).copied().unwrap_or(1.0));
             SheetCell {
                 j: at("column") as usize,
                 k: at("row") as usize,
                 x: [at("x_left"), at("x_right")],
                 y: [at("y_bottom"), at("y_top")],
                 reference: [p.x_ref[i], at("Y")],
-                stretch: [p.stretch[i], at("stretch_y"), at("stretch_z")],
+                // the total stretches (a growing sheet's `stretch` columns are elastic)
+                stretch: [
+                    col("lambda").get(i).copied().unwrap_or(p.stretch[i]),
+                    col("lambda_y").get(i).copied().unwrap_or(at("stretch_y")),
+                    at("stretch_z"),
+                ],
                 height: at("height"),
                 pressure: p.pressure[i],
                 s11: at("sigma11"),
@@ -362,8 +379,7 @@ pub fn sheet_cells(p: &Profile) -> Vec<SheetCell> {
                 kappa: at("kappa"),
                 viscous: [col("viscous_x"), col("viscous_y")]
                     .map(|c| c.get(i).copied().unwrap_or(1.0)),
-                growth: [col("growth_x"), col("growth_y")]
-                    .map(|c| c.get(i).copied().unwrap_or(1.0)),
+                growth,
             }
         })
         .collect()

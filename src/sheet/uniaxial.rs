@@ -144,7 +144,7 @@ impl Default for SheetParams {
 /// assert_eq!((c.growth, c.viscous), ([1.0, 1.0], [1.0, 1.0]));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SheetCell {
     /// Column index `j = 1..n`.
     pub j: usize,
@@ -172,6 +172,47 @@ pub struct SheetCell {
     pub viscous: [f64; 2],
     /// Growth stretches `(g₁, g₂)` (`(1, 1)` without growth).
     pub growth: [f64; 2],
+}
+
+impl Default for SheetCell {
+    /// A unit cell at the origin: extents, position, pressure, stresses, height and indices 0;
+    /// the stretches, `κ` and the viscous and growth stretches 1 (so that the ratios of
+    /// [`SheetCell::elastic_stretch`] are defined).
+    fn default() -> Self {
+        Self {
+            j: 0,
+            k: 0,
+            x: [0.0; 2],
+            y: [0.0; 2],
+            reference: [0.0; 2],
+            stretch: [1.0; 3],
+            height: 0.0,
+            pressure: 0.0,
+            s11: 0.0,
+            s22: 0.0,
+            kappa: 1.0,
+            viscous: [1.0; 2],
+            growth: [1.0; 2],
+        }
+    }
+}
+
+impl SheetCell {
+    /// The in-plane stretches relative to the grown cell, `αᵢ = λᵢ / gᵢ`: what the cell law
+    /// sees and what sets its pressure (`λᵢ` itself without growth). `λ₃` is already elastic,
+    /// the height's reference is not grown.
+    ///
+    /// ```
+    /// use celltissue::sheet::uniaxial::SheetCell;
+    /// let c = SheetCell { stretch: [3.0, 1.5, 0.5], growth: [2.0, 1.5], ..Default::default() };
+    /// assert_eq!(c.elastic_stretch(), [1.5, 1.0]);
+    /// ```
+    pub fn elastic_stretch(&self) -> [f64; 2] {
+        [
+            self.stretch[0] / self.growth[0],
+            self.stretch[1] / self.growth[1],
+        ]
+    }
 }
 
 /// A uniaxial sheet of `n × m` cells (or continuum segments) as a [`CellArray`].

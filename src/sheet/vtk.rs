@@ -1,7 +1,9 @@
 //! VTK output of the sheet for ParaView: one `.vtu` (XML unstructured grid, binary: zlib +
 //! base64, see [`crate::output::vtu`]) per snapshot with one hexahedron per cell
 //! (`[x_b(j−1,k), x_b(j,k)] × [y_b(j,k−1), y_b(j,k)] × [0, H]`) and per-cell `pressure`,
-//! `lambda1`, `lambda2`, `lambda3`, `height`, `sigma11`, `sigma22`, `kappa`, `column`, `row`.
+//! `lambda1`, `lambda2`, `lambda3` (total stretches), `height`, `sigma11`, `sigma22`, `kappa`,
+//! `column`, `row`, and for a growing sheet's profile ([`profile_grid`]) the growth stretches
+//! `growth_x`, `growth_y`.
 //! [`crate::output::vtu`] writes the snapshots (atomically) and the `.pvd` collection indexing
 //! them by time.
 //!
@@ -58,6 +60,34 @@ pub fn grid(cells: &[SheetCell]) -> Grid {
             .map(|(name, f)| (name.to_string(), cells.iter().map(f).collect()))
             .collect(),
     }
+}
+
+/// A sheet profile ([`sheet_profile`](super::observe::sheet_profile)) as a grid of
+/// hexahedra: [`grid`] of its cells, with the growth stretches `growth_x`, `growth_y` as cell
+/// data when the profile has them (a growing sheet's, at every snapshot alike).
+///
+/// ```
+/// use celltissue::observe::ModelKind;
+/// use celltissue::runner::OutputTimes;
+/// use celltissue::sheet::{run_sheet, SheetConfig};
+/// use celltissue::SolveSettings;
+/// let cfg = SheetConfig { cells_x: 3, cells_y: 2, ..Default::default() };
+/// let out = OutputTimes { series: vec![1.0], profiles: vec![1.0] };
+/// let rec = run_sheet(&cfg, &cfg.law, ModelKind::Discrete, None, &SolveSettings::default(), &out)?;
+/// let g = celltissue::sheet::vtk::profile_grid(&rec.profiles[0]);
+/// assert_eq!(g.types.len(), 6);
+/// assert!(g.cell_data.iter().all(|(name, _)| name != "growth_x")); // this sheet does not grow
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn profile_grid(p: &crate::observe::Profile) -> Grid {
+    let mut g = grid(&super::observe::sheet_cells(p));
+    for key in ["growth_x", "growth_y"] {
+        if let Some(col) = p.extra.get(key) {
+            g.cell_data
+                .push((key.to_string(), col[..g.types.len()].to_vec()));
+        }
+    }
+    g
 }
 
 /// One snapshot as a `.vtu` string.
