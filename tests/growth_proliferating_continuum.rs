@@ -154,3 +154,29 @@ fn long_run_drift_at_fixed_n() {
         }
     }
 }
+
+/// The density continuum's profiles carry its density: `segment_cells`, the cells each
+/// segment stands for (N₀/n times a power of two, one per division of the segment), adding
+/// up to the series' `N` at each profile time.
+#[test]
+fn the_profiles_carry_the_cells_each_segment_stands_for() {
+    use celltissue::scenario::load_str;
+    let text = "name = \"t\"\n[output]\nseries = [0, 4, 8]\nprofiles = [0, 4, 8]\n\
+                [model]\nkind = \"line\"\nmodels = [\"continuum\"]\ncells = 100\nnodes = 20\n\
+                right_end = \"free\"\nK = 1e-5\ngrowth = { sigma0 = 0.1 }\n\
+                division = { rule = \"area\" }\n";
+    let sc = load_str(text, std::path::Path::new("t.toml"), &[]).unwrap();
+    let rec = celltissue::scenario::execute::run_spec(&sc.runs[0]);
+    assert!(rec.error.is_none(), "{:?}", rec.error);
+    for (p, n) in rec.profiles.iter().zip(&rec.series.extra["cells"]) {
+        let held = &p.extra["segment_cells"];
+        assert_eq!(held.len(), 20);
+        for &m in held {
+            let doublings = (m / 5.0).log2();
+            assert!(doublings >= 0.0 && doublings.fract() == 0.0, "{m}");
+        }
+        assert_eq!(held.iter().sum::<f64>(), *n);
+    }
+    let last = &rec.profiles[2].extra["segment_cells"];
+    assert!(last.iter().any(|&m| m > 5.0), "segments divided by t = 8: {last:?}");
+}

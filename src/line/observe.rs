@@ -147,7 +147,8 @@ impl Snapshot {
     }
 
     /// The profile record (X, x = current centres, stretch = α, pressure, plus `g`, `sigma`,
-    /// `width`, `length` (current cell length), `lambda`, `kappa`, `mu` in `extra`).
+    /// `width`, `length` (current cell length), `lambda`, `kappa`, `mu` in `extra`, and for a
+    /// proliferating continuum `segment_cells`, the cells each segment stands for).
     ///
     /// ```
     /// use celltissue::line::{discrete, LineParams};
@@ -176,6 +177,10 @@ impl Snapshot {
         extra.insert("lambda".to_string(), self.lambda.clone());
         extra.insert("kappa".to_string(), self.kappa.clone());
         extra.insert("mu".to_string(), self.mu.clone());
+        // a proliferating continuum's segments stand for several cells each: its cell density
+        if let Some(counts) = &self.cell_counts {
+            extra.insert("segment_cells".to_string(), counts.clone());
+        }
         if self.g.iter().any(|&g| g != 1.0) || self.g_dot.iter().any(|&g| g != 0.0) {
             extra.insert("g".to_string(), self.g.clone());
             extra.insert("g_dot".to_string(), self.g_dot.clone());
