@@ -178,5 +178,8 @@ fn the_profiles_carry_the_cells_each_segment_stands_for() {
         assert_eq!(held.iter().sum::<f64>(), *n);
     }
     let last = &rec.profiles[2].extra["segment_cells"];
-    assert!(last.iter().any(|&m| m > 5.0), "segments divided by t = 8: {last:?}");
+    assert!(
+        last.iter().any(|&m| m > 5.0),
+        "segments divided by t = 8: {last:?}"
+    );
 }

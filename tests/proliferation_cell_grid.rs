@@ -271,7 +271,10 @@ fn the_cell_grid_runs_from_a_scenario_and_bad_settings_name_their_key() {
     // the continuum's profile says how many cells each segment stands for (whole cells on
     // this grid), and they add up to N; a discrete line's cells are one each
     let held = &c.profiles[0].extra["segment_cells"];
-    assert!(held.iter().all(|&m| m >= 1.0 && m.fract() == 0.0), "{held:?}");
+    assert!(
+        held.iter().all(|&m| m >= 1.0 && m.fract() == 0.0),
+        "{held:?}"
+    );
     assert!(held.iter().any(|&m| m > 1.0), "{held:?}");
     assert_eq!(held.iter().sum::<f64>(), cells(&c)[2]);
     assert!(!d.profiles[0].extra.contains_key("segment_cells"));

@@ -104,9 +104,16 @@ impl Run {
     }
 
     /// One profile field stacked over the profile times: a `times × cells` numpy array.
-    /// Raises `ValueError` if the field is unknown or its length changes between times (cells
-    /// divided).
+    /// Raises `ValueError` if the run recorded no profiles, the field is unknown or its length
+    /// changes between times (cells divided).
     fn profile<'py>(&self, py: Python<'py>, field: &str) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        if self.rec.profiles.is_empty() {
+            // an empty array would hide a forgotten `profiles=` and accept any field name
+            return Err(PyValueError::new_err(format!(
+                "this run recorded no profiles, so no `{field}`: give profile times \
+                 (`solve(…, profiles=[…])`, or `output.profiles` in a scenario)"
+            )));
+        }
         let rows: Vec<&Vec<f64>> = self
             .rec
             .profiles

@@ -187,3 +187,14 @@ def test_a_field_given_as_an_array_is_one_value_per_cell():
     assert r.parameters["mu"] == {"type": "per_cell", "values": [1.0, 4.0, 1.0]}
     with pytest.raises(celltissue.ScenarioError, match=r"`model\.mu\[1\]`"):
         celltissue.line(cells=2, mu=[1.0, "stiff"]).solve([0, 1])
+
+
+def test_a_profile_of_a_run_without_profiles_says_so():
+    r = celltissue.line(cells=4, K=1.0).solve([0, 1])
+    assert r.profiles == []
+    with pytest.raises(ValueError, match="recorded no profiles.*profiles="):
+        r.profile("stretch")
+    r = celltissue.line(cells=4, K=1.0).solve([0, 1], profiles=[1])
+    assert r.profile("stretch").shape == (1, 4)
+    with pytest.raises(ValueError, match="`strech` is not a profile field"):
+        r.profile("strech")
