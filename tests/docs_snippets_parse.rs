@@ -120,6 +120,14 @@ fn inline_key_tables_are_accepted_as_documented() {
             "no documented `{must}` snippet was found: {checked:#?}"
         );
     }
+    // every built-in strain energy has a documented, accepted example
+    for name in celltissue::energy::registry::names() {
+        let must = format!("law = {{ law = \"{name}\"");
+        assert!(
+            checked.iter().any(|s| s.starts_with(&must)),
+            "the law `{name}` has no example in the docs ({must} …)"
+        );
+    }
 }
 
 #[test]

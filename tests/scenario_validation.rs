@@ -61,6 +61,22 @@ fn sizes_that_cannot_be_allocated_are_capped_with_the_memory_needed() {
 
 /// Profiles are capped like cells: 10⁶ cells at 10⁵ profile times (10¹¹ values, 16 TB) used
 /// to pass `validate` and then grow the run's records until the allocation aborted.
+/// `output.profiles = []` records none, as the key left out does; `output.series` must
+/// name a time.
+#[test]
+fn an_empty_profile_list_records_none() {
+    let none = load(&LINE.replace("profiles = [1]", "profiles = []"), &[]).unwrap();
+    let absent = load(&LINE.replace("profiles = [1]", ""), &[]).unwrap();
+    assert!(none.runs[0].times.profiles.is_empty());
+    assert_eq!(none.runs[0].times, absent.runs[0].times);
+    assert!(load(LINE, &["output.profiles=[]"]).unwrap().runs[0]
+        .times
+        .profiles
+        .is_empty());
+    let m = rejects(LINE, &["output.series=[]"], "output.series");
+    assert!(m.contains("at least one time"), "{m}");
+}
+
 #[test]
 fn profiles_that_cannot_be_held_are_capped_with_the_memory_needed() {
     let big = "profiles = { start = 0, stop = 1, count = 100000, spacing = \"linear\" }";

@@ -339,7 +339,9 @@ pub fn resolve(table: toml::Table) -> Result<Scenario, ScenarioError> {
         let times = OutputTimes {
             series: parse_times("output.series", &one.output.series).map_err(ctx)?,
             profiles: match &one.output.profiles {
+                // none: the key absent or an empty list
                 None => Vec::new(),
+                Some(toml::Value::Array(a)) if a.is_empty() => Vec::new(),
                 Some(v) => parse_times("output.profiles", v).map_err(ctx)?,
             },
         };
