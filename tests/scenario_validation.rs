@@ -501,10 +501,10 @@ fn grid_and_zip_sweeps_write_the_thesis_families() {
     assert_eq!(
         labels,
         [
-            "discrete m=0 sigma0=0.1",
-            "continuum m=0 sigma0=0.1",
-            "discrete m=1 sigma0=0.2",
-            "continuum m=1 sigma0=0.2"
+            "discrete m=0 growth.sigma0=0.1",
+            "continuum m=0 growth.sigma0=0.1",
+            "discrete m=1 growth.sigma0=0.2",
+            "continuum m=1 growth.sigma0=0.2"
         ]
     );
     // labels are unique as file names

@@ -71,7 +71,7 @@ pub struct SweepSection {
 /// let s: SweepSection = toml::from_str("ensemble = { realisations = 3, first_seed = 7 }")
 ///     .unwrap();
 /// let labels: Vec<String> = expand(&s).unwrap().iter().map(|p| p.assignment()).collect();
-/// assert_eq!(labels, ["seed=7", "seed=8", "seed=9"]);
+/// assert_eq!(labels, ["division.seed=7", "division.seed=8", "division.seed=9"]);
 /// ```
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -120,7 +120,7 @@ pub struct SweepAxis {
 /// use celltissue::scenario::sweep::{expand, SweepSection};
 /// let sw: SweepSection = toml::from_str("parameter = \"division.ratio\"\nvalues = [1.5, 2]")?;
 /// let part = &expand(&sw)?[1].parts[0];
-/// assert_eq!((part.key.as_str(), part.name.as_str(), part.label.as_str()), ("model.division.ratio", "ratio", "2"));
+/// assert_eq!((part.key.as_str(), part.name.as_str(), part.label.as_str()), ("model.division.ratio", "division.ratio", "2"));
 /// assert_eq!((part.value, part.origin.as_str()), (Some(2.0), "sweep.values[1]"));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
@@ -128,7 +128,7 @@ pub struct SweepAxis {
 pub struct SweepPart {
     /// Full dotted key (`"model.K"`).
     pub key: String,
-    /// Short name for labels (last part of the key, e.g. `"K"`).
+    /// Short name for labels: the key below its section (`"K"`, `"rtol"`, `"mu.amplitude"`).
     pub name: String,
     /// The value as shown in labels (`"0.01"`, `"1e-5"`, or the given label).
     pub label: String,
@@ -263,7 +263,9 @@ fn axes(sw: &SweepSection) -> Result<Vec<Vec<Axis>>, ScenarioError> {
     let axis = |at: String, a: &SweepAxis| -> Result<Axis, ScenarioError> {
         let key = sweep_key(&format!("{at}.parameter"), &a.parameter)?;
         Ok(Axis {
-            name: key.last().cloned().unwrap_or_default(),
+            // the key below its section: `K`, `rtol`, and `mu.amplitude`, not `amplitude`
+            // (which K, η and the active stress have as well)
+            name: key[1..].join("."),
             key: key.join("."),
             at,
             values: a.values.clone(),
