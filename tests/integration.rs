@@ -35,6 +35,7 @@ mod line_small_k_exponential_ramp;
 mod line_static_equilibrium;
 mod line_structure;
 mod line_table_2_1;
+mod line_unequal_cells;
 mod line_uniform_polynomial_ramp;
 mod locking_energies;
 mod maxwell_sls;

@@ -270,10 +270,11 @@ fn with_law<E: StrainEnergy + Clone>(
             }
             let n = nodes.unwrap_or(n0);
             if let Some(grid) = &cfg.division.cell_grid {
-                let built = crate::line::build::continuum(energy, &params, n)
+                let built = crate::line::build::cell_groups(energy, &params, n)
                     .map_err(|e| e.to_string())
                     .and_then(|line| {
-                        CellGrid::new(line, n0, cfg.division.build()).map_err(|e| e.to_string())
+                        CellGrid::with_cell_lengths(line, &params.ref_lengths, cfg.division.build())
+                            .map_err(|e| e.to_string())
                     });
                 match built {
                     Ok(mut g) => {
@@ -297,7 +298,11 @@ fn with_law<E: StrainEnergy + Clone>(
             };
             let built = crate::line::build::continuum(energy, &params, n)
                 .map_err(|e| e.to_string())
-                .and_then(|line| DensityContinuum::new(line, n0, ratio).map_err(|e| e.to_string()));
+                .and_then(|line| {
+                    let cells = crate::line::build::segment_cells(&params, n);
+                    DensityContinuum::with_initial_cells(line, cells, ratio)
+                        .map_err(|e| e.to_string())
+                });
             match built {
                 Ok(mut d) => {
                     d.max_cells = cfg.division.max_cells.map(|m| m as f64);

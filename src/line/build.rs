@@ -2,9 +2,12 @@
 //!
 //! * [`discrete`] — N cells with their own reference lengths; drag `K(X_j)` per boundary.
 //! * [`continuum`] — the conservative scheme of docs/model.md §3.3a: `n` segments of length
-//!   `h = l₀/n`, fields sampled at segment centres, drag `K·h/L̄` per node (`L̄ = l₀/N`, the mean
-//!   reference cell length, since `K` is drag per cell boundary). With `n = N` and unit cells it
-//!   *is* the discrete model (same type, same residual), so `n` is independent of `N`.
+//!   `h = l₀/n`, fields sampled at segment centres, drag `K` times the cell boundaries each node
+//!   stands for (`h/L` for cells of equal length `L`, since `K` is drag per cell boundary; a
+//!   census of unequal cells counts them). With `n = N` and unit cells it *is* the
+//!   discrete model (same type, same residual), so `n` is independent of `N`.
+//! * [`cell_groups`] — the cell-number grid's line: segments of whole cells.
+//! * [`segment_cells`] — the cells each continuum segment holds (a density continuum's start).
 
 use super::array::{Cells, Layout, Line};
 use super::LineError;
@@ -165,12 +168,119 @@ fn sum_and_check(v: &[f64]) -> (f64, bool) {
     (((a + b) + (c + d)) + ((e + f) + (g + h)), all_ok)
 }
 
-/// Builds a line of `lengths.len()` cells with drag scaled by `drag_scale` per boundary.
+/// Where the cells of `ref_lengths` lie along `X`, for a continuum grid over cells of unequal
+/// lengths: the cell count `C(X) = j + (X − B_j)/L_j` inside cell `j` (`B_j` its left end), so
+/// that a stretch `[a, b]` of the line holds `C(b) − C(a)` cells and boundaries, and the cell
+/// holding a point, where a per-cell list is read.
+pub(crate) struct CellCensus {
+    /// `B_0 = 0, …, B_N = l₀`.
+    bounds: Vec<f64>,
+}
+
+impl CellCensus {
+    /// The census of `lengths`, or `None` when they are all equal: then every count is the
+    /// uniform `h/L` and a per-cell list is read by position alike.
+    pub(crate) fn of_unequal(lengths: &[f64]) -> Option<Self> {
+        let first = *lengths.first()?;
+        if lengths.iter().all(|&l| l == first) {
+            return None;
+        }
+        Some(Self::new(lengths))
+    }
+
+    fn new(lengths: &[f64]) -> Self {
+        let mut bounds = Vec::with_capacity(lengths.len() + 1);
+        let mut acc = 0.0;
+        bounds.push(acc);
+        for l in lengths {
+            acc += l;
+            bounds.push(acc);
+        }
+        Self { bounds }
+    }
+
+    /// The cell holding `x` (0-based; the first or last beyond the ends).
+    fn holder(&self, x: f64) -> usize {
+        let n = self.bounds.len() - 1;
+        self.bounds.partition_point(|&b| b <= x).clamp(1, n) - 1
+    }
+
+    /// `C(x)`, clamped to `[0, N]`.
+    fn count_to(&self, x: f64) -> f64 {
+        let j = self.holder(x);
+        let (a, b) = (self.bounds[j], self.bounds[j + 1]);
+        j as f64 + ((x - a) / (b - a)).clamp(0.0, 1.0)
+    }
+
+    /// The reference length of the cell holding `x`.
+    pub(crate) fn length_at(&self, x: f64) -> f64 {
+        let j = self.holder(x);
+        self.bounds[j + 1] - self.bounds[j]
+    }
+
+    /// `f` at the points `xs` of a line of length `l0`: a per-cell list with one value per
+    /// cell is read at the cell holding each point, any other field as [`Field::sample`].
+    pub(crate) fn sample(&self, f: &Field, xs: &[f64], l0: f64) -> Vec<f64> {
+        match f {
+            Field::PerCell { values } if values.len() + 1 == self.bounds.len() => {
+                xs.iter().map(|&x| values[self.holder(x)]).collect()
+            }
+            _ => f.sample(xs, l0),
+        }
+    }
+}
+
+/// What each entry of a built line stands for in the cells of [`LineParams::ref_lengths`]:
+/// the cells each segment holds and the boundaries each face carries (the factors of its drag,
+/// since `K` is drag per cell boundary; 1 on the discrete line), and on a continuum grid over
+/// cells of unequal lengths their [`CellCensus`] (where per-cell lists are read).
+struct Census {
+    cell: Vec<f64>,
+    face: Vec<f64>,
+    cells: Option<CellCensus>,
+}
+
+impl Census {
+    /// `scale` cells per segment and boundaries per face: one on the discrete line, `h/L` on a
+    /// grid of segments of length `h` over equal cells of length `L`.
+    fn uniform(n: usize, scale: f64) -> Self {
+        Self {
+            cell: vec![scale; n],
+            face: vec![scale; n + 1],
+            cells: None,
+        }
+    }
+
+    /// The segments `[X_i, X_{i+1}]` of a grid over the unequal cells of `lengths` (faces
+    /// `X_0 = 0 … X_n = l₀`): segment `i` holds `C(X_{i+1}) − C(X_i)` cells; an interior face
+    /// carries the boundaries between its neighbours' centres, an end face its segment's length
+    /// over the end cell's (`h/L` on every face for equal cells).
+    fn grid(census: CellCensus, faces: &[f64]) -> Self {
+        let n = faces.len() - 1;
+        let c: Vec<f64> = faces.iter().map(|&x| census.count_to(x)).collect();
+        let mid: Vec<f64> = faces.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect();
+        let face = (0..=n)
+            .map(|b| match b {
+                0 => (faces[1] - faces[0]) / census.length_at(faces[0]),
+                b if b == n => (faces[n] - faces[n - 1]) / census.length_at(faces[n]),
+                b => census.count_to(mid[b]) - census.count_to(mid[b - 1]),
+            })
+            .collect();
+        Self {
+            cell: c.windows(2).map(|w| w[1] - w[0]).collect(),
+            face,
+            cells: Some(census),
+        }
+    }
+}
+
+/// Builds a line of `lengths.len()` cells (or segments) whose drags are `K` times what the
+/// [`Census`] says each stands for.
 fn assemble<E: StrainEnergy>(
     energy: E,
     p: &LineParams,
     lengths: Vec<f64>,
-    drag_scale: f64,
+    census: Census,
 ) -> Result<Line<E>, LineError> {
     let n = lengths.len();
     let l0_total: f64 = lengths.iter().sum();
@@ -186,29 +296,45 @@ fn assemble<E: StrainEnergy>(
         Sampling::Centres => &centres,
         Sampling::IntegerPoints => &bounds[..n],
     };
-    let mu = p.mu.sample(samples, l0_total);
-    let eta = p.eta.sample(samples, l0_total);
-    let k_cell: Vec<f64> =
-        p.k.sample(samples, l0_total)
-            .into_iter()
-            .map(|k| k * drag_scale)
-            .collect();
+    // a per-cell list over unequal cells is read at the cell holding each sample point
+    let sample = |f: &Field| match &census.cells {
+        Some(cells) => cells.sample(f, samples, l0_total),
+        None => f.sample(samples, l0_total),
+    };
+    let mu = sample(&p.mu);
+    let eta = sample(&p.eta);
+    let k_sampled: Vec<f64> = sample(&p.k);
     let k_face: Vec<f64> = match &p.k {
         // a per-cell list has no boundary values: average the neighbours
         Field::PerCell { .. } | Field::Random { .. } => (0..=n)
             .map(|b| {
-                let l = if b >= 1 { k_cell[b - 1] } else { k_cell[0] };
-                let r = if b < n { k_cell[b] } else { k_cell[n - 1] };
-                0.5 * (l + r)
+                let l = if b >= 1 {
+                    k_sampled[b - 1]
+                } else {
+                    k_sampled[0]
+                };
+                let r = if b < n {
+                    k_sampled[b]
+                } else {
+                    k_sampled[n - 1]
+                };
+                let c = census.face[b];
+                0.5 * (l * c + r * c)
             })
             .collect(),
         f => bounds
             .iter()
-            .map(|&x| f.eval(x, l0_total) * drag_scale)
+            .zip(&census.face)
+            .map(|(&x, &c)| f.eval(x, l0_total) * c)
             .collect(),
     };
-    let active_amp = p.active_amp.sample(samples, l0_total);
-    let p_ext = p.p_ext.sample(samples, l0_total);
+    let k_cell: Vec<f64> = k_sampled
+        .iter()
+        .zip(&census.cell)
+        .map(|(k, c)| k * c)
+        .collect();
+    let active_amp = sample(&p.active_amp);
+    let p_ext = sample(&p.p_ext);
     if let Some(bad) = p_ext.iter().find(|x| !x.is_finite()) {
         return Err(LineError::invalid(
             "external_pressure",
@@ -285,7 +411,12 @@ fn assemble<E: StrainEnergy>(
 /// ```
 pub fn discrete<E: StrainEnergy>(energy: E, p: &LineParams) -> Result<Line<E>, LineError> {
     p.check()?;
-    assemble(energy, p, p.ref_lengths.clone(), 1.0)
+    assemble(
+        energy,
+        p,
+        p.ref_lengths.clone(),
+        Census::uniform(p.ref_lengths.len(), 1.0),
+    )
 }
 
 /// The conservative continuum scheme with `n` segments of length `h = l₀/n` (docs/model.md §3.3a).
@@ -307,8 +438,80 @@ pub fn continuum<E: StrainEnergy>(
         return Err(LineError::invalid("nodes", n, ">= 1"));
     }
     let h = l0 / n as f64;
-    let mean_cell = l0 / p.ref_lengths.len() as f64;
-    assemble(energy, p, vec![h; n], h / mean_cell)
+    let census = match CellCensus::of_unequal(&p.ref_lengths) {
+        None => Census::uniform(n, h / (l0 / p.ref_lengths.len() as f64)),
+        Some(cells) => Census::grid(cells, &grid_faces(h, n)),
+    };
+    assemble(energy, p, vec![h; n], census)
+}
+
+/// The cell-number grid's line: `n` segments of `N/n` consecutive cells each (`n` must divide
+/// `N`), each as long as its cells together, with the drag of that many boundaries; for cells
+/// of equal length the same as [`continuum`] on `n` segments.
+///
+/// ```
+/// use celltissue::line::build::{cell_groups, LineParams};
+/// let mut p = LineParams::unit_cells(4);
+/// p.ref_lengths = vec![0.5, 1.5, 1.0, 3.0];
+/// let line = cell_groups(celltissue::NeoHookean::new(1.0)?, &p, 2)?;
+/// assert_eq!(line.cells().l0, [2.0, 4.0]);
+/// assert!(cell_groups(celltissue::NeoHookean::new(1.0)?, &p, 3).is_err()); // 3 ∤ 4
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn cell_groups<E: StrainEnergy>(
+    energy: E,
+    p: &LineParams,
+    n: usize,
+) -> Result<Line<E>, LineError> {
+    p.check()?;
+    let cells = p.ref_lengths.len();
+    if n == 0 || !cells.is_multiple_of(n) {
+        return Err(LineError::invalid(
+            "nodes",
+            n,
+            &format!("a divisor of cells = {cells} (whole cells per segment)"),
+        ));
+    }
+    let Some(census) = CellCensus::of_unequal(&p.ref_lengths) else {
+        return continuum(energy, p, n);
+    };
+    let c = cells / n;
+    let lengths = p.ref_lengths.chunks(c).map(|g| g.iter().sum()).collect();
+    let mut counts = Census::uniform(n, c as f64);
+    counts.cells = Some(census);
+    assemble(energy, p, lengths, counts)
+}
+
+/// The cells each of the `n` segments of [`continuum`]'s grid (length `h = l₀/n`) holds, in
+/// the cells of `p.ref_lengths`: `h/L` each for cells of equal length `L`, else the part of
+/// each cell that falls in the segment, added up (a density continuum's initial density).
+///
+/// ```
+/// use celltissue::line::build::{segment_cells, LineParams};
+/// let mut p = LineParams::unit_cells(4);
+/// assert_eq!(segment_cells(&p, 2), [2.0, 2.0]);
+/// p.ref_lengths = vec![0.5, 0.5, 0.5, 2.5]; // l₀ = 4: three short cells and a long one
+/// let c = segment_cells(&p, 2); // [0, 2] holds 3 cells and 0.5/2.5 of the fourth
+/// assert!((c[0] - 3.2).abs() < 1e-15 && (c[1] - 0.8).abs() < 1e-15);
+/// ```
+pub fn segment_cells(p: &LineParams, n: usize) -> Vec<f64> {
+    let l0 = p.total_length();
+    let h = l0 / n as f64;
+    match CellCensus::of_unequal(&p.ref_lengths) {
+        None => vec![h / (l0 / p.ref_lengths.len() as f64); n],
+        Some(cells) => Census::grid(cells, &grid_faces(h, n)).cell,
+    }
+}
+
+/// The faces `0, h, 2h, … nh` of a grid of `n` segments, accumulated as the builder places
+/// its segments.
+fn grid_faces(h: f64, n: usize) -> Vec<f64> {
+    std::iter::once(0.0)
+        .chain((1..=n).scan(0.0, |acc, _| {
+            *acc += h;
+            Some(*acc)
+        }))
+        .collect()
 }
 
 #[cfg(test)]
@@ -330,6 +533,41 @@ mod tests {
                 assert!(msg.contains("ref_lengths"), "{bad}: {msg}");
             }
         }
+    }
+
+    /// A grid over unequal cells counts every cell once: the segments' counts add up to N,
+    /// a segment inside one cell holds h/L of it, a per-cell list is read where each centre
+    /// is; equal cells take the uniform factor h/L.
+    #[test]
+    fn the_census_of_unequal_cells_counts_each_cell_once() {
+        let lengths: Vec<f64> = (0..37)
+            .map(|i| 0.3 + (0.71 * i as f64).sin().abs())
+            .collect();
+        let l0: f64 = lengths.iter().sum();
+        for n in [5, 37, 100, 1000] {
+            let h = l0 / n as f64;
+            let census = CellCensus::of_unequal(&lengths).unwrap();
+            let c = Census::grid(census, &grid_faces(h, n));
+            let total: f64 = c.cell.iter().sum();
+            assert!((total - 37.0).abs() < 1e-11, "n={n}: {total}");
+            assert!(c.cell.iter().chain(&c.face).all(|&v| v > 0.0));
+            // the interior faces carry every boundary between the first and last centres
+            let inner: f64 = c.face[1..n].iter().sum();
+            let cc = CellCensus::new(&lengths);
+            let span = cc.count_to(l0 - 0.5 * h) - cc.count_to(0.5 * h);
+            assert!((inner - span).abs() < 1e-11, "n={n}: {inner} {span}");
+        }
+        let census = CellCensus::new(&[1.0, 3.0]);
+        assert_eq!(
+            (census.holder(0.5), census.holder(1.0), census.holder(9.0)),
+            (0, 1, 1)
+        );
+        assert_eq!(census.count_to(2.5), 1.5);
+        let list = Field::PerCell {
+            values: vec![7.0, 9.0],
+        };
+        assert_eq!(census.sample(&list, &[0.5, 1.5, 3.9], 4.0), [7.0, 9.0, 9.0]);
+        assert!(CellCensus::of_unequal(&[0.5; 4]).is_none());
     }
 
     #[test]

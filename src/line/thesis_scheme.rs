@@ -9,7 +9,7 @@
 //! second-order `λ_n`. Prefer the conservative scheme ([`crate::line::build::continuum`]) for
 //! new work.
 
-use super::build::LineParams;
+use super::build::{CellCensus, LineParams};
 use super::observe::Snapshot;
 use super::run::LineModel;
 use super::LineError;
@@ -80,7 +80,14 @@ impl<E: StrainEnergy> ThesisLine<E> {
         let mean_cell = l0 / p.ref_lengths.len() as f64;
         let dx = l0 / (n - 1) as f64;
         let x_ref: Vec<f64> = (0..n).map(|i| i as f64 * dx).collect();
-        let mu = p.mu.sample(&x_ref, l0);
+        // cells of unequal lengths: drag K/L(X) per unit X, per-cell lists read where each
+        // node's cell is
+        let cells = CellCensus::of_unequal(&p.ref_lengths);
+        let sample = |f: &crate::cell::Field| match &cells {
+            Some(c) => c.sample(f, &x_ref, l0),
+            None => f.sample(&x_ref, l0),
+        };
+        let mu = sample(&p.mu);
         let mu_x = (0..n)
             .map(|i| {
                 if i == 0 || i == n - 1 {
@@ -90,12 +97,15 @@ impl<E: StrainEnergy> ThesisLine<E> {
                 }
             })
             .collect();
-        let eta = p.eta.sample(&x_ref, l0);
-        let k =
-            p.k.sample(&x_ref, l0)
-                .into_iter()
-                .map(|k| k / mean_cell)
-                .collect();
+        let eta = sample(&p.eta);
+        let k = sample(&p.k)
+            .into_iter()
+            .zip(&x_ref)
+            .map(|(k, &x)| match &cells {
+                Some(c) => k / c.length_at(x),
+                None => k / mean_cell,
+            })
+            .collect();
         Ok(Self {
             energy,
             ramp,

@@ -150,10 +150,41 @@ impl<E: StrainEnergy> CellGrid<E> {
     pub fn new(line: Line<E>, n0: usize, rule: Box<dyn DivisionRule>) -> Result<Self, EventError> {
         let n = line.n_cells();
         if n == 0 || !n0.is_multiple_of(n) {
-            return Err(EventError::Unsupported(format!(
-                "{n} segments for {n0} cells: the cell-number grid needs a whole number of \
-                 cells per segment (nodes must divide cells)"
-            )));
+            return Err(Self::uneven(n, n0));
+        }
+        let c = n0 / n;
+        let lengths = (0..n0)
+            .map(|k| line.cells.l0[k / c] / c as f64)
+            .collect::<Vec<_>>();
+        Self::with_cell_lengths(line, &lengths, rule)
+    }
+
+    /// As [`CellGrid::new`] for cells of the given reference lengths, `c` consecutive ones per
+    /// segment (a line from [`cell_groups`](crate::line::build::cell_groups)): a segment's
+    /// cells keep their own lengths where they divide on their own
+    /// ([`CellGrid::asynchronous`]).
+    ///
+    /// ```
+    /// use celltissue::proliferation::CellGrid;
+    /// use celltissue::events::AreaDoubling;
+    /// use celltissue::line::build::{cell_groups, LineParams};
+    /// let mut p = LineParams::unit_cells(4);
+    /// p.ref_lengths = vec![0.5, 1.5, 1.0, 1.0];
+    /// p.right = celltissue::boundary::RightEnd::Free(None);
+    /// p.growth = Some(std::sync::Arc::new(celltissue::cell::TanhGrowth::default()));
+    /// let line = cell_groups(celltissue::NeoHookean::new(1.0)?, &p, 2)?;
+    /// let grid = CellGrid::with_cell_lengths(line, &p.ref_lengths, Box::new(AreaDoubling::default()))?;
+    /// assert_eq!((grid.segments(), grid.cells()), (2, 4));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn with_cell_lengths(
+        line: Line<E>,
+        lengths: &[f64],
+        rule: Box<dyn DivisionRule>,
+    ) -> Result<Self, EventError> {
+        let (n, n0) = (line.n_cells(), lengths.len());
+        if n == 0 || !n0.is_multiple_of(n) {
+            return Err(Self::uneven(n, n0));
         }
         let c = n0 / n;
         let draws = !rule.draw_threshold(&mut SplitMix64::new(0)).is_nan();
@@ -170,9 +201,9 @@ impl<E: StrainEnergy> CellGrid<E> {
         if grid.asynchronous {
             // c single cells per segment, each with its own threshold
             for j in 0..n {
-                let l0 = grid.dividing.line.cells.l0[j] / c as f64;
-                let list = (0..c)
-                    .map(|_| Member {
+                let list = lengths[j * c..(j + 1) * c]
+                    .iter()
+                    .map(|&l0| Member {
                         l0,
                         offset: 0.0,
                         cells: 1,
@@ -185,6 +216,13 @@ impl<E: StrainEnergy> CellGrid<E> {
         }
         grid.lump_drags();
         Ok(grid)
+    }
+
+    fn uneven(n: usize, n0: usize) -> EventError {
+        EventError::Unsupported(format!(
+            "{n} segments for {n0} cells: the cell-number grid needs a whole number of \
+             cells per segment (nodes must divide cells)"
+        ))
     }
 
     /// Number of cells `N`, the sum of the segments' cell counts.

@@ -40,8 +40,9 @@ pub struct DensityContinuum<E: StrainEnergy> {
     pub density: Vec<f64>,
     /// Area ratio at division (2).
     pub ratio: f64,
-    /// Cells per segment at `t = 0` (`N₀/n`).
-    pub cells_per_segment: f64,
+    /// Cells each segment holds at `t = 0` (`N₀/n` each for cells of equal length;
+    /// [`segment_cells`](crate::line::build::segment_cells) for unequal ones).
+    pub initial_cells: Vec<f64>,
     /// One record per segment division (`parent` = segment, `cells_after` = rounded `N`).
     pub log: DivisionLog,
     /// `(t, N)` after each segment division (`N` is not an integer in general).
@@ -68,6 +69,32 @@ impl<E: StrainEnergy> DensityContinuum<E> {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn new(line: Line<E>, n0: usize, ratio: f64) -> Result<Self, EventError> {
+        let n = line.n_cells();
+        Self::with_initial_cells(line, vec![n0 as f64 / n as f64; n], ratio)
+    }
+
+    /// As [`DensityContinuum::new`], with the cells each segment holds at `t = 0` given (one
+    /// per segment, from [`segment_cells`](crate::line::build::segment_cells) when the cells'
+    /// reference lengths differ).
+    ///
+    /// ```
+    /// use celltissue::proliferation::DensityContinuum;
+    /// use celltissue::line::build::{continuum, segment_cells, LineParams};
+    /// let mut p = LineParams::unit_cells(3);
+    /// p.ref_lengths = vec![0.5, 0.5, 2.0]; // two short cells, then a long one
+    /// p.right = celltissue::boundary::RightEnd::Free(None);
+    /// p.growth = Some(std::sync::Arc::new(celltissue::cell::TanhGrowth::default()));
+    /// let line = continuum(celltissue::NeoHookean::new(1.0)?, &p, 3)?;
+    /// let model = DensityContinuum::with_initial_cells(line, segment_cells(&p, 3), 2.0)?;
+    /// assert_eq!(model.initial_cells, [2.0, 0.5, 0.5]); // segments of length 1
+    /// assert_eq!(model.cells(), 3.0);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn with_initial_cells(
+        line: Line<E>,
+        initial_cells: Vec<f64>,
+        ratio: f64,
+    ) -> Result<Self, EventError> {
         if !line.is_growing() {
             return Err(EventError::Unsupported(
                 "a proliferating continuum without growth".into(),
@@ -84,10 +111,15 @@ impl<E: StrainEnergy> DensityContinuum<E> {
             )));
         }
         let n = line.n_cells();
+        if initial_cells.len() != n || initial_cells.iter().any(|c| !(*c > 0.0 && c.is_finite())) {
+            return Err(EventError::Unsupported(format!(
+                "initial cell counts for {n} segments must be {n} finite positive numbers"
+            )));
+        }
         Ok(Self {
             density: vec![1.0; n],
             ratio,
-            cells_per_segment: n0 as f64 / n as f64,
+            initial_cells,
             log: DivisionLog::default(),
             history: Vec::new(),
             max_cells: None,
@@ -97,7 +129,7 @@ impl<E: StrainEnergy> DensityContinuum<E> {
         })
     }
 
-    /// Number of cells `N = ∫ρ dX = Σ r_i N₀/n`.
+    /// Number of cells `N = ∫ρ dX = Σ r_i c_i` (`c_i` the [`initial_cells`](Self::initial_cells)).
     ///
     /// ```
     /// use celltissue::proliferation::DensityContinuum;
@@ -111,7 +143,11 @@ impl<E: StrainEnergy> DensityContinuum<E> {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn cells(&self) -> f64 {
-        self.density.iter().sum::<f64>() * self.cells_per_segment
+        self.density
+            .iter()
+            .zip(&self.initial_cells)
+            .map(|(r, c)| r * c)
+            .sum()
     }
 
     /// `N(t)` from the history (right-continuous).
@@ -132,7 +168,7 @@ impl<E: StrainEnergy> DensityContinuum<E> {
             .iter()
             .take_while(|h| h.0 <= t)
             .last()
-            .map_or(self.density.len() as f64 * self.cells_per_segment, |h| h.1)
+            .map_or_else(|| self.initial_cells.iter().sum(), |h| h.1)
     }
 
     /// Drag of face `b` and cell `i` from the densities (boundaries per unit X ∝ ρ).
@@ -219,7 +255,8 @@ impl<E: StrainEnergy> LineModel for DensityContinuum<E> {
         s.cell_counts = Some(
             self.density
                 .iter()
-                .map(|r| r * self.cells_per_segment)
+                .zip(&self.initial_cells)
+                .map(|(r, c)| r * c)
                 .collect(),
         );
         Ok(s)
