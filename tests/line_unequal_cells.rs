@@ -162,3 +162,29 @@ fn the_density_continuum_starts_from_the_cells_density_and_converges() {
         "{errors:?}"
     );
 }
+
+/// A random field is drawn once per cell: a continuum on n = N segments is the discrete line,
+/// and a finer one reads each cell's value on every segment inside it (it used to draw fresh
+/// values per segment: another tissue, with the heterogeneity at the segments' scale).
+#[test]
+fn a_random_field_is_the_same_tissue_on_every_grid() {
+    let text = |nodes: usize| {
+        format!(
+            "name = \"t\"\n[output]\nseries = [0, 1]\nprofiles = [1]\n[model]\nkind = \"line\"\n\
+             cells = 20\nK = 0.1\nnodes = {nodes}\n\
+             mu = {{ type = \"random\", low = 0.5, high = 2, seed = 7 }}\n\
+             eta = {{ type = \"random\", low = 0, high = 1, seed = 8 }}\n"
+        )
+    };
+    let sc = load_str(&text(20), Path::new("t.toml"), &[]).unwrap();
+    let (d, same) = (run_spec(&sc.runs[0]), run_spec(&sc.runs[1]));
+    assert_eq!(same.series.length, d.series.length);
+    assert_eq!(same.profiles[0].x, d.profiles[0].x);
+    let sc = load_str(&text(80), Path::new("t.toml"), &[]).unwrap();
+    let fine = run_spec(&sc.runs[1]);
+    assert!(fine.error.is_none(), "{:?}", fine.error);
+    let (mu_d, mu_c) = (&d.profiles[0].extra["mu"], &fine.profiles[0].extra["mu"]);
+    assert_eq!(mu_c.len(), 80);
+    assert!(mu_c.iter().enumerate().all(|(i, &m)| m == mu_d[i / 4]));
+    assert!(mu_d.iter().any(|&m| m != mu_d[0]));
+}

@@ -71,7 +71,9 @@ pub enum Field {
         values: Vec<f64>,
     },
     /// Independent uniform values in `[low, high]` per sample, from a seeded generator
-    /// (splitmix64; the same seed gives the same field on every platform).
+    /// (splitmix64; the same seed gives the same field on every platform). A line's builders
+    /// draw one per cell and give a continuum grid the value of the cell where each of its
+    /// points lies, so both discretisations see the same tissue.
     Random {
         /// Lower bound.
         low: f64,
@@ -432,6 +434,29 @@ impl Field {
                     .collect()
             }
             _ => xs.iter().map(|&x| self.eval(x, l0)).collect(),
+        }
+    }
+
+    /// This field with a random one drawn once for each of `cells` cells, as a per-cell list
+    /// (any other field unchanged): sampled on a grid of any size, it then gives every point
+    /// the value of the cell where it lies, as the discrete cells see it.
+    ///
+    /// ```
+    /// use celltissue::cell::Field;
+    /// let f = Field::Random { low: 0.5, high: 2.0, seed: 3 };
+    /// let per_cell = f.drawn_per_cell(4);
+    /// let cells = per_cell.sample(&[0.5, 1.5, 2.5, 3.5], 4.0);
+    /// assert_eq!(cells, f.sample(&[0.0; 4], 4.0)); // the same four draws
+    /// // eight points, two in each cell, share their cell's value
+    /// let fine = per_cell.sample(&[0.25, 0.75, 1.25, 1.75, 2.25, 2.75, 3.25, 3.75], 4.0);
+    /// assert!(fine.chunks(2).zip(&cells).all(|(pair, c)| pair == [*c, *c]));
+    /// ```
+    pub fn drawn_per_cell(&self, cells: usize) -> Field {
+        match self {
+            Field::Random { .. } => Field::PerCell {
+                values: self.sample(&vec![0.0; cells], 1.0),
+            },
+            other => other.clone(),
         }
     }
 

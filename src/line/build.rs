@@ -274,6 +274,26 @@ impl Census {
     }
 }
 
+/// `p` with its random fields drawn once per cell, as per-cell lists (`None` when it has
+/// none): a continuum grid then reads the value of the cell where each of its points lies, the
+/// tissue the discrete line sees, rather than fresh draws per segment.
+pub(crate) fn drawn_per_cell(p: &LineParams) -> Option<LineParams> {
+    let fields = [&p.mu, &p.eta, &p.k, &p.active_amp, &p.p_ext];
+    if !fields.iter().any(|f| matches!(f, Field::Random { .. })) {
+        return None;
+    }
+    let n = p.ref_lengths.len();
+    let draw = |f: &Field| f.drawn_per_cell(n);
+    Some(LineParams {
+        mu: draw(&p.mu),
+        eta: draw(&p.eta),
+        k: draw(&p.k),
+        active_amp: draw(&p.active_amp),
+        p_ext: draw(&p.p_ext),
+        ..p.clone()
+    })
+}
+
 /// Builds a line of `lengths.len()` cells (or segments) whose drags are `K` times what the
 /// [`Census`] says each stands for.
 fn assemble<E: StrainEnergy>(
@@ -437,6 +457,8 @@ pub fn continuum<E: StrainEnergy>(
     if n == 0 {
         return Err(LineError::invalid("nodes", n, ">= 1"));
     }
+    let drawn = drawn_per_cell(p);
+    let p = drawn.as_ref().unwrap_or(p);
     let h = l0 / n as f64;
     let census = match CellCensus::of_unequal(&p.ref_lengths) {
         None => Census::uniform(n, h / (l0 / p.ref_lengths.len() as f64)),
@@ -475,6 +497,8 @@ pub fn cell_groups<E: StrainEnergy>(
     let Some(census) = CellCensus::of_unequal(&p.ref_lengths) else {
         return continuum(energy, p, n);
     };
+    let drawn = drawn_per_cell(p);
+    let p = drawn.as_ref().unwrap_or(p);
     let c = cells / n;
     let lengths = p.ref_lengths.chunks(c).map(|g| g.iter().sum()).collect();
     let mut counts = Census::uniform(n, c as f64);

@@ -9,7 +9,7 @@
 //! second-order `λ_n`. Prefer the conservative scheme ([`crate::line::build::continuum`]) for
 //! new work.
 
-use super::build::{CellCensus, LineParams};
+use super::build::{drawn_per_cell, CellCensus, LineParams};
 use super::observe::Snapshot;
 use super::run::LineModel;
 use super::LineError;
@@ -76,6 +76,8 @@ impl<E: StrainEnergy> ThesisLine<E> {
                 "the thesis scheme supports neither growth nor active stress".into(),
             ));
         }
+        let drawn = drawn_per_cell(p);
+        let p = drawn.as_ref().unwrap_or(p);
         let l0 = p.total_length();
         let mean_cell = l0 / p.ref_lengths.len() as f64;
         let dx = l0 / (n - 1) as f64;

@@ -371,7 +371,11 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
         let hx = p.cells_x as f64 / n as f64;
         let hy = p.cells_y as f64 * p.gamma0 / m as f64;
         let centres: Vec<f64> = (1..=n).map(|j| (j as f64 - 0.5) * hx).collect();
-        let p_ext = p.external_pressure.sample(&centres, p.cells_x as f64);
+        // a random pressure is drawn per cell column, the same on every grid
+        let p_ext = p
+            .external_pressure
+            .drawn_per_cell(p.cells_x)
+            .sample(&centres, p.cells_x as f64);
         if let Some(&bad) = p_ext.iter().find(|v| !v.is_finite()) {
             return Err(SheetBuildError::Range {
                 key: "external_pressure",
