@@ -39,8 +39,10 @@
 //! The conservative scheme (docs/model.md §3.3a) with `n` segments of width `h`: segment `i` carries
 //! `g_i = γ_i/ℓ_i` in the state and `ℓ_i`, `r_i = ρ_i/ρ₀` as parameters; it is a continuum
 //! [`crate::line::Line`] whose segment reference length is `hℓ_i` and whose node drag is
-//! `K h ρ̄_face/L̄` (mean of the two segments' densities). A segment divides — all its
-//! `r_i N₀/n` cells at once — when `g_i g₂` reaches 2 (an integrator event; no resize, only
+//! `K h ρ̄_face/L̄` (mean of the two segments' densities; for cells of unequal reference
+//! lengths the initial boundaries each node carries, docs/model.md §3.3). A segment divides —
+//! all its `r_i c_i` cells at once (`c_i` its initial cells, `N₀/n` for equal cells,
+//! [`crate::line::build::segment_cells`]) — when `g_i g₂` reaches 2 (an integrator event; no resize, only
 //! `ℓ_i`, `r_i` and two drags change: [`integrators::EventAction::Modified`]). With `n = N₀`
 //! and uniform cells the model before the first division is exactly the discrete model.
 //!
@@ -153,7 +155,8 @@
 //! nothing merges, and the grid with `c = 1` is the discrete line (use `c = 2`, or the density
 //! continuum early on). The merged members' shared stress is the error θ controls. It is a
 //! scenario option, `division.cell_grid`, and a library type
-//! (`CellGrid::new(continuum(..), n0, rule)`).
+//! (`CellGrid::new(continuum(..), n0, rule)`, or `CellGrid::with_cell_lengths(cell_groups(..), ..)`
+//! for cells of unequal reference lengths).
 
 mod cell_grid;
 mod density;
