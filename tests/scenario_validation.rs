@@ -2,6 +2,7 @@
 //! before anything runs, with a message naming the innermost key in a researcher's words; the
 //! one-key strain energy; `--set` against a sweep; multi-parameter sweeps.
 
+use celltissue::cell::Field;
 use celltissue::scenario::{load_str, ModelConfig, Scenario, ScenarioError};
 use std::path::Path;
 
@@ -218,11 +219,51 @@ fn messages_use_researchers_words_and_short_numbers() {
     assert!(!m.contains("0000000000"), "no 300-digit integer: {m}");
     let m = rejects(LINE, &["model.cells=-3"], "model.cells");
     assert!(m.contains("non-negative integer"), "{m}");
-    // a whole number written as a float says how to write it; a fraction does not
-    let m = rejects(LINE, &["model.cells=1e5"], "model.cells");
-    assert!(m.contains("write 100000)"), "{m}");
     let m = rejects(LINE, &["model.cells=2.5"], "model.cells");
-    assert!(!m.contains("write"), "{m}");
+    assert!(m.contains("floating point `2.5`"), "{m}");
+}
+
+/// A whole number written as a float (`1e4`, `100.0`: TOML reads them as floats, and so do
+/// Python's `1e4`) is taken where an integer is expected — at the top, inside a field's table,
+/// in a range, in a sweep, a continuum grid, an ensemble; a fraction is still refused.
+#[test]
+fn whole_numbers_written_as_floats_count_as_integers() {
+    let s = load(LINE, &["model.cells=1e4", "model.nodes=2e2"]).unwrap();
+    let ModelConfig::Line(cfg) = &s.runs[0].config else {
+        panic!("a line")
+    };
+    assert_eq!((cfg.cells, s.runs[1].nodes), (10_000, Some(200)));
+    let s = load(
+        LINE,
+        &[
+            "model.mu={ type = \"random\", low = 1, high = 2, seed = 3.0 }",
+            "output.series={ start = 0, stop = 1, count = 1e1 }",
+        ],
+    )
+    .unwrap();
+    assert_eq!(s.runs[0].times.series.len(), 10);
+    let ModelConfig::Line(cfg) = &s.runs[0].config else {
+        panic!("a line")
+    };
+    assert!(
+        matches!(cfg.mu, Field::Random { seed: 3, .. }),
+        "{:?}",
+        cfg.mu
+    );
+    let swept = load(
+        LINE,
+        &["sweep.parameter=\"cells\"", "sweep.values=[10.0, 2e1]"],
+    )
+    .unwrap();
+    assert_eq!(swept.runs.len(), 4);
+    let sheet = "name = \"s\"\n[output]\nseries = [0, 1]\n[model]\nkind = \"sheet\"\n\
+                 cells_x = 4.0\ncells_y = 2\nnodes = [8.0, 4e0]\n";
+    let s = load(sheet, &[]).unwrap();
+    assert_eq!(s.runs[1].grid, Some((8, 4)));
+    for bad in ["model.cells=2.5", "model.nodes=2.5", "model.cells=1e300"] {
+        let key = bad.split('=').next().unwrap();
+        rejects(LINE, &[bad], key);
+    }
 }
 
 #[test]

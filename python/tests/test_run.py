@@ -198,3 +198,10 @@ def test_a_profile_of_a_run_without_profiles_says_so():
     assert r.profile("stretch").shape == (1, 4)
     with pytest.raises(ValueError, match="`strech` is not a profile field"):
         r.profile("strech")
+
+
+def test_a_whole_number_given_as_a_float_is_taken_as_an_integer():
+    r = celltissue.line(cells=1e1, K=1.0).solve([0, 1], profiles=[1])
+    assert r.error is None and r.profile("x").shape == (1, 10)
+    with pytest.raises(celltissue.ScenarioError, match="model.cells"):
+        celltissue.line(cells=2.5, K=1.0).solve([0, 1])

@@ -158,38 +158,100 @@ impl ScenarioError {
 }
 
 /// Deserialises `value` into `T`, reporting unknown keys and type errors with their full dotted
-/// path below `prefix` (`""` for the root).
+/// path below `prefix` (`""` for the root). A whole number written as a float where an integer
+/// is expected (`cells = 1e4`, `--set model.cells=100.0`, Python's `cells=1e4`) is read as that
+/// integer: the key is converted and the value read again.
 pub(crate) fn deserialize_at<T: serde::de::DeserializeOwned>(
     prefix: &str,
-    value: toml::Value,
+    mut value: toml::Value,
 ) -> Result<T, ScenarioError> {
-    serde_path_to_error::deserialize(value).map_err(|e| {
-        // toml appends "in `key`" lines that repeat the path named in front
-        let mut inner = e
-            .inner()
-            .to_string()
-            .lines()
-            .filter(|l| {
-                let repeats_path = l.starts_with("in `") && l.ends_with('`');
-                !(l.trim().is_empty() || repeats_path)
-            })
-            .collect::<Vec<_>>()
-            .join("\n");
-        let mut path = join(prefix, &e.path().to_string());
-        // A type that buffers its table (e.g. a tagged field `{ type = "gaussian", … }`) names
-        // the key inside it as a leading "`width`: " (see `crate::cell::Field`): extend the path.
-        while let Some((inner_key, rest)) = nested_key(&inner) {
-            path = join(&path, &inner_key);
-            inner = rest;
-        }
-        // Name the unknown or missing field itself, whether or not the path already ends in it.
-        if let Some(field) = unknown_field(&inner).or_else(|| missing_field(&inner)) {
-            if !(path == field || path.ends_with(&format!(".{field}"))) {
-                path = join(&path, &field);
+    // each retry converts one key; a scenario has far fewer integer keys than this
+    const MAX_CONVERSIONS: usize = 64;
+    for _ in 0..=MAX_CONVERSIONS {
+        let e = match serde_path_to_error::deserialize(value.clone()) {
+            Ok(t) => return Ok(t),
+            Err(e) => e,
+        };
+        let (path, inner) = located(&e);
+        if let Some(n) = integral_float(&inner) {
+            if let Some(slot) = value_at(&mut value, &path) {
+                if slot.as_float().is_some() {
+                    *slot = toml::Value::Integer(n);
+                    continue;
+                }
             }
         }
-        ScenarioError::key(path, inner)
-    })
+        return Err(report(prefix, path, inner));
+    }
+    Err(ScenarioError::key(
+        prefix,
+        format!("more than {MAX_CONVERSIONS} whole numbers written as floats"),
+    ))
+}
+
+/// The path (relative to the deserialised value) and message of a deserialisation error.
+fn located(e: &serde_path_to_error::Error<toml::de::Error>) -> (String, String) {
+    // toml appends "in `key`" lines that repeat the path named in front
+    let mut inner = e
+        .inner()
+        .to_string()
+        .lines()
+        .filter(|l| {
+            let repeats_path = l.starts_with("in `") && l.ends_with('`');
+            !(l.trim().is_empty() || repeats_path)
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let mut path = join("", &e.path().to_string());
+    // A type that buffers its table (e.g. a tagged field `{ type = "gaussian", … }`) names
+    // the key inside it as a leading "`width`: " (see `crate::cell::Field`): extend the path.
+    while let Some((inner_key, rest)) = nested_key(&inner) {
+        path = join(&path, &inner_key);
+        inner = rest;
+    }
+    (path, inner)
+}
+
+/// The error for `inner` at `path` below `prefix`.
+fn report(prefix: &str, path: String, inner: String) -> ScenarioError {
+    let mut path = join(prefix, &path);
+    // Name the unknown or missing field itself, whether or not the path already ends in it.
+    if let Some(field) = unknown_field(&inner).or_else(|| missing_field(&inner)) {
+        if !(path == field || path.ends_with(&format!(".{field}"))) {
+            path = join(&path, &field);
+        }
+    }
+    ScenarioError::key(path, inner)
+}
+
+/// The integer a "floating point `v`, expected <an integer type>" message holds, when `v` is a
+/// whole number that an `i64` and an `f64` both hold exactly.
+fn integral_float(message: &str) -> Option<i64> {
+    let rest = message.strip_prefix("invalid type: floating point `")?;
+    let (number, after) = rest.split_once('`')?;
+    let integer = ["usize", "u64", "u32", "u16", "u8", "i64", "i32"]
+        .iter()
+        .any(|t| after == format!(", expected {t}"));
+    let v: f64 = number.parse().ok()?;
+    (integer && v.fract() == 0.0 && v.abs() <= 9.007_199_254_740_992e15).then_some(v as i64)
+}
+
+/// The value at a serde path such as `grid[1].values[0]` or `mu.seed` inside `value`.
+fn value_at<'a>(value: &'a mut toml::Value, path: &str) -> Option<&'a mut toml::Value> {
+    let mut at = value;
+    for part in path.split('.').filter(|p| !p.is_empty()) {
+        let (key, indices) = match part.find('[') {
+            Some(i) => (&part[..i], &part[i..]),
+            None => (part, ""),
+        };
+        if !key.is_empty() {
+            at = at.as_table_mut()?.get_mut(key)?;
+        }
+        for index in indices.split(['[', ']']).filter(|s| !s.is_empty()) {
+            at = at.as_array_mut()?.get_mut(index.parse::<usize>().ok()?)?;
+        }
+    }
+    Some(at)
 }
 
 /// The key and the rest of a message of the form "`key`: rest" or "`key` = value: rest" (the

@@ -192,8 +192,10 @@ pub fn parse_model(table: &toml::Table) -> Result<ModelSection, ScenarioError> {
         None => vec![ModelKind::Discrete, ModelKind::Continuum],
         Some(v) => parse_models(&v)?,
     };
+    // a whole number written as a float (`nodes = 2e2`) counts as well, as for every integer key
     let node_count = |v: &toml::Value| match v {
         toml::Value::Integer(n) if (1..=100_000_000).contains(n) => Some(*n as usize),
+        toml::Value::Float(x) if x.fract() == 0.0 && (1.0..=1e8).contains(x) => Some(*x as usize),
         _ => None,
     };
     let (mut nodes, mut grid) = (None, None);
