@@ -254,13 +254,17 @@ impl Census {
     /// The segments `[X_i, X_{i+1}]` of a grid over the unequal cells of `lengths` (faces
     /// `X_0 = 0 … X_n = l₀`): segment `i` holds `C(X_{i+1}) − C(X_i)` cells; an interior face
     /// carries the boundaries between its neighbours' centres, an end face its segment's length
-    /// over the end cell's (`h/L` on every face for equal cells).
-    fn grid(census: CellCensus, faces: &[f64]) -> Self {
+    /// over the end cell's (`h/L` on every face for equal cells), and on a `ring` the face
+    /// where the ends meet the boundaries between the last centre and the first.
+    fn grid(census: CellCensus, faces: &[f64], ring: bool) -> Self {
         let n = faces.len() - 1;
         let c: Vec<f64> = faces.iter().map(|&x| census.count_to(x)).collect();
         let mid: Vec<f64> = faces.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect();
+        let cells = census.bounds.len() as f64 - 1.0;
+        let seam = census.count_to(mid[0]) + (cells - census.count_to(mid[n - 1]));
         let face = (0..=n)
             .map(|b| match b {
+                b if ring && (b == 0 || b == n) => seam,
                 0 => (faces[1] - faces[0]) / census.length_at(faces[0]),
                 b if b == n => (faces[n] - faces[n - 1]) / census.length_at(faces[n]),
                 b => census.count_to(mid[b]) - census.count_to(mid[b - 1]),
@@ -462,7 +466,7 @@ pub fn continuum<E: StrainEnergy>(
     let h = l0 / n as f64;
     let census = match CellCensus::of_unequal(&p.ref_lengths) {
         None => Census::uniform(n, h / (l0 / p.ref_lengths.len() as f64)),
-        Some(cells) => Census::grid(cells, &grid_faces(h, n)),
+        Some(cells) => Census::grid(cells, &grid_faces(h, n), p.right.is_periodic()),
     };
     assemble(energy, p, vec![h; n], census)
 }
@@ -523,7 +527,7 @@ pub fn segment_cells(p: &LineParams, n: usize) -> Vec<f64> {
     let h = l0 / n as f64;
     match CellCensus::of_unequal(&p.ref_lengths) {
         None => vec![h / (l0 / p.ref_lengths.len() as f64); n],
-        Some(cells) => Census::grid(cells, &grid_faces(h, n)).cell,
+        Some(cells) => Census::grid(cells, &grid_faces(h, n), false).cell,
     }
 }
 
@@ -571,7 +575,7 @@ mod tests {
         for n in [5, 37, 100, 1000] {
             let h = l0 / n as f64;
             let census = CellCensus::of_unequal(&lengths).unwrap();
-            let c = Census::grid(census, &grid_faces(h, n));
+            let c = Census::grid(census, &grid_faces(h, n), false);
             let total: f64 = c.cell.iter().sum();
             assert!((total - 37.0).abs() < 1e-11, "n={n}: {total}");
             assert!(c.cell.iter().chain(&c.face).all(|&v| v > 0.0));
@@ -580,6 +584,12 @@ mod tests {
             let cc = CellCensus::new(&lengths);
             let span = cc.count_to(l0 - 0.5 * h) - cc.count_to(0.5 * h);
             assert!((inner - span).abs() < 1e-11, "n={n}: {inner} {span}");
+            // on a ring the faces where the ends meet are one, and every boundary is counted
+            // once: N faces' worth in all
+            let ring = Census::grid(CellCensus::new(&lengths), &grid_faces(h, n), true);
+            assert_eq!(ring.face[0], ring.face[n]);
+            let all: f64 = ring.face[..n].iter().sum();
+            assert!((all - 37.0).abs() < 1e-11, "n={n}: {all}");
         }
         let census = CellCensus::new(&[1.0, 3.0]);
         assert_eq!(
