@@ -17,6 +17,20 @@ use celltissue::observe::RunRecord;
 use celltissue::scenario::{execute::run_spec, load_str};
 use std::path::Path;
 
+/// The scenario `text`'s first two runs (its discrete line and its continuum), both finished.
+fn discrete_and_continuum(text: &str) -> (RunRecord, RunRecord) {
+    let sc = load_str(text, Path::new("t.toml"), &[]).unwrap();
+    let d = run_spec(&sc.runs[0]);
+    let c = run_spec(&sc.runs[1]);
+    assert!(
+        d.error.is_none() && c.error.is_none(),
+        "{:?} {:?}",
+        d.error,
+        c.error
+    );
+    (d, c)
+}
+
 /// 500 cells of 0.02, then 167 of 0.06: three times the boundaries per unit length on the
 /// left half; an exponential ramp, K = 1e-3 (the disturbance reaches past the middle by t = 1).
 fn ramp_runs(nodes: usize, scheme: &str) -> (RunRecord, RunRecord) {
@@ -30,16 +44,7 @@ fn ramp_runs(nodes: usize, scheme: &str) -> (RunRecord, RunRecord) {
          nodes = {nodes}\ncontinuum_scheme = \"{scheme}\"\n",
         lengths.join(", ")
     );
-    let sc = load_str(&text, Path::new("t.toml"), &[]).unwrap();
-    let d = run_spec(&sc.runs[0]);
-    let c = run_spec(&sc.runs[1]);
-    assert!(
-        d.error.is_none() && c.error.is_none(),
-        "{:?} {:?}",
-        d.error,
-        c.error
-    );
-    (d, c)
+    discrete_and_continuum(&text)
 }
 
 /// The largest difference of the current position x(X) at X = 8, 10, 12, 16 at t = 1
@@ -113,16 +118,7 @@ fn proliferating(
          growth = {{ sigma0 = 0.1 }}\ndivision = {division}\n",
         lengths.join(", ")
     );
-    let sc = load_str(&text, Path::new("t.toml"), &[]).unwrap();
-    let d = run_spec(&sc.runs[0]);
-    let c = run_spec(&sc.runs[1]);
-    assert!(
-        d.error.is_none() && c.error.is_none(),
-        "{:?} {:?}",
-        d.error,
-        c.error
-    );
-    (d, c)
+    discrete_and_continuum(&text)
 }
 
 #[test]
@@ -175,13 +171,10 @@ fn a_random_field_is_the_same_tissue_on_every_grid() {
              eta = {{ type = \"random\", low = 0, high = 1, seed = 8 }}\n"
         )
     };
-    let sc = load_str(&text(20), Path::new("t.toml"), &[]).unwrap();
-    let (d, same) = (run_spec(&sc.runs[0]), run_spec(&sc.runs[1]));
+    let (d, same) = discrete_and_continuum(&text(20));
     assert_eq!(same.series.length, d.series.length);
     assert_eq!(same.profiles[0].x, d.profiles[0].x);
-    let sc = load_str(&text(80), Path::new("t.toml"), &[]).unwrap();
-    let fine = run_spec(&sc.runs[1]);
-    assert!(fine.error.is_none(), "{:?}", fine.error);
+    let (_, fine) = discrete_and_continuum(&text(80));
     let (mu_d, mu_c) = (&d.profiles[0].extra["mu"], &fine.profiles[0].extra["mu"]);
     assert_eq!(mu_c.len(), 80);
     assert!(mu_c.iter().enumerate().all(|(i, &m)| m == mu_d[i / 4]));

@@ -173,7 +173,7 @@ pub(crate) fn deserialize_at<T: serde::de::DeserializeOwned>(
             Err(e) => e,
         };
         let (path, inner) = located(&e);
-        if let Some(n) = integral_float(&inner) {
+        if let Some((_, n)) = integral_float(&inner) {
             if let Some(slot) = value_at(&mut value, &path) {
                 if slot.as_float().is_some() {
                     *slot = toml::Value::Integer(n);
@@ -224,16 +224,20 @@ fn report(prefix: &str, path: String, inner: String) -> ScenarioError {
     ScenarioError::key(path, inner)
 }
 
-/// The integer a "floating point `v`, expected <an integer type>" message holds, when `v` is a
-/// whole number that an `i64` and an `f64` both hold exactly.
-fn integral_float(message: &str) -> Option<i64> {
-    let rest = message.strip_prefix("invalid type: floating point `")?;
+/// A whole number written as a float where an integer is expected: in a message "invalid
+/// type: floating point `v`, expected <an integer type>", `v` as written and as the integer,
+/// when an `i64` and an `f64` both hold it exactly ([`deserialize_at`] reads it as that integer;
+/// a message that still has one says how to write it).
+fn integral_float(message: &str) -> Option<(&str, i64)> {
+    const PREFIX: &str = "invalid type: floating point `";
+    let rest = &message[message.find(PREFIX)? + PREFIX.len()..];
     let (number, after) = rest.split_once('`')?;
     let integer = ["usize", "u64", "u32", "u16", "u8", "i64", "i32"]
         .iter()
-        .any(|t| after == format!(", expected {t}"));
+        .any(|t| after.starts_with(&format!(", expected {t}")));
     let v: f64 = number.parse().ok()?;
-    (integer && v.fract() == 0.0 && v.abs() <= 9.007_199_254_740_992e15).then_some(v as i64)
+    (integer && v.fract() == 0.0 && v.abs() <= 9.007_199_254_740_992e15)
+        .then_some((number, v as i64))
 }
 
 /// The value at a serde path such as `grid[1].values[0]` or `mu.seed` inside `value`.
@@ -297,6 +301,8 @@ pub const MAX_MESSAGE_CHARS: usize = 400;
 pub fn researcher_words(message: &str) -> String {
     // cut first (cheaply) so that nothing below works on megabytes
     let mut s = shorten_to(message, 4 * MAX_MESSAGE_CHARS);
+    let hint = integral_float(&s)
+        .map(|(written, n)| format!(" (TOML reads `{written}` as a float: write {n})"));
     for (rust, words) in [
         ("expected usize", "expected a non-negative integer"),
         ("expected u64", "expected a non-negative integer"),
@@ -307,30 +313,8 @@ pub fn researcher_words(message: &str) -> String {
     ] {
         s = s.replace(rust, words);
     }
-    shorten(&long_numbers_scientific(&integer_hint(s)))
-}
-
-/// A whole number written as a float (`cells = 1e5`, `--set model.cells=100.0`) where an integer
-/// is expected: TOML reads it as a float, so the message says how to write it.
-fn integer_hint(s: String) -> String {
-    const PREFIX: &str = "invalid type: floating point `";
-    let Some(start) = s.find(PREFIX).map(|i| i + PREFIX.len()) else {
-        return s;
-    };
-    let Some(len) = s[start..].find('`') else {
-        return s;
-    };
-    let integer_expected = s[start + len..].starts_with("`, expected a non-negative integer")
-        || s[start + len..].starts_with("`, expected an integer");
-    match s[start..start + len].parse::<f64>() {
-        Ok(v) if integer_expected && v.fract() == 0.0 && v.abs() < 9.0e15 => {
-            format!(
-                "{s} (TOML reads `{}` as a float: write {v:.0})",
-                &s[start..start + len]
-            )
-        }
-        _ => s,
-    }
+    s.push_str(hint.as_deref().unwrap_or(""));
+    shorten(&long_numbers_scientific(&s))
 }
 
 /// Digit runs longer than 17 characters (optionally with a fractional part) as `d.ddde±x`.
