@@ -9,6 +9,7 @@ mod array_data;
 mod cli_catalogue;
 mod cli_errors;
 mod cli_run;
+mod continuum_cell_scale_heterogeneity;
 mod division_cap;
 mod division_jacobian_map;
 mod division_restart;

@@ -72,8 +72,8 @@ pub enum Field {
     },
     /// Independent uniform values in `[low, high]` per sample, from a seeded generator
     /// (splitmix64; the same seed gives the same field on every platform). A line's builders
-    /// draw one per cell and give a continuum grid the value of the cell where each of its
-    /// points lies, so both discretisations see the same tissue.
+    /// draw one per cell, so both discretisations see the same tissue: a finer continuum grid
+    /// reads the cell where each of its points lies, a coarser one its cells' effective values.
     Random {
         /// Lower bound.
         low: f64,

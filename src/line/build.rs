@@ -10,6 +10,7 @@
 //! * [`segment_cells`] — the cells each continuum segment holds (a density continuum's start).
 
 use super::array::{Cells, Layout, Line};
+use super::homogenise::homogenised;
 use super::LineError;
 use crate::boundary::RightEnd;
 use crate::cell::{Active, Field, GrowthLaw, MaxwellBranch, Sampling};
@@ -279,8 +280,9 @@ impl Census {
 }
 
 /// `p` with its random fields drawn once per cell, as per-cell lists (`None` when it has
-/// none): a continuum grid then reads the value of the cell where each of its points lies, the
-/// tissue the discrete line sees, rather than fresh draws per segment.
+/// none): a continuum grid then sees the tissue the discrete line sees (the cell where each
+/// of its points lies, or the effective values of the cells a segment holds), rather than
+/// fresh draws per segment.
 pub(crate) fn drawn_per_cell(p: &LineParams) -> Option<LineParams> {
     let fields = [&p.mu, &p.eta, &p.k, &p.active_amp, &p.p_ext];
     if !fields.iter().any(|f| matches!(f, Field::Random { .. })) {
@@ -325,9 +327,20 @@ fn assemble<E: StrainEnergy>(
         Some(cells) => cells.sample(f, samples, l0_total),
         None => f.sample(samples, l0_total),
     };
-    let mu = sample(&p.mu);
-    let eta = sample(&p.eta);
-    let k_sampled: Vec<f64> = sample(&p.k);
+    // segments of several cells of a per-cell list take the cells' effective values
+    let mixed = (lengths != p.ref_lengths)
+        .then(|| homogenised(p, &bounds))
+        .flatten();
+    let (mu, eta, k_sampled, active_amp, p_ext) = match mixed {
+        Some(v) => (v.mu, v.eta, v.k, v.active_amp, v.p_ext),
+        None => (
+            sample(&p.mu),
+            sample(&p.eta),
+            sample(&p.k),
+            sample(&p.active_amp),
+            sample(&p.p_ext),
+        ),
+    };
     let k_face: Vec<f64> = match &p.k {
         // a per-cell list has no boundary values: average the neighbours
         Field::PerCell { .. } | Field::Random { .. } => (0..=n)
@@ -357,8 +370,6 @@ fn assemble<E: StrainEnergy>(
         .zip(&census.cell)
         .map(|(k, c)| k * c)
         .collect();
-    let active_amp = sample(&p.active_amp);
-    let p_ext = sample(&p.p_ext);
     if let Some(bad) = p_ext.iter().find(|x| !x.is_finite()) {
         return Err(LineError::invalid(
             "external_pressure",

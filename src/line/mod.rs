@@ -17,6 +17,7 @@ pub mod analytic;
 pub mod array;
 pub mod build;
 pub mod config;
+pub(crate) mod homogenise;
 pub mod observe;
 pub mod run;
 pub mod static_solve;

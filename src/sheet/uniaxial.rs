@@ -26,6 +26,7 @@ use super::ramp::Ramp;
 use crate::array::CellArray;
 use crate::cell::{Field, GrowthLaw, MaxwellBranch, ViscousBranch};
 use crate::energy::{SheetResponse, StrainEnergy};
+use crate::line::homogenise::{jumps_between_cells, segment_means};
 use crate::scalar::Scalar;
 use integrators::{Pattern, SparsityPattern};
 use std::cell::RefCell;
@@ -371,11 +372,20 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
         let hx = p.cells_x as f64 / n as f64;
         let hy = p.cells_y as f64 * p.gamma0 / m as f64;
         let centres: Vec<f64> = (1..=n).map(|j| (j as f64 - 0.5) * hx).collect();
-        // a random pressure is drawn per cell column, the same on every grid
-        let p_ext = p
-            .external_pressure
-            .drawn_per_cell(p.cells_x)
-            .sample(&centres, p.cells_x as f64);
+        // a random pressure is drawn per cell column, the same on every grid; a column of
+        // segments over several cell columns takes their mean (the sheet's μ is uniform:
+        // docs/model.md §3.3, "Cell-scale heterogeneity")
+        let columns = p.external_pressure.drawn_per_cell(p.cells_x);
+        let width = p.cells_x as f64;
+        let p_ext = jumps_between_cells(&columns, p.cells_x)
+            .then(|| {
+                let mids: Vec<f64> = (0..p.cells_x).map(|c| c as f64 + 0.5).collect();
+                let faces: Vec<f64> = (0..=n).map(|j| j as f64 * hx).collect();
+                let per_column = columns.sample(&mids, width);
+                segment_means(&vec![1.0; p.cells_x], &faces, &per_column)
+            })
+            .flatten()
+            .unwrap_or_else(|| columns.sample(&centres, width));
         if let Some(&bad) = p_ext.iter().find(|v| !v.is_finite()) {
             return Err(SheetBuildError::Range {
                 key: "external_pressure",
