@@ -331,6 +331,8 @@ fn assemble<E: StrainEnergy>(
     let mixed = (lengths != p.ref_lengths)
         .then(|| homogenised(p, &bounds))
         .flatten();
+    let per_segment_k =
+        mixed.is_some() || matches!(p.k, Field::PerCell { .. } | Field::Random { .. });
     let (mu, eta, k_sampled, active_amp, p_ext) = match mixed {
         Some(v) => (v.mu, v.eta, v.k, v.active_amp, v.p_ext),
         None => (
@@ -341,29 +343,32 @@ fn assemble<E: StrainEnergy>(
             sample(&p.p_ext),
         ),
     };
-    let k_face: Vec<f64> = match &p.k {
-        // a per-cell list has no boundary values: average the neighbours
-        Field::PerCell { .. } | Field::Random { .. } => (0..=n)
+    // values per cell or segment have none at the faces: average the neighbours (on a ring
+    // the seam's are the last and the first)
+    let k_face: Vec<f64> = if per_segment_k {
+        let ring = p.right.is_periodic();
+        (0..=n)
             .map(|b| {
-                let l = if b >= 1 {
-                    k_sampled[b - 1]
-                } else {
-                    k_sampled[0]
+                let l = match b {
+                    0 if ring => k_sampled[n - 1],
+                    0 => k_sampled[0],
+                    _ => k_sampled[b - 1],
                 };
-                let r = if b < n {
-                    k_sampled[b]
-                } else {
-                    k_sampled[n - 1]
+                let r = match b {
+                    _ if b < n => k_sampled[b],
+                    _ if ring => k_sampled[0],
+                    _ => k_sampled[n - 1],
                 };
                 let c = census.face[b];
                 0.5 * (l * c + r * c)
             })
-            .collect(),
-        f => bounds
+            .collect()
+    } else {
+        bounds
             .iter()
             .zip(&census.face)
-            .map(|(&x, &c)| f.eval(x, l0_total) * c)
-            .collect(),
+            .map(|(&x, &c)| p.k.eval(x, l0_total) * c)
+            .collect()
     };
     let k_cell: Vec<f64> = k_sampled
         .iter()
@@ -557,6 +562,23 @@ fn grid_faces(h: f64, n: usize) -> Vec<f64> {
 mod tests {
     use super::*;
     use crate::NeoHookean;
+
+    #[test]
+    fn a_per_cell_drag_list_gives_each_boundary_its_neighbours_mean_and_a_ring_its_seam() {
+        let law = NeoHookean::new(1.0).unwrap();
+        let mut p = LineParams::unit_cells(4);
+        p.k = Field::PerCell {
+            values: vec![1.0, 2.0, 3.0, 5.0],
+        };
+        assert_eq!(
+            discrete(law, &p).unwrap().k_face(),
+            [1.0, 1.5, 2.5, 4.0, 5.0]
+        );
+        // on a ring the seam joins the last cell to the first: the same face, both ways round
+        p.right = RightEnd::Periodic { gauge: true };
+        let ring = discrete(law, &p).unwrap();
+        assert_eq!((ring.k_face()[0], ring.k_face()[4]), (3.0, 3.0));
+    }
 
     #[test]
     fn bad_reference_lengths_are_named_and_good_ones_give_l0() {
