@@ -32,6 +32,7 @@ mod line_growth_without_division;
 mod line_invariants;
 mod line_jacobian;
 mod line_raw_thesis_large_n;
+mod line_reference_applicability;
 mod line_small_k_exponential_ramp;
 mod line_static_equilibrium;
 mod line_structure;

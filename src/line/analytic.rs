@@ -18,7 +18,7 @@ use super::config::{LineConfig, RightEndKind};
 use super::static_solve::{static_equilibrium, static_equilibrium_from, StaticSolution};
 use super::LineError;
 use crate::boundary::RampKind;
-use crate::cell::Field;
+use crate::cell::{Field, ViscosityModel};
 use crate::energy::{AnyEnergy, StrainEnergy};
 use crate::observe::{AnalyticReference, ReferencePositions, ReferenceProfile};
 use std::cell::OnceCell;
@@ -68,20 +68,36 @@ fn constant(f: &Field) -> Option<f64> {
     }
 }
 
-/// The analytic solution that applies to `cfg`, if any: a prescribed right end, no growth and
-/// no active stress, unit-free uniform cell lengths; then [`Reference::UniformK0`] if `K = 0`
-/// with uniform `μ`, `η`; else [`Reference::Linear`] for `η = 0`, uniform neo-Hookean `μ`,
-/// uniform `K`, the exponential ramp and a small shortening `|k₁| ≤` [`LINEAR_MAX_STRAIN`]; else
-/// [`Reference::QuasiStatic`].
+/// The analytic solution that applies to `cfg`, if any: a prescribed right end, no growth, no
+/// active stress and no Maxwell branch, uniform cell lengths; then [`Reference::UniformK0`] if
+/// `K = 0` with uniform `μ`, Kelvin–Voigt `η` (top-level or `viscosity`) and external pressure;
+/// else [`Reference::Linear`] for `η = 0`, uniform neo-Hookean `μ`, uniform `K` and external
+/// pressure, the exponential ramp and a small shortening `|k₁| ≤` [`LINEAR_MAX_STRAIN`]; else
+/// [`Reference::QuasiStatic`]. A uniform external pressure adds itself to every pressure.
 ///
 /// ```
 /// use celltissue::line::analytic::{reference_for, Reference};
 /// use celltissue::line::LineConfig;
+/// use celltissue::cell::ViscosityModel;
 /// let cfg = LineConfig { k: 0.0.into(), eta: 1.0.into(), ..Default::default() };
 /// assert_eq!(reference_for(&cfg), Some(Reference::UniformK0));
+/// // viscous cells are outside the linear theory, whichever key gives their viscosity
+/// let kv = Some(ViscosityModel::KelvinVoigt { eta: 5.0 });
+/// let viscous = LineConfig { viscosity: kv, ..Default::default() };
+/// assert_eq!(reference_for(&viscous), Some(Reference::QuasiStatic));
+/// // a Maxwell branch: none applies
+/// let mx = Some(ViscosityModel::Maxwell { mu_m: 1.0, eta_m: 1.0 });
+/// assert_eq!(reference_for(&LineConfig { viscosity: mx, ..Default::default() }), None);
 /// ```
 pub fn reference_for(cfg: &LineConfig) -> Option<Reference> {
     if cfg.right_end != RightEndKind::Prescribed || cfg.growth.is_some() || cfg.active.is_some() {
+        return None;
+    }
+    // a Maxwell branch carries a stress none of these solutions follows
+    if matches!(
+        cfg.viscosity,
+        Some(ViscosityModel::Maxwell { .. } | ViscosityModel::StandardLinearSolid { .. })
+    ) {
         return None;
     }
     let uniform_cells = cfg
@@ -91,8 +107,11 @@ pub fn reference_for(cfg: &LineConfig) -> Option<Reference> {
     if !uniform_cells {
         return None;
     }
-    let (k, mu, eta) = (constant(&cfg.k), constant(&cfg.mu), constant(&cfg.eta));
-    if k == Some(0.0) && mu.is_some() && eta.is_some() {
+    let (k, mu, eta) = (constant(&cfg.k), constant(&cfg.mu), constant(&cfg.kv_eta()));
+    // a uniform external pressure only adds itself to the pressure; a varying one moves the
+    // cells, which only the static equilibrium follows
+    let uniform_pe = constant(&cfg.external_pressure).is_some();
+    if k == Some(0.0) && mu.is_some() && eta.is_some() && uniform_pe {
         return Some(Reference::UniformK0);
     }
     let neo = matches!(cfg.law, crate::energy::AnyEnergy::NeoHookean(_));
@@ -103,6 +122,7 @@ pub fn reference_for(cfg: &LineConfig) -> Option<Reference> {
         && cfg.ramp == RampKind::Exponential
         && cfg.g2 == 1.0
         && cfg.k1.abs() <= LINEAR_MAX_STRAIN
+        && uniform_pe
     {
         return Some(Reference::Linear);
     }
@@ -123,11 +143,12 @@ pub fn reference_for(cfg: &LineConfig) -> Option<Reference> {
 /// assert!((p - (1.0 + 6.0 * 0.1 * 0.25) / 0.95f64.powi(2)).abs() < 1e-12);
 /// ```
 pub fn uniform_k0(cfg: &LineConfig, t: f64) -> Option<(f64, f64)> {
-    let (mu, eta) = (constant(&cfg.mu)?, constant(&cfg.eta)?);
+    let (mu, eta) = (constant(&cfg.mu)?, constant(&cfg.kv_eta())?);
+    let pe = constant(&cfg.external_pressure)?;
     let l0 = cfg.l0();
     let (l, ld) = cfg.ramp().eval(t);
     let (lam, lam_dot) = (l / l0, ld / l0);
-    let p = mu * cfg.law.line(lam).pressure - eta * lam_dot / (lam * lam);
+    let p = mu * cfg.law.line(lam).pressure - eta * lam_dot / (lam * lam) + pe;
     (lam.is_finite() && p.is_finite()).then_some((lam, p))
 }
 
@@ -405,7 +426,8 @@ pub fn relaxation_time(cfg: &LineConfig) -> f64 {
     };
     let mu = min(&cfg.mu).max(f64::MIN_POSITIVE);
     let l_cell = lengths.iter().copied().fold(f64::INFINITY, f64::min);
-    max(&cfg.k) * l0 * l0 / (PI * PI * 4.0 * cfg.gamma0 * mu * l_cell) + max(&cfg.eta) / (2.0 * mu)
+    max(&cfg.k) * l0 * l0 / (PI * PI * 4.0 * cfg.gamma0 * mu * l_cell)
+        + max(&cfg.kv_eta()) / (2.0 * mu)
 }
 
 /// Whether the static equilibrium at `l(t)` describes the run at `t`: the line relaxes much
@@ -473,11 +495,12 @@ fn profile_with(sh: &mut Shared<'_>, t: f64) -> Option<Vec<(f64, f64, f64)>> {
                 cell_length: l_cell,
             };
             let at = series.at(&centres, t)?;
+            let pe = constant(&cfg.external_pressure)?;
             Some(
                 centres
                     .iter()
                     .zip(at)
-                    .map(|(&x, (lam, p))| (x, lam, p))
+                    .map(|(&x, (lam, p))| (x, lam, p + pe))
                     .collect(),
             )
         }

@@ -163,11 +163,19 @@ fn invert_stretch_near<E: StrainEnergy>(
     Ok((l, scale * energy.line(l).dsigma))
 }
 
-/// One sweep of [`static_equilibrium`]'s stress solve at stress `s`: each run of equal `μ`
-/// `(μ, Σ L₀)` inverted from its stretch in `lam` (updated), giving `Σ L₀λ(s) − l` and its
-/// slope `Σ L₀/(μσ′(λ))`.
+/// Consecutive cells of equal `μ` and external pressure `p_e`: one stretch for all, from
+/// `μσ_el(λ) = S + p_e` at the common stress `S`.
+struct Run {
+    mu: f64,
+    p_ext: f64,
+    /// `Σ L₀` of its cells.
+    l0: f64,
+}
+
+/// One sweep of [`static_equilibrium`]'s stress solve at stress `s`: each [`Run`] inverted
+/// from its stretch in `lam` (updated), giving `Σ L₀λ(s) − l` and its slope `Σ L₀/(μσ′(λ))`.
 struct Excess<'a> {
-    runs: &'a [(f64, f64)],
+    runs: &'a [Run],
     lam: &'a mut [f64],
     s: f64,
     l: f64,
@@ -190,7 +198,7 @@ const PAR_MIN_RUNS: usize = 1 << 15;
 /// added, so a long line's totals differ from one thread's in the last bits only).
 fn excess_sums<E: StrainEnergy>(
     law: &E,
-    runs: &[(f64, f64)],
+    runs: &[Run],
     lam: &mut [f64],
     s: f64,
 ) -> Result<(f64, f64), LineError> {
@@ -206,11 +214,11 @@ fn excess_sums<E: StrainEnergy>(
         return Ok((s1 + s2, d1 + d2));
     }
     let (mut sum, mut slope) = (0.0, 0.0);
-    for (&(mu, l0), guess) in runs.iter().zip(lam.iter_mut()) {
-        let (x, d) = invert_stretch_near(law, mu, s, *guess)?;
+    for (run, guess) in runs.iter().zip(lam.iter_mut()) {
+        let (x, d) = invert_stretch_near(law, run.mu, s + run.p_ext, *guess)?;
         *guess = x;
-        sum += x * l0;
-        slope += l0 / d;
+        sum += x * run.l0;
+        slope += run.l0 / d;
     }
     Ok((sum, slope))
 }
@@ -232,7 +240,7 @@ pub struct StaticSolution {
     pub stress: f64,
     /// Cell stretches.
     pub lambda: Vec<f64>,
-    /// Cell pressures `μ_j p_el(λ_j)`.
+    /// Cell pressures `μ_j p_el(λ_j) + p_e,j`.
     pub pressure: Vec<f64>,
     /// Boundary positions `x₀ = 0 .. x_N = l`.
     pub x: Vec<f64>,
@@ -270,7 +278,9 @@ impl StaticSolution {
     }
 }
 
-/// Static equilibrium of `line` (elastic cells, no growth or active stress) held at length `l`.
+/// Static equilibrium of `line` (elastic cells, no growth or active stress) held at length `l`:
+/// one axial stress `S` with `μ_jσ_el(λ_j) = S + p_e,j` in every cell (`p_e` its external
+/// pressure).
 ///
 /// ```
 /// use celltissue::line::build::{LineParams, discrete};
@@ -301,14 +311,24 @@ pub(crate) fn static_equilibrium_from<E: StrainEnergy>(
     }
     let c = &line.cells;
     let n = c.len();
-    // cells with the same μ carry the same stretch: the runs of bitwise equal μ, with the
-    // reference length of each, are inverted once per run (measured: at 10⁶ uniform cells,
-    // one law inversion per cell per iteration was 44 s of a 50 s run, against a 6 s solve)
-    let mut runs: Vec<(f64, f64)> = Vec::new();
-    for (&mu, &l0) in c.mu.iter().zip(&c.l0) {
+    // cells with the same μ and external pressure carry the same stretch: the runs of such
+    // cells, with the reference length of each, are inverted once per run (measured: at 10⁶
+    // uniform cells, one law inversion per cell per iteration was 44 s of a 50 s run, against a
+    // 6 s solve)
+    let new_run = |i: usize| {
+        i == 0
+            || c.mu[i].to_bits() != c.mu[i - 1].to_bits()
+            || c.p_ext[i].to_bits() != c.p_ext[i - 1].to_bits()
+    };
+    let mut runs: Vec<Run> = Vec::new();
+    for (i, &l0) in c.l0.iter().enumerate() {
         match runs.last_mut() {
-            Some((m, sum)) if m.to_bits() == mu.to_bits() => *sum += l0,
-            _ => runs.push((mu, l0)),
+            Some(run) if !new_run(i) => run.l0 += l0,
+            _ => runs.push(Run {
+                mu: c.mu[i],
+                p_ext: c.p_ext[i],
+                l0,
+            }),
         }
     }
     // each run's stretch at the last iterate: the next inversion starts from it (the first
@@ -317,9 +337,9 @@ pub(crate) fn static_equilibrium_from<E: StrainEnergy>(
     let mut lam = match near {
         Some(s) => {
             let mut v = Vec::with_capacity(runs.len());
-            for (i, &mu) in c.mu.iter().enumerate() {
-                if i == 0 || mu.to_bits() != c.mu[i - 1].to_bits() {
-                    v.push(s.lambda[i]);
+            for (i, &l) in s.lambda.iter().enumerate() {
+                if new_run(i) {
+                    v.push(l);
                 }
             }
             v
@@ -377,17 +397,17 @@ pub(crate) fn static_equilibrium_from<E: StrainEnergy>(
              iterations (last {s:e}, bracket [{a:e}, {b:e}])"
         )));
     }
-    // each cell takes its run's stretch (runs break where μ changes, as built above)
+    // each cell takes its run's stretch (runs break where μ or p_e changes, as built above)
     let mut lambda = Vec::with_capacity(n);
     let mut r = 0;
-    for (i, &mu) in c.mu.iter().enumerate() {
-        if i > 0 && mu.to_bits() != c.mu[i - 1].to_bits() {
+    for i in 0..n {
+        if i > 0 && new_run(i) {
             r += 1;
         }
         lambda.push(lam[r]);
     }
     let pressure = (0..n)
-        .map(|i| c.mu[i] * line.energy.line(lambda[i]).pressure)
+        .map(|i| c.mu[i] * line.energy.line(lambda[i]).pressure + c.p_ext[i])
         .collect();
     let mut x = Vec::with_capacity(n + 1);
     x.push(0.0);
