@@ -15,6 +15,7 @@
 use super::EventError;
 use crate::energy::StrainEnergy;
 use crate::line::array::NONE;
+use crate::line::homogenise::{CellValues, InSeries};
 use crate::line::Line;
 
 impl<E: StrainEnergy> Line<E> {
@@ -98,13 +99,29 @@ impl<E: StrainEnergy> Line<E> {
             }
             l0.push(w);
             kc.push(c.k_cell[a] + if merge { c.k_cell[b] } else { 0.0 });
-            for (m, v) in
-                means
-                    .iter_mut()
-                    .zip([&c.mu, &c.eta, &c.active_amp, &c.phase, &c.x_ref, &c.p_ext])
-            {
-                m.push(mean(v));
-            }
+            // the material values of two cells in series, weighted by their grown lengths;
+            // positions and phases by reference length
+            let values = |i: usize| CellValues {
+                mu: c.mu[i],
+                eta: c.eta[i],
+                active_amp: c.active_amp[i],
+                p_ext: c.p_ext[i],
+            };
+            let v = if merge && values(a) != values(b) {
+                let mut series = InSeries::default();
+                series.add(la * ga, &values(a));
+                series.add(lb * gb, &values(b));
+                series.values()
+            } else {
+                values(a)
+            };
+            let [mu, eta, active_amp, p_ext, phase, x_ref] = &mut means;
+            mu.push(v.mu);
+            eta.push(v.eta);
+            active_amp.push(v.active_amp);
+            p_ext.push(v.p_ext);
+            phase.push(mean(&c.phase));
+            x_ref.push(mean(&c.x_ref));
             if merge {
                 // the removed face a + 1 gives half its drag to each neighbour
                 let half = 0.5 * self.k_face[a + 1];
@@ -115,7 +132,7 @@ impl<E: StrainEnergy> Line<E> {
             }
             i = b + 1;
         }
-        let [mu, eta, active_amp, phase, x_ref, p_ext] = means;
+        let [mu, eta, active_amp, p_ext, phase, x_ref] = means;
         c.mu = mu;
         c.eta = eta;
         c.active_amp = active_amp;
@@ -130,5 +147,34 @@ impl<E: StrainEnergy> Line<E> {
         self.rebuild_layout();
         debug_assert_eq!(y.len(), self.layout.dim);
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::cell::{Field, TanhGrowth};
+    use crate::line::build::{discrete, LineParams};
+    use crate::NeoHookean;
+    use std::sync::Arc;
+
+    #[test]
+    fn two_cells_merge_into_their_series_element() {
+        let mut p = LineParams::unit_cells(3);
+        p.right = crate::boundary::RightEnd::Free(None);
+        p.k = 1.0.into();
+        p.growth = Some(Arc::new(TanhGrowth::default()));
+        p.mu = Field::PerCell {
+            values: vec![1.0, 3.0, 2.0],
+        };
+        p.eta = Field::PerCell {
+            values: vec![2.0, 6.0, 0.0],
+        };
+        let mut line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+        let mut y = line.initial_state();
+        line.merge_cells(&[1], &mut y).unwrap();
+        let c = line.cells();
+        // compliance 1/1 + 1/3 over a length of 2: μ = 1.5; η/μ = 2 in both, so η = 2μ
+        assert!((c.mu[0] - 1.5).abs() < 1e-15 && (c.eta[0] - 3.0).abs() < 1e-14);
+        assert_eq!((c.mu[1], c.eta[1]), (2.0, 0.0));
     }
 }

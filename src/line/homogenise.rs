@@ -55,29 +55,90 @@ pub(crate) fn homogenised(p: &LineParams, faces: &[f64]) -> Option<SegmentValues
         Sampling::IntegerPoints => bounds[..cells].to_vec(),
     };
     let [mu, eta, k, active_amp, p_ext] = fields.map(|f| f.sample(&points, l0));
-    let compliance: Vec<f64> = mu.iter().map(|m| 1.0 / m).collect();
-    let mu_bar: Vec<f64> = overlaps
-        .mean(&compliance, |_| 1.0)
-        .map(|c| 1.0 / c)
-        .collect();
-    let weighted = |values: &[f64], power: i32| -> Vec<f64> {
-        let v: Vec<f64> = (0..cells)
-            .map(|i| values[i] * compliance[i].powi(power))
-            .collect();
-        overlaps
-            .mean(&v, |_| 1.0)
-            .zip(&mu_bar)
-            .map(|(s, m)| s * m.powi(power))
-            .collect()
+    let n = faces.len() - 1;
+    let mut out = SegmentValues {
+        mu: Vec::with_capacity(n),
+        eta: Vec::with_capacity(n),
+        k: overlaps.mean(&k, |i| 1.0 / p.ref_lengths[i]).collect(),
+        active_amp: Vec::with_capacity(n),
+        p_ext: Vec::with_capacity(n),
     };
-    let by_count = overlaps.mean(&k, |i| 1.0 / p.ref_lengths[i]);
-    Some(SegmentValues {
-        eta: overlaps.or_single(weighted(&eta, 2), &eta),
-        active_amp: overlaps.or_single(weighted(&active_amp, 1), &active_amp),
-        p_ext: overlaps.or_single(weighted(&p_ext, 1), &p_ext),
-        k: overlaps.or_single(by_count.collect(), &k),
-        mu: overlaps.or_single(mu_bar.clone(), &mu),
-    })
+    for (s, parts) in overlaps.start.windows(2).enumerate() {
+        let mixed = match overlaps.single[s] {
+            Some(c) => {
+                out.k[s] = k[c];
+                CellValues {
+                    mu: mu[c],
+                    eta: eta[c],
+                    active_amp: active_amp[c],
+                    p_ext: p_ext[c],
+                }
+            }
+            None => {
+                let mut series = InSeries::default();
+                for &(c, inside) in &overlaps.parts[parts[0]..parts[1]] {
+                    let cell = CellValues {
+                        mu: mu[c],
+                        eta: eta[c],
+                        active_amp: active_amp[c],
+                        p_ext: p_ext[c],
+                    };
+                    series.add(inside, &cell);
+                }
+                series.values()
+            }
+        };
+        out.mu.push(mixed.mu);
+        out.eta.push(mixed.eta);
+        out.active_amp.push(mixed.active_amp);
+        out.p_ext.push(mixed.p_ext);
+    }
+    Some(out)
+}
+
+/// A cell's (or segment's) values that combine in series.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct CellValues {
+    pub(crate) mu: f64,
+    pub(crate) eta: f64,
+    pub(crate) active_amp: f64,
+    pub(crate) p_ext: f64,
+}
+
+/// Cells in series, added one by one with their lengths: [`InSeries::values`] are those of
+/// one element with the same compliance, mean creep time and stress at rest (the module's
+/// rules). Used by the continuum's segments and by the cell-number grid's merges.
+#[derive(Default)]
+pub(crate) struct InSeries {
+    length: f64,
+    compliance: f64,
+    creep: f64,
+    active: f64,
+    pressure: f64,
+}
+
+impl InSeries {
+    /// Adds a cell of length `w` (any positive measure of it).
+    pub(crate) fn add(&mut self, w: f64, c: &CellValues) {
+        let j = w / c.mu;
+        self.length += w;
+        self.compliance += j;
+        self.creep += j * c.eta / c.mu;
+        self.active += j * c.active_amp;
+        self.pressure += j * c.p_ext;
+    }
+
+    /// The values of the element the cells added so far make.
+    pub(crate) fn values(&self) -> CellValues {
+        let mu = self.length / self.compliance;
+        let per_length = mu / self.length;
+        CellValues {
+            mu,
+            eta: mu * self.creep * per_length,
+            active_amp: self.active * per_length,
+            p_ext: self.pressure * per_length,
+        }
+    }
 }
 
 /// Whether `f` jumps from cell to cell on a line of `cells` cells: a list of one value per
@@ -98,8 +159,8 @@ pub(crate) fn segment_means(lengths: &[f64], faces: &[f64], values: &[f64]) -> O
     if overlaps.single.iter().all(Option::is_some) {
         return None;
     }
-    let means = overlaps.mean(values, |_| 1.0).collect();
-    Some(overlaps.or_single(means, values))
+    let means = overlaps.mean(values, |_| 1.0).zip(&overlaps.single);
+    Some(means.map(|(m, s)| s.map_or(m, |c| values[c])).collect())
 }
 
 /// The parts of the cells inside each segment of a grid: `(cell, length inside)` pairs,
@@ -168,16 +229,6 @@ impl Overlaps {
             }
             sum / total
         })
-    }
-
-    /// `mixed` where a segment holds several cells, the cell's own value where it holds one.
-    fn or_single(&self, mut mixed: Vec<f64>, cell_values: &[f64]) -> Vec<f64> {
-        for (m, s) in mixed.iter_mut().zip(&self.single) {
-            if let Some(c) = s {
-                *m = cell_values[*c];
-            }
-        }
-        mixed
     }
 }
 
