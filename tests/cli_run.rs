@@ -287,3 +287,49 @@ linear_solver = "{linear}"
         }
     }
 }
+
+/// A sweep of the continuum's grid solves its discrete line once: the other discrete runs get
+/// that record under their own labels, and say so in their notes and on the terminal.
+#[test]
+fn a_sweep_of_the_continuum_grid_solves_the_discrete_line_once() {
+    let dir = tmp("grid_sweep");
+    let file = dir.join("s.toml");
+    let text = "name = \"conv\"\n[output]\nseries = [0, 1]\n[model]\nkind = \"line\"\n\
+                cells = 40\nK = 1\n[sweep]\nparameter = \"nodes\"\nvalues = [10, 20, 80]\n";
+    std::fs::write(&file, text).unwrap();
+    let out = bin()
+        .args(["run", "--no-plots", "--jobs", "2", "--out"])
+        .arg(dir.join("out"))
+        .arg(&file)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    for n in [20, 80] {
+        let line = format!("discrete nodes={n}: as `discrete nodes=10` (not solved again)");
+        assert!(err.contains(&line), "{err}");
+    }
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap())
+            .unwrap();
+    let runs = v["runs"].as_array().unwrap();
+    let run = |label: &str| runs.iter().find(|r| r["label"] == label).unwrap();
+    let first = run("discrete nodes=10");
+    assert!(first.get("notes").is_none());
+    for n in [20, 80] {
+        let r = run(&format!("discrete nodes={n}"));
+        assert_eq!(
+            (&r["series"], &r["stats"]),
+            (&first["series"], &first["stats"])
+        );
+        assert!(r["notes"][0]
+            .as_str()
+            .unwrap()
+            .contains("discrete nodes=10"));
+        // the continuum runs are each their own
+        assert_ne!(
+            run(&format!("continuum nodes={n}"))["series"],
+            first["series"]
+        );
+    }
+}

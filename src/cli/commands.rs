@@ -168,9 +168,47 @@ pub fn run(
                         .position(|&k| std::ptr::eq(&scenario.runs[k], spec))
                 };
                 let mut k = 0;
-                let runs = run_parallel(
+                // a discrete run that repeats an earlier one of these runs is not solved again:
+                // it gets that run's record once the runs are done (below)
+                let source = |i: usize| scenario.runs[i].repeats.filter(|s| indices.contains(s));
+                let solve: Vec<usize> = indices
+                    .iter()
+                    .copied()
+                    .filter(|&i| source(i).is_none())
+                    .collect();
+                // a run's progress line; `repeated`: the run whose solve it repeats
+                let mut report = |rec: &RunRecord, repeated: Option<&str>| {
+                    if stop.load(Ordering::SeqCst) {
+                        return;
+                    }
+                    k += 1;
+                    let line = match repeated {
+                        Some(of) => {
+                            format!("[{k}/{total}] {}: as `{of}` (not solved again)", rec.label)
+                        }
+                        None => format!(
+                            "[{k}/{total}] {}: {} steps, {:.3} s{}",
+                            rec.label,
+                            rec.stats.steps,
+                            rec.stats.wall_seconds,
+                            rec.error
+                                .as_ref()
+                                .map(|e| format!(" — FAILED: {e}"))
+                                .unwrap_or_default()
+                        ),
+                    };
+                    if !quiet {
+                        if terminal {
+                            pb.println(line);
+                        } else {
+                            eprintln!("{line}");
+                        }
+                    }
+                    pb.inc(1);
+                };
+                let solved = run_parallel(
                     &scenario,
-                    &indices,
+                    &solve,
                     jobs,
                     |spec| {
                         log::info!("run: {}", spec.label);
@@ -198,31 +236,39 @@ pub fn run(
                         d[p] = Some((rec, ended));
                         light
                     },
-                    |rec| {
-                        if stop.load(Ordering::SeqCst) {
-                            return;
-                        }
-                        k += 1;
-                        let line = format!(
-                            "[{k}/{total}] {}: {} steps, {:.3} s{}",
-                            rec.label,
-                            rec.stats.steps,
-                            rec.stats.wall_seconds,
-                            rec.error
-                                .as_ref()
-                                .map(|e| format!(" — FAILED: {e}"))
-                                .unwrap_or_default()
-                        );
-                        if !quiet {
-                            if terminal {
-                                pb.println(line);
-                            } else {
-                                eprintln!("{line}");
-                            }
-                        }
-                        pb.inc(1);
-                    },
+                    |rec| report(rec, None),
                 );
+                let runs = solved.map(|solved| {
+                    let mut solved = solved.into_iter();
+                    let mut runs = Vec::with_capacity(indices.len());
+                    for (p, &i) in indices.iter().enumerate() {
+                        let spec = &scenario.runs[i];
+                        let Some(src) = source(i) else {
+                            runs.extend(solved.next());
+                            continue;
+                        };
+                        let from = indices.iter().position(|&j| j == src);
+                        let Ok(mut d) = done.lock() else {
+                            runs.push(execute::not_run(spec, "its results were lost"));
+                            continue;
+                        };
+                        let Some((mut rec, ended)) = from.and_then(|f| d[f].clone()) else {
+                            runs.push(execute::not_run(spec, "interrupted before it started"));
+                            continue;
+                        };
+                        let of = std::mem::replace(&mut rec.label, spec.label.clone());
+                        rec.notes.push(format!(
+                            "the same solve as `{of}` (the sweep changes only the continuum \
+                             there): solved once for both"
+                        ));
+                        let light = rec.without_data();
+                        d[p] = Some((rec, ended));
+                        drop(d);
+                        report(&light, Some(&of));
+                        runs.push(light);
+                    }
+                    runs
+                });
                 main.unpark();
                 runs
             })
@@ -437,15 +483,23 @@ fn report_failures(runs: &[crate::observe::RunRecord], interrupted: &[String]) -
 pub fn validate(source: &Source, sets: &[String], unsets: &[String]) -> i32 {
     match load(source, sets, unsets) {
         Ok(s) => {
+            let repeats = s.runs.iter().filter(|r| r.repeats.is_some()).count();
             println!(
-                "{}: ok — {} run(s): {}",
+                "{}: ok — {} run(s): {}{}",
                 s.name,
                 s.runs.len(),
                 s.runs
                     .iter()
                     .map(|r| r.label.as_str())
                     .collect::<Vec<_>>()
-                    .join(", ")
+                    .join(", "),
+                match repeats {
+                    0 => String::new(),
+                    k => format!(
+                        " ({k} discrete run(s) repeat an earlier one's solve: the sweep changes \
+                         only the continuum there)"
+                    ),
+                }
             );
             OK
         }

@@ -48,6 +48,10 @@ pub struct RunSpec {
     pub times: OutputTimes,
     /// The sweep point, if the scenario sweeps.
     pub sweep: Option<SweepPoint>,
+    /// The earlier run (index in [`Scenario::runs`]) this one repeats exactly: a discrete run
+    /// of a sweep point that differs from that run's only in what a continuum alone reads
+    /// (`nodes`, `continuum_scheme`). `run` solves it once and gives both its record.
+    pub repeats: Option<usize>,
 }
 
 impl RunSpec {
@@ -392,9 +396,11 @@ pub fn resolve(table: toml::Table) -> Result<Scenario, ScenarioError> {
                 solver,
                 times: times.clone(),
                 sweep: point.clone(),
+                repeats: None,
             });
         }
     }
+    mark_repeats(&mut runs);
     check_sweep_profiles(&raw.plots.sweep_profiles, sweep.is_some(), &runs)?;
     check_line_plots(&raw.plots, &runs)?;
     // each run alone must fit (wherever it runs; `run` checks the runs it holds together)
@@ -411,6 +417,42 @@ pub fn resolve(table: toml::Table) -> Result<Scenario, ScenarioError> {
         runs,
         table,
     })
+}
+
+/// Swept keys only a continuum reads.
+const CONTINUUM_ONLY: [&str; 2] = ["model.nodes", "model.continuum_scheme"];
+
+/// Sets [`RunSpec::repeats`]: where a sweep varies a key only a continuum reads, each discrete
+/// run equal to an earlier one but for those keys (and its label) repeats it.
+fn mark_repeats(runs: &mut [RunSpec]) {
+    let continuum_swept = runs.iter().any(|r| {
+        r.sweep.as_ref().is_some_and(|p| {
+            p.parts
+                .iter()
+                .any(|q| CONTINUUM_ONLY.contains(&q.key.as_str()))
+        })
+    });
+    if !continuum_swept {
+        return;
+    }
+    // what a discrete run solves: the spec without its label, sweep point and grid
+    let solved = |r: &RunSpec| {
+        (r.model == ModelKind::Discrete).then(|| {
+            let mut c = r.clone();
+            c.label.clear();
+            (c.sweep, c.nodes, c.grid) = (None, None, None);
+            if let ModelConfig::Line(line) = &mut c.config {
+                line.continuum_scheme = Default::default();
+            }
+            c
+        })
+    };
+    let solves: Vec<Option<RunSpec>> = runs.iter().map(solved).collect();
+    for i in 0..runs.len() {
+        let Some(me) = &solves[i] else { continue };
+        runs[i].repeats =
+            (0..i).find(|&j| runs[j].repeats.is_none() && solves[j].as_ref() == Some(me));
+    }
 }
 
 /// `plots.position` (x against X along a line, Fig 2.6) and `plots.rectangles` (a line's cells
@@ -754,5 +796,34 @@ krylov_rtol = 1e-6
             load("name = ", &[]),
             Err(ScenarioError::Syntax { .. })
         ));
+    }
+
+    #[test]
+    fn discrete_runs_repeat_where_the_sweep_changes_only_the_continuum() {
+        let text = |sweep: &str| {
+            format!(
+                "name = \"r\"\n[output]\nseries = [1]\n[model]\nkind = \"line\"\ncells = 8\n\
+                 [sweep]\n{sweep}\n"
+            )
+        };
+        let repeats = |sweep: &str| -> Vec<Option<usize>> {
+            let s = load_str(&text(sweep), Path::new("r.toml"), &[]).unwrap();
+            s.runs.iter().map(|r| r.repeats).collect()
+        };
+        // runs: discrete, continuum per value
+        let grid = "parameter = \"nodes\"\nvalues = [4, 8, 16]";
+        assert_eq!(repeats(grid), [None, None, Some(0), None, Some(0), None]);
+        let scheme = "parameter = \"continuum_scheme\"\nvalues = [\"conservative\", \"thesis\"]";
+        assert_eq!(repeats(scheme), [None, None, Some(0), None]);
+        assert!(repeats("parameter = \"K\"\nvalues = [1, 2]")
+            .iter()
+            .all(Option::is_none));
+        // nodes × K: the discrete runs of one K repeat each other only
+        let both = "grid = [{ parameter = \"K\", values = [1, 2] }, \
+                    { parameter = \"nodes\", values = [4, 8] }]";
+        assert_eq!(
+            repeats(both),
+            [None, None, Some(0), None, None, None, Some(4), None]
+        );
     }
 }
