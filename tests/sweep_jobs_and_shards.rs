@@ -1,6 +1,8 @@
 //! `run --jobs N` and `run --shard i/n` + `merge`: the outputs are byte for byte those of one
 //! sequential `run` (`summary.json` compared with its timing field `wall_seconds` removed), for
-//! a line sweep and for a sheet sweep (whose runs also write VTK/PNG snapshots while running);
+//! a line sweep, a sweep of the continuum's grid (whose repeated discrete runs are solved once,
+//! or in each shard without their source) and a sheet sweep (whose runs also write VTK/PNG
+//! snapshots while running);
 //! shards that do not fit together are refused with exit code 2, naming what is wrong.
 
 use std::collections::BTreeMap;
@@ -41,6 +43,22 @@ top = "free"
 parameter = "drag_exponent"
 values = [0.0, 1.0]
 labels = ["0", "1"]
+"#;
+
+/// A sweep of the continuum's grid: its discrete runs repeat the first one's solve, and in
+/// three shards two of them are solved where their source is not.
+const GRID: &str = r#"
+name = "grid_sweep"
+[output]
+series = { start = 0, stop = 2, count = 11 }
+profiles = [1]
+[model]
+kind = "line"
+cells = 12
+K = 1
+[sweep]
+parameter = "nodes"
+values = [4, 6, 24]
 "#;
 
 fn tmp(name: &str) -> PathBuf {
@@ -198,6 +216,11 @@ fn check(name: &str, text: &str, runs: usize) {
 #[test]
 fn line_sweep_outputs_do_not_depend_on_jobs_or_shards() {
     check("line", LINE, 6);
+}
+
+#[test]
+fn grid_sweep_outputs_do_not_depend_on_where_its_discrete_line_is_solved() {
+    check("grid", GRID, 6);
 }
 
 #[test]

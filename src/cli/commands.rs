@@ -223,6 +223,9 @@ pub fn run(
                             (rec, if cut { Ended::Stopped } else { Ended::Complete })
                         };
                         finite::sanitize(&mut rec);
+                        // solved here because its source is in another shard: the same note
+                        // as where it is not solved again, so merged shards equal one run
+                        rec.notes.extend(execute::repeat_note(&scenario, spec));
                         // the record itself is kept where an interrupt finds it; the runner
                         // gets its label and counters only, so no profile is ever copied
                         // (240 MB at 10⁶ cells and three times)
@@ -252,15 +255,12 @@ pub fn run(
                             runs.push(execute::not_run(spec, "its results were lost"));
                             continue;
                         };
-                        let Some((mut rec, ended)) = from.and_then(|f| d[f].clone()) else {
+                        let Some((source, ended)) = from.and_then(|f| d[f].clone()) else {
                             runs.push(execute::not_run(spec, "interrupted before it started"));
                             continue;
                         };
-                        let of = std::mem::replace(&mut rec.label, spec.label.clone());
-                        rec.notes.push(format!(
-                            "the same solve as `{of}` (the sweep changes only the continuum \
-                             there): solved once for both"
-                        ));
+                        let of = source.label.clone();
+                        let rec = execute::repeated(&scenario, spec, source);
                         let light = rec.without_data();
                         d[p] = Some((rec, ended));
                         drop(d);

@@ -143,6 +143,54 @@ pub fn finish(spec: &RunSpec, rec: &mut RunRecord) {
     }
 }
 
+/// The note a run that repeats an earlier one ([`RunSpec::repeats`]) carries, naming it.
+///
+/// ```
+/// use celltissue::scenario::{execute::repeat_note, load_str};
+/// let text = "name = \"n\"\n[output]\nseries = [1]\n[model]\nkind = \"line\"\ncells = 8\n\
+///             [sweep]\nparameter = \"nodes\"\nvalues = [4, 8]";
+/// let s = load_str(text, "n.toml".as_ref(), &[])?;
+/// assert_eq!(repeat_note(&s, &s.runs[0]), None);
+/// assert!(repeat_note(&s, &s.runs[2]).unwrap().contains("`discrete nodes=4`"));
+/// # Ok::<(), celltissue::scenario::ScenarioError>(())
+/// ```
+pub fn repeat_note(scenario: &Scenario, spec: &RunSpec) -> Option<String> {
+    let source = scenario.runs.get(spec.repeats?)?;
+    Some(format!(
+        "the same discrete line as `{}` (the sweep changes only the continuum there): `run` \
+         solves it once for both",
+        source.label
+    ))
+}
+
+/// `spec`'s record made from `source`, the record of the run it repeats
+/// ([`RunSpec::repeats`]): the same solve under `spec`'s label, sweep point and grid, with
+/// [`repeat_note`].
+///
+/// ```
+/// use celltissue::scenario::{execute, load_str};
+/// let text = "name = \"n\"\n[output]\nseries = [1]\n[model]\nkind = \"line\"\ncells = 8\n\
+///             [sweep]\nparameter = \"nodes\"\nvalues = [4, 16]";
+/// let s = load_str(text, "n.toml".as_ref(), &[])?;
+/// let first = execute::run_spec(&s.runs[0]);
+/// let again = execute::repeated(&s, &s.runs[2], first);
+/// let solved = execute::run_spec(&s.runs[2]); // what solving it again would give
+/// assert_eq!((&again.label, &again.parameters), (&solved.label, &solved.parameters));
+/// assert_eq!(again.series.min_stretch, solved.series.min_stretch);
+/// assert!(again.notes[0].contains("`discrete nodes=4`"));
+/// # Ok::<(), celltissue::scenario::ScenarioError>(())
+/// ```
+pub fn repeated(scenario: &Scenario, spec: &RunSpec, source: RunRecord) -> RunRecord {
+    let mut rec = source;
+    if let serde_json::Value::Object(m) = &mut rec.parameters {
+        m.remove("sweep");
+        m.remove("nodes");
+    }
+    finish(spec, &mut rec);
+    rec.notes.extend(repeat_note(scenario, spec));
+    rec
+}
+
 /// Runs every spec in order with `runner`, reporting each finished run to `progress`.
 ///
 /// ```
