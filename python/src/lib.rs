@@ -11,6 +11,7 @@ mod record;
 mod rim;
 
 use celltissue::integrators::interrupt::Interrupt;
+use celltissue::observe::RunRecord;
 use celltissue::output::finite;
 use celltissue::scenario::{execute, parallel};
 use pyo3::prelude::*;
@@ -42,7 +43,11 @@ fn run(
         ));
     }
     let scenario = input::scenario(py, scenario, set)?;
-    let indices: Vec<usize> = (0..scenario.runs.len()).collect();
+    // a discrete run that repeats an earlier one (a sweep of the continuum's grid) is solved
+    // once and its record given to the repeat, as `celltissue run` does
+    let indices: Vec<usize> = (0..scenario.runs.len())
+        .filter(|&i| scenario.runs[i].repeats.is_none())
+        .collect();
     // every run's record is held until the list is returned
     let values = scenario.runs.iter().map(|r| r.profile_values()).sum();
     celltissue::scenario::limits::check_profiles(values, scenario.runs.len())
@@ -91,7 +96,20 @@ fn run(
             }
         })
     })?;
-    Ok(records.into_iter().map(record::Run::from).collect())
+    let mut by_run: Vec<Option<RunRecord>> = vec![None; scenario.runs.len()];
+    for (&i, rec) in indices.iter().zip(records) {
+        by_run[i] = Some(rec);
+    }
+    for (i, spec) in scenario.runs.iter().enumerate() {
+        if let Some(source) = spec.repeats.and_then(|s| by_run[s].clone()) {
+            by_run[i] = Some(execute::repeated(&scenario, spec, source));
+        }
+    }
+    Ok(by_run
+        .into_iter()
+        .flatten()
+        .map(record::Run::from)
+        .collect())
 }
 
 /// How often a running `run` lets Python handle its signals.

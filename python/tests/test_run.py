@@ -205,3 +205,23 @@ def test_a_whole_number_given_as_a_float_is_taken_as_an_integer():
     assert r.error is None and r.profile("x").shape == (1, 10)
     with pytest.raises(celltissue.ScenarioError, match="model.cells"):
         celltissue.line(cells=2.5, K=1.0).solve([0, 1])
+
+
+def test_a_sweep_of_the_continuum_grid_solves_the_discrete_line_once():
+    scenario = {
+        "name": "grid",
+        "output": {"series": [0, 1]},
+        "model": {"kind": "line", "cells": 12, "K": 1.0},
+        "sweep": {"parameter": "nodes", "values": [4, 6, 24]},
+    }
+    runs = {r.label: r for r in celltissue.run(scenario, jobs=2)}
+    first = runs["discrete nodes=4"]
+    assert first.notes == []
+    for n in [6, 24]:
+        again = runs[f"discrete nodes={n}"]
+        assert np.array_equal(again.series["min_stretch"], first.series["min_stretch"])
+        assert again.parameters["nodes"] == n
+        assert "`discrete nodes=4`" in again.notes[0]
+        # the continuum runs are each their own
+        assert not np.array_equal(runs[f"continuum nodes={n}"].series["min_stretch"],
+                                  first.series["min_stretch"])

@@ -63,27 +63,22 @@ pub(crate) fn homogenised(p: &LineParams, faces: &[f64]) -> Option<SegmentValues
         active_amp: Vec::with_capacity(n),
         p_ext: Vec::with_capacity(n),
     };
+    let cell = |c: usize| CellValues {
+        mu: mu[c],
+        eta: eta[c],
+        active_amp: active_amp[c],
+        p_ext: p_ext[c],
+    };
     for (s, parts) in overlaps.start.windows(2).enumerate() {
         let mixed = match overlaps.single[s] {
             Some(c) => {
                 out.k[s] = k[c];
-                CellValues {
-                    mu: mu[c],
-                    eta: eta[c],
-                    active_amp: active_amp[c],
-                    p_ext: p_ext[c],
-                }
+                cell(c)
             }
             None => {
                 let mut series = InSeries::default();
                 for &(c, inside) in &overlaps.parts[parts[0]..parts[1]] {
-                    let cell = CellValues {
-                        mu: mu[c],
-                        eta: eta[c],
-                        active_amp: active_amp[c],
-                        p_ext: p_ext[c],
-                    };
-                    series.add(inside, &cell);
+                    series.add(inside, &cell(c));
                 }
                 series.values()
             }
