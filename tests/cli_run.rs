@@ -333,3 +333,23 @@ fn a_sweep_of_the_continuum_grid_solves_the_discrete_line_once() {
         );
     }
 }
+
+/// A line's continuum left on its default grid (one segment per cell) is the discrete line
+/// itself; its record says so, and one on its own grid does not.
+#[test]
+fn a_continuum_on_one_segment_per_cell_says_it_is_the_discrete_line() {
+    let text = |nodes: &str| {
+        format!(
+            "name = \"d\"\n[output]\nseries = [0, 1]\n[model]\nkind = \"line\"\ncells = 8\n\
+             K = 1\n{nodes}\n"
+        )
+    };
+    let (_, v) = run_text("default_grid", &text(""));
+    let (d, c) = (&v["runs"][0], &v["runs"][1]);
+    assert_eq!(d["series"], c["series"]);
+    assert!(d.get("notes").is_none());
+    let note = c["notes"][0].as_str().unwrap();
+    assert!(note.contains("`nodes` = 8, the default") && note.contains("discrete line itself"));
+    let (_, v) = run_text("own_grid", &text("nodes = 5"));
+    assert!(v["runs"][1].get("notes").is_none());
+}

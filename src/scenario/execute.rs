@@ -40,7 +40,37 @@ pub fn run_spec(spec: &RunSpec) -> RunRecord {
         }
     };
     finish(spec, &mut rec);
+    rec.notes.extend(continuum_is_the_discrete_line(spec));
     rec
+}
+
+/// A note for a line's continuum that is its discrete line: the conservative scheme on one
+/// segment per cell of equal cells (docs/model.md §3.3a), as `nodes` left at its default
+/// gives; comparing the two then shows nothing.
+fn continuum_is_the_discrete_line(spec: &RunSpec) -> Option<String> {
+    let ModelConfig::Line(cfg) = &spec.config else {
+        return None;
+    };
+    let cells = cfg.n_cells();
+    let equal = cfg
+        .ref_lengths
+        .as_ref()
+        .is_none_or(|v| v.windows(2).all(|w| w[0] == w[1]));
+    (spec.model == crate::observe::ModelKind::Continuum
+        && cfg.continuum_scheme == crate::line::config::ContinuumScheme::Conservative
+        && spec.nodes.unwrap_or(cells) == cells
+        && equal)
+        .then(|| {
+            format!(
+                "this continuum has one segment per cell (`nodes` = {cells}{}): it is the \
+                 discrete line itself; set `nodes` for a continuum on its own grid",
+                if spec.nodes.is_none() {
+                    ", the default"
+                } else {
+                    ""
+                }
+            )
+        })
 }
 
 /// The record of a run that was not run, with the reason as its error (e.g. a sweep
