@@ -353,3 +353,28 @@ fn a_continuum_on_one_segment_per_cell_says_it_is_the_discrete_line() {
     let (_, v) = run_text("own_grid", &text("nodes = 5"));
     assert!(v["runs"][1].get("notes").is_none());
 }
+
+/// The thesis node scheme over a field that jumps from cell to cell reads it at its nodes and
+/// says so; over a smooth field it says nothing.
+#[test]
+fn the_thesis_scheme_says_it_reads_jumping_fields_at_its_nodes() {
+    let text = |mu: &str| {
+        format!(
+            "name = \"t\"\n[output]\nseries = [0, 1]\n[model]\nkind = \"line\"\ncells = 20\n\
+             K = 1\nnodes = 11\ncontinuum_scheme = \"thesis\"\nmu = {mu}\n"
+        )
+    };
+    let (_, v) = run_text(
+        "thesis_random",
+        &text("{ type = \"random\", low = 0.5, high = 2, seed = 1 }"),
+    );
+    let note = v["runs"][1]["notes"][0].as_str().unwrap();
+    assert!(
+        note.contains("reads `mu`") && note.contains("at its nodes"),
+        "{note}"
+    );
+    assert!(v["runs"][0].get("notes").is_none());
+    let smooth = "{ type = \"gaussian\", base = 1, amplitude = 1, centre = 0.5, width = 0.1 }";
+    let (_, v) = run_text("thesis_smooth", &text(smooth));
+    assert!(v["runs"][1].get("notes").is_none());
+}

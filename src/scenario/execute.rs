@@ -41,6 +41,7 @@ pub fn run_spec(spec: &RunSpec) -> RunRecord {
     };
     finish(spec, &mut rec);
     rec.notes.extend(continuum_is_the_discrete_line(spec));
+    rec.notes.extend(thesis_scheme_samples_jumps(spec));
     rec
 }
 
@@ -71,6 +72,37 @@ fn continuum_is_the_discrete_line(spec: &RunSpec) -> Option<String> {
                 }
             )
         })
+}
+
+/// A note for a line's thesis-scheme continuum over fields that jump from cell to cell: it
+/// reads them at its nodes, where the conservative scheme gives each segment its cells'
+/// effective values (docs/model.md §3.3).
+fn thesis_scheme_samples_jumps(spec: &RunSpec) -> Option<String> {
+    let ModelConfig::Line(cfg) = &spec.config else {
+        return None;
+    };
+    if spec.model != crate::observe::ModelKind::Continuum
+        || cfg.continuum_scheme != crate::line::config::ContinuumScheme::Thesis
+    {
+        return None;
+    }
+    let cells = cfg.n_cells();
+    let jumping: Vec<&str> = [("mu", &cfg.mu), ("eta", &cfg.eta), ("K", &cfg.k)]
+        .into_iter()
+        .filter(|(_, f)| {
+            matches!(f, crate::cell::Field::Random { .. })
+                || crate::line::homogenise::jumps_between_cells(f, cells)
+        })
+        .map(|(key, _)| key)
+        .collect();
+    (!jumping.is_empty()).then(|| {
+        format!(
+            "the thesis scheme reads `{}`, which jumps from cell to cell, at its nodes: it does \
+             not give a node the effective value of the cells around it; the conservative \
+             scheme does (docs/model.md §3.3)",
+            jumping.join("`, `")
+        )
+    })
 }
 
 /// The record of a run that was not run, with the reason as its error (e.g. a sweep
