@@ -100,10 +100,7 @@ pub fn reference_for(cfg: &LineConfig) -> Option<Reference> {
     ) {
         return None;
     }
-    let uniform_cells = cfg
-        .ref_lengths
-        .as_ref()
-        .is_none_or(|v| v.windows(2).all(|w| w[0] == w[1]));
+    let uniform_cells = cfg.equal_cells();
     if !uniform_cells {
         return None;
     }

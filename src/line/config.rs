@@ -199,6 +199,21 @@ impl LineConfig {
         self.ref_lengths.as_ref().map_or(self.cells, |v| v.len())
     }
 
+    /// Whether all cells have one reference length (`cell_length`, or a `ref_lengths` list of
+    /// equal entries).
+    ///
+    /// ```
+    /// use celltissue::line::LineConfig;
+    /// let cfg: LineConfig = toml::from_str("ref_lengths = [1.0, 2.0]")?;
+    /// assert!(!cfg.equal_cells() && LineConfig::default().equal_cells());
+    /// # Ok::<(), toml::de::Error>(())
+    /// ```
+    pub fn equal_cells(&self) -> bool {
+        self.ref_lengths
+            .as_ref()
+            .is_none_or(|v| v.windows(2).all(|w| w[0] == w[1]))
+    }
+
     /// Reference lengths of the cells.
     ///
     /// ```

@@ -137,11 +137,11 @@ impl InSeries {
 }
 
 /// Whether `f` jumps from cell to cell on a line of `cells` cells: a list of one value per
-/// cell (random fields are drawn as one) or a piecewise field.
+/// cell, a random field (drawn once per cell) or a piecewise field.
 pub(crate) fn jumps_between_cells(f: &Field, cells: usize) -> bool {
     match f {
         Field::PerCell { values } => values.len() == cells,
-        Field::Piecewise { .. } => true,
+        Field::Piecewise { .. } | Field::Random { .. } => true,
         _ => false,
     }
 }

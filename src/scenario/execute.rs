@@ -53,25 +53,21 @@ fn continuum_is_the_discrete_line(spec: &RunSpec) -> Option<String> {
         return None;
     };
     let cells = cfg.n_cells();
-    let equal = cfg
-        .ref_lengths
-        .as_ref()
-        .is_none_or(|v| v.windows(2).all(|w| w[0] == w[1]));
     (spec.model == crate::observe::ModelKind::Continuum
         && cfg.continuum_scheme == crate::line::config::ContinuumScheme::Conservative
         && spec.nodes.unwrap_or(cells) == cells
-        && equal)
-        .then(|| {
-            format!(
-                "this continuum has one segment per cell (`nodes` = {cells}{}): it is the \
+        && cfg.equal_cells())
+    .then(|| {
+        format!(
+            "this continuum has one segment per cell (`nodes` = {cells}{}): it is the \
                  discrete line itself; set `nodes` for a continuum on its own grid",
-                if spec.nodes.is_none() {
-                    ", the default"
-                } else {
-                    ""
-                }
-            )
-        })
+            if spec.nodes.is_none() {
+                ", the default"
+            } else {
+                ""
+            }
+        )
+    })
 }
 
 /// A note for a line's thesis-scheme continuum over fields that jump from cell to cell: it
@@ -89,10 +85,7 @@ fn thesis_scheme_samples_jumps(spec: &RunSpec) -> Option<String> {
     let cells = cfg.n_cells();
     let jumping: Vec<&str> = [("mu", &cfg.mu), ("eta", &cfg.eta), ("K", &cfg.k)]
         .into_iter()
-        .filter(|(_, f)| {
-            matches!(f, crate::cell::Field::Random { .. })
-                || crate::line::homogenise::jumps_between_cells(f, cells)
-        })
+        .filter(|(_, f)| crate::line::homogenise::jumps_between_cells(f, cells))
         .map(|(key, _)| key)
         .collect();
     (!jumping.is_empty()).then(|| {
