@@ -204,6 +204,12 @@ fn inputs_a_run_would_reject_exit_2_before_anything_is_written() {
         &[],
         "model.law",
     );
+    rejects(
+        "shear_axial_law",
+        "name = \"s\"\n[output]\nseries = [0, 1]\n[model]\nkind = \"shear\"\nlaw = { law = \"expression\", W = \"mu/2*(I1 - 3) + k*(l1 - 1)^2\", mu = 1, k = 1 }\n",
+        &[],
+        "model.law",
+    );
 }
 
 /// The runs of a sweep are held together until they are written: each run's profiles fit

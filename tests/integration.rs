@@ -58,6 +58,7 @@ mod roundoff_floor;
 mod scenario_fuzz;
 mod scenario_outputs;
 mod scenario_validation;
+mod shear_fibre_law;
 mod shear_validation;
 mod sheet_external_pressure;
 mod sheet_growth;

@@ -9,7 +9,9 @@
 //!   its total `a`-derivative along the path);
 //! * sheet — `W` in [`Dual2SVec64`]`<3>` with `λ₁ = l₁ + d₁`, `λ₂ = l₂ + d₂`,
 //!   `λ₃ = 1/(λ₁λ₂) + d₃`: gradient `(∂₁Ŵ, ∂₂Ŵ, W₃)` and the Hessian block `∂ᵢ∂ₖŴ`;
-//! * shear — `W(λ₊(T), λ₋(T), 1)` in [`Dual2_64`].
+//! * shear — `W(λ₊(T), λ₋(T), 1)` in [`Dual2_64`], and the pressure from one [`Dual64`]
+//!   gradient; both read `W` at the principal stretches, so they hold for a law symmetric in its
+//!   in-plane stretches ([`symmetric_in_plane`]), not for one with material directions.
 //!
 //! ```
 //! use celltissue::{energy::ad, NeoHookean};
@@ -84,7 +86,8 @@ pub fn sheet<E: StrainEnergy + ?Sized>(law: &E, l1: f64, l2: f64) -> SheetRespon
 }
 
 /// Simple-shear response by AD (docs/model.md §1.5): `τ = dŴ/dT`, `dτ/dT = d²Ŵ/dT²` with
-/// `Ŵ(T) = W(λ₊, λ₋, 1)`, `λ± = √(1 + T²/4) ± T/2`.
+/// `Ŵ(T) = W(λ₊, λ₋, 1)`, `λ± = √(1 + T²/4) ± T/2`: the energy of the shear for a law that
+/// depends on the principal stretches alone (an isotropic law).
 ///
 /// ```
 /// use celltissue::{energy::ad, NeoHookean};
@@ -101,4 +104,75 @@ pub fn shear<E: StrainEnergy + ?Sized>(law: &E, t: f64) -> ShearResponse {
         tau: w.v1,
         dtau: w.v2,
     }
+}
+
+/// Pressure of a simple-shear cell from `σ₂₂ = 0` (docs/model.md §1.5), for a law that depends
+/// on the principal stretches alone: with `λ± = √(1+T²/4) ± T/2`, `λ₃ = 1`, principal stresses
+/// `t_i = λ_i ∂W/∂λ_i` and Eulerian principal directions `n±` (eigenvectors of `B = FFᵀ`),
+/// `p = t₊ n₊,₂² + t₋ n₋,₂²`. Neo-Hookean gives `p = μ`.
+///
+/// ```
+/// use celltissue::{energy::ad, Gent, NeoHookean};
+/// // neo-Hookean: p = μ at every amount of shear
+/// for t in [0.0, 0.5, 2.0] {
+///     assert!((ad::shear_pressure(&NeoHookean::new(1.5).unwrap(), t) - 1.5).abs() < 1e-12);
+/// }
+/// // Gent (μ = 1, J_m = 3): p = μ/(1 − T²/J_m) stiffens towards the lock
+/// let gent = Gent::new(1.0, 3.0).unwrap();
+/// assert!((ad::shear_pressure(&gent, 1.0) - 1.5).abs() < 1e-12);
+/// ```
+pub fn shear_pressure<E: StrainEnergy + ?Sized>(law: &E, t: f64) -> f64 {
+    let s = (1.0 + 0.25 * t * t).sqrt();
+    let (lp, lm) = (s + 0.5 * t, s - 0.5 * t);
+    let d = |i: usize| {
+        let mut l = [Dual64::from(lp), Dual64::from(lm), Dual64::from(1.0)];
+        l[i].eps = 1.0;
+        law.energy(l).eps
+    };
+    let (tp, tm) = (lp * d(0), lm * d(1));
+    // B = [[1+T², T], [T, 1]]; eigenvector for eigenvalue λ² is (T, λ² − 1 − T²) or (λ² − 1, T).
+    let n2 = |lam2: f64| {
+        let v = (lam2 - 1.0, t);
+        let nrm = (v.0 * v.0 + v.1 * v.1).sqrt();
+        if nrm == 0.0 {
+            None
+        } else {
+            Some((v.1 / nrm).powi(2))
+        }
+    };
+    match (n2(lp * lp), n2(lm * lm)) {
+        (Some(a), Some(b)) => tp * a + tm * b,
+        // T = 0: B = I, any basis; σ₂₂ = t₂ − p with t₂ the in-plane stretch stress (both equal).
+        _ => tm,
+    }
+}
+
+/// Whether `W(λ₁, λ₂, λ₃) = W(λ₂, λ₁, λ₃)` at sample stretches (in-plane stretches 1 ± ε for
+/// ε from 0.2 down to 10⁻³, where the law admits them), to 10⁻¹⁰ relative: the default of
+/// [`StrainEnergy::shear_is_exact`]. A law symmetric in its in-plane stretches is read as a
+/// function of the principal stretches (isotropic in the plane), which is what
+/// [`shear`] and [`shear_pressure`] assume; one that is not reads its stretches along the cell's
+/// axes (a material direction), and simple shear turns the principal axes away from them.
+///
+/// ```
+/// use celltissue::energy::{ad, Expression};
+/// use celltissue::NeoHookean;
+/// assert!(ad::symmetric_in_plane(&NeoHookean::new(1.0).unwrap()));
+/// let fibre = Expression::new("mu/2*(I1 - 3) + k*(l1^2 - 1)^2", [("mu", 1.0), ("k", 1.0)]).unwrap();
+/// assert!(!ad::symmetric_in_plane(&fibre));
+/// ```
+pub fn symmetric_in_plane<E: StrainEnergy + ?Sized>(law: &E) -> bool {
+    for eps in [0.2, 0.05, 1e-2, 1e-3] {
+        for (a, b) in [(1.0 + eps, 1.0 - 0.5 * eps), (1.0 - eps, 1.0 + 2.0 * eps)] {
+            let c = 1.0 / (a * b);
+            if law.admissible([a, b, c]).is_err() || law.admissible([b, a, c]).is_err() {
+                continue;
+            }
+            let (x, y) = (law.energy([a, b, c]), law.energy([b, a, c]));
+            if x.is_finite() && y.is_finite() && (x - y).abs() > 1e-10 * x.abs().max(y.abs()) {
+                return false;
+            }
+        }
+    }
+    true
 }

@@ -183,6 +183,13 @@ impl StrainEnergy for AnyEnergy {
     fn shear(&self, t: f64) -> ShearResponse {
         delegate!(self, e => e.shear(t))
     }
+    #[inline]
+    fn shear_pressure(&self, t: f64) -> f64 {
+        delegate!(self, e => e.shear_pressure(t))
+    }
+    fn shear_is_exact(&self) -> bool {
+        delegate!(self, e => e.shear_is_exact())
+    }
 }
 
 macro_rules! from_law {

@@ -1,8 +1,8 @@
 //! Holzapfel–Gasser–Ogden law with one fibre family (thesis (1.11), docs/model.md §1.3, §7).
 
 use super::error::{finite, non_negative, positive, EnergyError};
-use super::StrainEnergy;
-use num_dual::DualNum;
+use super::{ShearResponse, StrainEnergy};
+use num_dual::{Dual2_64, Dual64, DualNum};
 use serde::{Deserialize, Serialize};
 
 /// Holzapfel–Gasser–Ogden (HGO) law, one fibre family at angle `θ` to the line, in the
@@ -39,6 +39,8 @@ pub struct Hgo {
     cos2: f64,
     #[serde(skip)]
     sin2: f64,
+    #[serde(skip)]
+    sin_cos: f64,
 }
 
 /// Unvalidated serde form of [`Hgo`].
@@ -80,6 +82,7 @@ impl Hgo {
             theta,
             cos2: co * co,
             sin2: s * s,
+            sin_cos: s * co,
         })
     }
 
@@ -135,5 +138,54 @@ impl StrainEnergy for Hgo {
     #[inline]
     fn shear_modulus(&self) -> f64 {
         self.c
+    }
+
+    /// Simple shear `F = [[1, T, 0], [0, 1, 0], [0, 0, 1]]` turns the fibre `a = (cos θ, sin θ)`
+    /// into `Fa = (cos θ + T sin θ, sin θ)`, so `I₄ = 1 + 2T sin θ cos θ + T² sin²θ` and
+    /// `I₁ = 3 + T²`: `Ŵ(T) = cT²/2 + Ψ(I₄(T))`, `τ = dŴ/dT` (the principal stretches alone
+    /// cannot say where the fibre points; docs/model.md §1.5).
+    ///
+    /// ```
+    /// use celltissue::{Hgo, StrainEnergy};
+    /// let law = Hgo::new(0.5, 1.0, 1.0, 0.5)?;
+    /// let (t, th) = (0.4_f64, 0.5_f64);
+    /// let e = 2.0 * t * th.sin() * th.cos() + (t * th.sin()).powi(2); // I₄ − 1
+    /// let dedt = 2.0 * th.sin() * th.cos() + 2.0 * t * th.sin().powi(2);
+    /// let tau = 0.5 * t + 1.0 * e * (e * e).exp() * dedt; // cT + Ψ'(I₄) dI₄/dT
+    /// assert!((law.shear(t).tau - tau).abs() < 1e-14);
+    /// // fibres pointing the other way are compressed at first: the matrix alone
+    /// assert_eq!(Hgo::new(0.5, 1.0, 1.0, -0.5)?.shear(0.1).tau, 0.5 * 0.1);
+    /// # Ok::<(), celltissue::EnergyError>(())
+    /// ```
+    #[inline]
+    fn shear(&self, t: f64) -> ShearResponse {
+        let t = Dual2_64::from_re(t).derivative();
+        let i4 = t * (2.0 * self.sin_cos) + t * t * self.sin2 + 1.0;
+        let w = t * t * (0.5 * self.c) + self.fibre_energy(i4);
+        ShearResponse {
+            tau: w.v1,
+            dtau: w.v2,
+        }
+    }
+
+    /// `p = ∂W/∂F₂₂` at the shear (the extra stress `(F S Fᵀ)₂₂ = S₂₂` that `σ₂₂ = 0` balances):
+    /// `c + 2Ψ'(I₄) sin²θ`.
+    ///
+    /// ```
+    /// use celltissue::{Hgo, StrainEnergy};
+    /// assert_eq!(Hgo::new(0.5, 1.0, 1.0, 0.0)?.shear_pressure(0.7), 0.5); // fibre along x₁: unstretched
+    /// assert!(Hgo::new(0.5, 1.0, 1.0, 0.5)?.shear_pressure(0.7) > 0.5);
+    /// # Ok::<(), celltissue::EnergyError>(())
+    /// ```
+    #[inline]
+    fn shear_pressure(&self, t: f64) -> f64 {
+        let i4 = Dual64::from_re(1.0 + 2.0 * t * self.sin_cos + t * t * self.sin2).derivative();
+        self.c + 2.0 * self.fibre_energy(i4).eps * self.sin2
+    }
+
+    /// `true`: [`shear`](Self::shear) and [`shear_pressure`](Self::shear_pressure) follow the
+    /// fibre through the shear.
+    fn shear_is_exact(&self) -> bool {
+        true
     }
 }

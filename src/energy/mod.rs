@@ -194,10 +194,46 @@ pub trait StrainEnergy: Send + Sync {
         ad::sheet(self, l1, l2)
     }
 
-    /// Simple-shear response at `T` (AD by default, [`ad::shear`]).
+    /// Simple-shear response at `T` (AD by default, [`ad::shear`], which reads `W` at the
+    /// principal stretches: see [`shear_is_exact`](Self::shear_is_exact)).
     #[inline]
     fn shear(&self, t: f64) -> ShearResponse {
         ad::shear(self, t)
+    }
+
+    /// Pressure of a simple-shear cell at `T`, from `σ₂₂ = 0` (by default [`ad::shear_pressure`],
+    /// which reads `W` at the principal stretches).
+    ///
+    /// ```
+    /// use celltissue::{NeoHookean, StrainEnergy};
+    /// assert!((NeoHookean::new(1.5).unwrap().shear_pressure(0.7) - 1.5).abs() < 1e-12); // p = μ
+    /// ```
+    #[inline]
+    fn shear_pressure(&self, t: f64) -> f64 {
+        ad::shear_pressure(self, t)
+    }
+
+    /// Whether [`shear`](Self::shear) and [`shear_pressure`](Self::shear_pressure) describe
+    /// this law (docs/model.md §1.5). Their defaults read `W` at the principal stretches of the
+    /// shear, `W(λ₊, λ₋, 1)`, which holds for a law of the principal stretches alone. Simple
+    /// shear turns the principal axes away from the cell's axes, so a law that reads its
+    /// stretches along those axes (a material direction: HGO's fibres, a formula not symmetric
+    /// in `l1` and `l2`) gets a wrong shear response from them: such a law overrides both with
+    /// its own (as [`Hgo`] does) or answers `false`, and the shear column then refuses it. The
+    /// default answers whether `W` is symmetric in its in-plane stretches
+    /// ([`ad::symmetric_in_plane`]).
+    ///
+    /// ```
+    /// use celltissue::energy::Expression;
+    /// use celltissue::{Hgo, NeoHookean, StrainEnergy};
+    /// assert!(NeoHookean::new(1.0)?.shear_is_exact());
+    /// assert!(Hgo::new(0.5, 1.0, 1.0, 0.5)?.shear_is_exact()); // its own shear response
+    /// let axial = Expression::new("mu/2*(I1 - 3) + k*(l1 - 1)^2", [("mu", 1.0), ("k", 2.0)])?;
+    /// assert!(!axial.shear_is_exact());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    fn shear_is_exact(&self) -> bool {
+        ad::symmetric_in_plane(self)
     }
 }
 
@@ -229,5 +265,12 @@ impl<E: StrainEnergy + ?Sized> StrainEnergy for &E {
     #[inline]
     fn shear(&self, t: f64) -> ShearResponse {
         (**self).shear(t)
+    }
+    #[inline]
+    fn shear_pressure(&self, t: f64) -> f64 {
+        (**self).shear_pressure(t)
+    }
+    fn shear_is_exact(&self) -> bool {
+        (**self).shear_is_exact()
     }
 }

@@ -208,6 +208,8 @@ trait DynLaw: Send + Sync + fmt::Debug {
     fn dyn_line(&self, a: f64) -> LineResponse;
     fn dyn_sheet(&self, l1: f64, l2: f64) -> SheetResponse;
     fn dyn_shear(&self, t: f64) -> ShearResponse;
+    fn dyn_shear_pressure(&self, t: f64) -> f64;
+    fn dyn_shear_is_exact(&self) -> bool;
     /// Writes `W(l)` into `out` if `l`'s scalar is one of the supported types.
     fn energy_any(&self, l: &dyn Any, out: &mut dyn Any) -> bool;
 }
@@ -239,6 +241,12 @@ impl<L: StrainEnergy + fmt::Debug> DynLaw for L {
     }
     fn dyn_shear(&self, t: f64) -> ShearResponse {
         StrainEnergy::shear(self, t)
+    }
+    fn dyn_shear_pressure(&self, t: f64) -> f64 {
+        StrainEnergy::shear_pressure(self, t)
+    }
+    fn dyn_shear_is_exact(&self) -> bool {
+        StrainEnergy::shear_is_exact(self)
     }
     fn energy_any(&self, l: &dyn Any, out: &mut dyn Any) -> bool {
         energy_at::<f64, L>(self, l, out)
@@ -349,6 +357,12 @@ impl StrainEnergy for Registered {
     }
     fn shear(&self, t: f64) -> ShearResponse {
         self.law.dyn_shear(t)
+    }
+    fn shear_pressure(&self, t: f64) -> f64 {
+        self.law.dyn_shear_pressure(t)
+    }
+    fn shear_is_exact(&self) -> bool {
+        self.law.dyn_shear_is_exact()
     }
 }
 

@@ -90,4 +90,13 @@ impl<E: StrainEnergy> StrainEnergy for Scaled<E> {
             dtau: self.factor * r.dtau,
         }
     }
+
+    #[inline]
+    fn shear_pressure(&self, t: f64) -> f64 {
+        self.factor * self.inner.shear_pressure(t)
+    }
+
+    fn shear_is_exact(&self) -> bool {
+        self.inner.shear_is_exact()
+    }
 }

@@ -454,6 +454,12 @@ impl ShearConfig {
         pos("beta0", self.beta0)?;
         check_drag(self.k_th, self.drag, false)?;
         need(
+            crate::StrainEnergy::shear_is_exact(&self.law),
+            "law",
+            format!("{{ law = \"{}\", … }}", self.law.name()),
+            crate::sheet::shear::LAW_WITHOUT_SHEAR,
+        )?;
+        need(
             self.force.is_finite(),
             "force",
             self.force,

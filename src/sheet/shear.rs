@@ -21,7 +21,6 @@ use crate::array::CellArray;
 use crate::energy::StrainEnergy;
 use crate::scalar::Scalar;
 use integrators::{Pattern, ResidualError};
-use num_dual::Dual64;
 
 /// Physical parameters of the shear column (docs/model.md §4.4).
 ///
@@ -94,48 +93,6 @@ pub struct ShearFields {
     pub pressure: Vec<f64>,
 }
 
-/// Pressure of a simple-shear cell from `σ₂₂ = 0` (docs/model.md §1.5): with principal stretches
-/// `λ± = √(1+T²/4) ± T/2`, `λ₃ = 1`, principal stresses `t_i = λ_i ∂W/∂λ_i` and Eulerian
-/// principal directions `n±` (eigenvectors of `B = FFᵀ`), `p = t₊ n₊,₂² + t₋ n₋,₂²`.
-/// Neo-Hookean gives `p = μ`.
-///
-/// ```
-/// use celltissue::sheet::shear::shear_pressure;
-/// use celltissue::{Gent, NeoHookean};
-/// // neo-Hookean: p = μ at every amount of shear
-/// for t in [0.0, 0.5, 2.0] {
-///     assert!((shear_pressure(&NeoHookean::new(1.5).unwrap(), t) - 1.5).abs() < 1e-12);
-/// }
-/// // Gent (μ = 1, J_m = 3): p = μ/(1 − T²/J_m) stiffens towards the lock
-/// let gent = Gent::new(1.0, 3.0).unwrap();
-/// assert!((shear_pressure(&gent, 1.0) - 1.5).abs() < 1e-12);
-/// ```
-pub fn shear_pressure<E: StrainEnergy>(law: &E, t: f64) -> f64 {
-    let s = (1.0 + 0.25 * t * t).sqrt();
-    let (lp, lm) = (s + 0.5 * t, s - 0.5 * t);
-    let d = |i: usize| {
-        let mut l = [Dual64::from(lp), Dual64::from(lm), Dual64::from(1.0)];
-        l[i].eps = 1.0;
-        law.energy(l).eps
-    };
-    let (tp, tm) = (lp * d(0), lm * d(1));
-    // B = [[1+T², T], [T, 1]]; eigenvector for eigenvalue λ² is (T, λ² − 1 − T²) or (λ² − 1, T).
-    let n2 = |lam2: f64| {
-        let v = (lam2 - 1.0, t);
-        let nrm = (v.0 * v.0 + v.1 * v.1).sqrt();
-        if nrm == 0.0 {
-            None
-        } else {
-            Some((v.1 / nrm).powi(2))
-        }
-    };
-    match (n2(lp * lp), n2(lm * lm)) {
-        (Some(a), Some(b)) => tp * a + tm * b,
-        // T = 0: B = I, any basis; σ₂₂ = t₂ − p with t₂ the in-plane stretch stress (both equal).
-        _ => tm,
-    }
-}
-
 /// The canonical edge form of the shear column as a [`CellArray`] (tridiagonal Jacobian).
 ///
 /// ```
@@ -173,7 +130,14 @@ pub enum ShearBuildError {
         /// Valid range.
         expected: &'static str,
     },
+    /// The law has material directions and no simple-shear response of its own
+    /// ([`StrainEnergy::shear_is_exact`]).
+    #[error("{}", LAW_WITHOUT_SHEAR)]
+    Law,
 }
+
+/// Why the column refuses a law whose [`StrainEnergy::shear_is_exact`] is `false`.
+pub const LAW_WITHOUT_SHEAR: &str = "the law reads its in-plane stretches along the cell's axes (W(l1, l2, l3) differs from W(l2, l1, l3), as a fibre law's does) and has no simple-shear response of its own; simple shear turns the principal axes away from the cell's, so write W symmetric in l1 and l2 (or in I1, I2), or use `hgo` for fibres";
 
 fn check_params(p: &ShearParams, m: usize) -> Result<(), ShearBuildError> {
     let bad = |key, value, expected| {
@@ -207,6 +171,14 @@ fn check_params(p: &ShearParams, m: usize) -> Result<(), ShearBuildError> {
     Ok(())
 }
 
+fn check_law<E: StrainEnergy>(law: &E) -> Result<(), ShearBuildError> {
+    if law.shear_is_exact() {
+        Ok(())
+    } else {
+        Err(ShearBuildError::Law)
+    }
+}
+
 impl<E: StrainEnergy> ShearColumn<E> {
     /// The discrete column of `M` cells.
     ///
@@ -232,6 +204,7 @@ impl<E: StrainEnergy> ShearColumn<E> {
     /// ```
     pub fn continuum(law: E, params: &ShearParams, m: usize) -> Result<Self, ShearBuildError> {
         check_params(params, m)?;
+        check_law(&law)?;
         let h = params.cells as f64 * params.gamma0 / m as f64;
         Ok(Self {
             law,
@@ -354,7 +327,7 @@ pub fn fields_from_edges<E: StrainEnergy>(law: &E, xe: &[f64], h: f64) -> ShearF
         f.tan_theta.push(t);
         f.theta.push(t.atan());
         f.tau.push(law.shear(t).tau);
-        f.pressure.push(shear_pressure(law, t));
+        f.pressure.push(law.shear_pressure(t));
     }
     f
 }
@@ -460,6 +433,7 @@ impl<E: StrainEnergy> ShearCellCentre<E> {
     /// ```
     pub fn new(law: E, params: &ShearParams) -> Result<Self, ShearBuildError> {
         check_params(params, params.cells)?;
+        check_law(&law)?;
         Ok(Self {
             law,
             params: params.clone(),
