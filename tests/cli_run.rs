@@ -238,6 +238,54 @@ force = 1.0
     }
 }
 
+/// A shear column's plots are named for what they hold (issue #11 §2): its records keep tan θ
+/// in the stretch fields and the top displacement in `length`, its files and titles do not.
+#[test]
+fn shear_plots_are_named_tan_theta_and_top_displacement() {
+    let (dir, _) = run_text(
+        "cli_run_shear_names",
+        r#"
+name = "shear"
+[output]
+series = [0, 1, 2]
+profiles = [2]
+[model]
+kind = "shear"
+nodes = 8
+cells = 4
+[plots]
+histories = true
+sweep_profiles = [2]
+[sweep]
+parameter = "force"
+values = [0.5, 1.0]
+"#,
+    );
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".png"))
+        .collect();
+    names.sort();
+    for want in [
+        "series_min_tan_theta.png",
+        "series_top_displacement.png",
+        "profiles_tan_theta_force=0.5.png",
+        "histories_tan_theta_force=1.png",
+        "sweep_tan_theta.png",
+        "sweep_top_displacement.png",
+        "sweep_profiles_tan_theta_t=2.png",
+    ] {
+        assert!(names.iter().any(|n| n == want), "{want} not in {names:?}");
+    }
+    assert!(
+        !names
+            .iter()
+            .any(|n| n.contains("stretch") || n.contains("length")),
+        "{names:?}"
+    );
+}
+
 /// `solver.linear_solver = "iterative"` reaches a sheet run (Krylov iterations are counted,
 /// the choice is recorded in the summary) and gives the direct solver's answer: both runs are
 /// BDF at rtol 1e-8, so they agree to a small multiple of their own global errors.

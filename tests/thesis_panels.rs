@@ -170,7 +170,7 @@ fn fig4_3bcd_gives_the_ref_peak_pressures_and_a_lower_peak_for_m_1() {
 
 /// Fig 4.6c: the shear column's top displacement (inset) at the Ref times; every cell's tan θ
 /// ordered top to bottom while the force travels down (cells near the loaded edge shear
-/// first) and all at the steady tan θ = F_A/(β₀μ) = 1 by t = 150 — what `histories_stretch.png`
+/// first) and all at the steady tan θ = F_A/(β₀μ) = 1 by t = 150 — what `histories_tan_theta.png`
 /// draws.
 #[test]
 fn fig4_6c_cells_shear_from_the_top_down_to_the_steady_angle() {

@@ -188,10 +188,8 @@ pub(crate) fn write_figures(
             },
             curves,
         };
-        emit(
-            format!("series_{key}.png"),
-            plot_chart(&dir.join(format!("series_{key}.png")), &chart),
-        );
+        let file = format!("series_{}.png", file_key(shear, key));
+        emit(file.clone(), plot_chart(&dir.join(&file), &chart));
     }
 
     // profiles per swept value
@@ -281,7 +279,7 @@ pub(crate) fn write_figures(
                 y_axis: Axis::Linear,
                 curves,
             };
-            let name = format!("profiles_{key}{suffix}.png");
+            let name = format!("profiles_{}{suffix}.png", file_key(shear, key));
             emit(name.clone(), plot_chart(&dir.join(&name), &chart));
         }
         let _ = xname;
@@ -299,10 +297,16 @@ pub(crate) fn write_figures(
             .as_ref()
             .is_some_and(|s| s.ensemble.is_some());
         if numeric && groups.len() >= 2 && !ensemble {
+            // a shear column's `length` is its top displacement
+            let length = if shear {
+                ("top displacement", "x_e,M (top edge position)")
+            } else {
+                ("length", "l")
+            };
             for (key, ylabel) in [
                 ("pressure", "p"),
                 ("stretch", stretch.symbol),
-                ("length", "l"),
+                ("length", length.1),
             ] {
                 let what = if shear && key == "stretch" {
                     stretch.words
@@ -311,7 +315,7 @@ pub(crate) fn write_figures(
                 };
                 let chart = Chart {
                     title: title(&if key == "length" {
-                        format!("length at the profile times against {name}")
+                        format!("{} at the profile times against {name}", length.0)
                     } else {
                         format!("{what} extremes against {name}")
                     }),
@@ -340,7 +344,7 @@ pub(crate) fn write_figures(
                 if key == "length" && !varies {
                     continue;
                 }
-                let file = format!("sweep_{key}.png");
+                let file = format!("sweep_{}.png", file_key(shear, key));
                 emit(file.clone(), plot_chart(&dir.join(&file), &chart));
             }
         }
@@ -379,7 +383,7 @@ pub(crate) fn write_figures(
                 y_axis: Axis::Linear,
                 curves,
             };
-            let file = format!("histories_stretch{suffix}.png");
+            let file = format!("histories_{}{suffix}.png", file_key(shear, "stretch"));
             emit(file.clone(), plot_chart(&dir.join(&file), &chart));
         }
     }
@@ -445,7 +449,8 @@ fn sweep_profile_charts(
     xdesc: &str,
 ) -> Vec<(String, Chart)> {
     let name = scenario.sweep.as_ref().map_or("", |s| s.name.as_str());
-    let stretch = stretch_name(scenario).symbol;
+    let names = stretch_name(scenario);
+    let (stretch, shear) = (names.symbol, names == SHEAR);
     let mut out = Vec::new();
     for &t in &scenario.plots.sweep_profiles {
         for (key, ylabel) in [("pressure", "p"), ("stretch", stretch)] {
@@ -482,6 +487,7 @@ fn sweep_profile_charts(
                 y_axis: Axis::Linear,
                 curves,
             };
+            let key = file_key(shear, key);
             out.push((slug(&format!("sweep_profiles_{key}_t={t_text}.png")), chart));
         }
     }
@@ -593,6 +599,7 @@ fn strain_ratio(rec: &RunRecord, t: f64) -> Option<f64> {
 fn sweep_curves(scenario: &Scenario, summary: &Summary, key: &str) -> Vec<Curve> {
     let mut curves = Vec::new();
     let stretch = stretch_name(scenario);
+    let shear = stretch == SHEAR;
     let mut times: Vec<f64> = scenario
         .runs
         .iter()
@@ -633,6 +640,7 @@ fn sweep_curves(scenario: &Scenario, summary: &Summary, key: &str) -> Vec<Curve>
                 .collect();
             let what = match key {
                 "pressure" => "max p",
+                "length" if shear => "top displacement",
                 "length" => "l",
                 _ => stretch.min_legend,
             };
@@ -692,6 +700,29 @@ fn sweep_curves(scenario: &Scenario, summary: &Summary, key: &str) -> Vec<Curve>
     curves
 }
 
+/// A shear column's names: its `stretch` fields hold tan θ.
+const SHEAR: StretchName = StretchName {
+    symbol: "tan θ",
+    words: "shear tan θ",
+    min_axis: "min tan θ",
+    min_words: "minimum shear tan θ",
+    min_legend: "min tan θ",
+    z_over_y: "",
+    max_y_axis: "",
+    max_y_words: "",
+};
+
+/// The file-name stem of a plotted quantity: a shear column's records keep tan θ in the
+/// stretch fields and its top displacement in `length`; its files are named for what they
+/// hold (`series_min_tan_theta.png`, `sweep_top_displacement.png`).
+fn file_key(shear: bool, key: &str) -> String {
+    match key {
+        "length" if shear => "top_displacement".into(),
+        _ if shear => key.replace("stretch", "tan_theta"),
+        _ => key.into(),
+    }
+}
+
 /// What the `stretch` fields hold, for axis labels and titles: a shear column's tan θ; the
 /// elastic stretch α when any of the scenario's lines or sheets grows (their profiles and
 /// series record α = λ/g; the total stretch λ is the profile's `lambda`); else the stretch λ.
@@ -722,16 +753,7 @@ fn stretch_name(scenario: &Scenario) -> StretchName {
         .iter()
         .any(|r| matches!(r.config, ModelConfig::Shear(..)))
     {
-        return StretchName {
-            symbol: "tan θ",
-            words: "shear tan θ",
-            min_axis: "min tan θ",
-            min_words: "minimum shear tan θ",
-            min_legend: "min tan θ",
-            z_over_y: "",
-            max_y_axis: "",
-            max_y_words: "",
-        };
+        return SHEAR;
     }
     let growing = scenario.runs.iter().any(|r| match &r.config {
         ModelConfig::Line(c) => c.growth.is_some(),

@@ -291,7 +291,8 @@ pub fn tick_label(axis: Axis, v: f64, step: f64) -> String {
 /// `v` with the digits that a resolution `step` needs; scientific notation for very large or
 /// small magnitudes.
 fn number_label(v: f64, step: f64) -> String {
-    if v == 0.0 {
+    // a tick placed by adding steps (−0.4 + 2 × 0.2 = −5.6e-17) is zero at the axis's resolution
+    if v == 0.0 || v.abs() < 1e-9 * step.abs() {
         return "0".into();
     }
     let step = step.abs().max(v.abs() * 1e-15);
@@ -729,6 +730,9 @@ mod tests {
         // ticks 1e-10 apart around 1 are distinguishable
         assert_eq!(tick_label(Axis::Linear, 1.0 + 2e-9, 1e-10), "1.000000002");
         assert_eq!(tick_label(Axis::Linear, 0.5, 0.1), "0.5");
+        // a tick at 0 reached by adding steps is labelled 0, not -6e-17
+        assert_eq!(tick_label(Axis::Linear, -5.551115123125783e-17, 0.17), "0");
+        assert_eq!(tick_label(Axis::Linear, 1e-12, 1e-11), "1e-12");
         assert_eq!(tick_label(Axis::Linear, 2.0e7, 1e6), "2.0e7");
         assert_eq!(tick_label(Axis::Log, -300.0, 30.0), "1e-300");
         assert_eq!(tick_label(Axis::Log, 2.0, 0.3), "100");
