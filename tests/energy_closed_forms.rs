@@ -271,16 +271,19 @@ fn hgo_all_angles_both_sides_of_i4_equal_one() {
             }
         }
         for t in SHEARS {
-            let (s, lp, lm) = shear_stretches(t);
-            let i4 = lp * lp * co + lm * lm * si;
+            // docs/model.md §1.5: the shear carries the fibre to (cos θ + T sin θ, sin θ), so
+            // I₄ = 1 + T sin 2θ + T² sin²θ and I₁ = 3 + T²
+            let i4 = 1.0 + t * (2.0 * theta).sin() + t * t * si;
             count(i4);
-            let q = lp * lp * co - lm * lm * si;
+            let di4 = (2.0 * theta).sin() + 2.0 * t * si;
             let (p4, dp4) = psi4(k1, k2, i4);
             let want = ShearResponse {
-                tau: c * t + p4 * q / s,
-                dtau: c + dp4 * q * q / (s * s) + p4 * (i4 / (s * s) - q * t / (4.0 * s.powi(3))),
+                tau: c * t + p4 * di4,
+                dtau: c + dp4 * di4 * di4 + 2.0 * p4 * si,
             };
             check_shear(&format!("HGO θ={theta} T={t}"), law.shear(t), want);
+            let p = law.shear_pressure(t);
+            assert!(close(p, c + 2.0 * p4 * si), "HGO θ={theta} T={t}: p {p}");
         }
         assert!(
             active > 5 && inactive > 5,

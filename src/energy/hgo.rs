@@ -9,7 +9,10 @@ use serde::{Deserialize, Serialize};
 /// substrate plane:
 ///
 /// `W = c/2 (I₁ − 3) + k₁/(2k₂) [exp(k₂E²) − 1] 𝟙[E > 0]`, `E = I₄ − 1`,
-/// `I₄ = λ₁² cos²θ + λ₂² sin²θ`.
+/// `I₄ = λ₁² cos²θ + λ₂² sin²θ` with `λ₁, λ₂` the stretches along the cell's axes (the line
+/// and the sheet deform along them). Simple shear turns the principal axes, so
+/// [`StrainEnergy::shear`] and [`StrainEnergy::shear_pressure`] follow the fibre through the
+/// deformation gradient instead (docs/model.md §1.5).
 ///
 /// * Fibres act only in tension: the fibre term is exactly zero for `I₄ ≤ 1`.
 /// * The prefactor is the standard `k₁/(2k₂)`; the thesis's (1.11) writes `k₁/k₂`, so
