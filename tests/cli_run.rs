@@ -286,6 +286,52 @@ values = [0.5, 1.0]
     );
 }
 
+/// `series_cells.png` is drawn where the number of cells changes, not for a tissue that never
+/// divides (where a continuum's count is the tissue's N, not its segments: it was drawn as
+/// 101 "cells" beside the discrete 100 on Fig 2.5).
+#[test]
+fn the_number_of_cells_is_plotted_only_where_cells_divide() {
+    let (dir, v) = run_text(
+        "cli_run_cells_fixed",
+        r#"
+name = "fixed"
+[output]
+series = [0, 0.5, 1]
+[model]
+kind = "line"
+cells = 20
+nodes = 21
+"#,
+    );
+    assert!(!dir.join("series_cells.png").exists());
+    for r in v["runs"].as_array().unwrap() {
+        assert_eq!(
+            r["series"]["cells"][2].as_f64(),
+            Some(20.0),
+            "{}",
+            r["label"]
+        );
+    }
+    let (dir, v) = run_text(
+        "cli_run_cells_dividing",
+        r#"
+name = "dividing"
+[output]
+series = { start = 0, stop = 3, count = 7 }
+[model]
+kind = "line"
+models = ["discrete"]
+cells = 20
+right_end = "free"
+K = 1e-5
+growth = { sigma0 = 0.1 }
+division = { rule = "area" }
+"#,
+    );
+    assert!(v["runs"][0]["series"]["cells"][6].as_f64().unwrap() > 20.0);
+    assert!(dir.join("series_cells.png").exists());
+}
+
 /// `solver.linear_solver = "iterative"` reaches a sheet run (Krylov iterations are counted,
 /// the choice is recorded in the summary) and gives the direct solver's answer: both runs are
 /// BDF at rtol 1e-8, so they agree to a small multiple of their own global errors.

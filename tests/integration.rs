@@ -26,6 +26,7 @@ mod growth_newton_matrix_condenses;
 mod growth_proliferating_continuum;
 mod growth_thesis;
 mod line_active_ring;
+mod line_continuum_cell_count;
 mod line_discrete_continuum_convergence;
 mod line_field_edits;
 mod line_growth_without_division;

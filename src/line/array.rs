@@ -387,6 +387,13 @@ pub struct Line<E: StrainEnergy> {
     /// The per-cell fields that hold one value for every cell (detected by
     /// `Line::rebuild_layout`).
     pub(crate) uniform: UniformFields,
+    /// The cells each segment of a continuum grid stands for ([`continuum`]'s segments of
+    /// `h = l₀/n` over cells of length `L`: `h/L` each, `N` in all; `None` where each entry is
+    /// one cell). Records count and average per cell with them ([`Snapshot::cell_counts`]).
+    ///
+    /// [`continuum`]: crate::line::build::continuum
+    /// [`Snapshot::cell_counts`]: crate::line::observe::Snapshot::cell_counts
+    pub(crate) segment_cells: Option<Vec<f64>>,
     /// Threads of the residual sweep (1 unless the solver passes more through
     /// [`CellArray::set_threads`]); two halves from [`PAR_MIN_CELLS`] cells when ≥ 2.
     pub threads: usize,

@@ -207,7 +207,7 @@ impl CellCensus {
     }
 
     /// `C(x)`, clamped to `[0, N]`.
-    fn count_to(&self, x: f64) -> f64 {
+    pub(crate) fn count_to(&self, x: f64) -> f64 {
         let j = self.holder(x);
         let (a, b) = (self.bounds[j], self.bounds[j + 1]);
         j as f64 + ((x - a) / (b - a)).clamp(0.0, 1.0)
@@ -427,6 +427,7 @@ fn assemble<E: StrainEnergy>(
         threads: 1,
         layout: Layout::default(),
         uniform: Default::default(),
+        segment_cells: None,
     };
     line.rebuild_layout();
     if line.layout.dim == 0 {
@@ -484,7 +485,11 @@ pub fn continuum<E: StrainEnergy>(
         None => Census::uniform(n, h / (l0 / p.ref_lengths.len() as f64)),
         Some(cells) => Census::grid(cells, &grid_faces(h, n), p.right.is_periodic()),
     };
-    assemble(energy, p, vec![h; n], census)
+    // its records count the tissue's cells, not its segments
+    let counts = census.cell.clone();
+    let mut line = assemble(energy, p, vec![h; n], census)?;
+    line.segment_cells = counts.iter().any(|&c| c != 1.0).then_some(counts);
+    Ok(line)
 }
 
 /// The cell-number grid's line: `n` segments of `N/n` consecutive cells each (`n` must divide

@@ -51,9 +51,11 @@ pub struct Snapshot {
     pub g_dot: Vec<f64>,
     /// Energy scale `μ`.
     pub mu: Vec<f64>,
-    /// Cells each entry stands for, where that is not one each: the segments of a
-    /// proliferating continuum (its density, or a cell-number grid's segment sizes). Series
-    /// count `N` and average per cell with these weights.
+    /// Cells each entry stands for, where that is not one each: the segments of a continuum
+    /// grid (`h/L` over cells of length `L`), of a proliferating continuum (its density, or a
+    /// cell-number grid's segment sizes), the nodes of the thesis scheme (the cells within half
+    /// a spacing). Series count `N` and average per cell with these weights; profiles carry
+    /// them as `segment_cells`.
     pub cell_counts: Option<Vec<f64>>,
 }
 
@@ -228,7 +230,7 @@ impl<E: StrainEnergy> Line<E> {
             g: cells(),
             g_dot: cells(),
             mu: self.cells.mu.clone(),
-            cell_counts: None,
+            cell_counts: self.segment_cells.clone().filter(|c| c.len() == n),
         };
         let mut left = self.boundary(0, t, y, yp);
         s.x.push(left.0);

@@ -429,6 +429,23 @@ pub fn run_model<A: LineModel>(
 #[derive(Clone, Copy, Debug, Default)]
 pub struct LineRecorder;
 
+/// `Σ v` with Neumaier's compensation, so that a continuum's cell count `N = Σ h/L` over its
+/// segments comes out as the whole number it is (101 segments of 100/101 cells add up to
+/// 99.99999999999984 one by one). Eight lines; no crate is worth a dependency for them.
+fn compensated_sum(v: impl IntoIterator<Item = f64>) -> f64 {
+    let (mut sum, mut carry) = (0.0f64, 0.0f64);
+    for x in v {
+        let t = sum + x;
+        carry += if sum.abs() >= x.abs() {
+            (sum - t) + x
+        } else {
+            (x - t) + sum
+        };
+        sum = t;
+    }
+    sum + carry
+}
+
 impl<A: LineModel> Recorder<A> for LineRecorder {
     fn series_row(
         &mut self,
@@ -440,10 +457,12 @@ impl<A: LineModel> Recorder<A> for LineRecorder {
         let snap = array.observe(t, y, yp)?;
         // a proliferating continuum's segments stand for several cells each
         let w = snap.cell_counts.as_deref();
-        let n = w.map_or(snap.alpha.len() as f64, |w| w.iter().sum());
+        let n = w.map_or(snap.alpha.len() as f64, |w| {
+            compensated_sum(w.iter().copied())
+        });
         let mean = |v: &[f64]| match w {
             None => v.iter().sum::<f64>() / n,
-            Some(w) => v.iter().zip(w).map(|(v, w)| v * w).sum::<f64>() / n,
+            Some(w) => compensated_sum(v.iter().zip(w).map(|(v, w)| v * w)) / n,
         };
         let extra = [
             ("end_reaction", snap.end_reaction()),

@@ -45,6 +45,8 @@ pub struct ThesisLine<E: StrainEnergy> {
     k: Vec<f64>,
     gamma0: f64,
     atol_cell: f64,
+    /// The cells each node stands for: those within half a spacing of it (`N` in all).
+    node_cells: Vec<f64>,
 }
 
 impl<E: StrainEnergy> ThesisLine<E> {
@@ -108,6 +110,14 @@ impl<E: StrainEnergy> ThesisLine<E> {
                 None => k / mean_cell,
             })
             .collect();
+        let count_to = |x: f64| {
+            let x = x.clamp(0.0, l0);
+            cells.as_ref().map_or(x / mean_cell, |c| c.count_to(x))
+        };
+        let node_cells = x_ref
+            .iter()
+            .map(|&x| count_to(x + 0.5 * dx) - count_to(x - 0.5 * dx))
+            .collect();
         Ok(Self {
             energy,
             ramp,
@@ -119,6 +129,7 @@ impl<E: StrainEnergy> ThesisLine<E> {
             k,
             gamma0: p.gamma0,
             atol_cell: p.atol_cell,
+            node_cells,
         })
     }
 
@@ -257,6 +268,7 @@ impl<E: StrainEnergy> LineModel for ThesisLine<E> {
             t,
             x_ref: self.x_ref.clone(),
             mu: self.mu.clone(),
+            cell_counts: Some(self.node_cells.clone()),
             ..Default::default()
         };
         for i in 0..n {

@@ -266,7 +266,11 @@ pub(crate) fn ensemble_figures(
         return Vec::new();
     }
     let mut out = Vec::new();
+    let cells_change = super::figures::cells_change(summary);
     for (key, what) in [("length", "length l"), ("cells", "number of cells N")] {
+        if key == "cells" && !cells_change {
+            continue;
+        }
         let mut curves = Vec::new();
         for (gi, g) in groups.iter().enumerate() {
             let runs = usable(g);

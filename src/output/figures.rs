@@ -126,11 +126,13 @@ pub(crate) fn write_figures(
         ("shear_spread", "max tanθ − min tanθ", "shear spread"),
         ("mean_shear_angle", "mean θ", "mean shear angle"),
     ];
+    let cells_change = cells_change(summary);
     for e in extras {
         if summary
             .runs
             .iter()
             .any(|r| r.series.extra.contains_key(e.0))
+            && (e.0 != "cells" || cells_change)
         {
             series.push(e);
         }
@@ -698,6 +700,17 @@ fn sweep_curves(scenario: &Scenario, summary: &Summary, key: &str) -> Vec<Curve>
         ));
     }
     curves
+}
+
+/// Whether some run's number of cells changes (something divides): a number of cells that
+/// never changes is not plotted, neither against time nor over an ensemble.
+pub(crate) fn cells_change(summary: &Summary) -> bool {
+    summary.runs.iter().any(|r| {
+        r.series
+            .extra
+            .get("cells")
+            .is_some_and(|n| n.iter().any(|v| *v != n[0]))
+    })
 }
 
 /// A shear column's names: its `stretch` fields hold tan θ.
