@@ -2,7 +2,8 @@
 //! profiles as numpy arrays, stats and parameters as dicts. Picklable (through its JSON form,
 //! which round-trips every number exactly), so runs can come back from Dask workers.
 
-use celltissue::observe::{ModelKind, RunRecord};
+use celltissue::observe::{ModelKind, Profile, RunRecord};
+use celltissue::output::files::{profile_field_name, series_columns};
 use numpy::{IntoPyArray, PyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -27,6 +28,21 @@ impl Run {
             .map(|rec| Run { rec })
             .map_err(|e| PyValueError::new_err(format!("not a celltissue run record: {e}")))
     }
+}
+
+/// A profile's fields under their output names ([`profile_field_name`]: a shear column's `Y`
+/// and `tan_theta`), the model's further fields after them.
+fn profile_fields<'a>(rec: &RunRecord, p: &'a Profile) -> Vec<(&'a str, &'a Vec<f64>)> {
+    [
+        ("X", &p.x_ref),
+        ("x", &p.x),
+        ("stretch", &p.stretch),
+        ("pressure", &p.pressure),
+    ]
+    .into_iter()
+    .map(|(k, v)| (profile_field_name(rec, k), v))
+    .chain(p.extra.iter().map(|(k, v)| (k.as_str(), v)))
+    .collect()
 }
 
 /// Python's value of a JSON value (through the `json` module).
@@ -57,22 +73,13 @@ impl Run {
         json_to_py(py, &self.rec.parameters)
     }
 
-    /// Scalar series by name, each a numpy array over the output times `"t"`.
+    /// Scalar series by name, each a numpy array over the output times `"t"`, named as in
+    /// the run's `series_<label>.csv` and `.npz` (a shear column's `max_tan_theta`,
+    /// `min_tan_theta` and `top_displacement`, not a line's `max_stretch` and `length`).
     #[getter]
     fn series<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let s = &self.rec.series;
         let d = PyDict::new(py);
-        for (k, v) in [
-            ("t", &s.t),
-            ("length", &s.length),
-            ("max_pressure", &s.max_pressure),
-            ("min_pressure", &s.min_pressure),
-            ("max_stretch", &s.max_stretch),
-            ("min_stretch", &s.min_stretch),
-        ]
-        .into_iter()
-        .chain(s.extra.iter().map(|(k, v)| (k.as_str(), v)))
-        {
+        for (k, v) in series_columns(&self.rec) {
             d.set_item(k, v.clone().into_pyarray(py))?;
         }
         Ok(d)
@@ -80,22 +87,15 @@ impl Run {
 
     /// Snapshots at the profile times: a list of dicts with `"t"` (float) and per-cell
     /// (per-node) numpy arrays `"X"` (reference position), `"x"`, `"stretch"`, `"pressure"`
-    /// and the model's further fields.
+    /// and the model's further fields, named as in the run's profile CSV (a shear column's
+    /// `"Y"` and `"tan_theta"`).
     #[getter]
     fn profiles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let list = PyList::empty(py);
         for p in &self.rec.profiles {
             let d = PyDict::new(py);
             d.set_item("t", p.t)?;
-            for (k, v) in [
-                ("X", &p.x_ref),
-                ("x", &p.x),
-                ("stretch", &p.stretch),
-                ("pressure", &p.pressure),
-            ]
-            .into_iter()
-            .chain(p.extra.iter().map(|(k, v)| (k.as_str(), v)))
-            {
+            for (k, v) in profile_fields(&self.rec, p) {
                 d.set_item(k, v.clone().into_pyarray(py))?;
             }
             list.append(d)?;
@@ -118,12 +118,11 @@ impl Run {
             .rec
             .profiles
             .iter()
-            .map(|p| match field {
-                "X" => Some(&p.x_ref),
-                "x" => Some(&p.x),
-                "stretch" => Some(&p.stretch),
-                "pressure" => Some(&p.pressure),
-                k => p.extra.get(k),
+            .map(|p| {
+                profile_fields(&self.rec, p)
+                    .into_iter()
+                    .find(|(k, _)| *k == field)
+                    .map(|(_, v)| v)
             })
             .collect::<Option<_>>()
             .ok_or_else(|| {

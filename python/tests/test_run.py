@@ -225,3 +225,22 @@ def test_a_sweep_of_the_continuum_grid_solves_the_discrete_line_once():
         # the continuum runs are each their own
         assert not np.array_equal(runs[f"continuum nodes={n}"].series["min_stretch"],
                                   first.series["min_stretch"])
+
+
+def test_a_shear_columns_record_is_named_as_its_files(tmp_path):
+    # tan θ and the top displacement under their own names, as in the CSV and .npz files
+    scenario = {
+        "name": "shear",
+        "output": {"series": [0, 1, 2], "profiles": [2]},
+        "model": {"kind": "shear", "cells": 4, "nodes": 8},
+    }
+    run = celltissue.run(scenario)[0]
+    assert set(run.series) >= {"t", "max_tan_theta", "min_tan_theta", "top_displacement"}
+    assert not {"length", "max_stretch", "min_stretch"} & set(run.series)
+    assert set(run.profiles[0]) >= {"t", "Y", "x", "tan_theta", "pressure"}
+    assert run.profile("tan_theta").shape == (1, 4)
+    with pytest.raises(ValueError, match="stretch"):
+        run.profile("stretch")
+    # steady τ(T) = F_A = 1 is far off at t = 2, but every cell shears forward
+    assert np.all(run.profile("tan_theta") > 0)
+    assert run.series["top_displacement"][-1] == run.profiles[0]["x_edge"][-1]
