@@ -235,6 +235,12 @@ def test_a_shear_columns_record_is_named_as_its_files(tmp_path):
         "model": {"kind": "shear", "cells": 4, "nodes": 8},
     }
     run = celltissue.run(scenario)[0]
+    # the builder writes the same scenario
+    built = celltissue.shear(cells=4).solve([0, 1, 2], profiles=[2])
+    assert np.array_equal(built.series["top_displacement"], run.series["top_displacement"])
+    with pytest.raises(celltissue.ScenarioError, match="model.law"):
+        celltissue.shear(law={"law": "expression", "W": "mu/2*(I1 - 3) + k*(l1 - 1)^2",
+                              "mu": 1.0, "k": 1.0}).solve([0, 1])
     assert set(run.series) >= {"t", "max_tan_theta", "min_tan_theta", "top_displacement"}
     assert not {"length", "max_stretch", "min_stretch"} & set(run.series)
     assert set(run.profiles[0]) >= {"t", "Y", "x", "tan_theta", "pressure"}

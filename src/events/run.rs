@@ -6,6 +6,7 @@
 
 use super::dividing::Dividing;
 use super::division::DivisionConfig;
+use crate::cell::ViscosityModel;
 use crate::energy::StrainEnergy;
 use crate::line::config::RightEndKind;
 use crate::line::run::run_model;
@@ -42,6 +43,9 @@ pub enum ProliferationError {
     /// The proliferating continuum on a ring.
     #[error("invalid `right_end` = \"periodic\": the proliferating continuum has no ring; run models = [\"discrete\"]")]
     Ring,
+    /// Division of cells with a Maxwell branch (`viscosity` Maxwell or standard linear solid).
+    #[error("invalid `viscosity.model` = \"{0}\": dividing cells do not carry a Maxwell branch's viscous stretch to their daughters (not supported); proliferating cells may be elastic or Kelvin–Voigt (`eta`, or viscosity = {{ model = \"kelvin_voigt\", eta }})")]
+    MaxwellBranch(&'static str),
 }
 
 impl ProliferationError {
@@ -63,6 +67,7 @@ impl ProliferationError {
             ProliferationError::Division(e) => Some(format!("division.{}", e.key())),
             ProliferationError::NoGrowth => Some("growth".into()),
             ProliferationError::Ring => Some("right_end".into()),
+            ProliferationError::MaxwellBranch(_) => Some("viscosity.model".into()),
         }
     }
 }
@@ -129,7 +134,15 @@ impl ProliferationConfig {
         if self.line.growth.is_none() {
             return Err(ProliferationError::NoGrowth);
         }
-        Ok(())
+        match self.line.viscosity {
+            Some(ViscosityModel::Maxwell { .. }) => {
+                Err(ProliferationError::MaxwellBranch("maxwell"))
+            }
+            Some(ViscosityModel::StandardLinearSolid { .. }) => {
+                Err(ProliferationError::MaxwellBranch("standard_linear_solid"))
+            }
+            _ => Ok(()),
+        }
     }
 
     /// What the proliferating continuum needs besides [`Self::validate`]: a line, not a ring.

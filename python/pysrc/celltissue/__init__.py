@@ -13,7 +13,7 @@ in-memory run records with numpy arrays.
 * :func:`run` — a bundled scenario (:func:`scenarios`), a TOML file or a dict → list of
   :class:`Run` (``.label``, ``.model``, ``.parameters``, ``.series``, ``.profiles``,
   ``.profile(name)``, ``.divisions``, ``.stats``, ``.error``).
-* :func:`line`, :func:`sheet` — build a model from keyword parameters and ``.solve(times)``.
+* :func:`line`, :func:`sheet`, :func:`shear` — build a model from keyword parameters and ``.solve(times)``.
 * :mod:`celltissue.ensemble` — run parameter grids and seeds on a ``dask.distributed`` client.
 * :func:`travelling_rim` — the long-time speed of a proliferating rim under strong drag
   (docs/model.md §8.4), to compare with a run's late ``dl/dt``.
@@ -33,12 +33,13 @@ from ._celltissue import (
     travelling_rim,
     validate,
 )
-from .builders import Line, Sheet, line, sheet
+from .builders import Line, Shear, Sheet, line, shear, sheet
 
 __all__ = [
     "Run",
     "ScenarioError",
     "Line",
+    "Shear",
     "Sheet",
     "__version__",
     "line",
@@ -46,6 +47,7 @@ __all__ = [
     "run_from_json",
     "scenario_text",
     "scenarios",
+    "shear",
     "sheet",
     "travelling_rim",
     "validate",

@@ -1,4 +1,4 @@
-"""Building and solving a line or a sheet from Python parameters.
+"""Building and solving a line, a sheet or a shear column from Python parameters.
 
 ``celltissue.line(cells=100, K=1.0, k1=0.1)`` collects the ``[model]`` keys of a line
 (documented in ``models/README.md``: ``cells``, ``K``, ``eta``, ``mu``, ``k1``, ``ramp``,
@@ -99,6 +99,13 @@ class Sheet(_Model):
     kind = "sheet"
 
 
+class Shear(_Model):
+    """A column of cells in simple shear, Chapter 4.3: ``[model] kind = "shear"`` (``cells``,
+    ``force``, ``k_th`` or ``drag``…)."""
+
+    kind = "shear"
+
+
 def line(**params: Any) -> Line:
     """A line of cells from its ``[model]`` parameters, e.g. ``line(cells=100, K=1.0)``."""
     return Line(**params)
@@ -109,4 +116,9 @@ def sheet(**params: Any) -> Sheet:
     return Sheet(**params)
 
 
-__all__: Sequence[str] = ["Line", "Sheet", "line", "sheet"]
+def shear(**params: Any) -> Shear:
+    """A shear column from its ``[model]`` parameters, e.g. ``shear(cells=10, force=1.0)``."""
+    return Shear(**params)
+
+
+__all__: Sequence[str] = ["Line", "Sheet", "Shear", "line", "sheet", "shear"]
