@@ -332,6 +332,46 @@ division = { rule = "area" }
     assert!(dir.join("series_cells.png").exists());
 }
 
+/// A log sweep axis cannot place a non-positive swept value: the run says which it leaves out
+/// of the sweep plots instead of dropping them silently.
+#[test]
+fn a_log_sweep_axis_names_the_values_it_leaves_out() {
+    let dir = tmp("cli_run_log_sweep");
+    let file = dir.join("s.toml");
+    std::fs::write(
+        &file,
+        r#"
+name = "lg"
+[output]
+series = [0, 0.5, 1]
+profiles = [1]
+[model]
+kind = "line"
+cells = 10
+K = 0.1
+[plots]
+sweep_axis = "log"
+[sweep]
+parameter = "k1"
+values = [-0.1, 0.1, 0.2]
+"#,
+    )
+    .unwrap();
+    let out = bin()
+        .args(["run", file.to_str().unwrap(), "--out"])
+        .arg(dir.join("out"))
+        .arg("-q")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    assert!(
+        stderr.contains("k1 = -0.1 not positive, left out of the sweep_*.png plots"),
+        "{stderr}"
+    );
+    assert!(dir.join("out/sweep_stretch.png").exists());
+}
+
 /// `solver.linear_solver = "iterative"` reaches a sheet run (Krylov iterations are counted,
 /// the choice is recorded in the summary) and gives the direct solver's answer: both runs are
 /// BDF at rtol 1e-8, so they agree to a small multiple of their own global errors.

@@ -298,6 +298,22 @@ pub(crate) fn write_figures(
             .sweep
             .as_ref()
             .is_some_and(|s| s.ensemble.is_some());
+        if numeric && groups.len() >= 2 && !ensemble && scenario.plots.sweep_axis == Scale::Log {
+            // a log axis cannot place them: say so rather than drop runs from the plots silently
+            let left_out: Vec<String> = groups
+                .iter()
+                .filter_map(|g| {
+                    let value = g.runs.first()?.1?.sweep.as_ref()?.value?;
+                    (value <= 0.0).then(|| format!("{name} = {}", format_number(value)))
+                })
+                .collect();
+            if !left_out.is_empty() {
+                log::warn!(
+                    "plots.sweep_axis = \"log\": {} not positive, left out of the sweep_*.png plots",
+                    left_out.join(", ")
+                );
+            }
+        }
         if numeric && groups.len() >= 2 && !ensemble {
             // a shear column's `length` is its top displacement
             let length = if shear {
