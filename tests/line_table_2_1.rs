@@ -102,3 +102,33 @@ fn thesis_scheme_end_pressure_at_t10() {
         assert!((p - r).abs() / r < 1e-4, "K = {k}: {p}");
     }
 }
+
+/// On 21 nodes for K = 1 the end's one-sided stretch turns negative at t = 0.5 (the drag's
+/// boundary layer, about two cells, is thinner than the 5-cell spacing): the run stops there
+/// naming the node and what would resolve it, and keeps what it had.
+#[test]
+fn an_unresolved_end_stretch_stops_the_thesis_scheme_saying_why() {
+    let cfg = LineConfig {
+        k: 1.0.into(),
+        continuum_scheme: ContinuumScheme::Thesis,
+        ..Default::default()
+    };
+    let times = OutputTimes {
+        series: vec![0.0, 0.25, 0.5],
+        profiles: vec![],
+    };
+    let rec = run_line(
+        &cfg,
+        ModelKind::Continuum,
+        Some(21),
+        &SolveSettings::default(),
+        &times,
+    );
+    let e = rec.error.expect("the end stretch is negative at t = 0.5");
+    assert!(
+        e.contains("t = 0.5") && e.contains("node 21 has non-positive stretch"),
+        "{e}"
+    );
+    assert!(e.contains("more nodes"), "{e}");
+    assert_eq!(rec.series.t, [0.0, 0.25]);
+}

@@ -275,8 +275,19 @@ impl<E: StrainEnergy> LineModel for ThesisLine<E> {
             let (x, _) = self.node::<f64>(i, t, y, yp);
             let (lam, lam_t) = self.stretch(i, t, y, yp);
             if !(lam > 0.0 && lam.is_finite()) {
+                let end = i == 0 || i == n - 1;
                 return Err(ResidualError::Recoverable {
-                    reason: format!("node {} has non-positive stretch λ = {lam:.6e}", i + 1),
+                    reason: format!(
+                        "node {} has non-positive stretch λ = {lam:.6e}{}",
+                        i + 1,
+                        if end {
+                            " (its one-sided difference: the profile bends more sharply than \
+                             the node spacing resolves, as a drag boundary layer thinner than \
+                             it does; more nodes, or the conservative scheme)"
+                        } else {
+                            ""
+                        }
+                    ),
                     component: (i >= 1 && i < n - 1).then(|| i - 1),
                 });
             }
