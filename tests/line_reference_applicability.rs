@@ -120,3 +120,28 @@ fn maxwell_and_standard_linear_solid_cells_carry_no_elastic_reference() {
         assert!(r.reference.is_none(), "{branch}: {:?}", r.reference);
     }
 }
+
+#[test]
+fn cells_of_unequal_lengths_without_drag_carry_the_exact_uniform_solution() {
+    // K = 0: every cell carries the same stress, so one stretch l(t)/l₀ whatever its length
+    // (with drag no closed form holds for unequal cells, and none is drawn)
+    let lengths = (0..20)
+        .map(|i| if i % 2 == 0 { "0.5" } else { "1.5" })
+        .collect::<Vec<_>>()
+        .join(", ");
+    let cells = format!("ref_lengths = [{lengths}]");
+    let r = run(
+        &format!("{cells}\nK = 0\neta = 1"),
+        "0, 0.25, 0.5, 1, 2, 10",
+    );
+    assert_eq!(
+        r.reference.as_ref().unwrap().label,
+        "exact (K = 0, uniform)"
+    );
+    let (p, l) = series_gap(&r);
+    // measured 2.5e-10 and 1.4e-9, the solver's error at rtol 1e-10 (as on equal cells)
+    assert!(p < 1e-8 && l < 1e-8, "pressure {p:.2e}, stretch {l:.2e}");
+    assert_eq!(r.reference.as_ref().unwrap().series.t.len(), 6);
+    let r = run(&format!("{cells}\nK = 0.01"), "0, 1, 1000");
+    assert!(r.reference.is_none());
+}

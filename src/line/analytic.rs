@@ -69,9 +69,9 @@ fn constant(f: &Field) -> Option<f64> {
 }
 
 /// The analytic solution that applies to `cfg`, if any: a prescribed right end, no growth, no
-/// active stress and no Maxwell branch, uniform cell lengths; then [`Reference::UniformK0`] if
-/// `K = 0` with uniform `μ`, Kelvin–Voigt `η` (top-level or `viscosity`) and external pressure;
-/// else [`Reference::Linear`] for `η = 0`, uniform neo-Hookean `μ`, uniform `K` and external
+/// active stress and no Maxwell branch; then [`Reference::UniformK0`] if `K = 0` with uniform
+/// `μ`, Kelvin–Voigt `η` (top-level or `viscosity`) and external pressure (any cell lengths);
+/// else, for cells of equal length, [`Reference::Linear`] for `η = 0`, uniform neo-Hookean `μ`, uniform `K` and external
 /// pressure, the exponential ramp and a small shortening `|k₁| ≤` [`LINEAR_MAX_STRAIN`]; else
 /// [`Reference::QuasiStatic`]. A uniform external pressure adds itself to every pressure.
 ///
@@ -100,16 +100,17 @@ pub fn reference_for(cfg: &LineConfig) -> Option<Reference> {
     ) {
         return None;
     }
-    let uniform_cells = cfg.equal_cells();
-    if !uniform_cells {
-        return None;
-    }
     let (k, mu, eta) = (constant(&cfg.k), constant(&cfg.mu), constant(&cfg.kv_eta()));
     // a uniform external pressure only adds itself to the pressure; a varying one moves the
     // cells, which only the static equilibrium follows
     let uniform_pe = constant(&cfg.external_pressure).is_some();
+    // without drag every cell carries the same stress, so one stretch l(t)/l₀ whatever the
+    // cells' lengths
     if k == Some(0.0) && mu.is_some() && eta.is_some() && uniform_pe {
         return Some(Reference::UniformK0);
+    }
+    if !cfg.equal_cells() {
+        return None;
     }
     let neo = matches!(cfg.law, crate::energy::AnyEnergy::NeoHookean(_));
     if eta == Some(0.0)
