@@ -159,6 +159,12 @@ fn set_overrides_reach_the_run() {
 
 /// Runs `text` as a scenario file; returns the parsed summary.json (asserting exit code 0).
 fn run_text(name: &str, text: &str) -> (PathBuf, serde_json::Value) {
+    let (dir, v, _) = run_text_stderr(name, text);
+    (dir, v)
+}
+
+/// [`run_text`], also returning what the run printed on stderr (its warnings).
+fn run_text_stderr(name: &str, text: &str) -> (PathBuf, serde_json::Value, String) {
     let dir = tmp(name);
     let file = dir.join("s.toml");
     std::fs::write(&file, text).unwrap();
@@ -170,15 +176,11 @@ fn run_text(name: &str, text: &str) -> (PathBuf, serde_json::Value) {
         .arg("-q")
         .output()
         .unwrap();
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
     let v = serde_json::from_str(&std::fs::read_to_string(dir.join("out/summary.json")).unwrap())
         .unwrap();
-    (dir.join("out"), v)
+    (dir.join("out"), v, stderr)
 }
 
 #[test]
@@ -336,10 +338,8 @@ division = { rule = "area" }
 /// of the sweep plots instead of dropping them silently.
 #[test]
 fn a_log_sweep_axis_names_the_values_it_leaves_out() {
-    let dir = tmp("cli_run_log_sweep");
-    let file = dir.join("s.toml");
-    std::fs::write(
-        &file,
+    let (dir, _, stderr) = run_text_stderr(
+        "cli_run_log_sweep",
         r#"
 name = "lg"
 [output]
@@ -355,21 +355,12 @@ sweep_axis = "log"
 parameter = "k1"
 values = [-0.1, 0.1, 0.2]
 "#,
-    )
-    .unwrap();
-    let out = bin()
-        .args(["run", file.to_str().unwrap(), "--out"])
-        .arg(dir.join("out"))
-        .arg("-q")
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    );
     assert!(
         stderr.contains("k1 = -0.1 not positive, left out of the sweep_*.png plots"),
         "{stderr}"
     );
-    assert!(dir.join("out/sweep_stretch.png").exists());
+    assert!(dir.join("sweep_stretch.png").exists());
 }
 
 /// `solver.linear_solver = "iterative"` reaches a sheet run (Krylov iterations are counted,
