@@ -869,3 +869,26 @@ fn line_plots_are_rejected_for_sheets_and_shear_columns() {
     );
     assert!(m.contains("discrete"), "{m}");
 }
+
+/// An external pressure given as a list or a piecewise field is checked before a run, for
+/// either sign: an empty list (which failed mid-run, indexing no values) and a non-finite value
+/// are named; negative values are allowed.
+#[test]
+fn an_external_pressure_list_is_checked_before_a_run() {
+    for (value, words) in [
+        ("[]", "must not be empty"),
+        ("[0.1, inf]", "must be finite"),
+        (
+            "{ type = \"piecewise\", breaks = [0.5], values = [0.1, nan] }",
+            "must be finite",
+        ),
+    ] {
+        let m = rejects(
+            &line(&format!("external_pressure = {value}")),
+            &[],
+            "model.external_pressure",
+        );
+        assert!(m.contains(words), "{value}: {m}");
+    }
+    load(&line("external_pressure = [0.1, -0.2, 0.3]"), &[]).unwrap();
+}

@@ -520,7 +520,26 @@ impl Field {
     /// assert_eq!(Field::Constant(5e-324).validate("K", false).unwrap_err().key, "K");
     /// ```
     pub fn validate(&self, key: &str, positive: bool) -> Result<(), FieldError> {
-        self.validate_range(key, positive)?;
+        let sign = if positive {
+            Sign::Positive
+        } else {
+            Sign::NonNegative
+        };
+        self.validate_range(key, sign)?;
+        self.validate_normal(key)
+    }
+
+    /// Checks the field's own parameters as [`Field::validate`] does, for a field of either
+    /// sign (an external pressure): every value finite, a list not empty.
+    ///
+    /// ```
+    /// use celltissue::cell::Field;
+    /// assert!(Field::Constant(-0.5).validate_signed("external_pressure").is_ok());
+    /// let empty = Field::PerCell { values: vec![] };
+    /// assert_eq!(empty.validate_signed("external_pressure").unwrap_err().key, "external_pressure");
+    /// ```
+    pub fn validate_signed(&self, key: &str) -> Result<(), FieldError> {
+        self.validate_range(key, Sign::Any)?;
         self.validate_normal(key)
     }
 
@@ -567,7 +586,7 @@ impl Field {
     }
 
     /// The range part of [`validate`](Self::validate).
-    fn validate_range(&self, key: &str, positive: bool) -> Result<(), FieldError> {
+    fn validate_range(&self, key: &str, sign: Sign) -> Result<(), FieldError> {
         let err = |sub: &str, message: String| FieldError {
             key: if sub.is_empty() {
                 key.to_string()
@@ -576,11 +595,22 @@ impl Field {
             },
             message,
         };
-        let bad = |v: f64| !v.is_finite() || if positive { v <= 0.0 } else { v < 0.0 };
-        let range = if positive { "> 0" } else { ">= 0" };
+        let bad = |v: f64| {
+            !v.is_finite()
+                || match sign {
+                    Sign::Positive => v <= 0.0,
+                    Sign::NonNegative => v < 0.0,
+                    Sign::Any => false,
+                }
+        };
+        let range = match sign {
+            Sign::Positive => " and > 0",
+            Sign::NonNegative => " and >= 0",
+            Sign::Any => "",
+        };
         match self {
             Field::Constant(v) if bad(*v) => {
-                Err(err("", format!("{key} = {v} must be finite and {range}")))
+                Err(err("", format!("{key} = {v} must be finite{range}")))
             }
             Field::Gaussian {
                 base,
@@ -591,11 +621,11 @@ impl Field {
                 if bad(*base) {
                     Err(err(
                         "base",
-                        format!("{key}.base = {base} must be finite and {range}"),
+                        format!("{key}.base = {base} must be finite{range}"),
                     ))
                 } else if !amplitude.is_finite() || bad(base + amplitude) {
                     Err(err("amplitude", format!(
-                        "{key}.amplitude = {amplitude} must be finite with base + amplitude = {} {range}",
+                        "{key}.amplitude = {amplitude} must be finite, with base + amplitude = {} finite{range}",
                         base + amplitude
                     )))
                 } else if !centre.is_finite() {
@@ -628,7 +658,7 @@ impl Field {
                 } else if let Some(v) = values.iter().find(|v| bad(**v)) {
                     Err(err(
                         "",
-                        format!("{key}: piecewise value {v} must be finite and {range}"),
+                        format!("{key}: piecewise value {v} must be finite{range}"),
                     ))
                 } else if let Some(b) = breaks.iter().find(|b| !b.is_finite()) {
                     Err(err("breaks", format!("{key}.breaks: {b} must be finite")))
@@ -644,7 +674,7 @@ impl Field {
                 } else if let Some(v) = values.iter().find(|v| bad(**v)) {
                     Err(err(
                         "",
-                        format!("{key}: per_cell value {v} must be finite and {range}"),
+                        format!("{key}: per_cell value {v} must be finite{range}"),
                     ))
                 } else {
                     Ok(())
@@ -655,7 +685,7 @@ impl Field {
                     Err(err(
                         "",
                         format!(
-                        "{key}: random range [{low}, {high}] must satisfy {range} and low <= high"
+                        "{key}: random range [{low}, {high}] must be finite{range}, with low <= high"
                     ),
                     ))
                 } else {
@@ -665,6 +695,14 @@ impl Field {
             _ => Ok(()),
         }
     }
+}
+
+/// The values a field may take.
+#[derive(Clone, Copy)]
+enum Sign {
+    Positive,
+    NonNegative,
+    Any,
 }
 
 /// Whether `v` is nonzero and below the smallest normal double (`f64::MIN_POSITIVE`,

@@ -231,6 +231,81 @@ impl CellCensus {
     }
 }
 
+/// How the entries of a built line (its cells, or the segments of a continuum grid) read the
+/// fields of [`LineParams`].
+///
+/// A cell reads a field at its sample point: its centre, or its left end under
+/// [`Sampling::IntegerPoints`]. A segment reads a field that jumps from cell to cell (a list, a
+/// piecewise field) as the cell holding its centre reads it, and a smooth field at its centre,
+/// moved under `integer_points` by half the holding cell to the left. The cells' values of a
+/// smooth field `f` are then `f(X − L/2)` at their centres `X`, one curve through the segments
+/// too, so a grid refined past the cells converges to the discrete line's field rather than
+/// to one displaced by half a cell.
+struct FieldReader {
+    /// Where a smooth field is read, one point per entry.
+    smooth: Vec<f64>,
+    /// On a grid: the cells' sample points and the cell holding each segment's centre.
+    cells: Option<(Vec<f64>, Vec<usize>)>,
+    l0: f64,
+}
+
+impl FieldReader {
+    /// The reader of a line whose entries lie between `bounds` (centres `centres`); `grid`
+    /// when they are not the cells of `p`.
+    fn new(p: &LineParams, bounds: &[f64], centres: &[f64], grid: bool) -> Self {
+        let n = centres.len();
+        let l0 = bounds[n];
+        if !grid {
+            let smooth = match p.sampling {
+                Sampling::Centres => centres.to_vec(),
+                Sampling::IntegerPoints => bounds[..n].to_vec(),
+            };
+            return Self {
+                smooth,
+                cells: None,
+                l0,
+            };
+        }
+        let census = CellCensus::new(&p.ref_lengths);
+        let holders: Vec<usize> = centres.iter().map(|&x| census.holder(x)).collect();
+        let cell_points = census
+            .bounds
+            .windows(2)
+            .map(|b| match p.sampling {
+                Sampling::Centres => 0.5 * (b[0] + b[1]),
+                Sampling::IntegerPoints => b[0],
+            })
+            .collect();
+        let smooth = centres
+            .iter()
+            .zip(&holders)
+            .map(|(&x, &j)| match p.sampling {
+                Sampling::Centres => x,
+                Sampling::IntegerPoints => x - 0.5 * (census.bounds[j + 1] - census.bounds[j]),
+            })
+            .collect();
+        Self {
+            smooth,
+            cells: Some((cell_points, holders)),
+            l0,
+        }
+    }
+
+    /// `f` on every entry.
+    fn read(&self, f: &Field) -> Vec<f64> {
+        match (&self.cells, f) {
+            (
+                Some((points, holders)),
+                Field::PerCell { .. } | Field::Piecewise { .. } | Field::Random { .. },
+            ) => {
+                let cell_values = f.sample(points, self.l0);
+                holders.iter().map(|&j| cell_values[j]).collect()
+            }
+            _ => f.sample(&self.smooth, self.l0),
+        }
+    }
+}
+
 /// What each entry of a built line stands for in the cells of [`LineParams::ref_lengths`]:
 /// the cells each segment holds and the boundaries each face carries (the factors of its drag,
 /// since `K` is drag per cell boundary; 1 on the discrete line), and on a continuum grid over
@@ -318,19 +393,11 @@ fn assemble<E: StrainEnergy>(
         bounds.push(acc);
     }
     let centres: Vec<f64> = (0..n).map(|i| 0.5 * (bounds[i] + bounds[i + 1])).collect();
-    let samples: &[f64] = match p.sampling {
-        Sampling::Centres => &centres,
-        Sampling::IntegerPoints => &bounds[..n],
-    };
-    // a per-cell list over unequal cells is read at the cell holding each sample point
-    let sample = |f: &Field| match &census.cells {
-        Some(cells) => cells.sample(f, samples, l0_total),
-        None => f.sample(samples, l0_total),
-    };
+    let grid = lengths != p.ref_lengths;
+    let reader = FieldReader::new(p, &bounds, &centres, grid);
+    let sample = |f: &Field| reader.read(f);
     // segments of several cells of a per-cell list take the cells' effective values
-    let mixed = (lengths != p.ref_lengths)
-        .then(|| homogenised(p, &bounds))
-        .flatten();
+    let mixed = grid.then(|| homogenised(p, &bounds)).flatten();
     let per_segment_k =
         mixed.is_some() || matches!(p.k, Field::PerCell { .. } | Field::Random { .. });
     let (mu, eta, k_sampled, active_amp, p_ext) = match mixed {

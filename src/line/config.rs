@@ -362,13 +362,10 @@ impl LineConfig {
                 message: "`continuum_scheme` = \"thesis\" supports neither `viscosity` nor `external_pressure`; use \"conservative\"".into(),
             });
         }
-        // the sampled values are checked when the line is built; a constant is checked here
-        if let Field::Constant(p) = self.external_pressure {
-            if !p.is_finite() {
-                return Err(LineError::invalid("external_pressure", p, "finite"));
-            }
-        }
-        Ok(())
+        // a closure's values are checked when the line is built
+        self.external_pressure
+            .validate_signed("external_pressure")
+            .map_err(LineError::Field)
     }
 
     /// The Kelvin–Voigt viscosity field: `viscosity.eta` if given, else `eta`.
