@@ -12,6 +12,7 @@ mod cli_run;
 mod continuum_cell_scale_heterogeneity;
 mod division_cap;
 mod division_jacobian_map;
+mod division_maxwell_cells;
 mod division_restart;
 mod division_thesis;
 mod division_viscous_cells;

@@ -892,3 +892,22 @@ fn an_external_pressure_list_is_checked_before_a_run() {
     }
     load(&line("external_pressure = [0.1, -0.2, 0.3]"), &[]).unwrap();
 }
+
+/// Cells with a Maxwell branch divide on the discrete line; the proliferating continuum takes
+/// no branch and is refused by name before a run.
+#[test]
+fn a_maxwell_branch_divides_on_the_discrete_line_only() {
+    let text = line(
+        "right_end = \"free\"\ngrowth = { sigma0 = 0.1 }\ndivision = { rule = \"area\" }\n\
+         viscosity = { model = \"standard_linear_solid\", mu_m = 1, eta_m = 2 }",
+    );
+    load(&text, &["model.models=[\"discrete\"]"]).unwrap();
+    for models in ["[\"continuum\"]", "[\"discrete\", \"continuum\"]"] {
+        let m = rejects(
+            &text,
+            &[&format!("model.models={models}")],
+            "model.viscosity.model",
+        );
+        assert!(m.contains("models = [\"discrete\"]"), "{m}");
+    }
+}

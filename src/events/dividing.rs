@@ -77,13 +77,15 @@ pub struct InvariantReport {
 struct SplitMap {
     /// Cells before the event.
     n_old: usize,
+    /// Unknowns per cell: `g` and `x`, and with a Maxwell branch `a_v` between them.
+    stride: usize,
     /// Divided cells (old 1-based indices, increasing).
     cells: Vec<usize>,
     /// Each divided cell's `g` at division.
     g_parent: Vec<f64>,
     /// The old index of every unknown of the new layout (`usize::MAX` for a divided cell's
-    /// first `g`, new boundary and second `g`), or empty if the layout is not the growing
-    /// line's `[x₀,] (g₁, x₁, …, g_N, [x_N])`.
+    /// first `g`, new boundary and second `g`; a daughter's `a_v` is its parent's), or empty if
+    /// the layout is not the growing line's `[x₀,] (g₁, [a₁,] x₁, …, g_N, [a_N,] [x_N])`.
     sources: Vec<usize>,
     /// The cells whose Newton-matrix rows are evaluated afresh after the event (new 1-based
     /// indices, merged runs `lo..=hi`): the daughters and three cells on each side.
@@ -109,7 +111,7 @@ impl SplitMap {
         self.fresh.resize(layout.dim, false);
         for &(lo, hi) in &self.runs {
             for c in lo..=hi {
-                for k in [layout.gi[c - 1], layout.xi[c]] {
+                for k in [layout.gi[c - 1], layout.vi[c - 1], layout.xi[c]] {
                     if k != NONE {
                         self.fresh[k] = true;
                     }
@@ -121,19 +123,22 @@ impl SplitMap {
     /// Writes [`SplitMap::sources`] into `src` for a layout with `seam` (a ring's `x₀`, 0 or
     /// 1) and a free or fixed right end, `dim` unknowns after the split.
     fn fill_sources(&self, src: &mut Vec<usize>, seam: usize, free: bool, dim: usize) {
+        const NEW: usize = usize::MAX;
         src.clear();
         src.reserve(dim);
         src.extend((0..seam).map(|_| 0));
         let mut divided = self.cells.iter().peekable();
+        let stride = self.stride;
         for j in 1..=self.n_old {
-            let gk = seam + 2 * (j - 1);
-            if divided.next_if(|&&c| c == j).is_some() {
-                src.extend_from_slice(&[usize::MAX; 3]);
-            } else {
-                src.push(gk);
+            let gk = seam + stride * (j - 1);
+            match (divided.next_if(|&&c| c == j).is_some(), stride) {
+                (true, 2) => src.extend_from_slice(&[NEW; 3]),
+                // each daughter keeps its parent's viscous stretch a_v (at gk + 1)
+                (true, _) => src.extend_from_slice(&[NEW, gk + 1, NEW, NEW, gk + 1]),
+                (false, _) => src.extend(gk..gk + stride - 1),
             }
             if j < self.n_old || free {
-                src.push(gk + 1);
+                src.push(gk + stride - 1);
             }
         }
         if src.len() != dim {
@@ -429,6 +434,7 @@ impl<E: StrainEnergy> Dividing<E> {
         // the previous event's map, refilled (its vectors keep their allocations)
         let mut map = spare.unwrap_or_default();
         map.n_old = n_old;
+        map.stride = 2 + usize::from(self.line.maxwell.is_some());
         map.cells.clear();
         map.cells.extend_from_slice(asc);
         map.g_parent.clear();
@@ -460,9 +466,11 @@ impl<E: StrainEnergy> Dividing<E> {
         };
         let free = self.line.right.is_free();
         let n_old = m.n_old;
-        // the growing layout: a ring's x₀ (without a gauge), then (g₁, x₁, …, g_N, [x_N])
+        // the growing layout: a ring's x₀ (without a gauge), then (g₁, [a₁,] x₁, …, g_N,
+        // [a_N,] [x_N]), `stride` unknowns per cell
         let seam = usize::from(self.line.layout.xi[0] != NONE);
-        let dim_old = seam + 2 * n_old - usize::from(!free);
+        let stride = m.stride;
+        let dim_old = seam + stride * n_old - usize::from(!free);
         if old.len() != dim_old || new.len() != self.line.layout.dim {
             return false;
         }
@@ -494,14 +502,19 @@ impl<E: StrainEnergy> Dividing<E> {
                 *v = old[k];
             }
         }
-        // the k-th divided cell j (in increasing order) had its g at old index seam + 2(j − 1),
-        // and the k earlier splits inserted two unknowns each before it
+        // the k-th divided cell j (in increasing order) had its g at old index
+        // seam + stride·(j − 1), and the k earlier splits inserted `stride` unknowns each
+        // before it (a daughter's a_v came with the sources)
         for (k, (&j, &gs)) in m.cells.iter().zip(&m.g_parent).enumerate() {
-            let gk = seam + 2 * (j - 1);
+            let gk = seam + stride * (j - 1);
             let has_x = j < n_old || free;
             let g = old[gk];
             let xl = if j == 1 { x0 } else { old[gk - 1] };
-            let xr = if has_x { old[gk + 1] } else { right(t) };
+            let xr = if has_x {
+                old[gk + stride - 1]
+            } else {
+                right(t)
+            };
             // a daughter starts from g = 1 with its parent's stress: inviscid, that is the
             // parent's rate ġ = G(σ); viscous, the parent's relative rate ġ/g (the
             // Kelvin–Voigt stress reads α̇/α = ℓ̇/ℓ − ġ/g, so the parent's absolute rate would
@@ -512,8 +525,10 @@ impl<E: StrainEnergy> Dividing<E> {
                 (true, true) => g / gs,
                 (false, _) => g - gs + 1.0,
             };
-            let w = gk + 2 * k;
-            new[w..w + 3].copy_from_slice(&[gd, 0.5 * (xl + xr), gd]);
+            let w = gk + stride * k;
+            new[w] = gd;
+            new[w + stride - 1] = 0.5 * (xl + xr);
+            new[w + stride] = gd;
         }
         true
     }
@@ -769,7 +784,7 @@ impl<E: StrainEnergy> CellArray for Dividing<E> {
         }
         let rows = |&(lo, hi): &(usize, usize)| {
             (lo..=hi)
-                .flat_map(|c| [lay.gi[c - 1], lay.xi[c]])
+                .flat_map(|c| [lay.gi[c - 1], lay.vi[c - 1], lay.xi[c]])
                 .filter(|&k| k != NONE)
         };
         for &(lo, hi) in runs {

@@ -3,7 +3,8 @@
 //! ([`Line::split_cells`]):
 //!
 //! * daughters: reference length `L₀g/2` each, `g = 1`, the parent's `μ`, `η`, drag, active
-//!   amplitude and phase `t_R`;
+//!   amplitude and phase `t_R`, and with a Maxwell branch the parent's viscous stretch `a_v`
+//!   (intensive, like `α`: the branch's elastic stretch `α/a_v` and stress carry over);
 //! * a new boundary at the midpoint `x_new = ½(x_{j−1} + x_j)` with the mean of the parent's two
 //!   boundary drags (`K` for uniform drag);
 //! * indices `> j` shift by one (one `Vec::insert` per per-cell field and one `splice` of the
@@ -11,7 +12,8 @@
 //!   daughters inserted: `expand_in_place`), and the unknown layout is rebuilt.
 //!
 //! Continuous by construction: every existing boundary position (hence `l`), `Σ L₀g`, and each
-//! daughter's elastic stretch `α = λ/g` (equal to the parent's), hence elastic `σ` and `p`.
+//! daughter's elastic stretch `α = λ/g` (equal to the parent's), hence elastic `σ` and `p`, and
+//! a Maxwell branch's stress.
 //!
 //! This is an inherent method of [`Line`] written here (not in `line/`) so the division logic
 //! stays in one place; it uses only `Line`'s public fields and `Line::rebuild_layout`.
@@ -70,11 +72,6 @@ impl<E: StrainEnergy> Line<E> {
         if j == 0 || j > n {
             return Err(EventError::NoSuchCell { cell: j, cells: n });
         }
-        if self.maxwell.is_some() {
-            return Err(EventError::Unsupported(
-                "division of cells with a Maxwell branch (the viscous stretch is not split)".into(),
-            ));
-        }
         let i = j - 1;
         let gk = self.layout.gi[i];
         if gk == NONE {
@@ -113,8 +110,17 @@ impl<E: StrainEnergy> Line<E> {
         let k_new = 0.5 * (self.k_face[j - 1] + self.k_face[j]);
         self.k_face.insert(j, k_new);
         self.l0_total += 2.0 * l0_d - l0_parent;
-        // (.., g_j, x_j, ..) -> (.., 1, x_new, 1, x_j, ..): boundary j is interior after the split
-        y.splice(gk..gk + 1, [1.0, x_new, 1.0]);
+        // (.., g_j, x_j, ..) -> (.., 1, x_new, 1, x_j, ..): boundary j is interior after the
+        // split; with a Maxwell branch (.., g_j, a_j, x_j, ..) -> (.., 1, a_j, x_new, 1, a_j, x_j, ..)
+        match self.layout.vi[i] {
+            NONE => {
+                y.splice(gk..gk + 1, [1.0, x_new, 1.0]);
+            }
+            vk => {
+                let a = y[vk];
+                y.splice(gk..vk + 1, [1.0, a, x_new, 1.0, a]);
+            }
+        }
         self.rebuild_layout();
         debug_assert_eq!(y.len(), self.layout.dim);
         debug_assert_eq!(self.layout.xi[j], gk + 1);
@@ -158,11 +164,6 @@ impl<E: StrainEnergy> Line<E> {
         y: &mut Vec<f64>,
     ) -> Result<Vec<Split>, EventError> {
         let n = self.n_cells();
-        if self.maxwell.is_some() {
-            return Err(EventError::Unsupported(
-                "division of cells with a Maxwell branch (the viscous stretch is not split)".into(),
-            ));
-        }
         self.check_state_length(y)?;
         let mut splits = Vec::with_capacity(cells.len());
         let mut prev = 0;
@@ -228,9 +229,21 @@ impl<E: StrainEnergy> Line<E> {
             let j = cells[e];
             [0.5 * (kf[j - 1] + kf[j]), kf[j]]
         });
-        // state: (.., g_j, x_j, ..) -> (.., 1, x_new, 1, x_j, ..), after a ring's x₀
+        // state: (.., g_j, x_j, ..) -> (.., 1, x_new, 1, x_j, ..), after a ring's x₀; with a
+        // Maxwell branch (.., g_j, a_j, x_j, ..) -> (.., 1, a_j, x_new, 1, a_j, x_j, ..)
         let gks: Vec<usize> = cells.iter().map(|&j| self.layout.gi[j - 1]).collect();
-        expand_in_place(y, &gks, |e, _| [1.0, splits[e].x_new, 1.0]);
+        if self.maxwell.is_some() {
+            for &k in &gks {
+                y[k] = 1.0;
+            }
+            let vks: Vec<usize> = cells.iter().map(|&j| self.layout.vi[j - 1]).collect();
+            expand_in_place(y, &vks, |e, y| {
+                let a = y[vks[e]];
+                [a, splits[e].x_new, 1.0, a]
+            });
+        } else {
+            expand_in_place(y, &gks, |e, _| [1.0, splits[e].x_new, 1.0]);
+        }
         self.rebuild_layout();
         debug_assert_eq!(y.len(), self.layout.dim);
         Ok(splits)

@@ -43,8 +43,9 @@ pub enum ProliferationError {
     /// The proliferating continuum on a ring.
     #[error("invalid `right_end` = \"periodic\": the proliferating continuum has no ring; run models = [\"discrete\"]")]
     Ring,
-    /// Division of cells with a Maxwell branch (`viscosity` Maxwell or standard linear solid).
-    #[error("invalid `viscosity.model` = \"{0}\": dividing cells do not carry a Maxwell branch's viscous stretch to their daughters (not supported); proliferating cells may be elastic or Kelvin–Voigt (`eta`, or viscosity = {{ model = \"kelvin_voigt\", eta }})")]
+    /// The proliferating continuum with a Maxwell branch (`viscosity` Maxwell or standard
+    /// linear solid): the discrete line divides such cells, the continuum does not.
+    #[error("invalid `viscosity.model` = \"{0}\": the proliferating continuum does not carry a Maxwell branch (its segments' viscous stretches are not split or merged); run models = [\"discrete\"], or cells that are elastic or Kelvin–Voigt (`eta`, or viscosity = {{ model = \"kelvin_voigt\", eta }})")]
     MaxwellBranch(&'static str),
 }
 
@@ -134,18 +135,11 @@ impl ProliferationConfig {
         if self.line.growth.is_none() {
             return Err(ProliferationError::NoGrowth);
         }
-        match self.line.viscosity {
-            Some(ViscosityModel::Maxwell { .. }) => {
-                Err(ProliferationError::MaxwellBranch("maxwell"))
-            }
-            Some(ViscosityModel::StandardLinearSolid { .. }) => {
-                Err(ProliferationError::MaxwellBranch("standard_linear_solid"))
-            }
-            _ => Ok(()),
-        }
+        Ok(())
     }
 
-    /// What the proliferating continuum needs besides [`Self::validate`]: a line, not a ring.
+    /// What the proliferating continuum needs besides [`Self::validate`]: a line, not a ring,
+    /// and cells without a Maxwell branch.
     ///
     /// ```
     /// use celltissue::events::run::ProliferationConfig;
@@ -158,7 +152,15 @@ impl ProliferationConfig {
         if self.line.right_end == RightEndKind::Periodic {
             return Err(ProliferationError::Ring);
         }
-        Ok(())
+        match self.line.viscosity {
+            Some(ViscosityModel::Maxwell { .. }) => {
+                Err(ProliferationError::MaxwellBranch("maxwell"))
+            }
+            Some(ViscosityModel::StandardLinearSolid { .. }) => {
+                Err(ProliferationError::MaxwellBranch("standard_linear_solid"))
+            }
+            _ => Ok(()),
+        }
     }
 }
 
