@@ -114,8 +114,8 @@ fn pulled(t: f64) -> (f64, f64) {
 /// Maxwell fluid), grows at `ġ = G(σ)` and flows at `ȧ_v = rate(a_v, σ_b)`; when `g` reaches 2
 /// every cell divides (`n` doubles; the area rule keeps `L₀ = 1`; `g` restarts at 1, `a_v`
 /// stays). Classical RK4 at `h = 10⁻⁴`, a division located by bisecting the step to 1e-13.
-/// Returns `(σ, α, n)` at each of `times`.
-fn reduced_line(branch: &MaxwellBranch, n0: f64, times: &[f64]) -> Vec<(f64, f64, f64)> {
+/// Returns `(σ, α, a_v, n)` at each of `times`.
+fn reduced_line(branch: &MaxwellBranch, n0: f64, times: &[f64]) -> Vec<(f64, f64, f64, f64)> {
     let law = NeoHookean::new(1.0).unwrap();
     let growth = TanhGrowth::default();
     let stress = |t: f64, n: f64, g: f64, a: f64| {
@@ -164,7 +164,7 @@ fn reduced_line(branch: &MaxwellBranch, n0: f64, times: &[f64]) -> Vec<(f64, f64
             (t, n, y) = (t + hi, 2.0 * n, [1.0, at[1]]);
         }
         let (sigma, alpha, _) = stress(t, n, y[0], y[1]);
-        out.push((sigma, alpha, n));
+        out.push((sigma, alpha, y[1], n));
     }
     out
 }
@@ -172,7 +172,8 @@ fn reduced_line(branch: &MaxwellBranch, n0: f64, times: &[f64]) -> Vec<(f64, f64
 /// Eight identical cells held between a wall and the end [`pulled`], without drag: every cell
 /// carries the same stress, grows alike and reaches g = 2 at the same instant, so all divide
 /// in one event and the line is [`reduced_line`], written here from the cell laws alone (not
-/// from the line's residual, layout or division code). Stress and stretch agree with it at
+/// from the line's residual, layout or division code). Stress, stretch and the viscous stretch
+/// of every cell (the profiles' `viscous`) agree with it at
 /// t = 1…8 over three rounds of division within the solver's tolerance, for a standard linear
 /// solid and a Maxwell fluid.
 #[test]
@@ -192,21 +193,23 @@ fn a_line_dividing_all_at_once_follows_its_one_cell_reduction() {
         let run = integrate(&mut div, &settings, &times);
         assert!(run.error.is_none(), "{:?}", run.error);
         assert_eq!(run.snapshots.len(), times.len());
-        for (s, &(sigma, alpha, n)) in run.snapshots.iter().zip(&reference) {
+        for (s, &(sigma, alpha, a, n)) in run.snapshots.iter().zip(&reference) {
             assert_eq!(s.sigma.len() as f64, n, "sls {sls}, t = {}", s.t);
             let gap = |v: &[f64], r: f64| v.iter().map(|v| (v - r).abs()).fold(0.0, f64::max);
             let (ds, da) = (gap(&s.sigma, sigma), gap(&s.alpha, alpha));
+            let dv = gap(s.viscous.as_deref().expect("a branch's a_v"), a);
             eprintln!(
-                "sls {sls}, t = {}: {n} cells, σ = {sigma:.6}, gaps σ {ds:.1e} α {da:.1e}",
+                "sls {sls}, t = {}: {n} cells, σ = {sigma:.6}, a_v = {a:.6}, gaps σ {ds:.1e} \
+                 α {da:.1e} a_v {dv:.1e}",
                 s.t
             );
             assert!(
-                ds < 1e-7 && da < 1e-7,
-                "sls {sls}, t = {}: {ds:e}, {da:e}",
+                ds < 1e-7 && da < 1e-7 && dv < 1e-7,
+                "sls {sls}, t = {}: {ds:e}, {da:e}, {dv:e}",
                 s.t
             );
         }
-        assert_eq!(reference.last().unwrap().2, 64.0, "sls {sls}: three rounds");
+        assert_eq!(reference.last().unwrap().3, 64.0, "sls {sls}: three rounds");
     }
 }
 

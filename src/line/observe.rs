@@ -57,6 +57,8 @@ pub struct Snapshot {
     /// a spacing). Series count `N` and average per cell with these weights; profiles carry
     /// them as `segment_cells`.
     pub cell_counts: Option<Vec<f64>>,
+    /// A Maxwell branch's viscous stretch `a_v` per cell (`None` without a branch).
+    pub viscous: Option<Vec<f64>>,
 }
 
 impl Snapshot {
@@ -183,6 +185,9 @@ impl Snapshot {
         if let Some(counts) = &self.cell_counts {
             extra.insert("segment_cells".to_string(), counts.clone());
         }
+        if let Some(a) = &self.viscous {
+            extra.insert("viscous".to_string(), a.clone());
+        }
         if self.g.iter().any(|&g| g != 1.0) || self.g_dot.iter().any(|&g| g != 0.0) {
             extra.insert("g".to_string(), self.g.clone());
             extra.insert("g_dot".to_string(), self.g_dot.clone());
@@ -231,6 +236,7 @@ impl<E: StrainEnergy> Line<E> {
             g_dot: cells(),
             mu: self.cells.mu.clone(),
             cell_counts: self.segment_cells.clone().filter(|c| c.len() == n),
+            viscous: self.maxwell.as_ref().map(|_| cells()),
         };
         let mut left = self.boundary(0, t, y, yp);
         s.x.push(left.0);
@@ -245,6 +251,9 @@ impl<E: StrainEnergy> Line<E> {
                 // the branch's lateral stress joins the pressure (docs/viscoelasticity.md)
                 let av = y[self.layout.vi[i]];
                 p += b.pressure(&self.energy, c.alpha, av);
+                if let Some(v) = s.viscous.as_mut() {
+                    v.push(av);
+                }
                 if !b.elastic {
                     p -= self.cells.mu[i] * resp.pressure;
                 }
