@@ -71,9 +71,11 @@ fn constant(f: &Field) -> Option<f64> {
 /// The analytic solution that applies to `cfg`, if any: a prescribed right end, no growth, no
 /// active stress and no Maxwell branch; then [`Reference::UniformK0`] if `K = 0` with uniform
 /// `μ`, Kelvin–Voigt `η` (top-level or `viscosity`) and external pressure (any cell lengths);
-/// else, for cells of equal length, [`Reference::Linear`] for `η = 0`, uniform neo-Hookean `μ`, uniform `K` and external
-/// pressure, the exponential ramp and a small shortening `|k₁| ≤` [`LINEAR_MAX_STRAIN`]; else
-/// [`Reference::QuasiStatic`]. A uniform external pressure adds itself to every pressure.
+/// else, for cells of equal length, [`Reference::Linear`] for `η = 0`, uniform neo-Hookean `μ`,
+/// uniform `K` and external pressure, the exponential ramp and a small shortening
+/// `|k₁| ≤` [`LINEAR_MAX_STRAIN`]; else [`Reference::QuasiStatic`] (any cell lengths: each cell
+/// takes its stretch from the one stress). A uniform external pressure adds itself to every
+/// pressure.
 ///
 /// ```
 /// use celltissue::line::analytic::{reference_for, Reference};
@@ -109,11 +111,9 @@ pub fn reference_for(cfg: &LineConfig) -> Option<Reference> {
     if k == Some(0.0) && mu.is_some() && eta.is_some() && uniform_pe {
         return Some(Reference::UniformK0);
     }
-    if !cfg.equal_cells() {
-        return None;
-    }
     let neo = matches!(cfg.law, crate::energy::AnyEnergy::NeoHookean(_));
-    if eta == Some(0.0)
+    if cfg.equal_cells()
+        && eta == Some(0.0)
         && mu.is_some()
         && k.is_some()
         && neo
