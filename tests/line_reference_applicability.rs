@@ -121,15 +121,19 @@ fn maxwell_and_standard_linear_solid_cells_carry_no_elastic_reference() {
     }
 }
 
+/// 20 cells alternately 0.5 and 1.5 long, as a TOML list's items.
+fn alternating_lengths() -> String {
+    (0..20)
+        .map(|i| if i % 2 == 0 { "0.5" } else { "1.5" })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 #[test]
 fn cells_of_unequal_lengths_without_drag_carry_the_exact_uniform_solution() {
     // K = 0: every cell carries the same stress, so one stretch l(t)/l₀ whatever its length
     // (with drag only the static equilibrium, once relaxed: the next test)
-    let lengths = (0..20)
-        .map(|i| if i % 2 == 0 { "0.5" } else { "1.5" })
-        .collect::<Vec<_>>()
-        .join(", ");
-    let cells = format!("ref_lengths = [{lengths}]");
+    let cells = format!("ref_lengths = [{}]", alternating_lengths());
     let r = run(
         &format!("{cells}\nK = 0\neta = 1"),
         "0, 0.25, 0.5, 1, 2, 10",
@@ -156,10 +160,7 @@ fn cells_of_unequal_lengths_without_drag_carry_the_exact_uniform_solution() {
 /// and profile reach it.
 #[test]
 fn cells_of_unequal_lengths_with_drag_carry_the_static_equilibrium_once_relaxed() {
-    let lengths = (0..20)
-        .map(|i| if i % 2 == 0 { "0.5" } else { "1.5" })
-        .collect::<Vec<_>>()
-        .join(", ");
+    let lengths = alternating_lengths();
     let r = run(
         &format!(
             "ref_lengths = [{lengths}]\nK = 0.01\n\
