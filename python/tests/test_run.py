@@ -250,3 +250,24 @@ def test_a_shear_columns_record_is_named_as_its_files(tmp_path):
     # steady τ(T) = F_A = 1 is far off at t = 2, but every cell shears forward
     assert np.all(run.profile("tan_theta") > 0)
     assert run.series["top_displacement"][-1] == run.profiles[0]["x_edge"][-1]
+
+
+def test_cells_with_a_maxwell_branch_divide_and_record_their_viscous_stretch():
+    scenario = {
+        "name": "sls",
+        "output": {"series": [0, 5, 10], "profiles": [10]},
+        "model": {"kind": "line", "models": ["discrete"], "cells": 20, "right_end": "free",
+                  "K": 1e-3, "growth": {"sigma0": 0.1}, "division": {"rule": "area"},
+                  "viscosity": {"model": "standard_linear_solid", "mu_m": 1.0, "eta_m": 2.0}},
+    }
+    (r,) = celltissue.run(scenario)
+    assert r.error is None
+    cells = int(r.series["cells"][-1])
+    assert cells > 20 and len(r.divisions["t"]) == cells - 20
+    a_v = r.profile("viscous")[0]
+    assert a_v.shape == (cells,) and np.all(np.isfinite(a_v)) and np.all(a_v > 0)
+    # compressed by the drag, the branch has flowed: a_v < 1 somewhere
+    assert a_v.min() < 1.0
+    scenario["model"]["models"] = ["discrete", "continuum"]
+    with pytest.raises(celltissue.ScenarioError, match=r"`model\.viscosity\.model`"):
+        celltissue.run(scenario)
