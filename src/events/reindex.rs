@@ -123,7 +123,10 @@ impl<E: StrainEnergy> Line<E> {
         }
         self.rebuild_layout();
         debug_assert_eq!(y.len(), self.layout.dim);
-        debug_assert_eq!(self.layout.xi[j], gk + 1);
+        debug_assert_eq!(
+            self.layout.xi[j],
+            gk + 1 + usize::from(self.maxwell.is_some())
+        );
         Ok(Split {
             x_new,
             g_parent: g,
@@ -299,6 +302,44 @@ pub(crate) fn expand_in_place<T: Copy + Default, const R: usize>(
 #[cfg(test)]
 mod tests {
     use super::expand_in_place;
+    use crate::boundary::RightEnd;
+    use crate::cell::{MaxwellBranch, TanhGrowth};
+    use crate::line::build::{discrete, LineParams};
+    use crate::NeoHookean;
+
+    /// Splitting cells one at a time (in decreasing order) and all at once give the same line
+    /// and state, also with a Maxwell branch (three unknowns per cell), where each daughter
+    /// holds its parent's viscous stretch.
+    #[test]
+    fn one_by_one_and_at_once_split_a_maxwell_line_alike() {
+        for right in [
+            RightEnd::Free(None),
+            RightEnd::Prescribed(crate::boundary::Ramp::Constant(6.0)),
+        ] {
+            let mut p = LineParams::unit_cells(6);
+            p.right = right;
+            p.growth = Some(std::sync::Arc::new(TanhGrowth::default()));
+            p.maxwell = Some(MaxwellBranch::standard_linear_solid(1.0, 2.0).unwrap());
+            let line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+            let mut y = line.initial_state();
+            for (k, v) in y.iter_mut().enumerate() {
+                *v += 0.01 * k as f64;
+            }
+            let (mut a, mut b) = (line.clone(), line);
+            let (mut ya, mut yb) = (y.clone(), y.clone());
+            for j in [6, 3, 1] {
+                a.split_cell(j, 0.0, &mut ya).unwrap();
+            }
+            b.split_cells(&[1, 3, 6], 0.0, &mut yb).unwrap();
+            assert_eq!(ya, yb);
+            assert_eq!(a.cells().l0, b.cells().l0);
+            let (old, new) = (y, ya);
+            let vi = |l: &crate::line::Line<NeoHookean>, c: usize| l.layout().vi[c];
+            // daughters of cell 3 (0-based 2) are new cells 3 and 4 (one split before them)
+            let parent = old[3 * 2 + 1]; // cell 3's a_v: three unknowns per cell before it
+            assert_eq!((new[vi(&a, 3)], new[vi(&a, 4)]), (parent, parent));
+        }
+    }
 
     /// The same edits by building a new vector.
     fn expanded<const R: usize>(
