@@ -256,26 +256,15 @@ impl FieldReader {
         let n = centres.len();
         let l0 = bounds[n];
         if !grid {
-            let smooth = match p.sampling {
-                Sampling::Centres => centres.to_vec(),
-                Sampling::IntegerPoints => bounds[..n].to_vec(),
-            };
             return Self {
-                smooth,
+                smooth: sample_points(p.sampling, bounds),
                 cells: None,
                 l0,
             };
         }
         let census = CellCensus::new(&p.ref_lengths);
         let holders: Vec<usize> = centres.iter().map(|&x| census.holder(x)).collect();
-        let cell_points = census
-            .bounds
-            .windows(2)
-            .map(|b| match p.sampling {
-                Sampling::Centres => 0.5 * (b[0] + b[1]),
-                Sampling::IntegerPoints => b[0],
-            })
-            .collect();
+        let cell_points = sample_points(p.sampling, &census.bounds);
         let smooth = centres
             .iter()
             .zip(&holders)
@@ -303,6 +292,15 @@ impl FieldReader {
             }
             _ => f.sample(&self.smooth, self.l0),
         }
+    }
+}
+
+/// The points where the cells between `bounds` read a field: their centres, or their left
+/// ends under [`Sampling::IntegerPoints`].
+pub(crate) fn sample_points(sampling: Sampling, bounds: &[f64]) -> Vec<f64> {
+    match sampling {
+        Sampling::Centres => bounds.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect(),
+        Sampling::IntegerPoints => bounds[..bounds.len() - 1].to_vec(),
     }
 }
 

@@ -18,8 +18,8 @@
 //! value per cell, a random field drawn per cell, a piecewise field) and the grid is not the
 //! cells themselves; smooth fields alone are still sampled at centres.
 
-use super::build::LineParams;
-use crate::cell::{Field, Sampling};
+use super::build::{sample_points, LineParams};
+use crate::cell::Field;
 
 /// A field's effective value on each segment of a grid, one list per field of [`LineParams`].
 pub(crate) struct SegmentValues {
@@ -50,10 +50,7 @@ pub(crate) fn homogenised(p: &LineParams, faces: &[f64]) -> Option<SegmentValues
         bounds.push(bounds.last().unwrap_or(&0.0) + l);
     }
     let l0 = bounds[cells];
-    let points: Vec<f64> = match p.sampling {
-        Sampling::Centres => bounds.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect(),
-        Sampling::IntegerPoints => bounds[..cells].to_vec(),
-    };
+    let points = sample_points(p.sampling, &bounds);
     let [mu, eta, k, active_amp, p_ext] = fields.map(|f| f.sample(&points, l0));
     let n = faces.len() - 1;
     let mut out = SegmentValues {
