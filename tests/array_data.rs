@@ -1,7 +1,8 @@
 //! Array data and provenance (issue #14 §4): every run's `.npz` holds its series by name, its
 //! profiles stacked times × cells and its divisions, bit for bit the values of the record;
-//! `summary.json` carries provenance and no copy of the profiles; lines and rings get binary
-//! (zlib + base64) `.vtu` snapshots with a `.pvd` that decode to the profile values.
+//! `summary.json` carries provenance and no copy of the profiles; lines get binary (zlib +
+//! base64) rectilinear `.vtr` snapshots and rings `.vtu`, each with a `.pvd`, that decode to the
+//! profile values and carry their time.
 
 use base64::Engine as _;
 use celltissue::observe::{RunRecord, Summary};
@@ -136,9 +137,15 @@ fn npz_holds_series_and_profiles_and_summary_does_not_repeat_them() {
     }
 }
 
-/// The bytes of one `format="binary"` zlib-compressed array of a `.vtu`, by name.
+/// The bytes of one `format="binary"` zlib-compressed array of a `.vtu` or `.vtr`, by name.
 fn vtu_bytes(text: &str, name: &str) -> Vec<u8> {
-    let key = format!("Name=\"{name}\" format=\"binary\">");
+    // the snapshot's time is field data, which states its length
+    let time = if name == "TIME" {
+        " NumberOfTuples=\"1\""
+    } else {
+        ""
+    };
+    let key = format!("Name=\"{name}\"{time} format=\"binary\">");
     let start = text.find(&key).unwrap_or_else(|| panic!("{name}")) + key.len();
     let body = &text[start..start + text[start..].find('<').unwrap()];
     let b = base64::engine::general_purpose::STANDARD;
@@ -154,7 +161,7 @@ fn vtu_bytes(text: &str, name: &str) -> Vec<u8> {
     raw
 }
 
-/// Decodes one Float64 array of a `.vtu` by name.
+/// Decodes one Float64 array of a `.vtu` or `.vtr` by name.
 fn vtu_array(text: &str, name: &str) -> Vec<f64> {
     vtu_bytes(text, name)
         .chunks(8)
@@ -163,7 +170,7 @@ fn vtu_array(text: &str, name: &str) -> Vec<f64> {
 }
 
 #[test]
-fn rings_and_lines_get_binary_vtu_with_a_pvd() {
+fn rings_get_vtu_and_lines_vtr_snapshots_with_a_pvd() {
     let (dir, summary) = run("arrays_ring", RING);
     let rec = &summary.runs[0];
     let pvd = std::fs::read_to_string(dir.join("discrete.pvd")).unwrap();
@@ -172,6 +179,7 @@ fn rings_and_lines_get_binary_vtu_with_a_pvd() {
     assert!(!text.contains("format=\"ascii\""));
     assert_eq!(vtu_array(&text, "stretch"), rec.profiles[1].stretch);
     assert_eq!(vtu_array(&text, "pressure"), rec.profiles[1].pressure);
+    assert_eq!(vtu_array(&text, "TIME"), [rec.profiles[1].t]);
     // the ring's cells lie on a circle whose circumference is the sum of the cell lengths
     let key = "NumberOfComponents=\"3\" format=\"binary\">";
     let i = text.find(key).unwrap();
@@ -186,32 +194,38 @@ fn rings_and_lines_get_binary_vtu_with_a_pvd() {
         radii.iter().all(|r| (r - r0).abs() < 1e-9 * r0),
         "{radii:?}"
     );
-    let (lines, _) = run("arrays_line_vtu", LINE);
-    assert!(lines.join("continuum.pvd").exists() && lines.join("discrete_0002.vtu").exists());
+    // a straight line is a rectilinear grid: its cells' boundaries as the x coordinates
+    let (lines, summary) = run("arrays_line_vtu", LINE);
+    for (r, rec) in summary.runs.iter().enumerate() {
+        let label = ["discrete", "continuum"][r];
+        let pvd = std::fs::read_to_string(lines.join(format!("{label}.pvd"))).unwrap();
+        assert!(pvd.contains(&format!("{label}_0002.vtr")), "{pvd}");
+        let text = std::fs::read_to_string(lines.join(format!("{label}_0002.vtr"))).unwrap();
+        let p = &rec.profiles[2];
+        assert!(text.contains("<Piece Extent=\"0 12 0 0 0 0\">"), "{label}");
+        assert_eq!(vtu_array(&text, "TIME"), [p.t]);
+        assert_eq!(vtu_array(&text, "stretch"), p.stretch, "{label}");
+        assert_eq!(vtu_array(&text, "pressure"), p.pressure, "{label}");
+        let ends = vtr_segment_ends(&text);
+        for (j, (&(a, b), &x)) in ends.iter().zip(&p.x).enumerate() {
+            assert!((0.5 * (a + b) - x).abs() < 1e-12, "{label} cell {j}");
+        }
+    }
 }
 
-/// The x coordinates of each segment's two ends of a `.vtu`, in cell order (points by
-/// connectivity, Int32).
-fn vtu_segment_ends(text: &str) -> Vec<(f64, f64)> {
-    let key = "NumberOfComponents=\"3\" format=\"binary\">";
-    let i = text.find(key).unwrap();
-    let fake = format!(
-        "Name=\"points\" format=\"binary\">{}",
-        &text[i + key.len()..]
-    );
-    let pts = vtu_array(&fake, "points");
-    assert!(text.contains("type=\"Int32\" Name=\"connectivity\""));
-    let ints: Vec<usize> = vtu_bytes(text, "connectivity")
-        .chunks(4)
-        .map(|c| i32::from_le_bytes(c.try_into().unwrap()) as usize)
-        .collect();
-    ints.chunks(2)
-        .map(|c| (pts[3 * c[0]], pts[3 * c[1]]))
+/// The x coordinates of each cell's two ends of a `.vtr` (consecutive boundaries), in cell
+/// order.
+fn vtr_segment_ends(text: &str) -> Vec<(f64, f64)> {
+    assert_eq!(vtu_array(text, "y_coordinates"), [0.0]);
+    assert_eq!(vtu_array(text, "z_coordinates"), [0.0]);
+    vtu_array(text, "x_coordinates")
+        .windows(2)
+        .map(|w| (w[0], w[1]))
         .collect()
 }
 
 #[test]
-fn growing_and_dividing_cells_tile_their_line_in_the_vtu() {
+fn growing_and_dividing_cells_tile_their_line_in_the_vtr() {
     // cells that grow (g ≠ 1) and divide (daughters of their own reference length): each
     // drawn segment is the cell's current length about its centre, so the segments meet end
     // to end from the wall at 0 to the line's length (drawn from the elastic stretch times the
@@ -237,24 +251,17 @@ division = { rule = "area", ratio = 2 }
         "the cells divided"
     );
     for (k, p) in rec.profiles.iter().enumerate() {
-        let text = std::fs::read_to_string(dir.join(format!("discrete_{k:04}.vtu"))).unwrap();
-        let ends = vtu_segment_ends(&text);
+        let text = std::fs::read_to_string(dir.join(format!("discrete_{k:04}.vtr"))).unwrap();
+        let ends = vtr_segment_ends(&text);
         let length = rec.series.length[k + 1]; // series [0, 2, 4], profiles [2, 4]
         assert_eq!(ends.len(), p.x.len());
-        // one polyline: N + 1 points
-        assert!(text.contains(&format!("NumberOfPoints=\"{}\"", p.x.len() + 1)));
+        // N cells between N + 1 boundaries
+        assert!(text.contains(&format!("WholeExtent=\"0 {} 0 0 0 0\"", p.x.len())));
         assert!(ends[0].0.abs() < 1e-12, "t = {}: {:?}", p.t, ends[0]);
         assert!((ends.last().unwrap().1 - length).abs() < 1e-9 * length);
-        for (j, w) in ends.windows(2).enumerate() {
-            assert!(
-                (w[0].1 - w[1].0).abs() < 1e-9 * length,
-                "t = {}, cells {j}, {}",
-                p.t,
-                j + 1
-            );
-        }
-        // each segment is the cell's total stretch times its own reference length: the
-        // recorded `length`, and more than its elastic stretch alone gives where g > 1
+        // each segment (between one cell's left end and the next one's) is the cell's total
+        // stretch times its own reference length: the recorded `length`, and more than its
+        // elastic stretch alone gives where g > 1
         let lengths = &p.extra["length"];
         for (j, &(a, b)) in ends.iter().enumerate() {
             assert!(((b - a) - lengths[j]).abs() < 1e-12 * length, "cell {j}");

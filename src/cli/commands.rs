@@ -429,6 +429,7 @@ pub fn write_outputs(
     };
     let written = output::write_all_with(out, scenario, summary, &wopts);
     wpb.finish_and_clear();
+    log::debug!("write phase done");
     let written = match written {
         Ok(w) => w,
         Err(e) => {

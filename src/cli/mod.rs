@@ -125,7 +125,9 @@ where
     T: Into<std::ffi::OsString> + Clone,
 {
     // RUST_LOG=info (or debug) for run and write diagnostics; warnings by default
+    // (microsecond timestamps: the stages of a run's write phase take milliseconds)
     let _ = env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn"))
+        .format_timestamp_micros()
         .try_init();
     let cli = match Cli::try_parse_from(args) {
         Ok(c) => c,

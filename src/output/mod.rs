@@ -27,6 +27,7 @@ pub mod number;
 #[cfg(feature = "plots")]
 pub mod plot;
 pub mod provenance;
+pub mod vtr;
 pub mod vtu;
 
 use crate::observe::Summary;

@@ -4,11 +4,13 @@
 //! headers, point indices as Int32 while they fit); and `.pvd` collections that index the
 //! snapshots of a run by time.
 //!
-//! `write_snapshots` writes the lines, rings and sheets of a scenario (one `.vtu` per profile
-//! time, `<label>_NNNN.vtu`, and `<label>.pvd`). A line's cell is a VTK line segment from
-//! `x − λΔX/2` to `x + λΔX/2` on the x axis — for a ring, the chord of its arc on a circle of
-//! the ring's current length — carrying `stretch`, `pressure` and every other per-cell field;
-//! a sheet's cell is a hexahedron rebuilt from its profile ([`crate::sheet::vtk`]).
+//! `write_snapshots` writes the lines, rings and sheets of a scenario (one snapshot per profile
+//! time, `<label>_NNNN.vtu` or `.vtr`, and `<label>.pvd`). A straight line whose cells meet
+//! end to end is a rectilinear grid ([`super::vtr`]); otherwise a line's cell is a VTK line
+//! segment of its current length about its centre on the x axis — for a ring, the chord of its
+//! arc on a circle of the ring's current length — carrying `stretch`, `pressure` and every
+//! other per-cell field; a sheet's cell is a hexahedron rebuilt from its profile
+//! ([`crate::sheet::vtk`]). The snapshot's time is its field data `TIME`.
 
 use super::OutputError;
 use crate::observe::{Profile, Summary};
@@ -125,17 +127,17 @@ fn encode(raw: &[u8]) -> io::Result<String> {
     Ok(format!("{}{}", b.encode(header), b.encode(packed)))
 }
 
-/// One data array of a `.vtu` document before encoding: its VTK type, `Name`, number of
+/// One data array of a VTK XML document before encoding: its VTK type, `Name`, number of
 /// components and values (borrowed from the grid).
-struct Array<'a> {
-    ty: &'static str,
-    name: &'a str,
-    comps: usize,
-    values: Values<'a>,
+pub(super) struct Array<'a> {
+    pub(super) ty: &'static str,
+    pub(super) name: &'a str,
+    pub(super) comps: usize,
+    pub(super) values: Values<'a>,
 }
 
 /// The values of an [`Array`].
-enum Values<'a> {
+pub(super) enum Values<'a> {
     F64(&'a [f64]),
     Points(&'a [[f64; 3]]),
     I64(&'a [i64]),
@@ -164,7 +166,7 @@ impl Array<'_> {
     }
 
     /// The `<DataArray>` element, values encoded ([`encode`]).
-    fn element(&self) -> io::Result<String> {
+    pub(super) fn element(&self) -> io::Result<String> {
         let name = if self.name.is_empty() {
             String::new()
         } else {
@@ -196,7 +198,6 @@ impl Array<'_> {
 /// ```
 pub fn vtu_string<'a>(t: f64, grid: &'a Grid) -> io::Result<String> {
     use rayon::prelude::*;
-    let time = [t];
     let array = |ty, name, comps, values| Array {
         ty,
         name,
@@ -211,9 +212,8 @@ pub fn vtu_string<'a>(t: f64, grid: &'a Grid) -> io::Result<String> {
             array("Int64", name, 1, Values::I64(v))
         }
     };
-    // TIME, the points, the three cell arrays, then the cell data
+    // the points, the three cell arrays, then the cell data
     let mut arrays = vec![
-        array("Float64", "TIME", 1, Values::F64(&time)),
         array("Float64", "", 3, Values::Points(&grid.points)),
         indices("connectivity", &grid.connectivity),
         indices("offsets", &grid.offsets),
@@ -228,9 +228,7 @@ pub fn vtu_string<'a>(t: f64, grid: &'a Grid) -> io::Result<String> {
         .collect::<io::Result<Vec<String>>>()?;
     let mut s = String::with_capacity(1024 + elements.iter().map(String::len).sum::<usize>());
     s.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\">\n<UnstructuredGrid>\n");
-    s.push_str("<FieldData>\n");
-    s.push_str(&elements[0]);
-    s.push_str("</FieldData>\n");
+    s.push_str(&time_field(t)?);
     let _ = writeln!(
         s,
         "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">",
@@ -238,9 +236,9 @@ pub fn vtu_string<'a>(t: f64, grid: &'a Grid) -> io::Result<String> {
         grid.types.len()
     );
     s.push_str("<Points>\n");
-    s.push_str(&elements[1]);
+    s.push_str(&elements[0]);
     s.push_str("</Points>\n<Cells>\n");
-    for e in &elements[2..5] {
+    for e in &elements[1..4] {
         s.push_str(e);
     }
     s.push_str("</Cells>\n");
@@ -251,11 +249,21 @@ pub fn vtu_string<'a>(t: f64, grid: &'a Grid) -> io::Result<String> {
         .map(|_| " Scalars=\"pressure\"")
         .unwrap_or("");
     let _ = writeln!(s, "<CellData{scalars}>");
-    for e in &elements[5..] {
+    for e in &elements[4..] {
         s.push_str(e);
     }
     s.push_str("</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
     Ok(s)
+}
+
+/// The `<FieldData>` block of a snapshot: its time as one `TIME` value. A field-data array
+/// states its `NumberOfTuples` (VTK's reader takes the length of point and cell data from the
+/// grid, but of field data only from this attribute: without it ParaView read an empty `TIME`).
+pub(super) fn time_field(t: f64) -> io::Result<String> {
+    Ok(format!(
+        "<FieldData>\n<DataArray type=\"Float64\" Name=\"TIME\" NumberOfTuples=\"1\" format=\"binary\">{}</DataArray>\n</FieldData>\n",
+        encode(&t.to_le_bytes())?
+    ))
 }
 
 /// Writes `grid` at time `t` to `path` atomically.
@@ -323,12 +331,7 @@ pub fn write_pvd(path: &Path, entries: &[(f64, String)]) -> io::Result<()> {
 /// assert_eq!(celltissue::output::vtu::line_grid(&p, true).connectivity, [0, 1, 1, 0]);
 /// ```
 pub fn line_grid(p: &Profile, ring: bool) -> Grid {
-    let n = p
-        .x_ref
-        .len()
-        .min(p.x.len())
-        .min(p.stretch.len())
-        .min(p.pressure.len());
+    let n = line_cells(p);
     let mut ends = p.cell_ends();
     ends.truncate(n);
     let circumference: f64 = ends.iter().map(|(a, b)| b - a).sum();
@@ -344,57 +347,97 @@ pub fn line_grid(p: &Profile, ring: bool) -> Grid {
     // cells that meet end to end (a line's recorded cell lengths) share their boundary points:
     // one connected polyline of N + 1 points (a ring's N, its last cell closing on the first
     // point), which ParaView can interpolate along; otherwise two points per cell
-    let scale = ends.last().map_or(0.0, |e| e.1.abs()) + circumference.abs();
-    let joined = n > 0
-        && ends
-            .windows(2)
-            .all(|w| (w[0].1 - w[1].0).abs() <= 1e-9 * scale);
-    let (points, connectivity): (Vec<[f64; 3]>, Vec<i64>) = if joined {
-        let boundaries = ends.iter().map(|e| e.0).chain(ends.last().map(|e| e.1));
-        let points: Vec<[f64; 3]> = boundaries
-            .take(if ring { n } else { n + 1 })
-            .map(place)
-            .collect();
-        let m = points.len() as i64;
-        (
-            points,
-            (0..n as i64).flat_map(|j| [j, (j + 1) % m]).collect(),
-        )
-    } else {
-        (
+    let (points, connectivity): (Vec<[f64; 3]>, Vec<i64>) = match joined_boundaries(&ends) {
+        Some(boundaries) => {
+            let points: Vec<[f64; 3]> = boundaries
+                .into_iter()
+                .take(if ring { n } else { n + 1 })
+                .map(place)
+                .collect();
+            let m = points.len() as i64;
+            (
+                points,
+                (0..n as i64).flat_map(|j| [j, (j + 1) % m]).collect(),
+            )
+        }
+        None => (
             ends.iter()
                 .flat_map(|&(a, b)| [place(a), place(b)])
                 .collect(),
             (0..2 * n as i64).collect(),
-        )
+        ),
     };
-    let mut g = Grid {
+    Grid {
         points,
         connectivity,
         offsets: (1..=n as i64).map(|k| 2 * k).collect(),
         types: vec![VTK_LINE; n],
-        cell_data: vec![
-            ("stretch".into(), p.stretch[..n].to_vec()),
-            ("pressure".into(), p.pressure[..n].to_vec()),
-            ("X".into(), p.x_ref[..n].to_vec()),
-            ("x".into(), p.x[..n].to_vec()),
-        ],
-    };
-    for (k, v) in &p.extra {
-        if v.len() == n {
-            g.cell_data.push((k.clone(), v.clone()));
-        }
+        cell_data: line_fields(p, n),
     }
-    g
 }
 
-/// Writes `.vtu` snapshots and a `.pvd` per line, ring or sheet run (not shear columns, nor
-/// runs whose profiles exceed [`VTU_MAX_CELLS`] cells in total); returns the paths.
+/// The number of cells a line profile draws: the length of its shortest core field.
+pub(super) fn line_cells(p: &Profile) -> usize {
+    p.x_ref
+        .len()
+        .min(p.x.len())
+        .min(p.stretch.len())
+        .min(p.pressure.len())
+}
+
+/// The `N + 1` boundaries of cells that meet end to end (each cell's left end, then the last
+/// one's right end), or `None` when two neighbours are apart by more than 1e-9 of the line's
+/// extent (or there is no cell).
+pub(super) fn joined_boundaries(ends: &[(f64, f64)]) -> Option<Vec<f64>> {
+    let circumference: f64 = ends.iter().map(|(a, b)| b - a).sum();
+    let scale = ends.last()?.1.abs() + circumference.abs();
+    let joined = ends
+        .windows(2)
+        .all(|w| (w[0].1 - w[1].0).abs() <= 1e-9 * scale);
+    joined.then(|| {
+        ends.iter()
+            .map(|e| e.0)
+            .chain(ends.last().map(|e| e.1))
+            .collect()
+    })
+}
+
+/// The per-cell fields of the first `n` cells of a line profile: `stretch`, `pressure`, `X`,
+/// `x`, then every extra field of `n` values.
+pub(super) fn line_fields(p: &Profile, n: usize) -> Vec<(String, Vec<f64>)> {
+    let mut fields = vec![
+        ("stretch".to_string(), p.stretch[..n].to_vec()),
+        ("pressure".to_string(), p.pressure[..n].to_vec()),
+        ("X".to_string(), p.x_ref[..n].to_vec()),
+        ("x".to_string(), p.x[..n].to_vec()),
+    ];
+    for (k, v) in &p.extra {
+        if v.len() == n {
+            fields.push((k.clone(), v.clone()));
+        }
+    }
+    fields
+}
+
+/// How the snapshots of one run are drawn.
+enum Snapshots {
+    /// Straight lines of cells that meet end to end, every profile: `.vtr` (the boundaries
+    /// of each profile's cells).
+    Rectilinear(Vec<Vec<f64>>),
+    /// Anything else (rings, sheets, cells apart): `.vtu` of this grid per profile.
+    Unstructured(fn(&Profile) -> Grid),
+}
+
+/// Writes the snapshots and a `.pvd` per line, ring or sheet run (not shear columns, nor runs
+/// whose profiles exceed [`VTU_MAX_CELLS`] cells in total); returns the paths. A run whose
+/// every profile is a straight line of joined cells gets `.vtr` snapshots
+/// ([`super::vtr`]), any other `.vtu`: one form per run, so a `.pvd` never mixes the two.
 pub(crate) fn write_snapshots(
     dir: &Path,
     scenario: &Scenario,
     summary: &Summary,
 ) -> Result<Vec<PathBuf>, OutputError> {
+    use super::vtr::{line_boundaries, write_vtr, Rectilinear};
     let slugs = super::files::unique_slugs(summary.runs.iter().map(|r| r.label.as_str()));
     let mut out = Vec::new();
     let err = |path: &Path| {
@@ -403,23 +446,44 @@ pub(crate) fn write_snapshots(
     };
     for (i, (rec, slug)) in summary.runs.iter().zip(&slugs).enumerate() {
         use crate::line::config::RightEndKind::Periodic;
-        let grid: fn(&Profile) -> Grid = match scenario.runs.get(i).map(|s| &s.config) {
-            Some(ModelConfig::Line(cfg)) if cfg.right_end == Periodic => |p| line_grid(p, true),
-            Some(ModelConfig::Proliferating(cfg)) if cfg.line.right_end == Periodic => {
-                |p| line_grid(p, true)
-            }
-            Some(ModelConfig::Line(_) | ModelConfig::Proliferating(_)) => |p| line_grid(p, false),
-            Some(ModelConfig::Sheet(..)) => crate::sheet::vtk::profile_grid,
-            _ => continue,
-        };
         if rec.profiles.is_empty() || super::files::profile_rows(rec) > VTU_MAX_CELLS {
             continue;
         }
+        let straight = || -> Snapshots {
+            match rec.profiles.iter().map(line_boundaries).collect() {
+                Some(boundaries) => Snapshots::Rectilinear(boundaries),
+                None => Snapshots::Unstructured(|p| line_grid(p, false)),
+            }
+        };
+        let mut snapshots = match scenario.runs.get(i).map(|s| &s.config) {
+            Some(ModelConfig::Line(cfg)) if cfg.right_end == Periodic => {
+                Snapshots::Unstructured(|p| line_grid(p, true))
+            }
+            Some(ModelConfig::Proliferating(cfg)) if cfg.line.right_end == Periodic => {
+                Snapshots::Unstructured(|p| line_grid(p, true))
+            }
+            Some(ModelConfig::Line(_) | ModelConfig::Proliferating(_)) => straight(),
+            Some(ModelConfig::Sheet(..)) => {
+                Snapshots::Unstructured(crate::sheet::vtk::profile_grid)
+            }
+            _ => continue,
+        };
         let mut entries = Vec::new();
         for (k, p) in rec.profiles.iter().enumerate() {
-            let name = format!("{slug}_{k:04}.vtu");
+            let name = match &snapshots {
+                Snapshots::Rectilinear(..) => format!("{slug}_{k:04}.vtr"),
+                Snapshots::Unstructured(..) => format!("{slug}_{k:04}.vtu"),
+            };
             let path = dir.join(&name);
-            write_vtu(&path, p.t, &grid(p)).map_err(err(&path))?;
+            match &mut snapshots {
+                Snapshots::Rectilinear(boundaries) => {
+                    let x = std::mem::take(&mut boundaries[k]);
+                    let cell_data = line_fields(p, x.len() - 1);
+                    write_vtr(&path, p.t, &Rectilinear { x, cell_data })
+                }
+                Snapshots::Unstructured(grid) => write_vtu(&path, p.t, &grid(p)),
+            }
+            .map_err(err(&path))?;
             out.push(path);
             entries.push((p.t, name));
         }
