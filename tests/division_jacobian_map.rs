@@ -2,10 +2,11 @@
 //! `Dividing`): moved onto the new layout with the rows around the daughters evaluated afresh,
 //! they equal the Jacobian of the line after the split, entry by entry, when the old matrices
 //! were taken at the event state (the cells away from the division are unchanged by it, and
-//! so are their rows).
+//! so are their rows); for elastic cells, and for cells with a Maxwell branch (three unknowns
+//! a cell) under an external pressure field.
 
 use celltissue::boundary::RightEnd;
-use celltissue::cell::TanhGrowth;
+use celltissue::cell::{Field, MaxwellBranch, TanhGrowth};
 use celltissue::events::{AreaDoubling, Dividing};
 use celltissue::line::build::{discrete, LineParams};
 use celltissue::substrate::DragForm;
@@ -24,13 +25,17 @@ fn pair(div: &Dividing<NeoHookean>, y: &[f64], yp: &[f64], n: usize) -> (Matrix,
     (jy, j1)
 }
 
-fn check(form: DragForm, fired: &[usize]) {
+fn check(form: DragForm, fired: &[usize], branch: Option<MaxwellBranch>) {
     let n = 40;
     let mut p = LineParams::unit_cells(n);
     p.right = RightEnd::Free(None);
     p.k = 1e-3.into();
     p.form = form;
     p.growth = Some(Arc::new(TanhGrowth::default()));
+    p.maxwell = branch;
+    if branch.is_some() {
+        p.p_ext = Field::gaussian_bump(0.02, 0.05, 0.5, 0.2);
+    }
     let line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
     let mut div = Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap();
     // a non-uniform state: stretched boundaries, grown cells, moving boundaries
@@ -40,7 +45,8 @@ fn check(form: DragForm, fired: &[usize]) {
     for (k, v) in y.iter_mut().enumerate() {
         *v += 0.05 * (0.3 * k as f64).cos();
     }
-    let new_dim = dim + 2 * fired.len();
+    // a daughter adds `g`, `x` and, with a branch, `a_v`
+    let new_dim = dim + (2 + usize::from(branch.is_some())) * fired.len();
     // the old pair at the event state, in storage of the new size (as a method's grown matrices)
     let (mut jy, mut jyp) = pair(&div, &y, &yp, new_dim);
     let action = div.handle_event(0.5, fired, &mut y, &yp).unwrap();
@@ -63,7 +69,7 @@ fn check(form: DragForm, fired: &[usize]) {
     }
     assert!(
         worst <= 1e-13,
-        "{form:?} {fired:?}: worst entry off by {worst:e}"
+        "{form:?} {fired:?} {branch:?}: worst entry off by {worst:e}"
     );
 }
 
@@ -71,8 +77,15 @@ fn check(form: DragForm, fired: &[usize]) {
 fn mapped_matrices_equal_the_jacobian_after_the_split() {
     // one cell, two far apart, two adjacent, the first and the last cell (event indices are
     // 0-based cells)
+    let branches = [
+        None,
+        Some(MaxwellBranch::standard_linear_solid(0.7, 1.2).unwrap()),
+        Some(MaxwellBranch::maxwell(0.9, 0.8).unwrap()),
+    ];
     for fired in [&[17][..], &[5, 30], &[11, 12], &[0], &[39]] {
-        check(DragForm::Boundary, fired);
-        check(DragForm::Centre, fired);
+        for branch in branches {
+            check(DragForm::Boundary, fired, branch);
+            check(DragForm::Centre, fired, branch);
+        }
     }
 }

@@ -5,7 +5,7 @@
 //! same steps and Newton iterations.
 
 use celltissue::boundary::{Ramp, RightEnd};
-use celltissue::cell::{Active, Field, TanhGrowth};
+use celltissue::cell::{Active, Field, MaxwellBranch, TanhGrowth};
 use celltissue::line::build::{continuum, discrete, LineParams};
 use celltissue::line::observe::Snapshot;
 use celltissue::line::run::{integrate, LineModel, SolveSettings};
@@ -69,8 +69,8 @@ impl Lcg {
     }
 }
 
-/// A random non-uniform state: boundaries moved by up to 15 % of a cell, `g` in 0.8..1.2,
-/// every `ẏ` nonzero.
+/// A random non-uniform state: boundaries moved by up to 15 % of a cell, `g` and the viscous
+/// stretches `a_v` in 0.8..1.2, every `ẏ` nonzero.
 fn random_state<E: StrainEnergy>(line: &Line<E>, seed: u64) -> (Vec<f64>, Vec<f64>) {
     let mut rng = Lcg(seed);
     let mut y = line.initial_state();
@@ -81,7 +81,7 @@ fn random_state<E: StrainEnergy>(line: &Line<E>, seed: u64) -> (Vec<f64>, Vec<f6
             y[k] += 0.15 * h * rng.next();
         }
     }
-    for &k in &lay.gi {
+    for &k in lay.gi.iter().chain(&lay.vi) {
         if k != celltissue::line::array::NONE {
             y[k] = 1.0 + 0.2 * rng.next();
         }
@@ -215,6 +215,55 @@ fn own_jacobian_equals_coloured_ad_for_every_feature() {
             p.right = RightEnd::Free(None);
             check(
                 &format!("{f} free {cells} cells"),
+                discrete(law(), &p).unwrap(),
+            );
+        }
+        // a Maxwell branch (Maxwell fluid and standard linear solid) and an external pressure
+        // field, without and with growth (whose rate reads the stress the pressure lowers),
+        // prescribed and free ends
+        for (branch, p_ext, growth, free) in [
+            (
+                Some(MaxwellBranch::maxwell(0.8, 1.3).unwrap()),
+                false,
+                false,
+                false,
+            ),
+            (
+                Some(MaxwellBranch::standard_linear_solid(0.8, 1.3).unwrap()),
+                false,
+                false,
+                true,
+            ),
+            (
+                Some(MaxwellBranch::standard_linear_solid(0.6, 0.9).unwrap()),
+                true,
+                true,
+                false,
+            ),
+            (
+                Some(MaxwellBranch::maxwell(1.1, 0.7).unwrap()),
+                true,
+                true,
+                true,
+            ),
+            (None, true, false, false),
+            (None, true, true, true),
+        ] {
+            let mut p = base(n);
+            p.maxwell = branch;
+            p.eta = Field::Constant(0.3);
+            if p_ext {
+                p.p_ext = Field::gaussian_bump(0.05, 0.1, 0.4, 0.2);
+            }
+            if growth {
+                p.growth = Some(Arc::new(TanhGrowth::default()));
+                p.m = 1.5;
+            }
+            if free {
+                p.right = RightEnd::Free(Some(Arc::new(|t: f64| (0.3 + 0.1 * t, 0.1))));
+            }
+            check(
+                &format!("{f} branch={branch:?} p_ext={p_ext} growth={growth} free={free}"),
                 discrete(law(), &p).unwrap(),
             );
         }

@@ -238,7 +238,7 @@ fn discrete_and_continuum_agree() {
 }
 
 #[test]
-fn the_pattern_holds_every_dependence_and_the_own_jacobian_steps_aside() {
+fn the_pattern_holds_every_dependence_and_the_own_jacobian_differentiates_it() {
     let mut p = LineParams::unit_cells(6);
     p.k = 0.3.into();
     p.eta = 0.2.into();
@@ -259,6 +259,10 @@ fn the_pattern_holds_every_dependence_and_the_own_jacobian_steps_aside() {
         line.residual(0.1, y, yp, &mut r).unwrap();
         r
     };
+    // the line's own Jacobian at c = 1 (∂F/∂y + ∂F/∂ẏ), against the differences below
+    let mut jac = integrators::linalg::Matrix::zeros(n, &line.pattern());
+    assert!(line.jacobian_into(0.1, &y, &yp, 1.0, &mut jac).unwrap());
+    let mut fd = vec![vec![0.0; n]; n];
     let h = 1e-7;
     for col in 0..n {
         for (shift_y, shift_yp) in [(h, 0.0), (0.0, h)] {
@@ -267,6 +271,7 @@ fn the_pattern_holds_every_dependence_and_the_own_jacobian_steps_aside() {
             yyp[col] += shift_yp;
             let (r1, r0) = (res(&yy, &yyp), res(&y, &yp));
             for row in 0..n {
+                fd[row][col] += (r1[row] - r0[row]) / h;
                 if (r1[row] - r0[row]).abs() > 1e-12 {
                     assert!(
                         pattern.contains(&(row, col)),
@@ -279,8 +284,16 @@ fn the_pattern_holds_every_dependence_and_the_own_jacobian_steps_aside() {
             }
         }
     }
-    let mut jac = integrators::linalg::Matrix::zeros(n, &line.pattern());
-    assert!(!line.jacobian_into(0.1, &y, &yp, 1.0, &mut jac).unwrap());
+    for (row, fd_row) in fd.iter().enumerate() {
+        let scale = fd_row.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
+        for (col, &d) in fd_row.iter().enumerate() {
+            assert!(
+                (jac.get(row, col) - d).abs() < 1e-5 * scale,
+                "({row}, {col}): own {} against differences {d}",
+                jac.get(row, col)
+            );
+        }
+    }
 }
 
 #[test]

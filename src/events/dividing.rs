@@ -770,10 +770,32 @@ impl<E: StrainEnergy> CellArray for Dividing<E> {
         if lay.xi[0] != NONE || self.line.right.is_periodic() {
             return Ok(false);
         }
-        let src = &m.sources;
-        if src.len() != lay.dim {
+        if m.sources.len() != lay.dim {
             return Ok(false);
         }
+        // both daughters of a cell with a Maxwell branch read their parent's a_v (the
+        // history's map), but a matrix grows by insertions, whose sources increase: to the
+        // Jacobian the second is a new unknown (its rows and every row its column reaches
+        // are among the fresh ones)
+        let increasing: Vec<usize>;
+        let src: &[usize] = if m.stride > 2 {
+            let mut last = None;
+            increasing = m
+                .sources
+                .iter()
+                .map(|&s| {
+                    if s != usize::MAX && last.is_none_or(|l| s > l) {
+                        last = Some(s);
+                        s
+                    } else {
+                        usize::MAX
+                    }
+                })
+                .collect();
+            &increasing
+        } else {
+            &m.sources
+        };
         let (l, u) = match &*jy {
             Matrix::Banded(b) => (b.lower, b.upper),
             _ => return Ok(false),

@@ -469,7 +469,7 @@ impl<E: StrainEnergy> Line<E> {
                 .map(local)
         };
         let boundary_rows = |jac: &mut J, b: usize, p: &LocalCell, q: &LocalCell| {
-            self.emit(jac, lk.xi(b), b, [p, q], cj, |e| {
+            self.emit(jac, lk.xi(b), b, [p, q], None, cj, |e| {
                 self.boundary_row(b, &e[0], &e[1])
             });
         };
@@ -524,7 +524,7 @@ impl<E: StrainEnergy> Line<E> {
         }
         if end && self.right.is_free() {
             debug_assert_eq!(last_cell, n);
-            self.emit(jac, lk.xi(n), n, [&prev], cj, |e| {
+            self.emit(jac, lk.xi(n), n, [&prev], None, cj, |e| {
                 self.end_row(t, &e[0], d(0.0, 0.0))
             });
         }

@@ -103,9 +103,10 @@ impl<E: StrainEnergy> Line<E> {
     /// the cells; `Ok(false)` for a ring (its sparse pattern is left to the coloured AD
     /// Jacobian of [`crate::ArrayProblem`]).
     ///
-    /// With a Maxwell branch or an external pressure it returns `Ok(false)` too (the coloured
-    /// AD Jacobian is used: the sweep below does not seed the viscous stretches, and keeping
-    /// the thesis's sweep free of the extensions' test kept it at its measured cost).
+    /// A Maxwell branch and an external pressure are added to each evaluated cell as the
+    /// residual adds them; a cell with a branch is evaluated once more seeded along its viscous
+    /// stretch `a_v` (with `ȧ_v` seeded `c`), for the columns `a_v` and for its own flow row.
+    /// The blocked sweep of the thesis's line never takes either.
     ///
     /// Each cell is evaluated once by the residual's own cell expression in `Dual64`, seeded
     /// along its right boundary `x_j` (with `ẏ`-part `c`, as the colouring seeds `v`); a cell
@@ -147,7 +148,7 @@ impl<E: StrainEnergy> Line<E> {
     /// left alone: the same sweep over those cells and their neighbours only, O(k) for k
     /// cells. A division re-evaluates this way the rows around the daughters
     /// ([`crate::events::Dividing`]'s Jacobian map). `Ok(false)` where `jacobian_into` has
-    /// none (a ring, the extensions).
+    /// none (a ring).
     ///
     /// ```
     /// use celltissue::line::build::{discrete, LineParams};
@@ -172,7 +173,7 @@ impl<E: StrainEnergy> Line<E> {
         jac: &mut JacobianSink,
         cells: std::ops::RangeInclusive<usize>,
     ) -> Result<bool, ResidualError> {
-        if self.right.is_periodic() || self.uniform.extended {
+        if self.right.is_periodic() {
             return Ok(false);
         }
         let n = self.n_cells();
@@ -194,6 +195,16 @@ impl<E: StrainEnergy> Line<E> {
         let mut left = self.boundary(first - 1, t, y, yp);
         // the last three cells in a ring (cell j at j mod 3: moving them would copy 1 KB per cell)
         let mut win: [LocalCell; 3] = [LocalCell::default(); 3];
+        // with a Maxwell branch, the same cells seeded along their viscous stretch
+        let mut win_v: [CellEval<Dual64>; 3] = [LocalCell::default().s; 3];
+        let extended = self.uniform.extended;
+        let branch = self.maxwell.is_some();
+        // the viscous-seeded cells of a row's window, when the line has a branch
+        macro_rules! viscous {
+            ($($w:expr),*) => {
+                branch.then(|| [$(&win_v[$w]),*])
+            };
+        }
         for cell in first..=last {
             let right = self.boundary(cell, t, y, yp);
             let gk = lay.gi[cell - 1];
@@ -223,10 +234,30 @@ impl<E: StrainEnergy> Line<E> {
             left = right;
             let (w0, w1, w2) = ((cell + 1) % 3, (cell + 2) % 3, cell % 3);
             win[w2] = LocalCell { s, g: ge };
+            let vk = if branch { lay.vi[cell - 1] } else { NONE };
+            if extended {
+                // the branch and the external pressure, as the residual adds them, in place
+                // (a copy of the evaluations costs a call to memcpy per cell): with the
+                // viscous stretch held, then seeded on its own
+                let here = &mut win[w2];
+                let av = if vk == NONE { 1.0 } else { y[vk] };
+                let mut sv = here.s.along(Dir::Zero, c);
+                self.extend_cell(cell, &mut here.s, d(av, 0.0))?;
+                self.extend_cell(cell, &mut here.g, d(av, 0.0))?;
+                if vk != NONE {
+                    self.extend_cell(cell, &mut sv, d(av, 1.0))?;
+                }
+                win_v[w2] = sv;
+            }
+            if vk != NONE && mine(cell) {
+                if let Some(b) = &self.maxwell {
+                    self.emit_flow_row(jac, b, cell, (y[vk], yp[vk]), &win[w2], &win_v[w2], c);
+                }
+            }
             if gk != NONE && mine(cell) {
                 if let Some(law) = &self.growth {
                     let ypg = yp[gk];
-                    self.emit(jac, gk, cell, [&win[w2]], c, |e| {
+                    self.emit(jac, gk, cell, [&win[w2]], viscous!(w2), c, |e| {
                         // ġ is seeded with c exactly where g is seeded with 1
                         self.growth_row(law.as_ref(), d(ypg, c * e[0].g.eps), &e[0])
                     });
@@ -241,20 +272,27 @@ impl<E: StrainEnergy> Line<E> {
                 continue;
             }
             match self.form {
-                DragForm::Boundary => self.emit(jac, row, b, [&win[w1], &win[w2]], c, |e| {
-                    self.boundary_row(b, &e[0], &e[1])
-                }),
+                DragForm::Boundary => {
+                    let cells = [&win[w1], &win[w2]];
+                    self.emit(jac, row, b, cells, viscous!(w1, w2), c, |e| {
+                        self.boundary_row(b, &e[0], &e[1])
+                    })
+                }
                 DragForm::Centre if b >= 2 => {
-                    self.emit(jac, row, b - 1, [&win[w0], &win[w1], &win[w2]], c, |e| {
+                    let cells = [&win[w0], &win[w1], &win[w2]];
+                    self.emit(jac, row, b - 1, cells, viscous!(w0, w1, w2), c, |e| {
                         let f_prev = self.face_force(&e[0], &e[1]);
                         let f = self.face_force(&e[1], &e[2]);
                         self.centre_row(b, &e[1], f_prev, f)
                     })
                 }
-                DragForm::Centre => self.emit(jac, row, b, [&win[w1], &win[w2]], c, |e| {
-                    let f = self.face_force(&e[0], &e[1]);
-                    self.centre_row(b, &e[0], d(0.0, 0.0), f)
-                }),
+                DragForm::Centre => {
+                    let cells = [&win[w1], &win[w2]];
+                    self.emit(jac, row, b, cells, viscous!(w1, w2), c, |e| {
+                        let f = self.face_force(&e[0], &e[1]);
+                        self.centre_row(b, &e[0], d(0.0, 0.0), f)
+                    })
+                }
             }
         }
         if self.right.is_free() && mine(n) {
@@ -262,12 +300,13 @@ impl<E: StrainEnergy> Line<E> {
             let (w1, w2) = ((n + 2) % 3, n % 3);
             match self.form {
                 DragForm::Centre if n >= 2 => {
-                    self.emit(jac, row, n - 1, [&win[w1], &win[w2]], c, |e| {
+                    let cells = [&win[w1], &win[w2]];
+                    self.emit(jac, row, n - 1, cells, viscous!(w1, w2), c, |e| {
                         let f_prev = self.face_force(&e[0], &e[1]);
                         self.end_row(t, &e[1], f_prev)
                     })
                 }
-                _ => self.emit(jac, row, n, [&win[w2]], c, |e| {
+                _ => self.emit(jac, row, n, [&win[w2]], viscous!(w2), c, |e| {
                     self.end_row(t, &e[0], d(0.0, 0.0))
                 }),
             }
@@ -277,8 +316,10 @@ impl<E: StrainEnergy> Line<E> {
 
     /// Adds row `row` of the Jacobian: `f` (a row expression of the residual) is evaluated
     /// once per unknown the `Q` consecutive cells `first..first + Q` depend on — their
-    /// boundaries `first − 1 ..= first + Q − 1` and, when growing, their `g` — with every
-    /// cell's derivatives projected on that unknown; the dual part is the entry.
+    /// boundaries `first − 1 ..= first + Q − 1`, when growing their `g`, and with `viscous`
+    /// (the cells seeded along their viscous stretches) their `a_v` — with every cell's
+    /// derivatives projected on that unknown; the dual part is the entry.
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub(super) fn emit<J: EntrySink, const Q: usize>(
         &self,
@@ -286,6 +327,7 @@ impl<E: StrainEnergy> Line<E> {
         row: usize,
         first: usize,
         cells: [&LocalCell; Q],
+        viscous: Option<[&CellEval<Dual64>; Q]>,
         c: f64,
         f: impl Fn(&[CellEval<Dual64>; Q]) -> Dual64,
     ) {
@@ -325,6 +367,56 @@ impl<E: StrainEnergy> Line<E> {
                 jac.add(row, col, f(&e).eps);
             }
         }
+        if let Some(viscous) = viscous {
+            for k in 0..Q {
+                let col = lay.vi.get(first + k - 1).copied().unwrap_or(NONE);
+                if col == NONE {
+                    continue;
+                }
+                let mut e = [cells[0].s; Q];
+                for q in 0..Q {
+                    e[q] = if q == k {
+                        *viscous[q]
+                    } else {
+                        cells[q].along(Dir::Zero, c)
+                    };
+                }
+                jac.add(row, col, f(&e).eps);
+            }
+        }
+    }
+
+    /// Adds the flow row of cell `cell`'s viscous stretch, `ȧ_v − rate(a_v, σ_b(α, a_v))`, at
+    /// `(a_v, ȧ_v) = av`: its columns are the cell's two boundaries and `g` (through `α`, from
+    /// `local`) and `a_v` itself (from `viscous`, the cell seeded along `a_v`, with `ȧ_v`
+    /// seeded `c`).
+    #[allow(clippy::too_many_arguments)]
+    fn emit_flow_row<J: EntrySink>(
+        &self,
+        jac: &mut J,
+        b: &MaxwellBranch,
+        cell: usize,
+        (av, avd): (f64, f64),
+        local: &LocalCell,
+        viscous: &CellEval<Dual64>,
+        c: f64,
+    ) {
+        let lay = &self.layout;
+        let row = lay.vi[cell - 1];
+        let held = |e: &CellEval<Dual64>| {
+            self.flow_row(b, Dual64::new(av, 0.0), Dual64::new(avd, 0.0), e)
+                .eps
+        };
+        for (col, dir) in [(lay.xi[cell - 1], Dir::Left), (lay.xi[cell], Dir::Right)] {
+            if col != NONE {
+                jac.add(row, col, held(&local.s.along(dir, c)));
+            }
+        }
+        if lay.gi[cell - 1] != NONE {
+            jac.add(row, lay.gi[cell - 1], held(&local.g));
+        }
+        let own = self.flow_row(b, Dual64::new(av, 1.0), Dual64::new(avd, c), viscous);
+        jac.add(row, row, own.eps);
     }
 
     /// Structural entries `(row, col)` of the Jacobian, from the stencil (an entry may be
