@@ -267,10 +267,39 @@ fn own_jacobian_equals_coloured_ad_for_every_feature() {
                 discrete(law(), &p).unwrap(),
             );
         }
+        // a branch with active stress, a time-dependent end, the min width rule and growth
+        // with κ = (g g₂)^m
+        let mut p = base(n);
+        p.maxwell = Some(MaxwellBranch::standard_linear_solid(0.5, 0.6).unwrap());
+        p.p_ext = Field::Constant(0.04);
+        p.active = Some(Active {
+            beta: -1.0,
+            omega: 0.9,
+        });
+        p.active_amp = Field::gaussian_bump(0.5, 0.5, 0.4, 0.3);
+        p.right = RightEnd::Prescribed(Ramp::Exponential {
+            l0: p.total_length(),
+            k1: 0.2,
+            t_ramp: 1.0,
+        });
+        p.width = WidthRule::Min;
+        p.growth = Some(Arc::new(TanhGrowth::default()));
+        p.m = 0.5;
+        p.g2 = 1.2;
+        check(
+            &format!("{f} branch active growth"),
+            discrete(law(), &p).unwrap(),
+        );
         // continuum line (k_face scaled by h/L̄), another strain energy
         let mut p = base(40);
         p.eta = Field::Constant(0.3);
         check(&format!("{f} continuum"), continuum(law(), &p, 11).unwrap());
+        p.maxwell = Some(MaxwellBranch::maxwell(0.9, 1.1).unwrap());
+        p.p_ext = Field::gaussian_bump(0.05, 0.1, 0.4, 0.2);
+        check(
+            &format!("{f} continuum branch"),
+            continuum(law(), &p, 11).unwrap(),
+        );
         check(
             &format!("{f} Mooney-Rivlin"),
             discrete(MooneyRivlin::new(0.3, 0.2).unwrap(), &base(n)).unwrap(),
