@@ -139,6 +139,20 @@ fn base(n: usize) -> LineParams {
     p
 }
 
+/// Active stress (a Gaussian amplitude) and an exponential ramp of the prescribed end.
+fn active_ramp(p: &mut LineParams) {
+    p.active = Some(Active {
+        beta: -1.0,
+        omega: 0.9,
+    });
+    p.active_amp = Field::gaussian_bump(0.5, 0.5, 0.4, 0.3);
+    p.right = RightEnd::Prescribed(Ramp::Exponential {
+        l0: p.total_length(),
+        k1: 0.2,
+        t_ramp: 1.0,
+    });
+}
+
 fn law() -> NeoHookean {
     NeoHookean::new(1.0).unwrap()
 }
@@ -167,16 +181,7 @@ fn own_jacobian_equals_coloured_ad_for_every_feature() {
         check(&format!("{f} viscous K=0"), discrete(law(), &p).unwrap());
         // active stress, time-dependent prescribed end
         let mut p = base(n);
-        p.active = Some(Active {
-            beta: -1.0,
-            omega: 0.9,
-        });
-        p.active_amp = Field::gaussian_bump(0.5, 0.5, 0.4, 0.3);
-        p.right = RightEnd::Prescribed(Ramp::Exponential {
-            l0: p.total_length(),
-            k1: 0.2,
-            t_ramp: 1.0,
-        });
+        active_ramp(&mut p);
         check(&format!("{f} active ramp"), discrete(law(), &p).unwrap());
         // growth in the state with κ = (g g₂)^m, m ∉ {0, 1}, viscosity, both width rules
         for (m, width) in [
@@ -272,16 +277,7 @@ fn own_jacobian_equals_coloured_ad_for_every_feature() {
         let mut p = base(n);
         p.maxwell = Some(MaxwellBranch::standard_linear_solid(0.5, 0.6).unwrap());
         p.p_ext = Field::Constant(0.04);
-        p.active = Some(Active {
-            beta: -1.0,
-            omega: 0.9,
-        });
-        p.active_amp = Field::gaussian_bump(0.5, 0.5, 0.4, 0.3);
-        p.right = RightEnd::Prescribed(Ramp::Exponential {
-            l0: p.total_length(),
-            k1: 0.2,
-            t_ramp: 1.0,
-        });
+        active_ramp(&mut p);
         p.width = WidthRule::Min;
         p.growth = Some(Arc::new(TanhGrowth::default()));
         p.m = 0.5;

@@ -11,7 +11,9 @@
 //! profiles are all straight lines of joined cells, and a `.vtu` for rings, sheets and cells
 //! that do not meet.
 
-use super::vtu::{joined_boundaries, line_cells, line_fields, time_field, Array, Values};
+use super::vtu::{
+    cell_data_start, joined_boundaries, line_cells, line_fields, time_field, Array, Values,
+};
 use crate::observe::Profile;
 use std::fmt::Write as _;
 use std::io;
@@ -106,13 +108,7 @@ pub fn vtr_string(t: f64, grid: &Rectilinear) -> io::Result<String> {
     let _ = writeln!(s, "<RectilinearGrid WholeExtent=\"{extent}\">");
     s.push_str(&time_field(t)?);
     let _ = writeln!(s, "<Piece Extent=\"{extent}\">");
-    let scalars = grid
-        .cell_data
-        .iter()
-        .find(|(n, _)| n == "pressure")
-        .map(|_| " Scalars=\"pressure\"")
-        .unwrap_or("");
-    let _ = writeln!(s, "<CellData{scalars}>");
+    s.push_str(cell_data_start(&grid.cell_data));
     let fields = grid.cell_data.len();
     for e in &elements[..fields] {
         s.push_str(e);

@@ -242,18 +242,22 @@ pub fn vtu_string<'a>(t: f64, grid: &'a Grid) -> io::Result<String> {
         s.push_str(e);
     }
     s.push_str("</Cells>\n");
-    let scalars = grid
-        .cell_data
-        .iter()
-        .find(|(n, _)| n == "pressure")
-        .map(|_| " Scalars=\"pressure\"")
-        .unwrap_or("");
-    let _ = writeln!(s, "<CellData{scalars}>");
+    s.push_str(cell_data_start(&grid.cell_data));
     for e in &elements[4..] {
         s.push_str(e);
     }
     s.push_str("</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
     Ok(s)
+}
+
+/// The opening `<CellData>` tag of a snapshot, naming `pressure` its active scalars when the
+/// cells carry one.
+pub(super) fn cell_data_start(cell_data: &[(String, Vec<f64>)]) -> &'static str {
+    if cell_data.iter().any(|(n, _)| n == "pressure") {
+        "<CellData Scalars=\"pressure\">\n"
+    } else {
+        "<CellData>\n"
+    }
 }
 
 /// The `<FieldData>` block of a snapshot: its time as one `TIME` value. A field-data array
