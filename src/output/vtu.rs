@@ -262,7 +262,8 @@ pub(super) fn cell_data_start(cell_data: &[(String, Vec<f64>)]) -> &'static str 
 
 /// The `<FieldData>` block of a snapshot: its time as one `TIME` value. A field-data array
 /// states its `NumberOfTuples` (VTK's reader takes the length of point and cell data from the
-/// grid, but of field data only from this attribute: without it ParaView read an empty `TIME`).
+/// grid, but of field data only from this attribute: without it VTK's XML readers, ParaView's,
+/// read an empty `TIME`).
 pub(super) fn time_field(t: f64) -> io::Result<String> {
     Ok(format!(
         "<FieldData>\n<DataArray type=\"Float64\" Name=\"TIME\" NumberOfTuples=\"1\" format=\"binary\">{}</DataArray>\n</FieldData>\n",
