@@ -29,6 +29,40 @@ pub enum DragForm {
     Centre,
 }
 
+/// What the free-end node of a continuum grid carries as drag (docs/model.md §3.3a, "The free
+/// end's drag"). On the discrete line (one segment per cell) both are the tip boundary's own
+/// `K`; they differ on a grid of `n ≠ N` segments.
+///
+/// * [`FreeEndDrag::Segment`] (default, the canonical scheme): its segment's drag, `K h/L`, so
+///   that as `h → 0` the end is the continuum's stress-free end; the discrete line of `N` cells
+///   then differs from the continuum by `O(1/N)` at a free end.
+/// * [`FreeEndDrag::Cells`]: half its segment's drag plus the tip boundary's own half cell,
+///   `K (h/L + 1)/2`, the drag the discrete line's last boundary carries beyond the distributed
+///   drag; a grid of any `n` then approximates the line of `N` cells to `O(1/N²)`.
+///
+/// ```
+/// use celltissue::line::build::{continuum, LineParams};
+/// use celltissue::substrate::FreeEndDrag;
+/// use celltissue::boundary::RightEnd;
+/// let mut p = LineParams::unit_cells(4);
+/// p.right = RightEnd::Free(None);
+/// p.k = 1.0.into();
+/// p.free_end_drag = FreeEndDrag::Cells;
+/// let line = continuum(celltissue::NeoHookean::new(1.0)?, &p, 8)?; // h = 1/2
+/// assert_eq!(line.k_face()[8], 0.75); // (1/2 + 1)/2
+/// assert_eq!(line.k_face()[4], 0.5);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FreeEndDrag {
+    /// The end node's segment's drag `K h/L` (the continuum's free end).
+    #[default]
+    Segment,
+    /// `K (h/L + 1)/2`: half the segment's drag and half the tip boundary's (the cells' end).
+    Cells,
+}
+
 /// How the width of a shared boundary is formed from the two cells' widths.
 ///
 /// ```

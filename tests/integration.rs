@@ -28,6 +28,7 @@ mod growth_proliferating_continuum;
 mod growth_thesis;
 mod line_active_ring;
 mod line_continuum_cell_count;
+mod line_continuum_free_end_drag;
 mod line_continuum_integer_points;
 mod line_discrete_continuum_convergence;
 mod line_field_edits;

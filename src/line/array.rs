@@ -192,7 +192,12 @@ impl UniformFields {
             inv_l0: same(&cells.l0).map(|l| 1.0 / l),
             mu: same(&cells.mu),
             eta: same(&cells.eta),
-            k_face: same(k_face),
+            // the free end's row reads its own face (`end_row`), which may carry the tip's
+            // half cell (`FreeEndDrag::Cells`)
+            k_face: same(match k_face.split_last() {
+                Some((_, inner)) if !inner.is_empty() => inner,
+                _ => k_face,
+            }),
             p_ext: same(&cells.p_ext),
             extended: false,
         }
@@ -351,6 +356,10 @@ pub struct Line<E: StrainEnergy> {
     /// Drag per boundary `K_j` (`j = 0..=N`), already multiplied by `h/L̄` on a continuum grid
     /// (read it with [`Line::k_face`]; same rule as `cells`).
     pub(crate) k_face: Vec<f64>,
+    /// The part of `k_face[N]` that is the tip boundary's own half cell (`K/2`) on a continuum
+    /// grid built with [`FreeEndDrag::Cells`](crate::substrate::FreeEndDrag::Cells), else 0:
+    /// the proliferating density continuum scales the rest of the face with the density.
+    pub(crate) k_tip: f64,
     /// Drag-area exponent `m`.
     pub m: f64,
     /// Lateral growth stretch `g₂`.
@@ -370,8 +379,7 @@ pub struct Line<E: StrainEnergy> {
     pub(crate) growth: Option<Arc<dyn GrowthLaw>>,
     /// Maxwell branch of every cell, if any (then each cell's viscous stretch `a_v` is in the
     /// state; docs/viscoelasticity.md; read it with [`Line::maxwell`]; the layout depends on
-    /// it). The line's own Jacobian is then not provided: the integrators' coloured AD
-    /// Jacobian is used.
+    /// it); the line's own Jacobian sweep differentiates it with the cells.
     pub(crate) maxwell: Option<MaxwellBranch>,
     /// Reference length `l₀ = Σ L₀,j` (read it with [`Line::l0_total`]).
     pub(crate) l0_total: f64,

@@ -4,7 +4,8 @@
 //! * [`continuum`] — the conservative scheme of docs/model.md §3.3a: `n` segments of length
 //!   `h = l₀/n`, fields sampled at segment centres, drag `K` times the cell boundaries each node
 //!   stands for (`h/L` for cells of equal length `L`, since `K` is drag per cell boundary; a
-//!   census of unequal cells counts them). With `n = N` and unit cells it *is* the
+//!   census of unequal cells counts them; a free end's node also the tip boundary's own half
+//!   cell under [`FreeEndDrag::Cells`]). With `n = N` and unit cells it *is* the
 //!   discrete model (same type, same residual), so `n` is independent of `N`.
 //! * [`cell_groups`] — the cell-number grid's line: segments of whole cells.
 //! * [`segment_cells`] — the cells each continuum segment holds (a density continuum's start).
@@ -15,7 +16,7 @@ use super::LineError;
 use crate::boundary::RightEnd;
 use crate::cell::{Active, Field, GrowthLaw, MaxwellBranch, Sampling};
 use crate::energy::StrainEnergy;
-use crate::substrate::{DragForm, WidthRule};
+use crate::substrate::{DragForm, FreeEndDrag, WidthRule};
 use std::f64::consts::PI;
 use std::sync::Arc;
 
@@ -58,6 +59,9 @@ pub struct LineParams {
     pub width: WidthRule,
     /// Drag form.
     pub form: DragForm,
+    /// A continuum grid's free-end drag ([`FreeEndDrag`]; the discrete line is the same either
+    /// way).
+    pub free_end_drag: FreeEndDrag,
     /// Right end.
     pub right: RightEnd,
     /// Active stress.
@@ -93,6 +97,7 @@ impl LineParams {
             gamma0: 1.0,
             width: WidthRule::Mean,
             form: DragForm::Boundary,
+            free_end_drag: FreeEndDrag::Segment,
             right: RightEnd::Prescribed(crate::boundary::Ramp::Constant(n as f64)),
             active: None,
             growth: None,
@@ -477,6 +482,7 @@ fn assemble<E: StrainEnergy>(
             p_ext,
         },
         k_face,
+        k_tip: 0.0,
         m: p.m,
         g2: p.g2,
         gamma0: p.gamma0,
@@ -546,13 +552,23 @@ pub fn continuum<E: StrainEnergy>(
     let drawn = drawn_per_cell(p);
     let p = drawn.as_ref().unwrap_or(p);
     let h = l0 / n as f64;
-    let census = match CellCensus::of_unequal(&p.ref_lengths) {
+    let mut census = match CellCensus::of_unequal(&p.ref_lengths) {
         None => Census::uniform(n, h / (l0 / p.ref_lengths.len() as f64)),
         Some(cells) => Census::grid(cells, &grid_faces(h, n), p.right.is_periodic()),
     };
+    // the tip boundary's own half cell beyond the distributed drag: the end face carries
+    // (c + 1)/2 boundaries instead of its segment's c (the same on n = N segments, c = 1)
+    let tip = (p.right.is_free() && p.free_end_drag == FreeEndDrag::Cells).then(|| {
+        let c = census.face[n];
+        census.face[n] = 0.5 * (c + 1.0);
+        c
+    });
     // its records count the tissue's cells, not its segments
     let counts = census.cell.clone();
     let mut line = assemble(energy, p, vec![h; n], census)?;
+    if let Some(c) = tip {
+        line.k_tip = line.k_face[n] / (c + 1.0);
+    }
     line.segment_cells = counts.iter().any(|&c| c != 1.0).then_some(counts);
     Ok(line)
 }

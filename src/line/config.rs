@@ -20,7 +20,7 @@ use super::LineError;
 use crate::boundary::{Ramp, RampKind, RightEnd};
 use crate::cell::{Active, Field, Sampling, ViscosityModel};
 use crate::energy::{AnyEnergy, NeoHookean};
-use crate::substrate::{DragForm, WidthRule};
+use crate::substrate::{DragForm, FreeEndDrag, WidthRule};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
@@ -112,6 +112,9 @@ pub struct LineConfig {
     pub g2: f64,
     /// `"boundary"` (B, canonical) or `"centre"` (C, thesis code).
     pub drag_form: DragForm,
+    /// A continuum grid's free-end drag: `"segment"` (default) or `"cells"` ([`FreeEndDrag`];
+    /// read only with a free right end and the boundary drag form).
+    pub free_end_drag: FreeEndDrag,
     /// Shared width: `"mean"` or `"min"`.
     pub width: WidthRule,
     /// `"prescribed"`, `"free"` or `"periodic"`.
@@ -157,6 +160,7 @@ impl Default for LineConfig {
             gamma0: 1.0,
             g2: 1.0,
             drag_form: DragForm::Boundary,
+            free_end_drag: FreeEndDrag::Segment,
             width: WidthRule::Mean,
             right_end: RightEndKind::Prescribed,
             force: 0.0,
@@ -305,6 +309,12 @@ impl LineConfig {
         if periodic && self.drag_form == DragForm::Centre {
             return Err(LineError::CentreFormPeriodic);
         }
+        if self.free_end_drag == FreeEndDrag::Cells && self.drag_form == DragForm::Centre {
+            return Err(LineError::Conflict {
+                key: "free_end_drag",
+                message: "`free_end_drag` = \"cells\" with `drag_form` = \"centre\": the centre form drags the cells' centres, not the end node, so the key would change nothing; use the boundary form or leave it out".into(),
+            });
+        }
         let k_zero = self.k.is_identically_zero();
         let eta_zero = self.eta.is_identically_zero();
         if periodic && k_zero && !self.gauge {
@@ -436,6 +446,7 @@ impl LineConfig {
             gamma0: self.gamma0,
             width: self.width,
             form: self.drag_form,
+            free_end_drag: self.free_end_drag,
             right,
             active: self.active,
             growth: self.growth.as_ref().map(|g| g.law().clone()),

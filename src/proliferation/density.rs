@@ -181,7 +181,10 @@ impl<E: StrainEnergy> DensityContinuum<E> {
                 b if b == n => r[n - 1],
                 b => 0.5 * (r[b - 1] + r[b]),
             };
-            self.line.k_face[b] = self.base_face[b] * rf;
+            // (the tip boundary's own half cell, if the grid carries it, is one boundary
+            // whatever the density)
+            let tip = if b == n { self.line.k_tip } else { 0.0 };
+            self.line.k_face[b] = (self.base_face[b] - tip) * rf + tip;
         }
         self.line.cells.k_cell[i] = self.base_cell[i] * r[i];
     }

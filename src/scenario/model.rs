@@ -436,7 +436,7 @@ fn parse_models(v: &toml::Value) -> Result<Vec<ModelKind>, ScenarioError> {
 }
 
 /// Keys of a line that one right-end condition alone reads, with what they mean there.
-const END_KEYS: [(&str, crate::line::config::RightEndKind, &str); 5] = {
+const END_KEYS: [(&str, crate::line::config::RightEndKind, &str); 6] = {
     use crate::line::config::RightEndKind::{Free, Periodic, Prescribed};
     [
         ("k1", Prescribed, "the shortening of a prescribed right end"),
@@ -447,6 +447,11 @@ const END_KEYS: [(&str, crate::line::config::RightEndKind, &str); 5] = {
         ),
         ("ramp", Prescribed, "the ramp of a prescribed right end"),
         ("force", Free, "the force on a free right end"),
+        (
+            "free_end_drag",
+            Free,
+            "the drag of a continuum grid's free-end node",
+        ),
         ("gauge", Periodic, "the pin x₀ = 0 of a ring"),
     ]
 };

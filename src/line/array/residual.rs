@@ -45,7 +45,7 @@ impl<E: StrainEnergy> Line<E> {
         let n = self.n_cells();
         let f_n = -(p.w * p.sigma) + self.f_ext(t);
         match self.form {
-            DragForm::Boundary => p.kappa * p.vr * self.k_face_at(n) - f_n,
+            DragForm::Boundary => p.kappa * p.vr * self.k_face[n] - f_n,
             DragForm::Centre => p.kappa * (p.vl + p.vr) * self.cells.k_cell[n - 1] - f_prev - f_n,
         }
     }
