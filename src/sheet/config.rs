@@ -21,6 +21,7 @@ use super::uniaxial::{SheetGrowth, SheetParams};
 use crate::cell::growth_laws::GrowthSpec;
 use crate::cell::{Field, ViscosityModel};
 use crate::energy::{AnyEnergy, NeoHookean};
+use crate::substrate::FreeEndDrag;
 use serde::{Deserialize, Serialize};
 
 /// The side `y = w₀` of the sheet.
@@ -230,6 +231,9 @@ pub struct SheetConfig {
     pub growth: Option<GrowthSpec>,
     /// Which in-plane directions grow: `"both"` (default), `"x"` or `"y"`.
     pub growth_directions: GrowthDirections,
+    /// A continuum grid's drag on its free edges: `"segment"` (default) or `"cells"`
+    /// ([`FreeEndDrag`]; read only with a free top or a free side).
+    pub free_end_drag: FreeEndDrag,
 }
 
 fn default_law() -> AnyEnergy {
@@ -255,6 +259,7 @@ impl Default for SheetConfig {
             right: RightEdge::Prescribed,
             growth: None,
             growth_directions: GrowthDirections::Both,
+            free_end_drag: FreeEndDrag::Segment,
         }
     }
 }
@@ -326,6 +331,14 @@ impl SheetConfig {
             "needs growth (add growth = { law = \"tanh\", sigma0 = 0.1 })",
         )?;
         need(
+            self.free_end_drag == FreeEndDrag::Segment
+                || self.top == TopBoundary::Free
+                || self.right == RightEdge::Free,
+            "free_end_drag",
+            "\"cells\"",
+            "acts on a free edge; this sheet has a periodic side and a prescribed one: leave it out",
+        )?;
+        need(
             self.growth.is_some() || self.right == RightEdge::Prescribed,
             "right",
             "\"free\"",
@@ -374,6 +387,7 @@ impl SheetConfig {
                 law: g.law().clone(),
                 directions: self.growth_directions,
             }),
+            free_end_drag: self.free_end_drag,
         }
     }
 }

@@ -14,7 +14,9 @@
 //! **Equations** (per face, primes = neighbouring cell; `D = K h_X h_Y / γ₀` is the per-face drag,
 //! `= K` for the discrete model):
 //! `D κ ẋ_b(j,k) = H W (σ₁₁' − σ₁₁)`, `D κ ẏ_b(j,k) = H L (σ₂₂' − σ₂₂)`, and for a free top
-//! `D κ ẏ_b(j,m) = −H L σ₂₂(j,m)` with the top cell's own `H`, `L`. A cell's `σᵢᵢ` is the law's
+//! `D κ ẏ_b(j,m) = −H L σ₂₂(j,m)` with the top cell's own `H`, `L` (a free edge's faces carry
+//! `K h_X (h_Y/γ₀ + 1)/2` or its x counterpart instead of `D` with
+//! [`FreeEndDrag::Cells`]). A cell's `σᵢᵢ` is the law's
 //! (unless the cell is a Maxwell cell) plus the branch's `μ_m/μ · σᵢᵢ(λ₁/a₁, λ₂/a₂)` plus the
 //! Kelvin–Voigt stress `η(α̇ᵢ − α̇₃)` minus the external pressure `p_e(X)` on its upper face;
 //! each viscous stretch has the row `ȧᵢ − aᵢ·2 dev(σ_m)ᵢᵢ/η_m = 0` (docs/viscoelasticity.md,
@@ -28,6 +30,7 @@ use crate::cell::{Field, GrowthLaw, MaxwellBranch, ViscousBranch};
 use crate::energy::{SheetResponse, StrainEnergy};
 use crate::line::homogenise::{jumps_between_cells, segment_means};
 use crate::scalar::Scalar;
+use crate::substrate::FreeEndDrag;
 use integrators::{Pattern, SparsityPattern};
 use std::cell::RefCell;
 
@@ -77,6 +80,10 @@ pub struct SheetParams {
     pub right: RightEdge,
     /// Growth of the cells' in-plane reference lengths, if any.
     pub growth: Option<SheetGrowth>,
+    /// A continuum grid's drag on its free edges (the free top's `y` faces, a free side's `x`
+    /// faces; [`FreeEndDrag`], as on the line): `Cells` adds the edge cells' own half cell of
+    /// drag, so that the grid approximates the discrete sheet to second order.
+    pub free_end_drag: FreeEndDrag,
 }
 
 /// Stress-dependent growth of a sheet's cells (docs/sheet_growth.md): growth stretches `g₁`,
@@ -111,6 +118,18 @@ impl std::fmt::Debug for SheetGrowth {
     }
 }
 
+/// The drag of a face on a free edge of a grid whose segments hold `along` cells along the
+/// edge and `across` cells across it: its segment's `K along·across`, or with
+/// [`FreeEndDrag::Cells`] half of it plus the edge cells' own half faces, `K along (across + 1)/2`
+/// (the discrete sheet's edge face carries `K`, half a cell beyond the distributed drag;
+/// docs/model.md §3.3a).
+fn edge_drag(p: &SheetParams, along: f64, across: f64) -> f64 {
+    match p.free_end_drag {
+        FreeEndDrag::Segment => p.drag * along * across,
+        FreeEndDrag::Cells => p.drag * along * 0.5 * (across + 1.0),
+    }
+}
+
 impl Default for SheetParams {
     /// The thesis defaults: `N = M = 10`, `γ₀ = β₀ = 1`, `K = ½` (`K_th = 1`), `m = 0`,
     /// `k₁ = 0.1`, exponential ramp, free top.
@@ -130,6 +149,7 @@ impl Default for SheetParams {
             external_pressure: Field::Constant(0.0),
             right: RightEdge::Prescribed,
             growth: None,
+            free_end_drag: FreeEndDrag::Segment,
         }
     }
 }
@@ -235,6 +255,10 @@ pub struct UniaxialSheet<E: StrainEnergy> {
     hx: f64,
     hy: f64,
     face_drag: f64,
+    /// The drag of a free top's `y` faces and of a free side's `x` faces (`face_drag` unless
+    /// [`FreeEndDrag::Cells`]).
+    top_drag: f64,
+    side_drag: f64,
     pattern: Pattern,
     /// Per-cell response cache keyed by the exact `(λ₁, λ₂)` values: all colours of one AD
     /// Jacobian share the real parts, so the law is evaluated once per cell per Jacobian.
@@ -403,6 +427,8 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
             hx,
             hy,
             face_drag: p.drag * hx * hy / p.gamma0,
+            top_drag: edge_drag(p, hx, hy / p.gamma0),
+            side_drag: edge_drag(p, hy / p.gamma0, hx),
             pattern: Pattern::Dense,
             cache: RefCell::new(Vec::new()),
             branch_cache: RefCell::new(Vec::new()),

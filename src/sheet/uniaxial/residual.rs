@@ -263,7 +263,7 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
                 if !periodic && k == m {
                     let c = &cur[m - 1];
                     let l = c.l1 * self.hx;
-                    r[row] = yp[row] * (c.kappa * d) + c.h * l * c.s22;
+                    r[row] = yp[row] * (c.kappa * self.top_drag) + c.h * l * c.s22;
                     continue;
                 }
                 let (a, b) = if k == 0 {
@@ -297,7 +297,7 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
                 for (k, c) in (1..=m).zip(&cur) {
                     let row = self.ix(n, k);
                     let w = c.l2 * self.hy;
-                    r[row] = yp[row] * (c.kappa * d) + c.h * w * c.s11;
+                    r[row] = yp[row] * (c.kappa * self.side_drag) + c.h * w * c.s11;
                 }
             }
         }
