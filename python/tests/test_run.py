@@ -271,3 +271,26 @@ def test_cells_with_a_maxwell_branch_divide_and_record_their_viscous_stretch():
     scenario["model"]["models"] = ["discrete", "continuum"]
     with pytest.raises(celltissue.ScenarioError, match=r"`model\.viscosity\.model`"):
         celltissue.run(scenario)
+
+
+def test_a_continuum_that_keeps_the_tip_cells_drag_follows_the_cells():
+    # 50 growing cells with a free end, K = 1e-4, a grid four times finer (docs/model.md §3.3a,
+    # "The free end's drag"): measured l(2) gaps to the discrete line 4.0e-3 ("segment") and
+    # 1.5e-5 ("cells")
+    def gap(drag):
+        scenario = {
+            "name": "tip",
+            "output": {"series": [0, 2]},
+            "model": {"kind": "line", "models": ["discrete", "continuum"], "cells": 50,
+                      "nodes": 200, "right_end": "free", "K": 1e-4,
+                      "growth": {"sigma0": 0.1}, "free_end_drag": drag},
+        }
+        d, c = celltissue.run(scenario)
+        assert d.error is None and c.error is None
+        assert c.parameters["free_end_drag"] == drag
+        return abs(c.series["length"][-1] / d.series["length"][-1] - 1.0)
+    cells, segment = gap("cells"), gap("segment")
+    assert cells < 1e-4 < 1e-3 < segment
+    with pytest.raises(celltissue.ScenarioError, match=r"`model\.free_end_drag`"):
+        celltissue.validate({"name": "p", "output": {"series": [0, 1]},
+                             "model": {"kind": "line", "free_end_drag": "cells"}})
