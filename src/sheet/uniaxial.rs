@@ -119,13 +119,13 @@ impl std::fmt::Debug for SheetGrowth {
 }
 
 /// The drag of a face on a free edge of a grid whose segments hold `along` cells along the
-/// edge and `across` cells across it: its segment's `K along·across`, or with
+/// edge and `across` cells across it: its segment's, `face_drag = K along·across`, or with
 /// [`FreeEndDrag::Cells`] half of it plus the edge cells' own half faces, `K along (across + 1)/2`
 /// (the discrete sheet's edge face carries `K`, half a cell beyond the distributed drag;
 /// docs/model.md §3.3a).
-fn edge_drag(p: &SheetParams, along: f64, across: f64) -> f64 {
+fn edge_drag(p: &SheetParams, face_drag: f64, along: f64, across: f64) -> f64 {
     match p.free_end_drag {
-        FreeEndDrag::Segment => p.drag * along * across,
+        FreeEndDrag::Segment => face_drag,
         FreeEndDrag::Cells => p.drag * along * 0.5 * (across + 1.0),
     }
 }
@@ -418,6 +418,7 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
             });
         }
         let growth_at = if p.branch.is_some() { 2 * m } else { 0 };
+        let face_drag = p.drag * hx * hy / p.gamma0;
         let faces = growth_at + if p.growth.is_some() { 2 * m } else { 0 };
         let mut s = Self {
             law,
@@ -426,9 +427,9 @@ impl<E: StrainEnergy> UniaxialSheet<E> {
             m,
             hx,
             hy,
-            face_drag: p.drag * hx * hy / p.gamma0,
-            top_drag: edge_drag(p, hx, hy / p.gamma0),
-            side_drag: edge_drag(p, hy / p.gamma0, hx),
+            face_drag,
+            top_drag: edge_drag(p, face_drag, hx, hy / p.gamma0),
+            side_drag: edge_drag(p, face_drag, hy / p.gamma0, hx),
             pattern: Pattern::Dense,
             cache: RefCell::new(Vec::new()),
             branch_cache: RefCell::new(Vec::new()),
