@@ -206,9 +206,9 @@ fn inputs_a_run_would_reject_exit_2_before_anything_is_written() {
     );
     rejects(
         "division_maxwell",
-        "name = \"d\"\n[output]\nseries = [0, 1]\n[model]\nkind = \"line\"\ncells = 10\nright_end = \"free\"\ngrowth = { sigma0 = 0.1 }\ndivision = { rule = \"area\" }\nviscosity = { model = \"standard_linear_solid\", mu_m = 1, eta_m = 2 }\n",
+        "name = \"d\"\n[output]\nseries = [0, 1]\n[model]\nkind = \"line\"\ncells = 10\nright_end = \"free\"\ngrowth = { sigma0 = 0.1 }\ndivision = { rule = \"area\", cell_grid = { merge_below = 1e-3 } }\nviscosity = { model = \"standard_linear_solid\", mu_m = 1, eta_m = 2 }\n",
         &[],
-        "model.viscosity.model",
+        "model.division.cell_grid.merge_below",
     );
     rejects(
         "shear_axial_law",

@@ -268,8 +268,14 @@ def test_cells_with_a_maxwell_branch_divide_and_record_their_viscous_stretch():
     assert a_v.shape == (cells,) and np.all(np.isfinite(a_v)) and np.all(a_v > 0)
     # compressed by the drag, the branch has flowed: a_v < 1 somewhere
     assert a_v.min() < 1.0
+    # the proliferating continuum divides them too (each segment one viscous stretch), but the
+    # cell-number grid does not merge them
     scenario["model"]["models"] = ["discrete", "continuum"]
-    with pytest.raises(celltissue.ScenarioError, match=r"`model\.viscosity\.model`"):
+    d, c = celltissue.run(scenario)
+    assert c.error is None and c.profile("viscous")[0].min() < 1.0
+    assert abs(c.series["length"][-1] / d.series["length"][-1] - 1.0) < 0.05
+    scenario["model"]["division"]["cell_grid"] = {"merge_below": 1e-3}
+    with pytest.raises(celltissue.ScenarioError, match=r"`model\.division\.cell_grid\.merge_below`"):
         celltissue.run(scenario)
 
 
