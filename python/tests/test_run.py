@@ -270,10 +270,12 @@ def test_cells_with_a_maxwell_branch_divide_and_record_their_viscous_stretch():
     assert a_v.min() < 1.0
     # the proliferating continuum divides them too (each segment one viscous stretch), but the
     # cell-number grid does not merge them
+    # (measured l(10) gap: 0.99 % with the tip cell's drag kept, 6.9 % without)
     scenario["model"]["models"] = ["discrete", "continuum"]
+    scenario["model"]["free_end_drag"] = "cells"
     d, c = celltissue.run(scenario)
     assert c.error is None and c.profile("viscous")[0].min() < 1.0
-    assert abs(c.series["length"][-1] / d.series["length"][-1] - 1.0) < 0.05
+    assert abs(c.series["length"][-1] / d.series["length"][-1] - 1.0) < 0.02
     scenario["model"]["division"]["cell_grid"] = {"merge_below": 1e-3}
     with pytest.raises(celltissue.ScenarioError, match=r"`model\.division\.cell_grid\.merge_below`"):
         celltissue.run(scenario)
