@@ -336,7 +336,7 @@ impl SheetConfig {
                 || self.right == RightEdge::Free,
             "free_end_drag",
             "\"cells\"",
-            "acts on a free edge; this sheet has a periodic side and a prescribed one: leave it out",
+            "is read only on a free edge (a free top or a free side), and this sheet has a periodic side and a prescribed one: leave it out",
         )?;
         need(
             self.growth.is_some() || self.right == RightEdge::Prescribed,
