@@ -63,6 +63,25 @@ pub enum FreeEndDrag {
     Cells,
 }
 
+impl FreeEndDrag {
+    /// The boundaries a free end's face carries when its segment holds `c` cells across the
+    /// end: `c` ([`FreeEndDrag::Segment`]) or `(c + 1)/2` ([`FreeEndDrag::Cells`]: half the
+    /// segment's and half the tip boundary's own); 1 for a single cell either way.
+    ///
+    /// ```
+    /// use celltissue::substrate::FreeEndDrag;
+    /// assert_eq!(FreeEndDrag::Segment.end_face(0.5), 0.5);
+    /// assert_eq!(FreeEndDrag::Cells.end_face(0.5), 0.75);
+    /// assert_eq!(FreeEndDrag::Cells.end_face(1.0), 1.0);
+    /// ```
+    pub fn end_face(self, c: f64) -> f64 {
+        match self {
+            FreeEndDrag::Segment => c,
+            FreeEndDrag::Cells => 0.5 * (c + 1.0),
+        }
+    }
+}
+
 /// How the width of a shared boundary is formed from the two cells' widths.
 ///
 /// ```

@@ -560,7 +560,7 @@ pub fn continuum<E: StrainEnergy>(
     // (c + 1)/2 boundaries instead of its segment's c (the same on n = N segments, c = 1)
     let tip = (p.right.is_free() && p.free_end_drag == FreeEndDrag::Cells).then(|| {
         let c = census.face[n];
-        census.face[n] = 0.5 * (c + 1.0);
+        census.face[n] = FreeEndDrag::Cells.end_face(c);
         c
     });
     // its records count the tissue's cells, not its segments

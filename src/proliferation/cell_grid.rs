@@ -23,6 +23,7 @@ use crate::events::{Dividing, DivisionLog, DivisionRule, EventError, SplitMix64}
 use crate::line::run::LineModel;
 use crate::line::Line;
 use crate::scalar::Scalar;
+use crate::substrate::FreeEndDrag;
 use integrators::{EventAction, ResidualError};
 
 /// The proliferating continuum on a grid in the cell-number coordinate: segments of `c` whole
@@ -289,7 +290,7 @@ impl<E: StrainEnergy> CellGrid<E> {
         let n = k.len();
         let end = |i: usize| {
             let m = self.multiplicity[i] as f64;
-            (m + 1.0) / (2.0 * m) * k[i]
+            FreeEndDrag::Cells.end_face(m) / m * k[i]
         };
         for (b, face) in line.k_face.iter_mut().enumerate() {
             *face = match b {

@@ -126,7 +126,7 @@ impl std::fmt::Debug for SheetGrowth {
 fn edge_drag(p: &SheetParams, face_drag: f64, along: f64, across: f64) -> f64 {
     match p.free_end_drag {
         FreeEndDrag::Segment => face_drag,
-        FreeEndDrag::Cells => p.drag * along * 0.5 * (across + 1.0),
+        FreeEndDrag::Cells => p.drag * along * FreeEndDrag::Cells.end_face(across),
     }
 }
 
