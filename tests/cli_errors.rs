@@ -205,12 +205,6 @@ fn inputs_a_run_would_reject_exit_2_before_anything_is_written() {
         "model.law",
     );
     rejects(
-        "division_maxwell",
-        "name = \"d\"\n[output]\nseries = [0, 1]\n[model]\nkind = \"line\"\ncells = 10\nright_end = \"free\"\ngrowth = { sigma0 = 0.1 }\ndivision = { rule = \"area\", cell_grid = { merge_below = 1e-3 } }\nviscosity = { model = \"standard_linear_solid\", mu_m = 1, eta_m = 2 }\n",
-        &[],
-        "model.division.cell_grid.merge_below",
-    );
-    rejects(
         "shear_axial_law",
         "name = \"s\"\n[output]\nseries = [0, 1]\n[model]\nkind = \"shear\"\nlaw = { law = \"expression\", W = \"mu/2*(I1 - 3) + k*(l1 - 1)^2\", mu = 1, k = 1 }\n",
         &[],

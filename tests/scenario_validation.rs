@@ -893,10 +893,10 @@ fn an_external_pressure_list_is_checked_before_a_run() {
     load(&line("external_pressure = [0.1, -0.2, 0.3]"), &[]).unwrap();
 }
 
-/// Cells with a Maxwell branch divide on the discrete line and in both proliferating continua;
-/// the cell-number grid does not merge them, and merging is refused by name before a run.
+/// Cells with a Maxwell branch divide on the discrete line and in both proliferating continua,
+/// and the cell-number grid merges them (tests/division_maxwell_cells.rs checks the runs).
 #[test]
-fn a_maxwell_branch_divides_everywhere_but_is_not_merged() {
+fn a_maxwell_branch_divides_everywhere_and_merges_on_the_cell_grid() {
     let text = line(
         "right_end = \"free\"\ngrowth = { sigma0 = 0.1 }\ndivision = { rule = \"area\" }\n\
          viscosity = { model = \"standard_linear_solid\", mu_m = 1, eta_m = 2 }",
@@ -909,10 +909,5 @@ fn a_maxwell_branch_divides_everywhere_but_is_not_merged() {
         load(&text, &[&format!("model.models={models}")]).unwrap();
     }
     load(&text, &["model.division.cell_grid={}"]).unwrap();
-    let m = rejects(
-        &text,
-        &["model.division.cell_grid={merge_below=1e-3}"],
-        "model.division.cell_grid.merge_below",
-    );
-    assert!(m.contains("leave merge_below out"), "{m}");
+    load(&text, &["model.division.cell_grid={merge_below=1e-3}"]).unwrap();
 }

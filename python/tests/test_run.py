@@ -268,17 +268,21 @@ def test_cells_with_a_maxwell_branch_divide_and_record_their_viscous_stretch():
     assert a_v.shape == (cells,) and np.all(np.isfinite(a_v)) and np.all(a_v > 0)
     # compressed by the drag, the branch has flowed: a_v < 1 somewhere
     assert a_v.min() < 1.0
-    # the proliferating continuum divides them too (each segment one viscous stretch), but the
-    # cell-number grid does not merge them
+    # the proliferating continuum divides them too (each segment one viscous stretch)
     # (measured l(10) gap: 0.99 % with the tip cell's drag kept, 6.9 % without)
     scenario["model"]["models"] = ["discrete", "continuum"]
     scenario["model"]["free_end_drag"] = "cells"
     d, c = celltissue.run(scenario)
     assert c.error is None and c.profile("viscous")[0].min() < 1.0
     assert abs(c.series["length"][-1] / d.series["length"][-1] - 1.0) < 0.02
-    scenario["model"]["division"]["cell_grid"] = {"merge_below": 1e-3}
-    with pytest.raises(celltissue.ScenarioError, match=r"`model\.division\.cell_grid\.merge_below`"):
-        celltissue.run(scenario)
+    # and the cell-number grid merges them where they grow slowly (a loose threshold for a short
+    # run: measured 30 segments for 64 cells, the same N, l(10) 0.24 % short)
+    scenario["model"]["models"] = ["continuum"]
+    scenario["model"]["division"]["cell_grid"] = {"merge_below": 0.2, "merge_batch": 1}
+    (g,) = celltissue.run(scenario)
+    assert g.error is None and g.profile("segment_cells")[0].max() > 1
+    assert g.series["cells"][-1] == d.series["cells"][-1]
+    assert abs(g.series["length"][-1] / d.series["length"][-1] - 1.0) < 0.01
 
 
 def test_a_continuum_that_keeps_the_tip_cells_drag_follows_the_cells():

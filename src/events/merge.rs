@@ -5,6 +5,9 @@
 //! * the merged segment: reference length `L₀ = L₀,a + L₀,b`, growth stretch the
 //!   `L₀`-weighted mean `g = (L₀,a g_a + L₀,b g_b)/L₀` (so `Σ L₀g` and the growth of length,
 //!   `Σ L₀ G`, are unchanged), drag `k_cell` the sum, the other fields `L₀`-weighted means;
+//! * a Maxwell branch's viscous stretch `a_v` (docs/viscoelasticity.md) is the mean weighted
+//!   by the grown lengths `L₀g`, so the branch's rest lengths `L₀ g a_v` add up as the lengths
+//!   do (its elastic stretch and stress are unchanged when the two cells' were equal);
 //! * the boundary between them is removed, and half its drag goes to each neighbouring face
 //!   (the total drag is unchanged);
 //! * every other boundary keeps its position, so `l` is unchanged; the merged segment's
@@ -45,10 +48,8 @@ impl<E: StrainEnergy> Line<E> {
     /// ```
     pub fn merge_cells(&mut self, firsts: &[usize], y: &mut Vec<f64>) -> Result<(), EventError> {
         let n = self.n_cells();
-        if self.maxwell.is_some() || self.right.is_periodic() {
-            return Err(EventError::Unsupported(
-                "merging cells with a Maxwell branch or on a ring".into(),
-            ));
+        if self.right.is_periodic() {
+            return Err(EventError::Unsupported("merging cells on a ring".into()));
         }
         self.check_state_length(y)?;
         let mut next = 1;
@@ -92,7 +93,18 @@ impl<E: StrainEnergy> Line<E> {
             let mean = |v: &[f64]| (la * v[a] + lb * v[b]) / w;
             let ga = y[self.layout.gi[a]];
             let gb = y[self.layout.gi[b]];
-            out.push((la * ga + lb * gb) / w);
+            // a cell left alone keeps its values bit for bit
+            out.push(if merge { (la * ga + lb * gb) / w } else { ga });
+            let (va, vb) = (self.layout.vi[a], self.layout.vi[b]);
+            if va != NONE {
+                // the branch's rest lengths add: `a_v` weighted by the grown lengths
+                let (ra, rb) = (la * ga, lb * gb);
+                out.push(if merge {
+                    (ra * y[va] + rb * y[vb]) / (ra + rb)
+                } else {
+                    y[va]
+                });
+            }
             let xk = self.layout.xi[b + 1];
             if xk != NONE {
                 out.push(y[xk]);
@@ -120,8 +132,8 @@ impl<E: StrainEnergy> Line<E> {
             eta.push(v.eta);
             active_amp.push(v.active_amp);
             p_ext.push(v.p_ext);
-            phase.push(mean(&c.phase));
-            x_ref.push(mean(&c.x_ref));
+            phase.push(if merge { mean(&c.phase) } else { c.phase[a] });
+            x_ref.push(if merge { mean(&c.x_ref) } else { c.x_ref[a] });
             if merge {
                 // the removed face a + 1 gives half its drag to each neighbour
                 let half = 0.5 * self.k_face[a + 1];
@@ -176,5 +188,34 @@ mod tests {
         // compliance 1/1 + 1/3 over a length of 2: μ = 1.5; η/μ = 2 in both, so η = 2μ
         assert!((c.mu[0] - 1.5).abs() < 1e-15 && (c.eta[0] - 3.0).abs() < 1e-14);
         assert_eq!((c.mu[1], c.eta[1]), (2.0, 0.0));
+    }
+
+    /// Two standard-linear-solid cells merge with the branch's rest lengths `L₀ g a_v` added
+    /// (`a_v` the mean weighted by grown length); a cell left alone keeps its `g` and `a_v`
+    /// bit for bit; equal cells keep their branch's elastic stretch `α/a_v`.
+    #[test]
+    fn a_branch_merges_by_its_rest_lengths() {
+        let mut p = LineParams::unit_cells(3);
+        p.right = crate::boundary::RightEnd::Free(None);
+        p.k = 1.0.into();
+        p.growth = Some(Arc::new(TanhGrowth::default()));
+        p.maxwell = Some(crate::cell::MaxwellBranch::standard_linear_solid(1.0, 2.0).unwrap());
+        let mut line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+        // (g1, a1, x1, g2, a2, x2, g3, a3, x3): cells 1 and 2 differ, cell 3 is alone
+        let mut y = vec![1.2, 0.9, 1.1, 1.6, 1.05, 3.0, 1.1, 0.97, 4.3];
+        let rest = 1.2 * 0.9 + 1.6 * 1.05;
+        line.merge_cells(&[1], &mut y).unwrap();
+        assert_eq!(line.n_cells(), 2);
+        let lay = line.layout();
+        let (g, a) = (y[lay.gi[0]], y[lay.vi[0]]);
+        assert!((2.0 * g * a - rest).abs() < 1e-14, "{g} {a}");
+        assert_eq!((y[lay.gi[1]], y[lay.vi[1]], y[lay.xi[2]]), (1.1, 0.97, 4.3));
+        // two equal cells: the merged one has their stretch and branch stretch
+        let mut line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
+        let mut y = vec![1.3, 0.95, 1.2, 1.3, 0.95, 2.4, 1.0, 1.0, 3.4];
+        line.merge_cells(&[1], &mut y).unwrap();
+        let lay = line.layout();
+        assert!((y[lay.gi[0]] - 1.3).abs() < 1e-15 && (y[lay.vi[0]] - 0.95).abs() < 1e-15);
+        assert_eq!(y[lay.xi[1]], 2.4);
     }
 }

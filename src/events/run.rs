@@ -6,7 +6,6 @@
 
 use super::dividing::Dividing;
 use super::division::DivisionConfig;
-use crate::cell::ViscosityModel;
 use crate::energy::StrainEnergy;
 use crate::line::config::RightEndKind;
 use crate::line::run::run_model;
@@ -43,11 +42,6 @@ pub enum ProliferationError {
     /// The proliferating continuum on a ring.
     #[error("invalid `right_end` = \"periodic\": the proliferating continuum has no ring; run models = [\"discrete\"]")]
     Ring,
-    /// The cell-number grid merging segments of cells with a Maxwell branch (`viscosity`
-    /// Maxwell or standard linear solid): a merged segment's cells would need one viscous
-    /// stretch each.
-    #[error("invalid `division.cell_grid.merge_below` with `viscosity.model` = \"{0}\": merged segments share one stress, and the viscous stretches of their cells are not merged; leave merge_below out (the grid then divides such cells as the discrete line does), or run cells that are elastic or Kelvin–Voigt")]
-    MergingMaxwellBranch(&'static str),
 }
 
 impl ProliferationError {
@@ -69,9 +63,6 @@ impl ProliferationError {
             ProliferationError::Division(e) => Some(format!("division.{}", e.key())),
             ProliferationError::NoGrowth => Some("growth".into()),
             ProliferationError::Ring => Some("right_end".into()),
-            ProliferationError::MergingMaxwellBranch(_) => {
-                Some("division.cell_grid.merge_below".into())
-            }
         }
     }
 }
@@ -141,10 +132,10 @@ impl ProliferationConfig {
         Ok(())
     }
 
-    /// What the proliferating continuum needs besides [`Self::validate`]: a line, not a ring,
-    /// and no merging on the cell-number grid when the cells have a Maxwell branch (each
-    /// segment carries one viscous stretch, which a division copies to both halves and a
-    /// density division leaves as it is, but a merge of different cells would not hold).
+    /// What the proliferating continuum needs besides [`Self::validate`]: a line, not a ring.
+    /// Cells with a Maxwell branch are supported by both continua: each segment carries one
+    /// viscous stretch, which a division copies to both halves, a density division leaves as
+    /// it is and a merge averages by grown length ([`crate::line::Line::merge_cells`]).
     ///
     /// ```
     /// use celltissue::events::run::ProliferationConfig;
@@ -153,32 +144,16 @@ impl ProliferationConfig {
     /// assert!(ProliferationConfig::from_table(&t)?.validate_continuum().is_err());
     /// let sls = "cells = 10\nK = 1e-5\nright_end = \"free\"\ngrowth = { sigma0 = 0.1 }\n\
     ///     viscosity = { model = \"standard_linear_solid\", mu_m = 1, eta_m = 2 }\n";
-    /// // cells with a branch divide in both continua, but the grid does not merge them
-    /// let t: toml::Table = toml::from_str(sls)?;
-    /// assert!(ProliferationConfig::from_table(&t)?.validate_continuum().is_ok());
+    /// // cells with a branch divide in both continua, and the grid merges them
     /// let merging = format!("{sls}division = {{ rule = \"area\", cell_grid = {{ merge_below = 1e-3 }} }}");
-    /// let e = ProliferationConfig::from_table(&toml::from_str(&merging)?)?.validate_continuum();
-    /// assert_eq!(e.unwrap_err().key().as_deref(), Some("division.cell_grid.merge_below"));
+    /// assert!(ProliferationConfig::from_table(&toml::from_str(&merging)?)?.validate_continuum().is_ok());
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn validate_continuum(&self) -> Result<(), ProliferationError> {
         if self.line.right_end == RightEndKind::Periodic {
             return Err(ProliferationError::Ring);
         }
-        let merging = self
-            .division
-            .cell_grid
-            .as_ref()
-            .is_some_and(|g| g.merge_below.is_some());
-        match self.line.viscosity {
-            Some(ViscosityModel::Maxwell { .. }) if merging => {
-                Err(ProliferationError::MergingMaxwellBranch("maxwell"))
-            }
-            Some(ViscosityModel::StandardLinearSolid { .. }) if merging => Err(
-                ProliferationError::MergingMaxwellBranch("standard_linear_solid"),
-            ),
-            _ => Ok(()),
-        }
+        Ok(())
     }
 }
 
