@@ -15,7 +15,9 @@
 //! segments follows the growing cells rather than all cells. A merged segment keeps its
 //! members' growth stretches (as constant offsets from its own `g`: they share its stress, so
 //! they grow alike) and divides each member when the rule says so, inside the segment: the
-//! segment's reference length and cell count grow, nothing is resized.
+//! segment's reference length and cell count grow, nothing is resized. Cells with a Maxwell
+//! branch merge with one viscous stretch per segment, their `a_v` weighted by grown length
+//! ([`Line::merge_cells`]).
 
 use crate::array::CellArray;
 use crate::energy::StrainEnergy;
