@@ -169,12 +169,18 @@ mod tests {
     use crate::NeoHookean;
     use std::sync::Arc;
 
-    #[test]
-    fn two_cells_merge_into_their_series_element() {
+    /// Three growing unit cells with a free end and K = 1.
+    fn three_growing_cells() -> LineParams {
         let mut p = LineParams::unit_cells(3);
         p.right = crate::boundary::RightEnd::Free(None);
         p.k = 1.0.into();
         p.growth = Some(Arc::new(TanhGrowth::default()));
+        p
+    }
+
+    #[test]
+    fn two_cells_merge_into_their_series_element() {
+        let mut p = three_growing_cells();
         p.mu = Field::PerCell {
             values: vec![1.0, 3.0, 2.0],
         };
@@ -195,10 +201,7 @@ mod tests {
     /// bit for bit; equal cells keep their branch's elastic stretch `α/a_v`.
     #[test]
     fn a_branch_merges_by_its_rest_lengths() {
-        let mut p = LineParams::unit_cells(3);
-        p.right = crate::boundary::RightEnd::Free(None);
-        p.k = 1.0.into();
-        p.growth = Some(Arc::new(TanhGrowth::default()));
+        let mut p = three_growing_cells();
         p.maxwell = Some(crate::cell::MaxwellBranch::standard_linear_solid(1.0, 2.0).unwrap());
         let mut line = discrete(NeoHookean::new(1.0).unwrap(), &p).unwrap();
         // (g1, a1, x1, g2, a2, x2, g3, a3, x3): cells 1 and 2 differ, cell 3 is alone
