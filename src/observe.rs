@@ -206,12 +206,16 @@ impl RunStats {
     }
 }
 
-/// One division event (issue #4 schema).
+/// One division event: when, which cell, where, the cell count after it and the dividing
+/// cell's age (its cycle time).
 ///
 /// ```
 /// use celltissue::observe::DivisionRecord;
-/// let d = DivisionRecord { t: 2.0, parent: 3, x: 2.5, x_over_length: 0.5, cells_after: 6 };
+/// let d = DivisionRecord { t: 2.0, parent: 3, x: 2.5, x_over_length: 0.5, cells_after: 6, age: Some(2.0) };
 /// assert_eq!(serde_json::to_value(&d)?["cells_after"], 6);
+/// // a model without individual cells (the density continuum) has no age: the key is absent
+/// let d = DivisionRecord { age: None, ..d };
+/// assert!(serde_json::to_value(&d)?.get("age").is_none());
 /// # Ok::<(), serde_json::Error>(())
 /// ```
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -226,6 +230,12 @@ pub struct DivisionRecord {
     pub x_over_length: f64,
     /// Number of cells after the division.
     pub cells_after: usize,
+    /// Age of the dividing cell: the time since its birth (its cycle time), counted from
+    /// t = 0 for a cell present at the start. `None` where cells have no history of their own
+    /// (the proliferating density continuum, whose divisions are its density crossing whole
+    /// cells).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub age: Option<f64>,
 }
 
 /// Everything one run (one model at one parameter set) produced.

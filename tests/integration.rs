@@ -10,6 +10,7 @@ mod cli_catalogue;
 mod cli_errors;
 mod cli_run;
 mod continuum_cell_scale_heterogeneity;
+mod division_ages;
 mod division_cap;
 mod division_jacobian_map;
 mod division_maxwell_cells;

@@ -139,7 +139,8 @@ impl Run {
     }
 
     /// Division events as numpy arrays `"t"`, `"parent"` (1-based), `"x"`, `"x_over_length"`,
-    /// `"cells_after"` (all empty without division).
+    /// `"cells_after"` (all empty without division) and `"age"`, the dividing cells' cycle
+    /// times, unless the model has no individual cells (the density continuum).
     #[getter]
     fn divisions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let dv = &self.rec.divisions;
@@ -158,6 +159,9 @@ impl Run {
         d.set_item("x", f(|x| x.x))?;
         d.set_item("x_over_length", f(|x| x.x_over_length))?;
         d.set_item("cells_after", u(|x| x.cells_after))?;
+        if let Some(ages) = dv.iter().map(|x| x.age).collect::<Option<Vec<f64>>>() {
+            d.set_item("age", ages.into_pyarray(py))?;
+        }
         Ok(d)
     }
 

@@ -50,3 +50,24 @@ def test_cell_grid_takes_a_random_threshold_rule():
     for r in cont:
         after = np.asarray(r.divisions["cells_after"])
         assert np.all(np.diff(after) == 1) and after[-1] == r.series["cells"][-1]
+
+
+def test_division_ages_are_cycle_times():
+    # without drag nothing is stressed: every cell grows from g = 1 to 2 at the unstressed
+    # rate 1/2, so every cycle lasts 2, on the discrete line and on the cell-number grid;
+    # the density continuum has no individual cells and records no age
+    scenario = {
+        "name": "ages",
+        "output": {"series": [0, 3, 5]},
+        "model": {"kind": "line", "models": ["discrete", "continuum"], "cells": 8, "nodes": 4,
+                  "right_end": "free", "K": 0.0, "growth": {"sigma0": 0.1},
+                  "division": {"rule": "area", "cell_grid": {}}},
+    }
+    for r in celltissue.run(scenario):
+        age = r.divisions["age"]
+        assert age.shape == r.divisions["t"].shape and len(age) > 0
+        np.testing.assert_allclose(age, 2.0, rtol=1e-6)
+    del scenario["model"]["division"]["cell_grid"]
+    scenario["model"]["K"] = 1e-3
+    _, density = celltissue.run(scenario)
+    assert len(density.divisions["t"]) > 0 and "age" not in density.divisions

@@ -410,6 +410,8 @@ impl<E: StrainEnergy> Dividing<E> {
         let k = asc.len();
         // the per-cell records expanded in place, as the line's fields are
         let at: Vec<usize> = asc.iter().map(|&j| j - 1).collect();
+        // the parents' ages, read before their daughters' births replace them
+        let ages: Vec<f64> = at.iter().map(|&i| t - self.birth[i]).collect();
         expand_in_place(&mut self.birth, &at, |_, _| [t, t]);
         expand_in_place(&mut self.threshold, &at, |e, _| [draws[e].0, draws[e].1]);
         expand_in_place(&mut self.dx_ref, &at, |e, v| [0.5 * v[at[e]]; 2]);
@@ -429,6 +431,7 @@ impl<E: StrainEnergy> Dividing<E> {
                 x: s.x_new,
                 x_over_length: (s.x_new - x0) / l,
                 cells_after: n_old + k - m,
+                age: Some(ages[m]),
             });
         }
         // the previous event's map, refilled (its vectors keep their allocations)

@@ -4,6 +4,8 @@
 //!
 //! * `divisions_scatter.png` — division events `x_d/l` against `t`, one colour per run
 //!   (Figs 3.3c–d);
+//! * `divisions_age.png` — each dividing cell's age (its cycle time) against where it divided,
+//!   `x_d/l`, for the runs that follow individual cells (not the density continuum);
 //! * `series_length_loglog.png`, `series_cells_loglog.png` — `l(t)` and `N(t)` on log–log axes
 //!   for every run, with and without division (Figs 3.3a–b and insets).
 
@@ -55,6 +57,32 @@ pub(crate) fn division_figures(
     };
     let path = dir.join("divisions_scatter.png");
     out.push((path.clone(), plot_chart(&path, &scatter)));
+    let aged: Vec<Curve> = summary
+        .runs
+        .iter()
+        .enumerate()
+        .filter_map(|(i, r)| {
+            let pts: Option<Vec<(f64, f64)>> = r
+                .divisions
+                .iter()
+                .map(|d| d.age.map(|a| (d.x_over_length, a)))
+                .collect();
+            let pts = pts.filter(|p| !p.is_empty())?;
+            Some(Curve::new(r.label.clone(), Style::Markers, i, pts))
+        })
+        .collect();
+    if !aged.is_empty() {
+        let chart = Chart {
+            title: format!("{title}: age at division (cycle time)"),
+            x_label: "x_d / l(t)".into(),
+            y_label: "age at division".into(),
+            x_axis: Axis::Linear,
+            y_axis: Axis::Log,
+            curves: aged,
+        };
+        let path = dir.join("divisions_age.png");
+        out.push((path.clone(), plot_chart(&path, &chart)));
+    }
     for (key, ylabel, what) in [("length", "l", "length"), ("cells", "N", "number of cells")] {
         let curves = summary
             .runs

@@ -382,28 +382,35 @@ pub fn profiles_csv(rec: &RunRecord) -> String {
     out
 }
 
-/// Division events as CSV: `t,parent,x,x_over_length,cells_after`.
+/// Division events as CSV: `t,parent,x,x_over_length,cells_after`, and `age` (the dividing
+/// cell's cycle time, [`DivisionRecord::age`]) when the model follows individual cells.
 ///
 /// ```
 /// use celltissue::observe::{DivisionRecord, ModelKind, RunRecord};
-/// let mut rec = RunRecord {
-///     label: "discrete".into(), model: ModelKind::Discrete, parameters: serde_json::Value::Null,
+/// let mut rec = RunRecord { label: "discrete".into(), model: ModelKind::Discrete, parameters: Default::default(),
 ///     series: Default::default(), profiles: vec![], stats: Default::default(), divisions: vec![], error: None, notes: vec![],
 ///     reference: None,
 /// };
-/// rec.divisions.push(DivisionRecord { t: 2.5, parent: 7, x: 6.5, x_over_length: 0.5, cells_after: 11 });
+/// rec.divisions.push(DivisionRecord { t: 2.5, parent: 7, x: 6.5, x_over_length: 0.5, cells_after: 11, age: Some(2.5) });
 /// let csv = celltissue::output::files::divisions_csv(&rec);
-/// assert_eq!(csv.lines().nth(1), Some("2.5,7,6.5,0.5,11"));
+/// assert_eq!(csv.lines().collect::<Vec<_>>(), ["t,parent,x,x_over_length,cells_after,age", "2.5,7,6.5,0.5,11,2.5"]);
 /// ```
 pub fn divisions_csv(rec: &RunRecord) -> String {
-    let mut out = String::from("t,parent,x,x_over_length,cells_after\n");
+    let with_age = rec.divisions.iter().all(|d| d.age.is_some()) && !rec.divisions.is_empty();
+    let mut out = String::from("t,parent,x,x_over_length,cells_after");
+    out.push_str(if with_age { ",age\n" } else { "\n" });
     for d in &rec.divisions {
         push_f64(&mut out, d.t);
         let _ = write!(out, ",{},", d.parent);
         push_f64(&mut out, d.x);
         out.push(',');
         push_f64(&mut out, d.x_over_length);
-        let _ = writeln!(out, ",{}", d.cells_after);
+        let _ = write!(out, ",{}", d.cells_after);
+        if let (true, Some(a)) = (with_age, d.age) {
+            out.push(',');
+            push_f64(&mut out, a);
+        }
+        out.push('\n');
     }
     out
 }

@@ -54,7 +54,11 @@ pub fn first_non_finite(rec: &RunRecord) -> Option<String> {
         return Some("stats".into());
     }
     for (i, d) in rec.divisions.iter().enumerate() {
-        if !(d.t.is_finite() && d.x.is_finite() && d.x_over_length.is_finite()) {
+        if !(d.t.is_finite()
+            && d.x.is_finite()
+            && d.x_over_length.is_finite()
+            && d.age.is_none_or(f64::is_finite))
+        {
             return Some(format!("divisions[{i}]"));
         }
     }
@@ -157,8 +161,12 @@ pub fn sanitize(rec: &mut RunRecord) -> bool {
             && finite(&p.pressure)
             && p.extra.values().all(finite)
     });
-    rec.divisions
-        .retain(|d| d.t.is_finite() && d.x.is_finite() && d.x_over_length.is_finite());
+    rec.divisions.retain(|d| {
+        d.t.is_finite()
+            && d.x.is_finite()
+            && d.x_over_length.is_finite()
+            && d.age.is_none_or(f64::is_finite)
+    });
     if !rec.stats.wall_seconds.is_finite() {
         rec.stats.wall_seconds = 0.0;
     }

@@ -9,7 +9,8 @@
 //!   with `numpy.split(a, numpy.cumsum(cells)[:-1])`, e.g. a proliferating line); a field a
 //!   profile lacks makes that member absent rather than padded;
 //! * `divisions/t`, `divisions/x`, `divisions/x_over_length`, `divisions/parent` and
-//!   `divisions/cells_after` (int64) — the division events, when there are any;
+//!   `divisions/cells_after` (int64) — the division events, when there are any — and
+//!   `divisions/age`, the dividing cells' ages, when the model follows individual cells;
 //! * `reference/series/t`, `reference/series/max_pressure`, `reference/series/min_stretch`,
 //!   `reference/profiles/{t, X, stretch, pressure}` and `reference/equilibrium/{t, X, x}` —
 //!   the analytic reference the run carries ([`crate::observe::AnalyticReference`]; its label
@@ -101,8 +102,11 @@ pub(crate) fn members(rec: &RunRecord) -> BTreeMap<String, Member> {
         );
         m.insert(
             "divisions/cells_after".into(),
-            Member::I64(n, d.iter().map(|r| r.cells_after as i64).collect()),
+            Member::I64(n.clone(), d.iter().map(|r| r.cells_after as i64).collect()),
         );
+        if let Some(ages) = d.iter().map(|r| r.age).collect::<Option<Vec<f64>>>() {
+            m.insert("divisions/age".into(), Member::F64(n, ages));
+        }
     }
     if let Some(r) = &rec.reference {
         let vec = |v: &[f64]| Member::F64(vec![v.len() as u64], v.to_vec());

@@ -235,6 +235,7 @@ impl<E: StrainEnergy> CellArray for DensityContinuum<E> {
                 x: xc,
                 x_over_length: xc / l,
                 cells_after: cells.round() as usize,
+                age: None,
             });
         }
         // L₀ and K changed in place: the line must re-detect its uniform fields

@@ -172,6 +172,7 @@ impl<E: StrainEnergy> CellGrid<E> {
                     x,
                     x_over_length: (x - x0) / (xn - x0),
                     cells_after: 0,
+                    age: Some(t - m.birth),
                 });
                 added.push(m.cells);
                 self.multiplicity[j] += m.cells;
