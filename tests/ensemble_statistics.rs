@@ -64,7 +64,11 @@ fn column(h: &[String], name: &str) -> usize {
 fn ensemble_files_do_not_depend_on_the_number_of_jobs() {
     let one = run(SCENARIO, "jobs1", "1");
     let two = run(SCENARIO, "jobs2", "2");
-    for f in ["ensemble_discrete.csv", "ensemble_divisions_discrete.csv"] {
+    for f in [
+        "ensemble_discrete.csv",
+        "ensemble_divisions_discrete.csv",
+        "ensemble_ages_discrete.csv",
+    ] {
         let (a, b) = (
             std::fs::read(one.join(f)).unwrap(),
             std::fs::read(two.join(f)).unwrap(),
@@ -143,6 +147,42 @@ fn ensemble_columns_are_the_realisations_mean_and_quantiles() {
     let (dh, drows) = csv(&out.join("ensemble_divisions_discrete.csv"));
     let total: f64 = drows.iter().map(|r| r[column(&dh, "fraction")]).sum();
     assert!((total - 1.0).abs() < 1e-12, "{total}");
+    // ages at division: 20 bins from the least to the largest age of any realisation, each
+    // bin's mean the realisations' mean count in it (recomputed from the summary's records)
+    let ages: Vec<Vec<f64>> = runs
+        .iter()
+        .map(|r| {
+            r["divisions"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|d| d["age"].as_f64().unwrap())
+                .collect()
+        })
+        .collect();
+    let all = ages.iter().flatten();
+    let lo = all.clone().copied().fold(f64::INFINITY, f64::min);
+    let hi = all.copied().fold(0.0, f64::max);
+    let (ah, arows) = csv(&out.join("ensemble_ages_discrete.csv"));
+    assert_eq!(arows.len(), 20);
+    assert!((arows[0][column(&ah, "bin_lo")] - lo).abs() <= 1e-12 * lo);
+    assert!((arows[19][column(&ah, "bin_hi")] - hi).abs() <= 1e-12 * hi);
+    for row in &arows {
+        let (a, b) = (row[column(&ah, "bin_lo")], row[column(&ah, "bin_hi")]);
+        let last = b >= hi * (1.0 - 1e-12);
+        let mean = ages
+            .iter()
+            .map(|v| v.iter().filter(|&&x| x >= a && (x < b || last)).count() as f64)
+            .sum::<f64>()
+            / 6.0;
+        assert!(
+            (row[column(&ah, "per_realisation_mean")] - mean).abs() < 1e-12,
+            "[{a}, {b}): {row:?} against {mean}"
+        );
+    }
+    // the cells of this weakly dragged line grow about as fast as unstressed ones
+    // (2(θ − 1) for θ ∈ [1.8, 2.2]) and the first generation divides by t = 6
+    assert!(lo > 1.6 && hi < 2.6, "[{lo}, {hi}]");
 }
 
 #[test]

@@ -10,9 +10,12 @@
 //! * `ensemble_divisions_<group>.csv` — the division locations `x_d/l` pooled over the
 //!   realisations in 20 bins of [0, 1]: divisions per realisation in each bin, their mean and
 //!   5–95 % quantiles, and the bin's fraction of all divisions;
+//! * `ensemble_ages_<group>.csv` — the same for the dividing cells' ages (cycle times), in 20
+//!   bins from the least to the largest age over the realisations (not for the density
+//!   continuum, whose divisions have no age);
 //! * with plots, `ensemble_length.png` and `ensemble_cells.png` — every group's mean with its
-//!   5–95 % band — and `ensemble_divisions.png`, divisions per realisation against `x_d/l`
-//!   (mean and 5–95 % band).
+//!   5–95 % band — and `ensemble_divisions.png` and `ensemble_ages.png`, divisions per
+//!   realisation against `x_d/l` and against age (mean and 5–95 % band).
 //!
 //! Each realisation is a deterministic function of its seed, and the statistics of the
 //! realisations in seed order, so the files do not depend on `--jobs` or on sharding.
@@ -172,21 +175,40 @@ pub(crate) fn statistics_csv(g: &Group<'_>) -> String {
     out
 }
 
-/// A group's division-location histogram as CSV (see the module docs); `None` when no
-/// realisation divided.
-pub(crate) fn divisions_csv(g: &Group<'_>) -> Option<String> {
-    let hist = location_histogram(g)?;
-    let total: f64 = hist.iter().map(|(_, d)| d[0]).sum();
+/// A division quantity binned over the realisations: where cells divide (`x_d/l` on [0, 1])
+/// and how old they are (their ages on the pooled range).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Binned {
+    /// `x_d/l` in [`LOCATION_BINS`] bins of [0, 1].
+    Location,
+    /// The dividing cells' ages in [`LOCATION_BINS`] bins from the least to the largest age
+    /// over all realisations (only where every division has one).
+    Age,
+}
+
+impl Binned {
+    fn value(self, d: &crate::observe::DivisionRecord) -> Option<f64> {
+        match self {
+            Binned::Location => Some(d.x_over_length.clamp(0.0, 1.0)),
+            Binned::Age => d.age,
+        }
+    }
+}
+
+/// A group's histogram of `what` as CSV (see the module docs); `None` when no realisation
+/// divided (or, for ages, when a division has none).
+pub(crate) fn divisions_csv(g: &Group<'_>, what: Binned) -> Option<String> {
+    let hist = histogram(g, what)?;
+    let total: f64 = hist.iter().map(|(_, _, d)| d[0]).sum();
     let mut out = String::from("bin_lo,bin_hi,per_realisation_mean");
     for (_, suffix) in QUANTILES {
         let _ = write!(out, ",per_realisation_{suffix}");
     }
     out.push_str(",fraction\n");
-    let half = 0.5 / LOCATION_BINS as f64;
-    for (centre, d) in &hist {
-        push_f64(&mut out, centre - half);
+    for (lo, hi, d) in &hist {
+        push_f64(&mut out, *lo);
         out.push(',');
-        push_f64(&mut out, centre + half);
+        push_f64(&mut out, *hi);
         for x in d {
             out.push(',');
             push_f64(&mut out, *x);
@@ -199,20 +221,41 @@ pub(crate) fn divisions_csv(g: &Group<'_>) -> Option<String> {
     Some(out)
 }
 
-/// Divisions per realisation in each `x_d/l` bin: the bin's centre and the mean and
-/// [`QUANTILES`] over the realisations; `None` when no realisation divided.
-fn location_histogram(g: &Group<'_>) -> Option<Vec<(f64, [f64; 6])>> {
+/// Divisions per realisation in each bin of `what`: the bin's edges and the mean and
+/// [`QUANTILES`] over the realisations; `None` when no realisation divided (or, for ages,
+/// when a division has none).
+fn histogram(g: &Group<'_>, what: Binned) -> Option<Vec<(f64, f64, [f64; 6])>> {
     let runs = usable(g);
-    if runs.iter().all(|r| r.divisions.is_empty()) {
+    let values: Vec<Vec<f64>> = runs
+        .iter()
+        .map(|r| r.divisions.iter().map(|d| what.value(d)).collect())
+        .collect::<Option<_>>()?;
+    if values.iter().all(Vec::is_empty) {
         return None;
     }
-    let bin = |x: f64| ((x * LOCATION_BINS as f64) as usize).min(LOCATION_BINS - 1);
-    let counts: Vec<[f64; LOCATION_BINS]> = runs
+    let (lo, hi) = match what {
+        Binned::Location => (0.0, 1.0),
+        Binned::Age => values
+            .iter()
+            .flatten()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &a| {
+                (l.min(a), h.max(a))
+            }),
+    };
+    let nb = LOCATION_BINS as f64;
+    // every age the same: one bin's width around it
+    let width = if hi > lo {
+        (hi - lo) / nb
+    } else {
+        lo.abs().max(1.0) / nb
+    };
+    let bin = |x: f64| (((x - lo) / width) as usize).min(LOCATION_BINS - 1);
+    let counts: Vec<[f64; LOCATION_BINS]> = values
         .iter()
-        .map(|r| {
+        .map(|v| {
             let mut c = [0.0; LOCATION_BINS];
-            for d in &r.divisions {
-                c[bin(d.x_over_length.clamp(0.0, 1.0))] += 1.0;
+            for &x in v {
+                c[bin(x)] += 1.0;
             }
             c
         })
@@ -220,7 +263,8 @@ fn location_histogram(g: &Group<'_>) -> Option<Vec<(f64, [f64; 6])>> {
     let hist = (0..LOCATION_BINS)
         .map(|b| {
             let mut v: Vec<f64> = counts.iter().map(|c| c[b]).collect();
-            ((b as f64 + 0.5) / LOCATION_BINS as f64, describe(&mut v))
+            let edge = |k: usize| lo + k as f64 * width;
+            (edge(b), edge(b + 1), describe(&mut v))
         })
         .collect();
     Some(hist)
@@ -245,8 +289,11 @@ pub(crate) fn write_ensemble(
     for g in groups(scenario, summary) {
         let s = slug(&g.label);
         put(format!("ensemble_{s}.csv"), &statistics_csv(&g))?;
-        if let Some(text) = divisions_csv(&g) {
+        if let Some(text) = divisions_csv(&g, Binned::Location) {
             put(format!("ensemble_divisions_{s}.csv"), &text)?;
+        }
+        if let Some(text) = divisions_csv(&g, Binned::Age) {
+            put(format!("ensemble_ages_{s}.csv"), &text)?;
         }
     }
     Ok(files)
@@ -332,41 +379,61 @@ pub(crate) fn ensemble_figures(
         let result = plot_chart(&path, &chart);
         out.push((path, result));
     }
-    // division locations: divisions per realisation in each x_d/l bin, mean and 5–95 %
-    let mut curves = Vec::new();
-    for (gi, g) in groups.iter().enumerate() {
-        let Some(h) = location_histogram(g) else {
-            continue;
-        };
-        let at = |k: usize| h.iter().map(|(x, d)| (*x, d[k])).collect::<Vec<_>>();
-        curves.push(Curve::new(
-            format!("{} mean", g.label),
-            Style::Line,
-            gi,
-            at(0),
-        ));
-        curves.push(Curve::new(
-            format!("{} 5–95 %", g.label),
-            Style::Dashed,
-            gi,
-            at(1),
-        ));
-        curves.push(Curve::new(String::new(), Style::Dashed, gi, at(5)));
-    }
-    if !curves.is_empty() {
-        let chart = Chart {
-            title: format!(
+    // division locations and ages: divisions per realisation in each bin, mean and 5–95 %
+    for (what, file, x_label, title) in [
+        (
+            Binned::Location,
+            "ensemble_divisions.png",
+            "x_d / l",
+            format!(
                 "{}: where cells divide (bins of {} of the length)",
                 scenario.name,
                 1.0 / LOCATION_BINS as f64
             ),
-            x_label: "x_d / l".into(),
+        ),
+        (
+            Binned::Age,
+            "ensemble_ages.png",
+            "age at division (cycle time)",
+            format!("{}: how old cells are when they divide", scenario.name),
+        ),
+    ] {
+        let mut curves = Vec::new();
+        for (gi, g) in groups.iter().enumerate() {
+            let Some(h) = histogram(g, what) else {
+                continue;
+            };
+            let at = |k: usize| {
+                h.iter()
+                    .map(|(lo, hi, d)| (0.5 * (lo + hi), d[k]))
+                    .collect::<Vec<_>>()
+            };
+            curves.push(Curve::new(
+                format!("{} mean", g.label),
+                Style::Line,
+                gi,
+                at(0),
+            ));
+            curves.push(Curve::new(
+                format!("{} 5–95 %", g.label),
+                Style::Dashed,
+                gi,
+                at(1),
+            ));
+            curves.push(Curve::new(String::new(), Style::Dashed, gi, at(5)));
+        }
+        if curves.is_empty() {
+            continue;
+        }
+        let chart = Chart {
+            title,
+            x_label: x_label.into(),
             y_label: "divisions per realisation".into(),
             x_axis: Axis::Linear,
             y_axis: Axis::Linear,
             curves,
         };
-        let path = dir.join("ensemble_divisions.png");
+        let path = dir.join(file);
         let result = plot_chart(&path, &chart);
         out.push((path, result));
     }
