@@ -206,12 +206,13 @@ impl RunStats {
     }
 }
 
-/// One division event: when, which cell, where, the cell count after it and the dividing
-/// cell's age (its cycle time).
+/// One division event: when, which cell, where, the cell count after it, the dividing cell's
+/// age (its cycle time) and, for lineage tracing, its identity and its daughters'.
 ///
 /// ```
 /// use celltissue::observe::DivisionRecord;
-/// let d = DivisionRecord { t: 2.0, parent: 3, x: 2.5, x_over_length: 0.5, cells_after: 6, age: Some(2.0) };
+/// let d = DivisionRecord { t: 2.0, parent: 3, x: 2.5, x_over_length: 0.5, cells_after: 6,
+///                          age: Some(2.0), cell: Some(2), daughters: Some([4, 5]) };
 /// assert_eq!(serde_json::to_value(&d)?["cells_after"], 6);
 /// // a model without individual cells (the density continuum) has no age: the key is absent
 /// let d = DivisionRecord { age: None, ..d };
@@ -236,6 +237,14 @@ pub struct DivisionRecord {
     /// cells).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub age: Option<f64>,
+    /// Identity of the dividing cell (lineage tracing: the initial cells are `0..N₀`, each
+    /// division gives its daughters the next two unused numbers). `None` where cells have no
+    /// identity of their own (the proliferating continua).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cell: Option<u64>,
+    /// Identities of the two daughters, lower (nearer x₀) first.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub daughters: Option<[u64; 2]>,
 }
 
 /// Everything one run (one model at one parameter set) produced.

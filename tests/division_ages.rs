@@ -222,7 +222,7 @@ fn the_density_continuum_records_no_age() {
     let csv = celltissue::output::files::divisions_csv(&d);
     assert_eq!(
         csv.lines().next(),
-        Some("t,parent,x,x_over_length,cells_after,age")
+        Some("t,parent,x,x_over_length,cells_after,age,cell,daughter_1,daughter_2")
     );
 }
 

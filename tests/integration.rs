@@ -13,6 +13,7 @@ mod continuum_cell_scale_heterogeneity;
 mod division_ages;
 mod division_cap;
 mod division_jacobian_map;
+mod division_lineage;
 mod division_maxwell_cells;
 mod division_restart;
 mod division_thesis;

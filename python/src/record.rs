@@ -139,8 +139,10 @@ impl Run {
     }
 
     /// Division events as numpy arrays `"t"`, `"parent"` (1-based), `"x"`, `"x_over_length"`,
-    /// `"cells_after"` (all empty without division) and `"age"`, the dividing cells' cycle
-    /// times, unless the model has no individual cells (the density continuum).
+    /// `"cells_after"` (all empty without division), `"age"`, the dividing cells' cycle
+    /// times, unless the model has no individual cells (the density continuum), and
+    /// `"cell"`, `"daughter_1"`, `"daughter_2"`, their identities, where the model traces
+    /// lineage (the discrete line and ring).
     #[getter]
     fn divisions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let dv = &self.rec.divisions;
@@ -161,6 +163,20 @@ impl Run {
         d.set_item("cells_after", u(|x| x.cells_after))?;
         if let Some(ages) = dv.iter().map(|x| x.age).collect::<Option<Vec<f64>>>() {
             d.set_item("age", ages.into_pyarray(py))?;
+        }
+        let ids = |f: fn(&celltissue::observe::DivisionRecord) -> Option<u64>| {
+            dv.iter()
+                .map(|x| f(x).map(|i| i as i64))
+                .collect::<Option<Vec<i64>>>()
+        };
+        if let (Some(cell), Some(first), Some(second)) = (
+            ids(|x| x.cell),
+            ids(|x| x.daughters.map(|d| d[0])),
+            ids(|x| x.daughters.map(|d| d[1])),
+        ) {
+            d.set_item("cell", cell.into_pyarray(py))?;
+            d.set_item("daughter_1", first.into_pyarray(py))?;
+            d.set_item("daughter_2", second.into_pyarray(py))?;
         }
         Ok(d)
     }

@@ -63,10 +63,22 @@ def test_division_ages_are_cycle_times():
                   "right_end": "free", "K": 0.0, "growth": {"sigma0": 0.1},
                   "division": {"rule": "area", "cell_grid": {}}},
     }
+    scenario["output"]["profiles"] = [5]
     for r in celltissue.run(scenario):
         age = r.divisions["age"]
         assert age.shape == r.divisions["t"].shape and len(age) > 0
         np.testing.assert_allclose(age, 2.0, rtol=1e-6)
+        if r.model == "discrete":
+            # lineage: 8 clones of 4 cells each by t = 5 (two synchronous generations), every
+            # division's daughters numbered from 8 on
+            (ancestor,) = r.profile("ancestor")
+            assert np.array_equal(ancestor, np.repeat(np.arange(8.0), 4))
+            d = r.divisions
+            born = np.concatenate([d["daughter_1"], d["daughter_2"]])
+            assert sorted(born) == list(range(8, 8 + 2 * len(d["cell"])))
+        else:
+            # the cell-number grid's segments are not cells: no identities
+            assert "cell" not in r.divisions
     del scenario["model"]["division"]["cell_grid"]
     scenario["model"]["K"] = 1e-3
     _, density = celltissue.run(scenario)

@@ -12,6 +12,7 @@
 //! their material centres `X ∓ ΔX/4`) follow their cells through every insertion.
 
 use super::division::{CellView, DivisionRule, SplitMix64};
+use super::lineage::Lineage;
 use super::log::DivisionLog;
 use super::reindex::expand_in_place;
 use super::EventError;
@@ -178,6 +179,11 @@ pub struct Dividing<E: StrainEnergy> {
     pub threshold: Vec<f64>,
     /// Material width `ΔX` of each cell in initial reference coordinates.
     pub dx_ref: Vec<f64>,
+    /// Each cell's identity and clone (`Some` from [`Dividing::new`]; `None` where the
+    /// "cells" are segments of many, as in the cell-number grid, and after a
+    /// [`merge`](Dividing::merge)). With it the records name the dividing cell and its
+    /// daughters, and the profiles carry each cell's `id`, `ancestor` and `age`.
+    pub lineage: Option<Lineage>,
     /// The event log.
     pub log: DivisionLog,
     /// No division once `N` reaches this (default none).
@@ -262,6 +268,7 @@ impl<E: StrainEnergy> Dividing<E> {
             birth: vec![0.0; n],
             threshold,
             dx_ref: line.cells.l0.clone(),
+            lineage: Some(Lineage::new(n)),
             log: DivisionLog::default(),
             max_cells: None,
             n0: n,
@@ -282,7 +289,8 @@ impl<E: StrainEnergy> Dividing<E> {
 
     /// Merges each cell `j` of `firsts` with cell `j + 1` ([`Line::merge_cells`]): birth time
     /// the earlier, material width the sum, the first's threshold. The integrator's history is
-    /// not carried across this event: the next restart is from a consistent state.
+    /// not carried across this event: the next restart is from a consistent state. A merged
+    /// cell is no individual cell: the [`lineage`](Dividing::lineage) is dropped.
     ///
     /// ```
     /// use celltissue::events::{AreaDoubling, Dividing};
@@ -317,6 +325,7 @@ impl<E: StrainEnergy> Dividing<E> {
         self.birth = birth;
         self.threshold = threshold;
         self.dx_ref = dx_ref;
+        self.lineage = None;
         self.last = None;
         self.new_boundaries.clear();
         self.yp_event.clear();
@@ -412,6 +421,7 @@ impl<E: StrainEnergy> Dividing<E> {
         let at: Vec<usize> = asc.iter().map(|&j| j - 1).collect();
         // the parents' ages, read before their daughters' births replace them
         let ages: Vec<f64> = at.iter().map(|&i| t - self.birth[i]).collect();
+        let identities = self.lineage.as_mut().map(|l| l.divide(&at));
         expand_in_place(&mut self.birth, &at, |_, _| [t, t]);
         expand_in_place(&mut self.threshold, &at, |e, _| [draws[e].0, draws[e].1]);
         expand_in_place(&mut self.dx_ref, &at, |e, v| [0.5 * v[at[e]]; 2]);
@@ -432,6 +442,8 @@ impl<E: StrainEnergy> Dividing<E> {
                 x_over_length: (s.x_new - x0) / l,
                 cells_after: n_old + k - m,
                 age: Some(ages[m]),
+                cell: identities.as_ref().map(|v| v[m].0),
+                daughters: identities.as_ref().map(|v| v[m].1),
             });
         }
         // the previous event's map, refilled (its vectors keep their allocations)
@@ -883,8 +895,27 @@ impl<E: StrainEnergy> CellArray for Dividing<E> {
 impl<E: StrainEnergy> LineModel for Dividing<E> {
     // `breakpoints` forwarded too: a prescribed polynomial-ramp end has a kink at `t_ramp`,
     // where `integrate` must restart rather than step across it.
-    crate::line::run::forward_line_model!(line: initial_state, initial_derivative_guess, observe,
+    crate::line::run::forward_line_model!(line: initial_state, initial_derivative_guess,
         unknown_name, breakpoints);
+
+    /// The line's snapshot, with each cell's `age`, `id` and `ancestor` while the cells have
+    /// a [`Lineage`].
+    fn observe(
+        &self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+    ) -> Result<crate::line::observe::Snapshot, ResidualError> {
+        let mut s = self.line.observe(t, y, yp)?;
+        if let Some(l) = &self.lineage {
+            let age = self.birth.iter().map(|b| t - b).collect();
+            s.cell_fields.push(("age".into(), age));
+            for (name, v) in l.profile_fields() {
+                s.cell_fields.push((name.into(), v));
+            }
+        }
+        Ok(s)
+    }
 }
 
 #[cfg(test)]

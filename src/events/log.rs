@@ -10,8 +10,8 @@ use crate::observe::DivisionRecord;
 /// use celltissue::events::DivisionLog;
 /// use celltissue::observe::DivisionRecord;
 /// let mut log = DivisionLog::default();
-/// log.push(DivisionRecord { t: 2.0, parent: 3, x: 2.5, x_over_length: 0.5, cells_after: 6, age: None });
-/// log.push(DivisionRecord { t: 2.4, parent: 1, x: 0.5, x_over_length: 0.1, cells_after: 7, age: None });
+/// log.push(DivisionRecord { t: 2.0, parent: 3, x: 2.5, x_over_length: 0.5, cells_after: 6, ..Default::default() });
+/// log.push(DivisionRecord { t: 2.4, parent: 1, x: 0.5, x_over_length: 0.1, cells_after: 7, ..Default::default() });
 /// assert_eq!((log.len(), log.cells_at(5, 2.1), log.cells_at(5, 3.0)), (2, 6, 7));
 /// ```
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -27,7 +27,7 @@ impl DivisionLog {
     /// use celltissue::events::DivisionLog;
     /// use celltissue::observe::DivisionRecord;
     /// let mut log = DivisionLog::default();
-    /// log.push(DivisionRecord { t: 1.0, parent: 3, x: 4.0, x_over_length: 0.8, cells_after: 11, age: None });
+    /// log.push(DivisionRecord { t: 1.0, parent: 3, x: 4.0, x_over_length: 0.8, cells_after: 11, ..Default::default() });
     /// assert_eq!((log.len(), log.is_empty()), (1, false));
     /// ```
     pub fn push(&mut self, r: DivisionRecord) {
@@ -59,7 +59,7 @@ impl DivisionLog {
     /// use celltissue::observe::DivisionRecord;
     /// let mut log = DivisionLog::default();
     /// for (i, t) in [1.0, 2.0, 2.0].into_iter().enumerate() {
-    ///     log.push(DivisionRecord { t, parent: 1, x: 1.0, x_over_length: 0.5, cells_after: 11 + i, age: None });
+    ///     log.push(DivisionRecord { t, parent: 1, x: 1.0, x_over_length: 0.5, cells_after: 11 + i, ..Default::default() });
     /// }
     /// assert_eq!((log.cells_at(10, 0.5), log.cells_at(10, 1.0), log.cells_at(10, 2.0)), (10, 11, 13));
     /// ```
@@ -74,7 +74,7 @@ impl DivisionLog {
     /// use celltissue::observe::DivisionRecord;
     /// let mut log = DivisionLog::default();
     /// for (t, f) in [(1.0, 0.2), (2.0, 0.9), (3.0, 0.95)] {
-    ///     log.push(DivisionRecord { t, parent: 1, x: f, x_over_length: f, cells_after: 2, age: None });
+    ///     log.push(DivisionRecord { t, parent: 1, x: f, x_over_length: f, cells_after: 2, ..Default::default() });
     /// }
     /// assert_eq!(log.median_x_over_length(1.5, 3.0), Some(0.925)); // late divisions at the rim
     /// assert_eq!(log.median_x_over_length(5.0, 6.0), None);
@@ -90,7 +90,7 @@ impl DivisionLog {
 /// ```
 /// use celltissue::events::log::cells_at;
 /// use celltissue::observe::DivisionRecord;
-/// let d = |t, n| DivisionRecord { t, parent: 1, x: 0.5, x_over_length: 0.5, cells_after: n, age: None };
+/// let d = |t, n| DivisionRecord { t, parent: 1, x: 0.5, x_over_length: 0.5, cells_after: n, ..Default::default() };
 /// let records = [d(1.0, 11), d(2.0, 12), d(2.0, 13)];
 /// assert_eq!(cells_at(&records, 10, 0.5), 10);
 /// assert_eq!(cells_at(&records, 10, 2.0), 13); // the divisions at t = 2 count
@@ -108,7 +108,7 @@ pub fn cells_at(records: &[DivisionRecord], n0: usize, t: f64) -> usize {
 /// ```
 /// use celltissue::events::log::median_x_over_length;
 /// use celltissue::observe::DivisionRecord;
-/// let d = |t, f| DivisionRecord { t, parent: 1, x: 0.0, x_over_length: f, cells_after: 0, age: None };
+/// let d = |t, f| DivisionRecord { t, parent: 1, x: 0.0, x_over_length: f, cells_after: 0, ..Default::default() };
 /// let records = [d(1.0, 0.2), d(5.0, 0.9), d(6.0, 0.95), d(7.0, 0.99)];
 /// assert_eq!(median_x_over_length(&records, 4.0, 10.0), Some(0.95)); // the rim
 /// assert_eq!(median_x_over_length(&records, 20.0, 30.0), None);

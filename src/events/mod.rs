@@ -21,8 +21,10 @@
 //!   restarts from a consistent `ẏ` ([`crate::array::CellArray::restart_derivative`] replaces
 //!   it for an inviscid line by the pre-event velocities, whose resting new boundary and
 //!   noise-amplified velocities (`∝ μ/(K L₀)`) made every restart reject steps);
-//! * [`log`] — [`DivisionLog`]: time, parent, `x_d`, `x_d/l`, `N` after; CSV; `N(t)`, median
-//!   `x_d/l`;
+//! * [`log`] — [`DivisionLog`]: time, parent, `x_d`, `x_d/l`, `N` after, the parent's age
+//!   and identities; CSV; `N(t)`, median `x_d/l`;
+//! * [`lineage`] — [`Lineage`]: each cell's identity and the initial cell it descends from,
+//!   through every division of a discrete line;
 //! * `plots` — the division scatter and log–log `l(t)`, `N(t)` figures (Fig. 3.3);
 //! * [`run`] — [`run_proliferation`]: a scenario run (discrete with division, or the
 //!   proliferating continuum of [`crate::proliferation`]) to a [`crate::observe::RunRecord`]
@@ -39,6 +41,7 @@
 
 pub mod dividing;
 pub mod division;
+pub mod lineage;
 pub mod log;
 pub mod merge;
 #[cfg(feature = "plots")]
@@ -52,6 +55,7 @@ pub use division::{
     AgeRule, AreaDoubling, CellGridConfig, CellView, DivisionConfig, DivisionError, DivisionRule,
     RandomThreshold, SplitMix64, SurfaceToVolume, DEFAULT_MAX_CELLS,
 };
+pub use lineage::Lineage;
 pub use log::DivisionLog;
 pub use reindex::Split;
 pub use rules::RuleSpec;

@@ -59,6 +59,9 @@ pub struct Snapshot {
     pub cell_counts: Option<Vec<f64>>,
     /// A Maxwell branch's viscous stretch `a_v` per cell (`None` without a branch).
     pub viscous: Option<Vec<f64>>,
+    /// Further per-cell fields a model adds to its profiles by name (a dividing line's cell
+    /// `age`, `id` and `ancestor`).
+    pub cell_fields: Vec<(String, Vec<f64>)>,
 }
 
 impl Snapshot {
@@ -192,6 +195,9 @@ impl Snapshot {
             extra.insert("g".to_string(), self.g.clone());
             extra.insert("g_dot".to_string(), self.g_dot.clone());
         }
+        for (name, v) in &self.cell_fields {
+            extra.insert(name.clone(), v.clone());
+        }
         Profile {
             t: self.t,
             x_ref: self.x_ref.clone(),
@@ -237,6 +243,7 @@ impl<E: StrainEnergy> Line<E> {
             mu: self.cells.mu.clone(),
             cell_counts: self.segment_cells.clone().filter(|c| c.len() == n),
             viscous: self.maxwell.as_ref().map(|_| cells()),
+            cell_fields: Vec::new(),
         };
         let mut left = self.boundary(0, t, y, yp);
         s.x.push(left.0);

@@ -382,8 +382,10 @@ pub fn profiles_csv(rec: &RunRecord) -> String {
     out
 }
 
-/// Division events as CSV: `t,parent,x,x_over_length,cells_after`, and `age` (the dividing
-/// cell's cycle time, [`DivisionRecord::age`]) when the model follows individual cells.
+/// Division events as CSV: `t,parent,x,x_over_length,cells_after`, then `age` (the dividing
+/// cell's cycle time, [`DivisionRecord::age`]) when the model follows individual cells, and
+/// `cell,daughter_1,daughter_2` (their identities, [`DivisionRecord::cell`]) when it traces
+/// their lineage.
 ///
 /// ```
 /// use celltissue::observe::{DivisionRecord, ModelKind, RunRecord};
@@ -391,14 +393,27 @@ pub fn profiles_csv(rec: &RunRecord) -> String {
 ///     series: Default::default(), profiles: vec![], stats: Default::default(), divisions: vec![], error: None, notes: vec![],
 ///     reference: None,
 /// };
-/// rec.divisions.push(DivisionRecord { t: 2.5, parent: 7, x: 6.5, x_over_length: 0.5, cells_after: 11, age: Some(2.5) });
+/// rec.divisions.push(DivisionRecord { t: 2.5, parent: 7, x: 6.5, x_over_length: 0.5, cells_after: 11,
+///                                     age: Some(2.5), cell: Some(6), daughters: Some([10, 11]) });
 /// let csv = celltissue::output::files::divisions_csv(&rec);
-/// assert_eq!(csv.lines().collect::<Vec<_>>(), ["t,parent,x,x_over_length,cells_after,age", "2.5,7,6.5,0.5,11,2.5"]);
+/// assert_eq!(csv.lines().collect::<Vec<_>>(), [
+///     "t,parent,x,x_over_length,cells_after,age,cell,daughter_1,daughter_2",
+///     "2.5,7,6.5,0.5,11,2.5,6,10,11",
+/// ]);
 /// ```
 pub fn divisions_csv(rec: &RunRecord) -> String {
-    let with_age = rec.divisions.iter().all(|d| d.age.is_some()) && !rec.divisions.is_empty();
+    let all =
+        |f: fn(&DivisionRecord) -> bool| !rec.divisions.is_empty() && rec.divisions.iter().all(f);
+    let with_age = all(|d| d.age.is_some());
+    let with_cells = all(|d| d.cell.is_some() && d.daughters.is_some());
     let mut out = String::from("t,parent,x,x_over_length,cells_after");
-    out.push_str(if with_age { ",age\n" } else { "\n" });
+    if with_age {
+        out.push_str(",age");
+    }
+    if with_cells {
+        out.push_str(",cell,daughter_1,daughter_2");
+    }
+    out.push('\n');
     for d in &rec.divisions {
         push_f64(&mut out, d.t);
         let _ = write!(out, ",{},", d.parent);
@@ -409,6 +424,9 @@ pub fn divisions_csv(rec: &RunRecord) -> String {
         if let (true, Some(a)) = (with_age, d.age) {
             out.push(',');
             push_f64(&mut out, a);
+        }
+        if let (true, Some(c), Some([a, b])) = (with_cells, d.cell, d.daughters) {
+            let _ = write!(out, ",{c},{a},{b}");
         }
         out.push('\n');
     }

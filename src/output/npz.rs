@@ -10,7 +10,9 @@
 //!   profile lacks makes that member absent rather than padded;
 //! * `divisions/t`, `divisions/x`, `divisions/x_over_length`, `divisions/parent` and
 //!   `divisions/cells_after` (int64) — the division events, when there are any — and
-//!   `divisions/age`, the dividing cells' ages, when the model follows individual cells;
+//!   `divisions/age`, the dividing cells' ages, when the model follows individual cells, and
+//!   `divisions/cell`, `divisions/daughter_1`, `divisions/daughter_2` (int64), their
+//!   identities, when it traces their lineage;
 //! * `reference/series/t`, `reference/series/max_pressure`, `reference/series/min_stretch`,
 //!   `reference/profiles/{t, X, stretch, pressure}` and `reference/equilibrium/{t, X, x}` —
 //!   the analytic reference the run carries ([`crate::observe::AnalyticReference`]; its label
@@ -105,7 +107,21 @@ pub(crate) fn members(rec: &RunRecord) -> BTreeMap<String, Member> {
             Member::I64(n.clone(), d.iter().map(|r| r.cells_after as i64).collect()),
         );
         if let Some(ages) = d.iter().map(|r| r.age).collect::<Option<Vec<f64>>>() {
-            m.insert("divisions/age".into(), Member::F64(n, ages));
+            m.insert("divisions/age".into(), Member::F64(n.clone(), ages));
+        }
+        let ids = |f: fn(&crate::observe::DivisionRecord) -> Option<u64>| {
+            d.iter()
+                .map(|r| f(r).map(|i| i as i64))
+                .collect::<Option<Vec<i64>>>()
+        };
+        if let (Some(cell), Some(first), Some(second)) = (
+            ids(|r| r.cell),
+            ids(|r| r.daughters.map(|d| d[0])),
+            ids(|r| r.daughters.map(|d| d[1])),
+        ) {
+            m.insert("divisions/cell".into(), Member::I64(n.clone(), cell));
+            m.insert("divisions/daughter_1".into(), Member::I64(n.clone(), first));
+            m.insert("divisions/daughter_2".into(), Member::I64(n, second));
         }
     }
     if let Some(r) = &rec.reference {

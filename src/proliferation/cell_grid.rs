@@ -192,8 +192,11 @@ impl<E: StrainEnergy> CellGrid<E> {
         let c = n0 / n;
         let draws = !rule.draw_threshold(&mut SplitMix64::new(0)).is_nan();
         let seed = rule.seed();
+        // a segment stands for its cells, not one cell: no lineage
+        let mut dividing = Dividing::new(line, rule, seed)?;
+        dividing.lineage = None;
         let mut grid = Self {
-            dividing: Dividing::new(line, rule, seed)?,
+            dividing,
             cells_per_segment: c,
             multiplicity: vec![c; n],
             members: vec![None; n],

@@ -236,6 +236,8 @@ impl<E: StrainEnergy> CellArray for DensityContinuum<E> {
                 x_over_length: xc / l,
                 cells_after: cells.round() as usize,
                 age: None,
+                cell: None,
+                daughters: None,
             });
         }
         // L₀ and K changed in place: the line must re-detect its uniform fields

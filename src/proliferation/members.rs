@@ -173,6 +173,8 @@ impl<E: StrainEnergy> CellGrid<E> {
                     x_over_length: (x - x0) / (xn - x0),
                     cells_after: 0,
                     age: Some(t - m.birth),
+                    cell: None,
+                    daughters: None,
                 });
                 added.push(m.cells);
                 self.multiplicity[j] += m.cells;
