@@ -7,7 +7,10 @@
 //! * `divisions_age.png` — each dividing cell's age (its cycle time) against where it divided,
 //!   `x_d/l`, for the runs that follow individual cells (not the density continuum);
 //! * `series_length_loglog.png`, `series_cells_loglog.png` — `l(t)` and `N(t)` on log–log axes
-//!   for every run, with and without division (Figs 3.3a–b and insets).
+//!   for every run, with and without division (Figs 3.3a–b and insets);
+//! * `clones_<label>.png` — for a run that traces lineage (the discrete line and ring), the
+//!   number of cells in each initial cell's clone against that cell's index, one curve per
+//!   profile time: where the tissue's cells came from.
 
 use crate::observe::{ModelKind, RunRecord, Summary};
 use crate::output::plot::{plot_chart, Axis, Chart, Curve, PlotError, Style};
@@ -83,6 +86,15 @@ pub(crate) fn division_figures(
         let path = dir.join("divisions_age.png");
         out.push((path.clone(), plot_chart(&path, &chart)));
     }
+    for r in &summary.runs {
+        if let Some(chart) = clone_chart(title, r) {
+            let path = dir.join(format!(
+                "clones_{}.png",
+                crate::output::files::slug(&r.label)
+            ));
+            out.push((path.clone(), plot_chart(&path, &chart)));
+        }
+    }
     for (key, ylabel, what) in [("length", "l", "length"), ("cells", "N", "number of cells")] {
         let curves = summary
             .runs
@@ -112,4 +124,42 @@ pub(crate) fn division_figures(
         out.push((path.clone(), plot_chart(&path, &chart)));
     }
     out
+}
+
+/// Cells per clone against the initial cell's index (0 at x₀), one curve per profile time of
+/// a run whose profiles carry `ancestor`; `None` for any other run.
+fn clone_chart(title: &str, r: &RunRecord) -> Option<Chart> {
+    let n0 = r
+        .profiles
+        .iter()
+        .filter_map(|p| p.extra.get("ancestor"))
+        .flatten()
+        .fold(None, |m: Option<f64>, &a| Some(m.map_or(a, |m| m.max(a))))? as usize
+        + 1;
+    let curves = r
+        .profiles
+        .iter()
+        .enumerate()
+        .filter_map(|(i, p)| {
+            let mut count = vec![0.0; n0];
+            for &a in p.extra.get("ancestor")? {
+                count[a as usize] += 1.0;
+            }
+            let pts = count
+                .into_iter()
+                .enumerate()
+                .map(|(k, c)| (k as f64, c))
+                .collect();
+            Some(Curve::new(format!("t = {}", p.t), Style::Markers, i, pts))
+        })
+        .collect();
+    Some(Chart {
+        title: format!("{title}: {} — cells per clone", r.label),
+        x_label: "initial cell (0 at x₀)".into(),
+        y_label: "cells descended from it".into(),
+        x_axis: Axis::Linear,
+        // every clone holds at least its own cell
+        y_axis: Axis::Log,
+        curves,
+    })
 }
