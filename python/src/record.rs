@@ -145,38 +145,13 @@ impl Run {
     /// lineage (the discrete line and ring).
     #[getter]
     fn divisions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let dv = &self.rec.divisions;
+        use celltissue::events::log::{division_columns, DivisionColumn};
         let d = PyDict::new(py);
-        let f = |g: fn(&celltissue::observe::DivisionRecord) -> f64| {
-            dv.iter().map(g).collect::<Vec<f64>>().into_pyarray(py)
-        };
-        let u = |g: fn(&celltissue::observe::DivisionRecord) -> usize| {
-            dv.iter()
-                .map(|x| g(x) as i64)
-                .collect::<Vec<i64>>()
-                .into_pyarray(py)
-        };
-        d.set_item("t", f(|x| x.t))?;
-        d.set_item("parent", u(|x| x.parent))?;
-        d.set_item("x", f(|x| x.x))?;
-        d.set_item("x_over_length", f(|x| x.x_over_length))?;
-        d.set_item("cells_after", u(|x| x.cells_after))?;
-        if let Some(ages) = dv.iter().map(|x| x.age).collect::<Option<Vec<f64>>>() {
-            d.set_item("age", ages.into_pyarray(py))?;
-        }
-        let ids = |f: fn(&celltissue::observe::DivisionRecord) -> Option<u64>| {
-            dv.iter()
-                .map(|x| f(x).map(|i| i as i64))
-                .collect::<Option<Vec<i64>>>()
-        };
-        if let (Some(cell), Some(first), Some(second)) = (
-            ids(|x| x.cell),
-            ids(|x| x.daughters.map(|d| d[0])),
-            ids(|x| x.daughters.map(|d| d[1])),
-        ) {
-            d.set_item("cell", cell.into_pyarray(py))?;
-            d.set_item("daughter_1", first.into_pyarray(py))?;
-            d.set_item("daughter_2", second.into_pyarray(py))?;
+        for (name, column) in division_columns(&self.rec.divisions) {
+            match column {
+                DivisionColumn::F64(v) => d.set_item(name, v.into_pyarray(py))?,
+                DivisionColumn::I64(v) => d.set_item(name, v.into_pyarray(py))?,
+            }
         }
         Ok(d)
     }

@@ -130,3 +130,64 @@ pub fn median_x_over_length(records: &[DivisionRecord], t0: f64, t1: f64) -> Opt
         0.5 * (v[m / 2 - 1] + v[m / 2])
     })
 }
+
+/// One column of division records: numbers or whole numbers (indices, counts, identities).
+#[derive(Clone, Debug, PartialEq)]
+pub enum DivisionColumn {
+    /// Times, positions, ages.
+    F64(Vec<f64>),
+    /// Indices, cell counts, identities.
+    I64(Vec<i64>),
+}
+
+/// The columns of `records` by name, in the order of `divisions_<label>.csv`: `t`, `parent`,
+/// `x`, `x_over_length`, `cells_after`, then `age` and `cell`, `daughter_1`, `daughter_2` when
+/// every record has them (a model that follows individual cells, one that traces their
+/// lineage; none of these without records). The CSV, the `.npz` and Python's
+/// `Run.divisions` all read these.
+///
+/// ```
+/// use celltissue::events::log::{division_columns, DivisionColumn};
+/// use celltissue::observe::DivisionRecord;
+/// let d = DivisionRecord { t: 2.0, parent: 1, x: 0.5, x_over_length: 0.5, cells_after: 11,
+///                          age: Some(2.0), ..Default::default() };
+/// let columns = division_columns(&[d]);
+/// let names: Vec<_> = columns.iter().map(|c| c.0).collect();
+/// assert_eq!(names, ["t", "parent", "x", "x_over_length", "cells_after", "age"]);
+/// assert_eq!(columns[4].1, DivisionColumn::I64(vec![11]));
+/// ```
+pub fn division_columns(records: &[DivisionRecord]) -> Vec<(&'static str, DivisionColumn)> {
+    let f = |g: fn(&DivisionRecord) -> f64| DivisionColumn::F64(records.iter().map(g).collect());
+    let i = |g: fn(&DivisionRecord) -> usize| {
+        DivisionColumn::I64(records.iter().map(|r| g(r) as i64).collect())
+    };
+    let mut out = vec![
+        ("t", f(|r| r.t)),
+        ("parent", i(|r| r.parent)),
+        ("x", f(|r| r.x)),
+        ("x_over_length", f(|r| r.x_over_length)),
+        ("cells_after", i(|r| r.cells_after)),
+    ];
+    if records.is_empty() {
+        return out;
+    }
+    if let Some(ages) = records.iter().map(|r| r.age).collect() {
+        out.push(("age", DivisionColumn::F64(ages)));
+    }
+    let ids = |g: fn(&DivisionRecord) -> Option<u64>| {
+        records
+            .iter()
+            .map(|r| g(r).map(|v| v as i64))
+            .collect::<Option<Vec<i64>>>()
+    };
+    if let (Some(cell), Some(first), Some(second)) = (
+        ids(|r| r.cell),
+        ids(|r| r.daughters.map(|d| d[0])),
+        ids(|r| r.daughters.map(|d| d[1])),
+    ) {
+        out.push(("cell", DivisionColumn::I64(cell)));
+        out.push(("daughter_1", DivisionColumn::I64(first)));
+        out.push(("daughter_2", DivisionColumn::I64(second)));
+    }
+    out
+}

@@ -402,31 +402,22 @@ pub fn profiles_csv(rec: &RunRecord) -> String {
 /// ]);
 /// ```
 pub fn divisions_csv(rec: &RunRecord) -> String {
-    let all =
-        |f: fn(&DivisionRecord) -> bool| !rec.divisions.is_empty() && rec.divisions.iter().all(f);
-    let with_age = all(|d| d.age.is_some());
-    let with_cells = all(|d| d.cell.is_some() && d.daughters.is_some());
-    let mut out = String::from("t,parent,x,x_over_length,cells_after");
-    if with_age {
-        out.push_str(",age");
-    }
-    if with_cells {
-        out.push_str(",cell,daughter_1,daughter_2");
-    }
+    use crate::events::log::{division_columns, DivisionColumn};
+    let columns = division_columns(&rec.divisions);
+    let names: Vec<&str> = columns.iter().map(|c| c.0).collect();
+    let mut out = names.join(",");
     out.push('\n');
-    for d in &rec.divisions {
-        push_f64(&mut out, d.t);
-        let _ = write!(out, ",{},", d.parent);
-        push_f64(&mut out, d.x);
-        out.push(',');
-        push_f64(&mut out, d.x_over_length);
-        let _ = write!(out, ",{}", d.cells_after);
-        if let (true, Some(a)) = (with_age, d.age) {
-            out.push(',');
-            push_f64(&mut out, a);
-        }
-        if let (true, Some(c), Some([a, b])) = (with_cells, d.cell, d.daughters) {
-            let _ = write!(out, ",{c},{a},{b}");
+    for k in 0..rec.divisions.len() {
+        for (j, (_, column)) in columns.iter().enumerate() {
+            if j > 0 {
+                out.push(',');
+            }
+            match column {
+                DivisionColumn::F64(v) => push_f64(&mut out, v[k]),
+                DivisionColumn::I64(v) => {
+                    let _ = write!(out, "{}", v[k]);
+                }
+            }
         }
         out.push('\n');
     }

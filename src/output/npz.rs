@@ -88,40 +88,15 @@ pub(crate) fn members(rec: &RunRecord) -> BTreeMap<String, Member> {
             Member::I64(vec![cells.len() as u64], cells),
         );
     }
-    let d = &rec.divisions;
-    if !d.is_empty() {
-        let n = vec![d.len() as u64];
-        let f = |g: fn(&crate::observe::DivisionRecord) -> f64| d.iter().map(g).collect();
-        m.insert("divisions/t".into(), Member::F64(n.clone(), f(|r| r.t)));
-        m.insert("divisions/x".into(), Member::F64(n.clone(), f(|r| r.x)));
-        m.insert(
-            "divisions/x_over_length".into(),
-            Member::F64(n.clone(), f(|r| r.x_over_length)),
-        );
-        m.insert(
-            "divisions/parent".into(),
-            Member::I64(n.clone(), d.iter().map(|r| r.parent as i64).collect()),
-        );
-        m.insert(
-            "divisions/cells_after".into(),
-            Member::I64(n.clone(), d.iter().map(|r| r.cells_after as i64).collect()),
-        );
-        if let Some(ages) = d.iter().map(|r| r.age).collect::<Option<Vec<f64>>>() {
-            m.insert("divisions/age".into(), Member::F64(n.clone(), ages));
-        }
-        let ids = |f: fn(&crate::observe::DivisionRecord) -> Option<u64>| {
-            d.iter()
-                .map(|r| f(r).map(|i| i as i64))
-                .collect::<Option<Vec<i64>>>()
-        };
-        if let (Some(cell), Some(first), Some(second)) = (
-            ids(|r| r.cell),
-            ids(|r| r.daughters.map(|d| d[0])),
-            ids(|r| r.daughters.map(|d| d[1])),
-        ) {
-            m.insert("divisions/cell".into(), Member::I64(n.clone(), cell));
-            m.insert("divisions/daughter_1".into(), Member::I64(n.clone(), first));
-            m.insert("divisions/daughter_2".into(), Member::I64(n, second));
+    if !rec.divisions.is_empty() {
+        use crate::events::log::{division_columns, DivisionColumn};
+        let n = vec![rec.divisions.len() as u64];
+        for (name, column) in division_columns(&rec.divisions) {
+            let member = match column {
+                DivisionColumn::F64(v) => Member::F64(n.clone(), v),
+                DivisionColumn::I64(v) => Member::I64(n.clone(), v),
+            };
+            m.insert(format!("divisions/{name}"), member);
         }
     }
     if let Some(r) = &rec.reference {
