@@ -10,7 +10,7 @@
 //!   for every run, with and without division (Figs 3.3a–b and insets);
 //! * `clones_<label>.png` — for a run that traces lineage (the discrete line and ring), the
 //!   number of cells in each initial cell's clone against that cell's index, one curve per
-//!   profile time: where the tissue's cells came from.
+//!   profile time (at most six): where the tissue's cells came from.
 
 use crate::observe::{ModelKind, RunRecord, Summary};
 use crate::output::plot::{plot_chart, Axis, Chart, Curve, PlotError, Style};
@@ -126,8 +126,8 @@ pub(crate) fn division_figures(
     out
 }
 
-/// Cells per clone against the initial cell's index (0 at x₀), one curve per profile time of
-/// a run whose profiles carry `ancestor`; `None` for any other run.
+/// Cells per clone against the initial cell's index (0 at x₀), one curve per profile time (at
+/// most six, evenly spread) of a run whose profiles carry `ancestor`; `None` for any other run.
 fn clone_chart(title: &str, r: &RunRecord) -> Option<Chart> {
     let n0 = r
         .profiles
@@ -136,10 +136,19 @@ fn clone_chart(title: &str, r: &RunRecord) -> Option<Chart> {
         .flatten()
         .fold(None, |m: Option<f64>, &a| Some(m.map_or(a, |m| m.max(a))))? as usize
         + 1;
-    let curves = r
-        .profiles
-        .iter()
-        .enumerate()
+    // at most six profile times, evenly spread from the first to the last
+    let (np, m) = (r.profiles.len(), r.profiles.len().min(6));
+    let mut picked: Vec<usize> = if m <= 1 {
+        vec![np - 1]
+    } else {
+        (0..m)
+            .map(|k| (k * (np - 1) + (m - 1) / 2) / (m - 1))
+            .collect()
+    };
+    picked.dedup();
+    let curves = picked
+        .into_iter()
+        .map(|i| (i, &r.profiles[i]))
         .filter_map(|(i, p)| {
             let mut count = vec![0.0; n0];
             for &a in p.extra.get("ancestor")? {

@@ -54,11 +54,7 @@ pub fn first_non_finite(rec: &RunRecord) -> Option<String> {
         return Some("stats".into());
     }
     for (i, d) in rec.divisions.iter().enumerate() {
-        if !(d.t.is_finite()
-            && d.x.is_finite()
-            && d.x_over_length.is_finite()
-            && d.age.is_none_or(f64::is_finite))
-        {
+        if !division_is_finite(d) {
             return Some(format!("divisions[{i}]"));
         }
     }
@@ -161,12 +157,7 @@ pub fn sanitize(rec: &mut RunRecord) -> bool {
             && finite(&p.pressure)
             && p.extra.values().all(finite)
     });
-    rec.divisions.retain(|d| {
-        d.t.is_finite()
-            && d.x.is_finite()
-            && d.x_over_length.is_finite()
-            && d.age.is_none_or(f64::is_finite)
-    });
+    rec.divisions.retain(division_is_finite);
     if !rec.stats.wall_seconds.is_finite() {
         rec.stats.wall_seconds = 0.0;
     }
@@ -234,4 +225,12 @@ pub fn check_summary(summary: &Summary) -> Result<(), NonFiniteError> {
         }
     }
     Ok(())
+}
+
+/// Whether every number of a division record is finite.
+fn division_is_finite(d: &crate::observe::DivisionRecord) -> bool {
+    d.t.is_finite()
+        && d.x.is_finite()
+        && d.x_over_length.is_finite()
+        && d.age.is_none_or(f64::is_finite)
 }
