@@ -33,8 +33,9 @@ fn ages(rec: &RunRecord) -> Vec<f64> {
 }
 
 /// Every division's birth `t − age` is t = 0 or the time of an earlier division, and no time
-/// is the birth of more cells than the divisions at it made (two daughters each; a
-/// cell-number grid's segment records stand for their cells, hence `per_record`).
+/// is the birth of more records' parents than twice the records at it (two daughters each; on
+/// the cell-number grid a record is a segment's or a member's, and a split segment's halves
+/// divide as two records). Returns how many records were born at a division.
 fn births_are_division_times(log: &[DivisionRecord], tol: f64) -> usize {
     // the events, records within `tol` of each other's time counted as one
     let mut events: Vec<(f64, usize)> = Vec::new();
