@@ -37,7 +37,8 @@ pub const QUANTILES: [(f64, &str); 5] = [
     (0.95, "p95"),
 ];
 
-/// Bins of the division-location histogram on [0, 1].
+/// Bins of the ensemble histograms over a division quantity: the locations on [0, 1], the ages
+/// from the least to the largest.
 pub const LOCATION_BINS: usize = 20;
 
 /// The realisations of one parameter set and model.
