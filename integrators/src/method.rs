@@ -31,12 +31,15 @@ pub trait Method {
         h: Option<f64>,
     ) -> Result<(), SolverError>;
 
-    /// Continues across a resizing event at `t` (inside the last accepted step) instead of
-    /// restarting: the method keeps its history nodes before `t`, maps each onto the new
-    /// layout with [`crate::Problem::map_history`] (through `sys.problem`), puts `(t, y, ẏ)` in
-    /// front and goes on with its order and step size. `y`, `yp`: the state after the event and
-    /// its mapped derivative. Returns `Ok(false)` when it cannot (no history, or the problem
-    /// has no map); the driver then calls [`start`](Method::start). Default: `Ok(false)`.
+    /// Continues across a resizing event at `t` (inside the last accepted step) that the
+    /// problem maps ([`crate::Problem::map_history`]) instead of restarting from a consistent
+    /// initialisation: `y`, `yp` are the state after the event and its mapped derivative, and
+    /// the method keeps what it can of its state before the event. BDF goes on from them at
+    /// order 1 with its step size and its Newton matrices (mapped with
+    /// [`crate::Problem::map_jacobian`] through `sys.problem`), its first step checked by step
+    /// doubling: a predictor built from the history before the event misses the kink a
+    /// division makes. Returns `Ok(false)` when it cannot (no step taken yet); the driver then
+    /// calls [`start`](Method::start). Default: `Ok(false)`.
     fn resume(
         &mut self,
         _sys: &mut System<'_>,

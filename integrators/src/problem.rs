@@ -206,12 +206,15 @@ pub trait Problem {
     /// After an event answered [`EventAction::Resized`]: writes into `new` (the new
     /// dimension) the image of `old`, a vector of the layout *before* that event — a state at
     /// time `t` (`derivative = false`) or a time derivative (`derivative = true`, where affine
-    /// offsets drop out). With such a map a history method (BDF) carries its past solution
-    /// values across the resize ([`crate::Method::resume`]) instead of restarting at order 1
-    /// from a consistent `ẏ` (the SUNDIALS `CVodeResizeHistory` idea). The map should follow
-    /// the material each unknown describes (a split cell's new boundary at the parent's
-    /// midpoint), so the mapped history is as smooth as the solution. Returns `false` when
-    /// there is no such map (default): the driver then restarts the method.
+    /// offsets drop out). With such a map the driver carries the interpolated `ẏ` across the
+    /// resize and the method resumes from the mapped state ([`crate::Method::resume`]; BDF at
+    /// order 1 with its step size and Newton matrices) instead of restarting from a
+    /// consistent initialisation (the SUNDIALS `CVodeResizeHistory` idea; a state map lets a
+    /// method map its past solution values too, which BDF does not do: a division kinks the
+    /// solution, and a predictor built from before it misses the new slope). The map should
+    /// follow the material each unknown describes (a split cell's new boundary at the
+    /// parent's midpoint). Returns `false` when there is no such map (default): the driver
+    /// then restarts the method.
     fn map_history(&self, _t: f64, _old: &[f64], _derivative: bool, _new: &mut [f64]) -> bool {
         false
     }

@@ -874,8 +874,8 @@ where
                             }
                         }
                         // a resize the problem can map (`Problem::map_history`): the method
-                        // carries its history across it (`Method::resume`) and goes on from
-                        // the mapped interpolated ẏ, with no consistent initialisation
+                        // resumes across it (`Method::resume`) from the mapped interpolated ẏ,
+                        // with no consistent initialisation
                         ypnew.clear();
                         ypnew.resize(ynew.len(), 0.0);
                         let mut resumed = false;

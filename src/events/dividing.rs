@@ -756,9 +756,10 @@ impl<E: StrainEnergy> CellArray for Dividing<E> {
     /// at η = 1, K = 1e-8, to 10⁴ cells: the absolute rate dropped it by `ηġ/2`, and the first
     /// Newton iterations after each division overshot into the flat of the tanh law, 25.5
     /// steps and 1.5 Newton failures per division against 2.0 and none). The velocity
-    /// field is continuous at a division with `η = 0` (forces are), so a BDF history mapped
-    /// this way stays smooth to first order; only `ẍ` kinks (each daughter grows at the
-    /// parent's absolute rate). Off with [`Dividing::carry_history`] `= false`.
+    /// field is continuous at a division with `η = 0` (forces are), so the mapped `ẏ` is the
+    /// solution's own to first order; only `ẍ` kinks (each daughter grows at the parent's
+    /// absolute rate). The solver maps `ẏ` at the event and BDF resumes from it at order 1
+    /// ([`integrators::Method::resume`]). Off with [`Dividing::carry_history`] `= false`.
     fn map_history(&self, t: f64, old: &[f64], derivative: bool, new: &mut [f64]) -> bool {
         self.carry_history && self.map_split(t, old, derivative, new)
     }
