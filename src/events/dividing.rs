@@ -14,7 +14,7 @@
 use super::division::{CellView, DivisionRule, SplitMix64};
 use super::lineage::Lineage;
 use super::log::DivisionLog;
-use super::reindex::expand_in_place;
+use super::reindex::{expand_in_place, Ahead};
 use super::EventError;
 use crate::array::CellArray;
 use crate::energy::StrainEnergy;
@@ -84,6 +84,10 @@ struct SplitMap {
     cells: Vec<usize>,
     /// Each divided cell's `g` at division.
     g_parent: Vec<f64>,
+    /// Its daughters' `g` after the split (1 unless split ahead of its time, [`Ahead`]).
+    g_daughter: Vec<f64>,
+    /// How far the boundaries beyond it moved ([`crate::events::Split::tail_shift`]).
+    tail_shift: Vec<f64>,
     /// The old index of every unknown of the new layout (`usize::MAX` for a divided cell's
     /// first `g`, new boundary and second `g`; a daughter's `a_v` is its parent's), or empty if
     /// the layout is not the growing line's `[x₀,] (g₁, [a₁,] x₁, …, g_N, [a_N,] [x_N])`.
@@ -204,10 +208,16 @@ pub struct Dividing<E: StrainEnergy> {
     /// Divisions due within this time after an event are brought forward to it (default 0:
     /// every division at its own located time). A cell is due when its event function,
     /// extrapolated along the event's `ẏ` (and the clock, for age rules), reaches zero within
-    /// `batch_within`. A change of model, not of numerics: each such division comes up to
-    /// `batch_within` early, and where divisions are dense (a nearly stress-free line) the
-    /// length errs at first order in it, whatever the tolerance (docs/model.md §2.8). What
-    /// it buys is fewer events, each a restart of the integrator's step sequence.
+    /// `batch_within`, at an advance `Δt`. It is split as its own division would have been,
+    /// run back over `Δt` ([`Line::split_cells_ahead`]): the daughters start from
+    /// `g = 1 − ġΔt` with the reference length of the parent's split at its time, and on a
+    /// free end the boundaries beyond move in by the pair's shortfall in grown length, so
+    /// stresses stay continuous. Their age runs from the event, so under an age rule a
+    /// lineage still comes up to `batch_within` earlier each generation. A change of model, not of numerics: each such division
+    /// comes up to `batch_within` early in the cell count; where divisions are dense (a
+    /// nearly stress-free line) the length errs at first order in it, about 0.007 of the
+    /// window relative, whatever the tolerance (docs/model.md §2.8). What it buys is fewer
+    /// events, each a restart of the integrator's step sequence.
     ///
     /// ```
     /// use celltissue::boundary::RightEnd;
@@ -241,6 +251,8 @@ pub struct Dividing<E: StrainEnergy> {
     /// functions there (kept across events, so none allocates).
     ahead: Vec<f64>,
     g_ahead: Vec<f64>,
+    /// Scratch of [`Dividing::due_within`]: the event values at the event itself.
+    g_now: Vec<f64>,
     rng: SplitMix64,
 }
 
@@ -280,6 +292,7 @@ impl<E: StrainEnergy> Dividing<E> {
             new_boundaries: Vec::new(),
             ahead: Vec::new(),
             g_ahead: Vec::new(),
+            g_now: Vec::new(),
             yp_event: Vec::new(),
             rng,
             rule,
@@ -342,9 +355,16 @@ impl<E: StrainEnergy> Dividing<E> {
     }
 
     /// The cells (1-based) whose event function, extrapolated linearly from `(t, y)` along
-    /// `yp`, reaches zero within [`Dividing::batch_within`] (none when that is 0 or `yp` is
-    /// not this layout's; an error naming the field when it is negative or not finite).
-    fn due_within(&mut self, t: f64, y: &[f64], yp: &[f64]) -> Result<Vec<usize>, ResidualError> {
+    /// `yp`, reaches zero within [`Dividing::batch_within`], each with its advance: the time
+    /// `Δt ∈ [0, batch_within]` at which its event function, interpolated linearly between
+    /// `t` and `t + batch_within`, reaches zero (none when the window is 0 or `yp` is not this
+    /// layout's; an error naming the field when it is negative or not finite).
+    fn due_within(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+    ) -> Result<Vec<(usize, f64)>, ResidualError> {
         let dt = self.batch_within;
         super::division::check_batch_within(dt).map_err(|e| ResidualError::Fatal(e.to_string()))?;
         if dt == 0.0 || yp.len() != y.len() {
@@ -357,12 +377,50 @@ impl<E: StrainEnergy> Dividing<E> {
         g.clear();
         g.resize(self.line.n_cells(), 0.0);
         self.events(t + dt, &ahead, &mut g);
+        // the event functions at the event, for the advances
+        let mut now = std::mem::take(&mut self.g_now);
+        now.clear();
+        now.resize(g.len(), 0.0);
+        if g.iter().any(|&v| v >= 0.0) {
+            self.events(t, y, &mut now);
+        }
         let due = (0..g.len())
             .filter(|&i| g[i] >= 0.0)
-            .map(|i| i + 1)
+            .map(|i| {
+                let (f0, f1) = (now[i], g[i]);
+                let advance = if f0 < 0.0 {
+                    (dt * -f0 / (f1 - f0)).clamp(0.0, dt)
+                } else {
+                    0.0
+                };
+                (i + 1, advance)
+            })
             .collect();
-        (self.ahead, self.g_ahead) = (ahead, g);
+        (self.ahead, self.g_ahead, self.g_now) = (ahead, g, now);
         Ok(due)
+    }
+
+    /// The growth over each advance of `due` (cells 1-based, with their advance `Δt`), read
+    /// from the event's `ẏ`: the parent's `ġΔt`, for the parent and for each daughter (a
+    /// daughter grows at its parent's absolute rate `G(σ)`; with viscosity it restarts from
+    /// the relative rate, [`Dividing::map_history`], but the parent's absolute rate put the
+    /// windowed line's length 1.4–2× nearer the exact-time one's at η = 1, BENCHMARKS.md).
+    /// No growth when `yp` is not this layout's (the divisions are then at their time).
+    fn growth_ahead(&self, due: &[(usize, f64)], yp: &[f64]) -> Vec<Ahead> {
+        let lay = &self.line.layout;
+        due.iter()
+            .map(|&(j, dt)| {
+                let k = lay.gi[j - 1];
+                if dt == 0.0 || k == NONE || yp.len() != lay.dim {
+                    return Ahead::default();
+                }
+                let grown = yp[k] * dt;
+                Ahead {
+                    parent: grown,
+                    daughter: grown,
+                }
+            })
+            .collect()
     }
 
     /// Whether the cap on the number of cells has been reached.
@@ -404,12 +462,13 @@ impl<E: StrainEnergy> Dividing<E> {
     fn divide(
         &mut self,
         asc: &[usize],
+        ahead: &[Ahead],
         t: f64,
         y: &mut Vec<f64>,
         spare: Option<SplitMap>,
     ) -> Result<(), EventError> {
         let n_old = self.line.n_cells();
-        let splits = self.line.split_cells(asc, t, y)?;
+        let splits = self.line.split_cells_ahead(asc, ahead, t, y)?;
         // thresholds drawn in decreasing index order, lower daughter first (reproducible)
         let mut draws = vec![(0.0, 0.0); asc.len()];
         for d in draws.iter_mut().rev() {
@@ -422,6 +481,7 @@ impl<E: StrainEnergy> Dividing<E> {
         // the parents' ages, read before their daughters' births replace them
         let ages: Vec<f64> = at.iter().map(|&i| t - self.birth[i]).collect();
         let identities = self.lineage.as_mut().map(|l| l.divide(&at));
+        // born at the event, also when split ahead (their age runs from when they appear)
         expand_in_place(&mut self.birth, &at, |_, _| [t, t]);
         expand_in_place(&mut self.threshold, &at, |e, _| [draws[e].0, draws[e].1]);
         expand_in_place(&mut self.dx_ref, &at, |e, v| [0.5 * v[at[e]]; 2]);
@@ -454,6 +514,10 @@ impl<E: StrainEnergy> Dividing<E> {
         map.cells.extend_from_slice(asc);
         map.g_parent.clear();
         map.g_parent.extend(splits.iter().map(|s| s.g_parent));
+        map.g_daughter.clear();
+        map.g_daughter.extend(splits.iter().map(|s| s.g_daughter));
+        map.tail_shift.clear();
+        map.tail_shift.extend(splits.iter().map(|s| s.tail_shift));
         let seam = usize::from(self.line.layout.xi[0] != NONE);
         let mut src = std::mem::take(&mut map.sources);
         map.fill_sources(
@@ -520,7 +584,13 @@ impl<E: StrainEnergy> Dividing<E> {
         // the k-th divided cell j (in increasing order) had its g at old index
         // seam + stride·(j − 1), and the k earlier splits inserted `stride` unknowns each
         // before it (a daughter's a_v came with the sources)
-        for (k, (&j, &gs)) in m.cells.iter().zip(&m.g_parent).enumerate() {
+        for (k, ((&j, &gs), &g1)) in m
+            .cells
+            .iter()
+            .zip(&m.g_parent)
+            .zip(&m.g_daughter)
+            .enumerate()
+        {
             let gk = seam + stride * (j - 1);
             let has_x = j < n_old || free;
             let g = old[gk];
@@ -538,12 +608,32 @@ impl<E: StrainEnergy> Dividing<E> {
             let gd = match (derivative, viscous) {
                 (true, false) => g,
                 (true, true) => g / gs,
-                (false, _) => g - gs + 1.0,
+                (false, _) => g - gs + g1,
             };
             let w = gk + stride * k;
             new[w] = gd;
             new[w + stride - 1] = 0.5 * (xl + xr);
             new[w + stride] = gd;
+        }
+        // a value's boundaries beyond a split ahead move with the state's (the new boundary,
+        // between the daughters, by half its split's shift)
+        if !derivative && m.tail_shift.iter().any(|&d| d != 0.0) {
+            let mut cum = 0.0;
+            let mut next = m.cells.iter().zip(&m.tail_shift).enumerate().peekable();
+            for b in 1..=n_new {
+                let mut add = cum;
+                if let Some(&(k, (&j, &d))) = next.peek() {
+                    if b == j + k {
+                        add = cum + 0.5 * d;
+                        cum += d;
+                        next.next();
+                    }
+                }
+                let kx = self.line.layout.xi[b];
+                if kx != NONE {
+                    new[kx] += add;
+                }
+            }
         }
         true
     }
@@ -709,23 +799,26 @@ impl<E: StrainEnergy> CellArray for Dividing<E> {
         y: &mut Vec<f64>,
         yp: &[f64],
     ) -> Result<EventAction, ResidualError> {
-        let mut order: Vec<usize> = fired.iter().map(|&i| i + 1).collect();
-        order.extend(self.due_within(t, y, yp)?);
-        order.sort_unstable();
-        order.dedup();
+        // (cell, advance): the fired cells divide at their time, the window's ahead of theirs
+        let mut due: Vec<(usize, f64)> = fired.iter().map(|&i| (i + 1, 0.0)).collect();
+        due.extend(self.due_within(t, y, yp)?);
+        due.sort_unstable_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+        due.dedup_by_key(|d| d.0);
         // with a cap, the highest-index cells divide first (as when split one by one)
         if let Some(cap) = self.max_cells {
             let room = cap.saturating_sub(self.line.n_cells());
-            let drop = order.len().saturating_sub(room);
-            order.drain(..drop);
+            let drop = due.len().saturating_sub(room);
+            due.drain(..drop);
         }
         let spare = self.last.take();
-        if order.is_empty() {
+        if due.is_empty() {
             return Ok(EventAction::Continue);
         }
+        let order: Vec<usize> = due.iter().map(|d| d.0).collect();
+        let ahead = self.growth_ahead(&due, yp);
         let before = self.check_invariants.map(|_| self.elastic(t, y));
         let dim_old = y.len();
-        self.divide(&order, t, y, spare)
+        self.divide(&order, &ahead, t, y, spare)
             .map_err(|e| ResidualError::Fatal(e.to_string()))?;
         self.yp_event.clear();
         if yp.len() == dim_old {

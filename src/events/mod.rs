@@ -57,7 +57,7 @@ pub use division::{
 };
 pub use lineage::Lineage;
 pub use log::DivisionLog;
-pub use reindex::Split;
+pub use reindex::{Ahead, Split};
 pub use rules::RuleSpec;
 pub use run::{run_proliferation, ProliferationConfig, ProliferationError};
 
