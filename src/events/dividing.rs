@@ -31,7 +31,9 @@ use integrators::{EventAction, ResidualError};
 const EVENT_CHUNK: usize = 128;
 
 /// Largest change of the division invariants (docs/model.md §5.5) seen over all events, measured
-/// just before and just after each split (enable with [`Dividing::check_invariants`]).
+/// just before and just after each split (enable with [`Dividing::check_invariants`]). A
+/// division brought forward ([`Dividing::batch_within`]) changes `Σ L₀g` by design, and the
+/// boundaries beyond it (on a free end) or its daughters' stretch (otherwise).
 ///
 /// ```
 /// use celltissue::boundary::RightEnd;
@@ -213,11 +215,12 @@ pub struct Dividing<E: StrainEnergy> {
     /// `g = 1 − ġΔt` with the reference length of the parent's split at its time, and on a
     /// free end the boundaries beyond move in by the pair's shortfall in grown length, so
     /// stresses stay continuous. Their age runs from the event, so under an age rule a
-    /// lineage still comes up to `batch_within` earlier each generation. A change of model, not of numerics: each such division
-    /// comes up to `batch_within` early in the cell count; where divisions are dense (a
-    /// nearly stress-free line) the length errs at first order in it, about 0.007 of the
-    /// window relative, whatever the tolerance (docs/model.md §2.8). What it buys is fewer
-    /// events, each a restart of the integrator's step sequence.
+    /// lineage still comes up to `batch_within` earlier each generation. A change of model,
+    /// not of numerics: each such division comes up to `batch_within` early in the cell
+    /// count; where divisions are dense (a nearly stress-free line) the length errs at first
+    /// order in it, about 0.007 of the window relative, whatever the tolerance
+    /// (docs/model.md §2.8). What it buys is fewer events, each a restart of the
+    /// integrator's step sequence.
     ///
     /// ```
     /// use celltissue::boundary::RightEnd;
