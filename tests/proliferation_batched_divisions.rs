@@ -113,10 +113,9 @@ fn observed_order(errors: &[f64]) -> f64 {
 fn dense_divisions_converge_at_first_order_in_the_window() {
     // K = 1e-8: the line is nearly stress free, every cell of a generation reaches the area
     // threshold within a short burst, and nearly every division is brought forward. Each is
-    // split as its own division would have been, run back over its advance (daughters born
-    // at their parent's time, set back by their growth over it, the free end's boundaries
-    // moved in by it): the lineage keeps its schedule and the line does not keep the
-    // daughters' extra growth. What is left is first order in δ, but small. Measured (N₀ =
+    // split as its own division would have been, run back over its advance (daughters set
+    // back by their growth over it, the free end's boundaries moved in by it): the lineage
+    // keeps its schedule and the line does not keep the daughters' extra growth. What is left is first order in δ, but small. Measured (N₀ =
     // 100 → 2 000 cells, t ≤ 12): |Δl|/l = 5.3e-5, 2.8e-5, 1.4e-5, 6.8e-6, 3.4e-6 (0.007 δ),
     // slope 1.00; 1 900 divisions in 20, 35, 67, 123, 219 events and 693, 1 144, 1 064, 848,
     // 1 040 steps instead of 1 900 events and 4 032 steps. Split at the event as at their own
