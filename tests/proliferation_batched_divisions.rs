@@ -10,7 +10,7 @@
 
 use crate::common::area_dividing_line;
 use celltissue::line::run::{integrate, SolveSettings};
-use celltissue::ArrayProblem;
+use celltissue::{ArrayProblem, CellArray};
 
 struct Run {
     /// Division times, sorted.
@@ -190,5 +190,71 @@ fn a_window_out_of_range_stops_the_run_at_the_first_division_naming_it() {
         );
         // what was computed before the first division is kept
         assert_eq!(traj.snapshots.len(), 1, "{bad}");
+    }
+}
+
+/// One event with a fired cell and four due within the window: the cells due are split ahead
+/// (daughters at `g = 1 − ġΔt`, the fired cell's at 1), every cell keeps its elastic stretch
+/// (the daughters their parent's: the free end's boundaries moved in), and the map of the
+/// integrator's vectors carries the pre-event state onto the split one.
+#[test]
+fn cells_split_ahead_keep_their_stretch_and_the_map_carries_the_state() {
+    let mut div = area_dividing_line(1e-8);
+    div.batch_within = 1e-2;
+    let lay = div.line.layout().clone();
+    let mut y = div.line.initial_state();
+    let mut yp = vec![0.0; y.len()];
+    for c in 0..100 {
+        y[lay.gi[c]] = 1.0 + 0.002 * c as f64;
+        yp[lay.gi[c]] = 0.1;
+        y[lay.xi[c + 1]] += 0.01 * (c as f64).sin();
+        yp[lay.xi[c + 1]] = 0.3 * c as f64;
+    }
+    // 0-based: cell 29 fires; cells 9, 10, 59 and 99 reach g = 2 at Δt = 5e-3
+    y[lay.gi[29]] = 2.0;
+    for c in [9, 10, 59, 99] {
+        y[lay.gi[c]] = 1.995;
+        yp[lay.gi[c]] = 1.0;
+    }
+    let alpha = |d: &celltissue::events::Dividing<celltissue::NeoHookean>, y: &[f64], j| {
+        let zero = vec![0.0; y.len()];
+        d.line.eval_cell::<f64>(j, 0.5, y, &zero).unwrap().alpha
+    };
+    let before: Vec<f64> = (1..=100).map(|j| alpha(&div, &y, j)).collect();
+    let y_old = y.clone();
+    let action = div.handle_event(0.5, &[29], &mut y, &yp).unwrap();
+    assert_eq!(action, integrators::EventAction::Resized);
+    assert_eq!(div.line.n_cells(), 105);
+    let new = div.line.layout().clone();
+    let (mut shift, mut k) = (0, 0);
+    for (c, &a) in before.iter().enumerate() {
+        let divided = [9, 10, 29, 59, 99].contains(&c);
+        let daughters: &[usize] = if divided { &[0, 1] } else { &[0] };
+        for &d in daughters {
+            let j = c + shift + d;
+            let a_new = alpha(&div, &y, j + 1);
+            assert!(
+                (a_new - a).abs() < 1e-12,
+                "cell {c}, new {j}: α {a} → {a_new}"
+            );
+            if divided {
+                let g_want = if c == 29 { 1.0 } else { 1.0 - 5e-3 };
+                assert!(
+                    (y[new.gi[j]] - g_want).abs() < 1e-12,
+                    "cell {c}: g {}",
+                    y[new.gi[j]]
+                );
+            }
+        }
+        if divided {
+            shift += 1;
+            k += 1;
+        }
+    }
+    assert_eq!(k, 5);
+    let mut y_mapped = vec![f64::NAN; y.len()];
+    assert!(div.map_history(0.5, &y_old, false, &mut y_mapped));
+    for (i, (m, s)) in y_mapped.iter().zip(&y).enumerate() {
+        assert!((m - s).abs() < 1e-12, "unknown {i}: mapped {m}, split {s}");
     }
 }
