@@ -218,8 +218,9 @@ pub struct Dividing<E: StrainEnergy> {
     /// lineage still comes up to `batch_within` earlier each generation. A change of model,
     /// not of numerics: each such division comes up to `batch_within` early in the cell
     /// count; where divisions are dense (a nearly stress-free line) the length errs at first
-    /// order in it, whatever the tolerance: about 0.007 of the window relative to 2 000
-    /// cells, 0.05 of it to 10⁵ cells (docs/model.md §2.8). What it buys is fewer events, each a restart of the
+    /// order in it, whatever the tolerance, growing with the drag's stress along the line:
+    /// about 0.001 of the window relative at 800 cells, 0.056 at 9 000 and 0.071 at 17 350
+    /// (K = 1e-8; docs/model.md §2.8). What it buys is fewer events, each a restart of the
     /// integrator's step sequence.
     ///
     /// ```
