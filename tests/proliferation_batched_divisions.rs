@@ -166,7 +166,8 @@ fn ten_thousand_cells_at_a_one_millisecond_window() {
     // estimate ∝ h^0.25) until it ran out of retries; it now goes on while the estimate
     // falls. Measured: 2 472 events, 9 668 steps (0.98 per division), 67 rejected; l(17) =
     // 16 112.324 against 16 113.030 at exact times (−4.4e-5 relative, the window's error;
-    // more than the 2 000-cell run's 0.007 δ, and not traced). Split at the event
+    // more than the 2 000-cell run's 0.007 δ: it grows with the drag's stress along the
+    // line, docs/model.md §2.8). Split at the event
     // as at their own time the daughters gave 2 301 events, 9 231 steps, 122 rejected and
     // −7.5e-5.
     let r = run(1e-8, &[0.0, 17.0], Some(10_000), 1e-3);
@@ -174,6 +175,69 @@ fn ten_thousand_cells_at_a_one_millisecond_window() {
     assert_eq!((r.events, r.steps, r.rejected), (2_472, 9_668, 67));
     let l = *r.lengths.last().unwrap();
     assert!((l / 16_113.030_358 - 1.0).abs() < 5e-5, "l(17) = {l}");
+}
+
+/// Cells `(g, α)` of the run's last snapshot.
+fn last_cells(traj: &celltissue::line::run::Trajectory) -> (Vec<f64>, Vec<f64>) {
+    let s = traj.snapshots.last().expect("a snapshot");
+    (s.g.clone(), s.alpha.clone())
+}
+
+#[test]
+fn a_wide_window_at_a_loose_tolerance_keeps_its_cells_within_the_tolerance() {
+    // η = 0, K = 1e-8, δ = 1e-2, N₀ = 100 → 3 200 cells at t = 12 (every cell has divided five
+    // times, so the runs hold the same cells in the same order). At η = 0 each event starts a
+    // relaxation on many time scales, which the default rtol 1e-6 resolves in stretches that
+    // the window's own error (−1.8e-4 in l here) swamps: at rtol 1e-5 the run takes a third of
+    // the steps, and every cell's g and stretch stay within rtol of the same model at rtol
+    // 1e-8 (measured: g 2.8e-6, stretch 3.1e-9, l 1.6e-6; BENCHMARKS.md, "Where the window's
+    // error comes from"). l(12) at exact division times (rtol 1e-6): 5 778.256 399 5; the
+    // window's −1.76e-4 is within the 0.018 δ docs/model.md §2.8 gives at this size.
+    let solve = |rtol: f64| {
+        let mut div = area_dividing_line(1e-8);
+        div.batch_within = 1e-2;
+        let mut prob = ArrayProblem::new(div);
+        let settings = SolveSettings {
+            rtol,
+            atol: rtol / 100.0,
+            ..Default::default()
+        };
+        let traj = integrate(&mut prob, &settings, &[0.0, 12.0]);
+        assert!(traj.error.is_none(), "rtol {rtol}: {:?}", traj.error);
+        assert_eq!(prob.array.line.n_cells(), 3_200, "rtol {rtol}");
+        traj
+    };
+    let (loose, tight) = (solve(1e-5), solve(1e-8));
+    let ((g, a), (g_ref, a_ref)) = (last_cells(&loose), last_cells(&tight));
+    let err = |x: &[f64], r: &[f64]| {
+        x.iter()
+            .zip(r)
+            .map(|(x, r)| (x / r - 1.0).abs())
+            .fold(0.0, f64::max)
+    };
+    let (eg, ea) = (err(&g, &g_ref), err(&a, &a_ref));
+    let l = loose.snapshots.last().unwrap().length();
+    let l_ref = tight.snapshots.last().unwrap().length();
+    let s = &loose.stats;
+    println!(
+        "rtol 1e-5: {} events, {} steps, {} rejected; g {eg:.2e}, α {ea:.2e}, l {:.2e}; \
+         l(12) = {l} against {} at exact times",
+        s.events,
+        s.steps,
+        s.rejected_steps,
+        l / l_ref - 1.0,
+        5_778.256_399_5
+    );
+    assert!(eg < 1e-5 && ea < 1e-5, "g {eg:e}, α {ea:e}");
+    assert!(
+        (l / 5_778.256_399_5 - 1.0).abs() < 0.02 * 1e-2,
+        "l(12) = {l}"
+    );
+    assert_eq!(
+        (s.events, s.steps, s.rejected_steps),
+        (27, 305, 35),
+        "counters of the loose run"
+    );
 }
 
 #[test]
