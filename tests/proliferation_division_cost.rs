@@ -93,6 +93,33 @@ fn small_drag_division_counters() {
 }
 
 #[test]
+fn a_looser_contract_brings_small_drag_divisions_to_about_two_steps() {
+    // The relaxation a division starts at K = 1e-5 has an amplitude of order K·v/μ; at rtol
+    // 1e-6 the contract resolves it (36 steps per division, above), at rtol 1e-4 it falls
+    // below the tolerance: about two steps and almost no rejection per division, the
+    // issue's target, bought with stretch errors of up to 0.45 rtol (BENCHMARKS.md, "What a
+    // looser contract buys"). The length stays within rtol of the rtol 1e-9 reference
+    // (l = 1383.4339756, above).
+    let settings = SolveSettings {
+        rtol: 1e-4,
+        atol: 1e-6,
+        ..Default::default()
+    };
+    let c = run_at(1e-5, 18.0, true, &settings);
+    assert_eq!(c.divisions, 871);
+    // measured: 1 794 steps (2.06 per division), 5 rejected, 44 Jacobians; l errs by 1.4e-5
+    assert_eq!(
+        (c.steps, c.rejected, c.jacobians),
+        (1794, 5, 44),
+        "counters moved"
+    );
+    let d = c.divisions as f64;
+    assert!(c.steps as f64 / d < 2.2 && (c.rejected as f64) / d < 0.2);
+    let dl = (c.length / 1383.433_975_6 - 1.0).abs();
+    assert!(dl < 1e-4, "l(18) = {} errs by {dl:e}", c.length);
+}
+
+#[test]
 fn large_drag_rim_divisions() {
     let new = run(1e-2, 300.0, true);
     let old = run(1e-2, 300.0, false);
