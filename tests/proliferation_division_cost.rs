@@ -115,7 +115,7 @@ fn a_looser_contract_brings_small_drag_divisions_to_about_two_steps() {
     );
     let d = c.divisions as f64;
     assert!(c.steps as f64 / d < 2.2 && (c.rejected as f64) / d < 0.2);
-    let dl = (c.length / 1383.433_975_6 - 1.0).abs();
+    let dl = (c.length / 1_383.433_975_6 - 1.0).abs();
     assert!(dl < 1e-4, "l(18) = {} errs by {dl:e}", c.length);
 }
 
