@@ -14,9 +14,10 @@
 //! (`Dividing::batch_within`, default 0),
 //! `PROLIF_ETA` gives the report's dividing cells Kelvin–Voigt viscosity η (default 0),
 //! `PROLIF_GROWTH_N` the size of the η comparison (default 1e5; 0 skips it),
-//! `PROLIF_LARGE=0` skips the criterion groups to 10⁴ cells, `PROLIF_RTOL` tightens the
-//! tolerance of the report's runs (atol = rtol/100; default 1e-6 and 1e-8) to measure the
-//! default runs' accuracy by their final length, `PROLIF_THREADS=2` runs them on two threads.
+//! `PROLIF_LARGE=0` skips the criterion groups to 10⁴ cells, `PROLIF_RTOL` sets the
+//! tolerance of the report's runs (atol = rtol/100; default 1e-6 and 1e-8; the `REPORT` line
+//! names it): tighter to measure the default runs' accuracy by their final length, looser to
+//! measure what a windowed run at η = 0 saves, `PROLIF_THREADS=2` runs them on two threads.
 //!
 //! The group also times `travelling_rim` (the long-time rim at K = 1e-2, no line integrated)
 //! and the rim to t = 1000 at K = 1e-2 on the discrete line and on the cell-number grid with
@@ -70,8 +71,9 @@ fn proliferate(
     (prob.array.line.n_cells(), prob.array.log.len(), traj)
 }
 
-/// The solve settings: the defaults, or with `PROLIF_RTOL` a tighter run (atol = rtol/100) to
-/// measure the default run's accuracy; `PROLIF_THREADS=2` lets the solve split its passes
+/// The solve settings: the defaults, or with `PROLIF_RTOL` another tolerance (atol =
+/// rtol/100), tighter to measure the default run's accuracy or looser to measure what it
+/// saves; `PROLIF_THREADS=2` lets the solve split its passes
 /// over two threads (`SolveSettings::threads`).
 fn settings() -> SolveSettings {
     let rtol = env("PROLIF_RTOL", 1e-6);
@@ -147,8 +149,9 @@ fn report() {
     let (cells, divs, traj) = proliferate(k, t_end, cap, smooth, within, eta);
     let wall = start.elapsed().as_secs_f64();
     let s = traj.stats;
+    let rtol = settings().rtol;
     println!(
-        "REPORT proliferation K={k:e} t=[0,{t_end}] cap={cap:?} smooth_restart={smooth} batch_within={within} eta={eta}: N 100 -> {cells}, {divs} divisions in {} events, {wall:.2} s, {:.0} divisions/s, {} steps ({:.2} steps/division), {} rejected ({:.3}/division; {} error-test, {} Newton), {} Jacobian pairs ({:.3}/division; {} mapped across divisions), {} factorizations, {} Newton iterations ({:.2}/division), {} residual calls, {} linear solves, l = {:.10}",
+        "REPORT proliferation K={k:e} t=[0,{t_end}] cap={cap:?} smooth_restart={smooth} batch_within={within} eta={eta} rtol={rtol:e}: N 100 -> {cells}, {divs} divisions in {} events, {wall:.2} s, {:.0} divisions/s, {} steps ({:.2} steps/division), {} rejected ({:.3}/division; {} error-test, {} Newton), {} Jacobian pairs ({:.3}/division; {} mapped across divisions), {} factorizations, {} Newton iterations ({:.2}/division), {} residual calls, {} linear solves, l = {:.10}",
         s.events,
         divs as f64 / wall,
         s.steps,
