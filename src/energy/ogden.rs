@@ -45,6 +45,8 @@ impl Ogden {
     /// use celltissue::Ogden;
     /// assert_eq!(Ogden::new(vec![(1.0, 2.0), (1.0, -1.0)]).unwrap_err().to_string(),
     ///            "terms[1].mu_p*alpha_p = -1 must be > 0");
+    /// assert_eq!(Ogden::new(vec![(0.3, -1.5)]).unwrap_err().to_string(),
+    ///            "terms[0].mu_p*alpha_p = -0.45 must be > 0");
     /// assert!(Ogden::new(vec![]).is_err());
     /// ```
     pub fn new(terms: Vec<(f64, f64)>) -> Result<Self, EnergyError> {
@@ -55,9 +57,14 @@ impl Ogden {
             finite(&format!("terms[{p}].mu_p"), mu)?;
             finite(&format!("terms[{p}].alpha_p"), alpha)?;
             if mu * alpha <= 0.0 {
+                // the product to 12 significant digits: 0.3·(−1.5) reads −0.45, not the
+                // product's binary rounding −0.44999999999999996
+                let product = format!("{:.11e}", mu * alpha)
+                    .parse::<f64>()
+                    .unwrap_or(mu * alpha);
                 return Err(EnergyError::out_of_range(
                     format!("terms[{p}].mu_p*alpha_p"),
-                    mu * alpha,
+                    product,
                     "> 0",
                 ));
             }
