@@ -257,6 +257,7 @@ fn benches(c: &mut Criterion) {
                 let mut grid = grid.unwrap();
                 grid.coarsen = Some(Coarsening {
                     growth_below: 1e-3,
+                    stress_within: None,
                     max_cells: 64,
                     batch: 8,
                 });

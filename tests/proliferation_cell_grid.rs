@@ -214,6 +214,7 @@ fn merged_bulk_behind_the_rim_holds_l_and_n_to_t_1000() {
     for (theta, segments) in [(1e-2, 87), (1e-3, 236)] {
         let coarsen = Coarsening {
             growth_below: theta,
+            stress_within: None,
             max_cells: 64,
             batch: 8,
         };
@@ -482,4 +483,59 @@ fn shape_rule_on_two_cell_segments_sees_single_cells() {
     );
     assert!(d.ln[8].1 > 400.0);
     assert!(en < 0.02 && el < 1e-4, "l within {el}, N within {en}");
+}
+
+/// In-phase merging ([`Coarsening::stress_within`]): under weak drag every cell grows, so
+/// nothing stops growing to merge, but neighbours bearing nearly the same stress grow alike.
+/// Merging those (and splitting a merged segment again once the stress across it exceeds four
+/// tolerances) makes the grid follow the stress profile instead of the cell count. Against the
+/// discrete line at every half time unit (rtol 1e-6). Measured:
+/// - K = 1e-8 to t = 14 (6 400 cells), tolerance 1e-3 of the stress scale: `l` 1.19e-4, `N`
+///   4.3e-4 (one output inside a division wave), 203 segments at the end, 5 685 steps against
+///   the discrete line's 13 273;
+/// - K = 1e-5 to t = 18 (971 cells), tolerance 1e-2: `l` 3.6e-4, `N` 1.2e-2, 92 segments,
+///   10 904 steps against 31 603; at tolerance 1e-3 both errors fall (`l` 1.05e-5, `N` 1.1e-3).
+#[test]
+fn in_phase_merging_follows_the_stress_profile_not_the_cell_count() {
+    let times = |t_end: f64| -> Vec<f64> {
+        (0..=(2.0 * t_end) as usize)
+            .map(|i| 0.5 * i as f64)
+            .collect()
+    };
+    let run = |k: f64, d: &Run, within: f64| {
+        let times: Vec<f64> = times(0.5 * (d.ln.len() - 1) as f64);
+        let coarsen = Coarsening {
+            growth_below: 0.0,
+            stress_within: Some(within),
+            max_cells: 1024,
+            batch: 8,
+        };
+        let g = grid_run(k, 1, Some(coarsen), &times, 1e-6);
+        let (el, en) = errors(&g, d);
+        println!(
+            "K = {k:e}, tolerance {within:e}: N = {} / {}, l error {el:.2e}, N error {en:.2e}, \
+             {} segments, steps {} / {}",
+            g.ln.last().unwrap().1,
+            d.ln.last().unwrap().1,
+            g.segments,
+            g.steps,
+            d.steps
+        );
+        (el, en, g.segments, g.steps)
+    };
+    let weak = discrete_run(1e-8, &times(14.0), 1e-6);
+    let (el, en, segments, steps) = run(1e-8, &weak, 1e-3);
+    assert!(el < 2e-4 && en < 1e-3, "{el} {en}");
+    // the cost counters: segments for 6 400 cells, and steps
+    assert_eq!((segments, steps), (203, 5685));
+    let fig3_3 = discrete_run(1e-5, &times(18.0), 1e-6);
+    let (el, en, segments, steps) = run(1e-5, &fig3_3, 1e-2);
+    assert!(el < 5e-4 && en < 0.02, "{el} {en}");
+    assert_eq!((segments, steps), (92, 10904));
+    // a tighter tolerance converges on the discrete line
+    let (el_tight, en_tight, _, _) = run(1e-5, &fig3_3, 1e-3);
+    assert!(
+        el_tight < el / 10.0 && en_tight < en / 2.0,
+        "{el_tight} {en_tight}"
+    );
 }

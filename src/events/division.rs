@@ -396,8 +396,9 @@ pub(crate) fn check_batch_within(w: f64) -> Result<(), ParamError> {
 
 /// The `division.cell_grid` table: the proliferating continuum on segments of `cells / nodes`
 /// whole cells that split as cells do; with `merge_below`, segments growing at less than that
-/// fraction of the unstressed rate merge in pairs, up to `merge_max` cells, once `merge_batch`
-/// pairs qualify ([`crate::proliferation::Coarsening`]).
+/// fraction of the unstressed rate merge in pairs, and with `merge_stress_within`, segments
+/// whose stresses differ by at most that fraction of the growth law's stress scale, up to
+/// `merge_max` cells, once `merge_batch` pairs qualify ([`crate::proliferation::Coarsening`]).
 ///
 /// ```
 /// use celltissue::events::DivisionConfig;
@@ -406,6 +407,15 @@ pub(crate) fn check_batch_within(w: f64) -> Result<(), ParamError> {
 /// assert_eq!((g.merge_below, g.merge_max, g.merge_batch), (Some(1e-3), 64, 8));
 /// let v: toml::Value = toml::from_str("rule = \"area\"\ncell_grid = { merge_max = 3 }")?;
 /// assert_eq!(DivisionConfig::from_value(v).unwrap_err().key(), "cell_grid.merge_max");
+/// // in-phase merging: neighbours within 1e-3 of the growth law's stress scale
+/// let v: toml::Value =
+///     toml::from_str("rule = \"area\"\ncell_grid = { merge_stress_within = 1e-3 }")?;
+/// let g = DivisionConfig::from_value(v)?.cell_grid.unwrap();
+/// assert_eq!(g.coarsening().unwrap().stress_within, Some(1e-3));
+/// let v: toml::Value =
+///     toml::from_str("rule = \"area\"\ncell_grid = { merge_stress_within = 2 }")?;
+/// let e = DivisionConfig::from_value(v).unwrap_err();
+/// assert_eq!(e.key(), "cell_grid.merge_stress_within");
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -414,6 +424,10 @@ pub struct CellGridConfig {
     /// Merge segments growing below this fraction of `G(0)` (none: never merge).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub merge_below: Option<f64>,
+    /// Merge neighbouring segments whose stresses differ by at most this fraction of the
+    /// growth law's stress scale `G(0)/G′(0)` (none: never for that reason).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub merge_stress_within: Option<f64>,
     /// Largest merged segment, in cells (a power of two, ≥ 2; default 64).
     pub merge_max: usize,
     /// Pairs that must qualify before they merge (≥ 1; default 8).
@@ -424,6 +438,7 @@ impl Default for CellGridConfig {
     fn default() -> Self {
         Self {
             merge_below: None,
+            merge_stress_within: None,
             merge_max: 64,
             merge_batch: 8,
         }
@@ -443,12 +458,15 @@ impl CellGridConfig {
         for (key, value) in t {
             let name = format!("cell_grid.{key}");
             match key.as_str() {
-                "merge_below" => {
-                    cfg.merge_below = Some(
-                        value
-                            .as_f64()
-                            .ok_or_else(|| ParamError::range(&name, &value, "in (0, 1)"))?,
-                    );
+                "merge_below" | "merge_stress_within" => {
+                    let x = value
+                        .as_f64()
+                        .ok_or_else(|| ParamError::range(&name, &value, "in (0, 1)"))?;
+                    if key == "merge_below" {
+                        cfg.merge_below = Some(x);
+                    } else {
+                        cfg.merge_stress_within = Some(x);
+                    }
                 }
                 "merge_max" | "merge_batch" => {
                     let n = value
@@ -464,7 +482,7 @@ impl CellGridConfig {
                 _ => {
                     return Err(ParamError::new(
                         &name,
-                        "unknown key (cell_grid takes merge_below, merge_max, merge_batch)",
+                        "unknown key (cell_grid takes merge_below, merge_stress_within, merge_max, merge_batch)",
                     ))
                 }
             }
@@ -477,6 +495,13 @@ impl CellGridConfig {
     fn check(&self) -> Result<(), ParamError> {
         if let Some(x) = self.merge_below.filter(|x| !(*x > 0.0 && *x < 1.0)) {
             return Err(ParamError::range("cell_grid.merge_below", x, "in (0, 1)"));
+        }
+        if let Some(x) = self.merge_stress_within.filter(|x| !(*x > 0.0 && *x < 1.0)) {
+            return Err(ParamError::range(
+                "cell_grid.merge_stress_within",
+                x,
+                "in (0, 1)",
+            ));
         }
         let max = 1usize << 20;
         if !(self.merge_max >= 2 && self.merge_max <= max && self.merge_max.is_power_of_two()) {
@@ -505,12 +530,14 @@ impl CellGridConfig {
     /// assert_eq!(c.coarsening().unwrap().max_cells, 64);
     /// ```
     pub fn coarsening(&self) -> Option<crate::proliferation::Coarsening> {
-        self.merge_below
-            .map(|growth_below| crate::proliferation::Coarsening {
-                growth_below,
+        (self.merge_below.is_some() || self.merge_stress_within.is_some()).then(|| {
+            crate::proliferation::Coarsening {
+                growth_below: self.merge_below.unwrap_or(0.0),
+                stress_within: self.merge_stress_within,
                 max_cells: self.merge_max,
                 batch: self.merge_batch,
-            })
+            }
+        })
     }
 }
 

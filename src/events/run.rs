@@ -287,6 +287,18 @@ fn with_law<E: StrainEnergy + Clone>(
                 match built {
                     Ok(mut g) => {
                         g.coarsen = grid.coarsening();
+                        let slope = g.dividing.line.growth().map_or(0.0, |l| l.rate(0.0).1);
+                        if grid.merge_stress_within.is_some()
+                            && slope.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+                        {
+                            // the tolerance is a fraction of G(0)/G′(0)
+                            rec.error = Some(format!(
+                                "division.cell_grid.merge_stress_within needs a growth law \
+                                 whose rate rises with stress at zero stress (G′(0) > 0); \
+                                 this one has G′(0) = {slope}"
+                            ));
+                            return;
+                        }
                         g.max_cells = cfg.division.max_cells;
                         let prob = run_model(g, solver, times, rec);
                         // N(t) comes from the snapshots' cell counts, not the segments

@@ -79,6 +79,15 @@ pub struct CellGrid<E: StrainEnergy> {
     pub max_cells: Option<usize>,
 }
 
+/// A merged segment splits once the stress change across it exceeds this many merge
+/// tolerances ([`Coarsening::stress_within`]). The halves then differ by about twice the
+/// tolerance, so they do not merge again until the line has evened out. Measured against the
+/// discrete line (N₀ = 100, K = 1e-5 to t = 18 at a tolerance of 1e-2, and K = 1e-8 to t = 14
+/// at 1e-3): 2 took 1.5–1.6× the steps of 4, for errors in `N` up to 7× smaller (K = 1e-8)
+/// and in `l` up to 1.9× (K = 1e-5); 8 took 0.7–0.8× the steps at up to 2.2× the errors
+/// (docs/model.md §8.4).
+const SPLIT_SPAN: f64 = 4.0;
+
 /// One of the segments a merged segment was made of: its cells keep their own growth stretch
 /// (they grow at the merged segment's rate, so the offset from its `g` is constant) and divide
 /// by the rule when that reaches it.
@@ -103,19 +112,29 @@ pub struct Member {
 }
 
 /// When [`CellGrid`] merges two neighbouring segments: both grow at less than
-/// `growth_below × G(0)` and together they hold at most `max_cells` cells; merges wait until
-/// `batch` pairs qualify (each merging event restarts the integrator without its history).
+/// `growth_below × G(0)`, or (with `stress_within`) their stresses differ by at most that
+/// fraction of the growth law's stress scale `G(0)/G′(0)`, and together they hold at most
+/// `max_cells` cells; merges wait until `batch` pairs qualify (each merging event restarts the
+/// integrator without its history).
+///
+/// The first criterion finds cells that have stopped growing (behind a proliferating rim); the
+/// second finds neighbours that grow alike because they bear nearly the same stress (a line
+/// under weak drag, where every cell grows): their members then share one stress at a cost of
+/// at most `stress_within` of the stress scale.
 ///
 /// ```
 /// use celltissue::proliferation::Coarsening;
 /// let c = Coarsening::default();
 /// // θ = 1e-3 holds N exactly on the K = 1e-2 rim to t = 1000 (docs/model.md §8.4)
-/// assert_eq!((c.growth_below, c.max_cells, c.batch), (1e-3, 64, 8));
+/// assert_eq!((c.growth_below, c.stress_within, c.max_cells, c.batch), (1e-3, None, 64, 8));
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Coarsening {
-    /// Growth rate below which a segment may merge, as a fraction of `G(0)`.
+    /// Growth rate below which a segment may merge, as a fraction of `G(0)` (0: none).
     pub growth_below: f64,
+    /// Largest stress difference at which two neighbouring segments may merge, as a fraction
+    /// of the growth law's stress scale `G(0)/G′(0)` (none: only slow growth merges).
+    pub stress_within: Option<f64>,
     /// Largest number of cells in a merged segment.
     pub max_cells: usize,
     /// Pairs that must qualify before an event merges them.
@@ -126,6 +145,7 @@ impl Default for Coarsening {
     fn default() -> Self {
         Self {
             growth_below: 1e-3,
+            stress_within: None,
             max_cells: 64,
             batch: 8,
         }
@@ -310,30 +330,60 @@ impl<E: StrainEnergy> CellGrid<E> {
     /// Whether segment `i` (0-based) grows at less than [`CellGrid::coarsen`]'s fraction of
     /// the unstressed rate (`false` without coarsening).
     fn grows_slowly(&self, i: usize, t: f64, y: &[f64], yp: &[f64]) -> bool {
-        let (Some(rule), Some(growth)) = (self.coarsen, self.dividing.line.growth()) else {
-            return false;
-        };
-        let limit = rule.growth_below * growth.rate(0.0).0;
+        self.stress(i, t, y, yp)
+            .is_some_and(|sigma| self.slow_at(sigma))
+    }
+
+    /// Segment `i`'s (0-based) stress, where it evaluates.
+    fn stress(&self, i: usize, t: f64, y: &[f64], yp: &[f64]) -> Option<f64> {
         self.dividing
             .line
             .eval_cell(i + 1, t, y, yp)
-            .is_ok_and(|c| growth.rate(c.sigma).0 < limit)
+            .ok()
+            .map(|c| c.sigma)
     }
 
-    /// The pairs to merge now (first segment of each, 1-based), under [`CellGrid::coarsen`].
-    fn pairs_to_merge(&self, t: f64, y: &[f64], yp: &[f64]) -> Vec<usize> {
+    /// Whether a segment at stress `sigma` grows at less than [`CellGrid::coarsen`]'s fraction
+    /// of the unstressed rate.
+    fn slow_at(&self, sigma: f64) -> bool {
+        let (Some(rule), Some(growth)) = (self.coarsen, self.dividing.line.growth()) else {
+            return false;
+        };
+        growth.rate(sigma).0 < rule.growth_below * growth.rate(0.0).0
+    }
+
+    /// The largest stress difference at which neighbours merge ([`Coarsening::stress_within`]
+    /// times the growth law's stress scale `G(0)/G′(0)`), if in-phase merging is on.
+    fn stress_tolerance(&self) -> Option<f64> {
+        let within = self.coarsen?.stress_within?;
+        let (g0, slope) = self.dividing.line.growth()?.rate(0.0);
+        (slope > 0.0).then(|| within * g0 / slope)
+    }
+
+    /// The pairs to merge now (first segment of each, 1-based), under [`CellGrid::coarsen`];
+    /// no segment marked in `fresh` (the halves of this event's splits, which share their
+    /// parent's stress until the line has moved) takes part.
+    fn pairs_to_merge(&self, t: f64, y: &[f64], yp: &[f64], fresh: &[bool]) -> Vec<usize> {
         let Some(rule) = self.coarsen else {
             return Vec::new();
         };
         let n = self.segments();
+        let sigma: Vec<Option<f64>> = (0..n).map(|i| self.stress(i, t, y, yp)).collect();
+        let tolerance = self.stress_tolerance();
+        let qualify = |a: usize, b: usize| match (sigma[a], sigma[b]) {
+            (Some(sa), Some(sb)) => {
+                (self.slow_at(sa) && self.slow_at(sb))
+                    || tolerance.is_some_and(|tol| (sa - sb).abs() <= tol)
+            }
+            _ => false,
+        };
         let mut pairs = Vec::new();
         let mut j = 1;
         while j < n {
             let (a, b) = (self.multiplicity[j - 1], self.multiplicity[j]);
-            if a + b <= rule.max_cells
-                && self.grows_slowly(j - 1, t, y, yp)
-                && self.grows_slowly(j, t, y, yp)
-            {
+            let split_now =
+                fresh.get(j - 1).is_some_and(|&f| f) || fresh.get(j).is_some_and(|&f| f);
+            if a + b <= rule.max_cells && !split_now && qualify(j - 1, j) {
                 pairs.push(j);
                 j += 2;
             } else {
@@ -346,17 +396,39 @@ impl<E: StrainEnergy> CellGrid<E> {
         pairs
     }
 
-    /// The segments to split now (0-based, decreasing), when cells divide one by one
-    /// ([`CellGrid::asynchronous`]): those that hold at least twice the cells they started
-    /// with and still grow (a segment merged because it stopped growing stays whole).
+    /// The segments to split now (0-based, decreasing). With in-phase merging
+    /// ([`Coarsening::stress_within`]): merged segments whose stress profile has grown too wide,
+    /// the span estimated from a neighbour's stress difference over the cells between their
+    /// centres exceeding [`SPLIT_SPAN`] times the merge tolerance. Otherwise, when cells divide one by one ([`CellGrid::asynchronous`]): those that
+    /// hold at least twice the cells they started with and still grow (a segment merged
+    /// because it stopped growing stays whole).
     fn segments_to_split(&self, t: f64, y: &[f64], yp: &[f64]) -> Vec<usize> {
+        let several = |j: usize| self.members[j].as_ref().is_some_and(|m| m.len() >= 2);
+        if let Some(tol) = self.stress_tolerance() {
+            let n = self.segments();
+            let sigma: Vec<Option<f64>> = (0..n).map(|i| self.stress(i, t, y, yp)).collect();
+            let width = |j: usize| self.multiplicity[j] as f64;
+            // the stress change across segment j, from its difference to neighbour b
+            let span = |j: usize, b: usize| match (sigma[j], sigma[b]) {
+                (Some(sj), Some(sb)) => (sj - sb).abs() * width(j) / (0.5 * (width(j) + width(b))),
+                _ => 0.0,
+            };
+            return (0..n)
+                .rev()
+                .filter(|&j| {
+                    several(j)
+                        && ((j > 0 && span(j, j - 1) > SPLIT_SPAN * tol)
+                            || (j + 1 < n && span(j, j + 1) > SPLIT_SPAN * tol))
+                })
+                .collect();
+        }
         if !self.asynchronous {
             return Vec::new();
         }
         (0..self.segments())
             .rev()
             .filter(|&j| {
-                self.members[j].as_ref().is_some_and(|m| m.len() >= 2)
+                several(j)
                     && self.multiplicity[j] >= 2 * self.cells_per_segment
                     && !self.grows_slowly(j, t, y, yp)
             })
@@ -524,7 +596,14 @@ impl<E: StrainEnergy> CellArray for CellGrid<E> {
             self.split_full(j, t, y).map_err(ResidualError::Fatal)?;
         }
         zero.resize(y.len(), 0.0); // each split added two unknowns
-        let pairs = self.pairs_to_merge(t, y, &zero);
+                                   // the halves of each split (`full` is decreasing: the i-th from the end has i splits
+                                   // before it)
+        let mut fresh = vec![false; self.segments()];
+        for (i, &j) in full.iter().rev().enumerate() {
+            fresh[j + i] = true;
+            fresh[j + i + 1] = true;
+        }
+        let pairs = self.pairs_to_merge(t, y, &zero, &fresh);
         if !pairs.is_empty() {
             self.merge(&pairs, y)?;
         }
