@@ -1,4 +1,4 @@
-//! Cost of the line of cells (issue #3 performance section), on the macroscale-fixed family of
+//! Cost of the line of cells, on the macroscale-fixed family of
 //! docs/model.md §5.4 where N cells and n continuum segments resolve the same tissue problem:
 //! `l₀ = N`, `K = 1/N`, exponential ramp with ramp time `N`, `k₁ = 0.1`, `t ∈ [0, N]`, BDF with
 //! rtol 1e-6 (η = 0, and η = N as the viscous case). Plus the thesis's raw Chapter 2 problem

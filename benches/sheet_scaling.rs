@@ -5,7 +5,7 @@
 //! Run: `cargo bench --bench sheet_scaling`. The large cases are the example
 //! `LINSOLVE=iterative cargo run --release --example sheet_large -- 1000 10` (raw parameters) and
 //! `FAMILY=macro LINSOLVE=iterative cargo run --release --example sheet_large -- 1000` (the
-//! macroscale-fixed family of the issue #5 target).
+//! macroscale-fixed family).
 
 use celltissue::array::ArrayProblem;
 use celltissue::sheet::uniaxial::{SheetParams, UniaxialSheet};

@@ -1,5 +1,5 @@
 //! Observations: what a run records at its output times, in the shape of `summary.json`
-//! (issue #3 schema; keys may be added, never renamed). Builders and drivers fill a
+//! (a stable schema: keys may be added, never renamed). Builders and drivers fill a
 //! [`RunRecord`]; writers in `output/` turn records into JSON, CSV and plots.
 
 use serde::{Deserialize, Serialize};

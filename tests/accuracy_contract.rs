@@ -1,4 +1,4 @@
-//! The accuracy contract in cell units (docs/model.md §8.1, issue #11 part 1): the local-error
+//! The accuracy contract in cell units (docs/model.md §8.1): the local-error
 //! and Newton tests measure stretches, so
 //!
 //! * shifting the whole problem by 10⁶ cell lengths changes the steps and the stretches only

@@ -1,4 +1,4 @@
-//! Array data and provenance (issue #14 §4): every run's `.npz` holds its series by name, its
+//! Array data and provenance: every run's `.npz` holds its series by name, its
 //! profiles stacked times × cells and its divisions, bit for bit the values of the record;
 //! `summary.json` carries provenance and no copy of the profiles; lines get binary (zlib +
 //! base64) rectilinear `.vtr` snapshots and rings `.vtu`, each with a `.pvd`, that decode to the

@@ -170,7 +170,7 @@ fn syntax_error_and_missing_file() {
 
 #[test]
 fn inputs_a_run_would_reject_exit_2_before_anything_is_written() {
-    // issue #11 §3: each accepted by `validate` before, then a failed run with files written
+    // each once accepted by `validate` before, then a failed run with files written
     rejects(
         "gauss_nan",
         &GOOD.replace(

@@ -240,7 +240,7 @@ force = 1.0
     }
 }
 
-/// A shear column's plots are named for what they hold (issue #11 §2): its records keep tan θ
+/// A shear column's plots are named for what they hold: its records keep tan θ
 /// in the stretch fields and the top displacement in `length`, its files and titles do not.
 #[test]
 fn shear_plots_are_named_tan_theta_and_top_displacement() {

@@ -1,4 +1,4 @@
-//! Restarts after divisions at very small drag (issue #4): N₀ = 100, K = 1e-8, η = 0, free end,
+//! Restarts after divisions at very small drag: N₀ = 100, K = 1e-8, η = 0, free end,
 //! default solver settings (BDF, rtol 1e-6, atol 1e-8, max norm), t ∈ [0, 7]: three division
 //! waves, 100 → 800 cells, every division its own event.
 //!
@@ -64,7 +64,7 @@ fn smooth_restart_avoids_rejections_after_divisions() {
     println!("max |Δt_division| = {dt:e}, l = {l_fast} vs {l_slow}");
     assert!(dt < 1e-5, "division times differ by {dt}");
     assert!((l_fast / l_slow - 1.0).abs() < 1e-5);
-    // measured under the cell-unit accuracy contract (docs/model.md §8.1; issue #11): smooth
+    // measured under the cell-unit accuracy contract (docs/model.md §8.1): smooth
     // 2828 steps (4.04 per division), 1272 rejected (1.82); consistent 7881 steps (11.3),
     // 2443 rejected (3.49); division times agree to 5.2e-10, l(7) to 1.4e-11 relative. (Under
     // the old position-relative test: smooth 1.15 steps and 0.03 rejections per division,

@@ -1,4 +1,4 @@
-//! Divisions of Kelvin–Voigt cells (η > 0; issue #13 §1: growth with η > 0 within 3× of the
+//! Divisions of Kelvin–Voigt cells (η > 0; the target: growth with η > 0 within 3× of the
 //! cost of η = 0). The cell's stress reads its elastic strain rate, `α̇/α = ℓ̇/ℓ − ġ/g`, so the
 //! derivative carried across a division (`Problem::map_history`) must give each daughter
 //! (`g = 1`) the parent's relative rate `ġ/g*`, not its absolute rate `ġ`: the absolute rate
@@ -89,7 +89,7 @@ fn viscous_divisions_cost_about_what_inviscid_ones_do() {
             "K = {k}"
         );
         assert_eq!(viscous.newton_failures, 0, "K = {k}");
-        // the issue's bound, in the work counters: at most three times the inviscid line's
+        // the target, in the work counters: at most three times the inviscid line's
         assert!(viscous.steps <= 3 * inviscid.steps, "K = {k}");
         assert!(viscous.jacobians <= 3 * inviscid.jacobians, "K = {k}");
         // the carried Newton matrices: far under one Jacobian per division

@@ -1,8 +1,8 @@
 //! Every TOML snippet in the documentation is accepted by the loader as written: fenced
 //! ```` ```toml ```` blocks are complete scenarios and must validate; inline `key = { … }`
 //! assignments (the law, field, division forms of `models/README.md`) must validate in at least
-//! one model context. Documentation and parser cannot drift apart (issue #11: the documented
-//! line-law syntax `{ type = … }` was rejected by the parser).
+//! one model context. Documentation and parser cannot drift apart (once the documented line-law
+//! syntax `{ type = … }` was rejected by the parser).
 
 use celltissue::scenario::load_str;
 use std::path::{Path, PathBuf};

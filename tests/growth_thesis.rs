@@ -2,7 +2,7 @@
 //! neo-Hookean cells, σ₀ = 0.1, free right end, ġ = ½(1 + tanh(σ/σ₀)), residual form.
 //!
 //! Measured numbers are printed by each test (`cargo test --release --test integration growth_thesis:: --
-//! --nocapture`) and listed in the report of issue 4.
+//! --nocapture`).
 
 use celltissue::boundary::RightEnd;
 use celltissue::cell::TanhGrowth;

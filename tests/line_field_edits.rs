@@ -1,5 +1,5 @@
-//! Changing a [`Line`](celltissue::line::Line)'s per-cell fields through the public API
-//! (issue #11 §2): the residual sees the change. The residual caches which fields are uniform
+//! Changing a [`Line`](celltissue::line::Line)'s per-cell fields through the public API:
+//! the residual sees the change. The residual caches which fields are uniform
 //! (and then reads one value instead of the vector); a public change that left that cache
 //! stale would be ignored silently. Each edited line is compared with a line built afresh
 //! with the same fields, which has no history to go stale.

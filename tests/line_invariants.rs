@@ -1,4 +1,4 @@
-//! Invariants of line runs (issue #3) that the solver must achieve, none of them built into
+//! Invariants of line runs that the solver must achieve, none of them built into
 //! the output: cells stay ordered (all stretches positive), no NaN, `g ≥ 1` — for
 //! heterogeneous viscous lines, discrete and continuum, and with a free end and growth; and
 //! two laws of the model without drag (K = 0), where every boundary's force balance reads

@@ -1,4 +1,4 @@
-//! The thesis's raw Chapter 2 parameters at large N (issue #3): l₀ = N, K = 1, η = 0, unit-time
+//! The thesis's raw Chapter 2 parameters at large N: l₀ = N, K = 1, η = 0, unit-time
 //! exponential ramp, t ∈ [0, 10], rtol 1e-6. The end cells are driven to extreme compression (a
 //! compaction front of width ≈ one cell runs into the line; min λ ≈ 0.064 at N = 10³, 0.026 at
 //! 4·10³, 0.014 at 10⁴); a reference SciPy BDF run at N = 10⁴ "succeeded" with negative cell

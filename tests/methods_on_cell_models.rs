@@ -1,4 +1,4 @@
-//! Every method on a cell model (issue #11 §1), not only on the integrators' own test problems:
+//! Every method on a cell model, not only on the integrators' own test problems:
 //! BDF, ESDIRK (TR-BDF2) and Radau IIA on the bundled Fig 2.5 and Fig 2.8 scenarios (discrete
 //! N = 100 and continuum n = 101, η = 0, K ∈ {1e-2, 1} and {1e-5, 1}) at rtol 1e-6 and 1e-8
 //! (atol 100× smaller), against a tight BDF run (rtol 1e-10, atol 1e-12) of the same scenario.

@@ -1,4 +1,4 @@
-//! Output integrity (issue #11 §4) through the built binary: a used output directory is
+//! Output integrity through the built binary: a used output directory is
 //! refused unless `--replace`, which removes only files celltissue wrote; `--no-plots` writes
 //! data only; no temporary file survives a run; SIGINT during a sweep keeps the finished runs,
 //! stops the one in progress with what it computed, and lists it in `summary.json`.

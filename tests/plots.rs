@@ -1,5 +1,5 @@
 //! Plotting never hangs, aborts or draws unreadable axes, whatever the data: the three inputs
-//! of issue #11 §3 that hung or allocated until abort (a log time axis down to 1e-300, a log
+//! that once hung or allocated until abort (a log time axis down to 1e-300, a log
 //! sweep axis over [1e-300, 0.1]) run end to end within a time bound, the third (a subnormal
 //! 5e-324 output time on a log axis) is rejected by name before anything runs, and extreme
 //! ranges, a subnormal among them, plot directly.
@@ -155,7 +155,7 @@ fn extreme_ranges_plot_directly() {
 
 #[test]
 fn ticks_of_a_1e_9_spread_are_distinct() {
-    // shear spread noise around 1 (issue #11: every tick read "1.0")
+    // shear spread noise around 1 (once every tick read "1.0")
     let step = 2e-9 / 10.0;
     let labels: Vec<String> = (0..5)
         .map(|k| tick_label(Axis::Linear, 1.0 - 1e-9 + k as f64 * 5e-10, step))

@@ -1,4 +1,4 @@
-//! Divisions brought forward to an event (`Dividing::batch_within`, issue #13 §1): a model
+//! Divisions brought forward to an event (`Dividing::batch_within`): a model
 //! approximation that trades the exact division times for fewer restarts. Validated here: the
 //! solution converges to the exact-time one at first order in the window `δ` where divisions
 //! are dense (at about 0.007 δ relative) and faster where they are sparse, each division comes

@@ -1,4 +1,4 @@
-//! What a division costs the integrator (issue #13 §1), on the two `models/fig3_3.toml` cases:
+//! What a division costs the integrator, on the two `models/fig3_3.toml` cases:
 //! N₀ = 100 neo-Hookean cells, σ₀ = 0.1, free end, η = 0, m = 0, area rule, default solver
 //! (BDF, rtol 1e-6, atol 1e-8, max norm).
 //!

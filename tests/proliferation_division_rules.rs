@@ -1,4 +1,4 @@
-//! A division rule that reads each cell's geometry (issue #12 §2): the surface-to-volume rule
+//! A division rule that reads each cell's geometry: the surface-to-volume rule
 //! of the thesis's Ch. 5 ([`SurfaceToVolume`], perimeter/area `2(1/ℓ + 1/W)` of the 2D cell
 //! falling to a critical value).
 //!

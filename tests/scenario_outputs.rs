@@ -1,5 +1,5 @@
 //! Output writers on records from a tiny fake model (no integrator involved): summary.json has
-//! the issue #3 schema, CSVs are long-format and complete, the PNG set matches the figure layout,
+//! the documented schema, CSVs are long-format and complete, the PNG set matches the figure layout,
 //! and non-finite numbers never reach a file.
 
 use celltissue::observe::{ModelKind, Profile, RunRecord, RunStats, Series, Summary};

@@ -1,5 +1,5 @@
-//! Every bad input of issue #11 §2–3 is rejected by the loader (what `celltissue validate` runs)
-//! before anything runs, with a message naming the innermost key in a researcher's words; the
+//! Every bad input found by hand and by fuzzing is rejected by the loader (what `celltissue
+//! validate` runs) before anything runs, with a message naming the innermost key in a researcher's words; the
 //! one-key strain energy; `--set` against a sweep; multi-parameter sweeps.
 
 use celltissue::cell::Field;

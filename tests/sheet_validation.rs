@@ -153,7 +153,7 @@ fn free_top_m0_reproduces_ref_transients() {
     check_ref(&FREE_M0);
 }
 
-/// The same Ref checks through the iterative linear solver (issue #5's large-sheet path).
+/// The same Ref checks through the iterative linear solver (the large-sheet path).
 #[test]
 fn iterative_linear_solver_reproduces_ref_transients() {
     check_ref_with(&FREE_M0, &iterative_solver(1e-9));

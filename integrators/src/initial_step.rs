@@ -83,7 +83,7 @@ impl System<'_> {
             }
         }
         // RMS, as Hairer's HINIT, whatever `Options::norm` is: measured, the max norm here made
-        // the line's 10⁶-cell macroscale run fail late (see the issue #2 note), the RMS start
+        // the line's 10⁶-cell macroscale run fail late, the RMS start
         // costs fig2_6's continuum a few rejected first tries
         // (where the squares overflow, as with the rates 1e150 of a drag far below the
         // stiffness, the max norm: within √n of the RMS one, and finite)

@@ -273,7 +273,7 @@ impl LinearSeries {
             ratio *= ratio_step;
         }
         if !converged {
-            // truncating a series that has not converged drew λ down to −5 (issue #11)
+            // truncating a series that has not converged drew λ down to −5
             return None;
         }
         let m = xs.len();

@@ -397,11 +397,12 @@ impl<E: StrainEnergy> CellGrid<E> {
     }
 
     /// The segments to split now (0-based, decreasing). With in-phase merging
-    /// ([`Coarsening::stress_within`]): merged segments whose stress profile has grown too wide,
-    /// the span estimated from a neighbour's stress difference over the cells between their
-    /// centres exceeding [`SPLIT_SPAN`] times the merge tolerance. Otherwise, when cells divide one by one ([`CellGrid::asynchronous`]): those that
-    /// hold at least twice the cells they started with and still grow (a segment merged
-    /// because it stopped growing stays whole).
+    /// ([`Coarsening::stress_within`]): merged segments that still grow and whose stress
+    /// profile has grown too wide, the change across them (estimated from a neighbour's stress
+    /// difference over the cells between their centres) exceeding [`SPLIT_SPAN`] times the
+    /// merge tolerance. Otherwise, when cells divide one by one ([`CellGrid::asynchronous`]):
+    /// those that hold at least twice the cells they started with and still grow. A segment
+    /// merged because it stopped growing stays whole either way.
     fn segments_to_split(&self, t: f64, y: &[f64], yp: &[f64]) -> Vec<usize> {
         let several = |j: usize| self.members[j].as_ref().is_some_and(|m| m.len() >= 2);
         if let Some(tol) = self.stress_tolerance() {
@@ -417,6 +418,7 @@ impl<E: StrainEnergy> CellGrid<E> {
                 .rev()
                 .filter(|&j| {
                     several(j)
+                        && sigma[j].is_some_and(|sj| !self.slow_at(sj))
                         && ((j > 0 && span(j, j - 1) > SPLIT_SPAN * tol)
                             || (j + 1 < n && span(j, j + 1) > SPLIT_SPAN * tol))
                 })
@@ -595,9 +597,10 @@ impl<E: StrainEnergy> CellArray for CellGrid<E> {
         for &j in &full {
             self.split_full(j, t, y).map_err(ResidualError::Fatal)?;
         }
-        zero.resize(y.len(), 0.0); // each split added two unknowns
-                                   // the halves of each split (`full` is decreasing: the i-th from the end has i splits
-                                   // before it)
+        // each split added two unknowns
+        zero.resize(y.len(), 0.0);
+        // the halves of each split (`full` is decreasing: the i-th from its end has i splits
+        // before it)
         let mut fresh = vec![false; self.segments()];
         for (i, &j) in full.iter().rev().enumerate() {
             fresh[j + i] = true;

@@ -646,8 +646,8 @@ mod tests {
 
     #[test]
     fn the_configured_law_is_the_law_that_runs() {
-        // the law handed to the run functions is the config's `law` (issue #11: `law` was
-        // echoed while a separate `energy` key, default mu = 1, ran)
+        // the law handed to the run functions is the config's `law` (once `law` was echoed
+        // while a separate `energy` key, default mu = 1, ran)
         for kind in ["sheet", "shear"] {
             let m = parse(&format!(
                 "kind = \"{kind}\"\nlaw = {{ law = \"neo_hookean\", mu = 5 }}"
