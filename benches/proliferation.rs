@@ -87,6 +87,34 @@ fn settings() -> SolveSettings {
     }
 }
 
+/// Fig 3.3's line (N₀ = 100, drag `k`, η = 0) divided by the area rule to `t_end`, discrete:
+/// its cell count at the end.
+fn discrete_to(k: f64, settings: &SolveSettings, t_end: f64) -> usize {
+    let line = discrete(NeoHookean::new(1.0).unwrap(), &params(100, k, 0.0)).unwrap();
+    let div = Dividing::new(line, Box::new(AreaDoubling::default()), 0).unwrap();
+    let mut prob = ArrayProblem::new(div);
+    let traj = integrate(&mut prob, settings, &[0.0, t_end]);
+    assert!(traj.error.is_none());
+    prob.array.line.n_cells()
+}
+
+/// The same on the cell-number grid of one cell per segment, merged by `coarsen`: its cells
+/// and segments at the end.
+fn cell_grid_to(
+    k: f64,
+    coarsen: Coarsening,
+    settings: &SolveSettings,
+    t_end: f64,
+) -> (usize, usize) {
+    let line = continuum(NeoHookean::new(1.0).unwrap(), &params(100, k, 0.0), 100).unwrap();
+    let mut grid = CellGrid::new(line, 100, Box::new(AreaDoubling::default())).unwrap();
+    grid.coarsen = Some(coarsen);
+    let mut prob = ArrayProblem::new(grid);
+    let traj = integrate(&mut prob, settings, &[0.0, t_end]);
+    assert!(traj.error.is_none());
+    (prob.array.cells(), prob.array.segments())
+}
+
 /// The bundled Fig 3.3d scenarios' solver: rtol 1e-6, atol 1e-8, `jacobian_age = 100`.
 fn rim_settings() -> SolveSettings {
     SolveSettings {
@@ -244,59 +272,36 @@ fn benches(c: &mut Criterion) {
     // grid (236 segments; l within 1e-6, N within 0.14 %, tests/proliferation_cell_grid.rs)
     if std::env::var("PROLIF_RIM").as_deref() != Ok("0") {
         g.bench_function("rim_t1000_K1e-2_discrete", |b| {
-            b.iter(|| {
-                let line = discrete(NeoHookean::new(1.0).unwrap(), &params(100, 1e-2, 0.0));
-                let div = Dividing::new(line.unwrap(), Box::new(AreaDoubling::default()), 0);
-                let mut prob = ArrayProblem::new(div.unwrap());
-                let traj = integrate(&mut prob, &rim_settings(), &[0.0, 1000.0]);
-                assert!(traj.error.is_none() && prob.array.line.n_cells() == 1637);
-            })
+            b.iter(|| assert_eq!(discrete_to(1e-2, &rim_settings(), 1000.0), 1637))
         });
+        let below = Coarsening {
+            growth_below: 1e-3,
+            stress_within: None,
+            max_cells: 64,
+            batch: 8,
+        };
         g.bench_function("rim_t1000_K1e-2_cell_grid", |b| {
-            b.iter(|| {
-                let line = continuum(NeoHookean::new(1.0).unwrap(), &params(100, 1e-2, 0.0), 100);
-                let grid = CellGrid::new(line.unwrap(), 100, Box::new(AreaDoubling::default()));
-                let mut grid = grid.unwrap();
-                grid.coarsen = Some(Coarsening {
-                    growth_below: 1e-3,
-                    stress_within: None,
-                    max_cells: 64,
-                    batch: 8,
-                });
-                let mut prob = ArrayProblem::new(grid);
-                let traj = integrate(&mut prob, &rim_settings(), &[0.0, 1000.0]);
-                assert!(traj.error.is_none() && prob.array.segments() < 300);
-            })
+            b.iter(|| assert!(cell_grid_to(1e-2, below, &rim_settings(), 1000.0).1 < 300))
         });
     }
     // models/fig3_3_weak_drag_cell_grid.toml (K = 1e-8, t ≤ 14, default solver): the discrete
     // line (6 400 cells at the end) against the cell-number grid merged in phase at 1e-3 of
     // the stress scale (203 segments; l within 1.2e-4, tests/proliferation_cell_grid.rs)
     if std::env::var("PROLIF_WEAK").as_deref() != Ok("0") {
+        let defaults = SolveSettings::default();
         g.bench_function("weak_drag_t14_K1e-8_discrete", |b| {
-            b.iter(|| {
-                let line = discrete(NeoHookean::new(1.0).unwrap(), &params(100, 1e-8, 0.0));
-                let div = Dividing::new(line.unwrap(), Box::new(AreaDoubling::default()), 0);
-                let mut prob = ArrayProblem::new(div.unwrap());
-                let traj = integrate(&mut prob, &SolveSettings::default(), &[0.0, 14.0]);
-                assert!(traj.error.is_none() && prob.array.line.n_cells() == 6400);
-            })
+            b.iter(|| assert_eq!(discrete_to(1e-8, &defaults, 14.0), 6400))
         });
+        let in_phase = Coarsening {
+            growth_below: 0.0,
+            stress_within: Some(1e-3),
+            max_cells: 1024,
+            batch: 8,
+        };
         g.bench_function("weak_drag_t14_K1e-8_cell_grid_in_phase", |b| {
             b.iter(|| {
-                let line = continuum(NeoHookean::new(1.0).unwrap(), &params(100, 1e-8, 0.0), 100);
-                let grid = CellGrid::new(line.unwrap(), 100, Box::new(AreaDoubling::default()));
-                let mut grid = grid.unwrap();
-                grid.coarsen = Some(Coarsening {
-                    growth_below: 0.0,
-                    stress_within: Some(1e-3),
-                    max_cells: 1024,
-                    batch: 8,
-                });
-                let mut prob = ArrayProblem::new(grid);
-                let traj = integrate(&mut prob, &SolveSettings::default(), &[0.0, 14.0]);
-                assert!(traj.error.is_none() && prob.array.cells() == 6400);
-                assert!(prob.array.segments() < 300);
+                let (cells, segments) = cell_grid_to(1e-8, in_phase, &defaults, 14.0);
+                assert!(cells == 6400 && segments < 300);
             })
         });
     }
