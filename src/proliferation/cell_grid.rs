@@ -716,6 +716,69 @@ mod tests {
         assert_eq!(snap.cell_counts.unwrap()[2], 3.0);
     }
 
+    /// In-phase merging: neighbours within the tolerance merge (unless just split); a merged
+    /// segment splits once the stress across it exceeds four tolerances, unless it merged
+    /// because it stopped growing.
+    #[test]
+    fn in_phase_segments_merge_and_split_by_their_stresses() {
+        let line = continuum(NeoHookean::new(1.0).unwrap(), &params(1e-2), 20).unwrap();
+        let mut grid = CellGrid::new(line, 20, Box::new(AreaDoubling::default())).unwrap();
+        grid.coarsen = Some(Coarsening {
+            growth_below: 0.0,
+            stress_within: Some(1e-2),
+            max_cells: 64,
+            batch: 1,
+        });
+        // the tanh law's stress scale is σ₀ = 0.1, so the tolerance is 1e-3
+        assert!((grid.stress_tolerance().unwrap() - 1e-3).abs() < 1e-15);
+        let mut y = grid.dividing.line.initial_state();
+        let zero = vec![0.0; y.len()];
+        // at rest every stress is 0: every pair qualifies, none that was just split
+        let all: Vec<usize> = (1..20).step_by(2).collect();
+        assert_eq!(grid.pairs_to_merge(0.0, &y, &zero, &[]), all);
+        let mut fresh = vec![false; 20];
+        fresh[3] = true;
+        let pairs = grid.pairs_to_merge(0.0, &y, &zero, &fresh);
+        assert!(!pairs.contains(&3) && !pairs.contains(&4), "{pairs:?}");
+        // cells 3 and 4 merged (segment 2, 0-based); then stretch cell 2 (segment 1) by `e`
+        grid.merge(&[3], &mut y).unwrap();
+        let stretch = |grid: &CellGrid<NeoHookean>, y: &mut Vec<f64>, e: f64| {
+            let xi = grid.dividing.line.layout.xi.clone();
+            for b in 2..=19 {
+                y[xi[b]] += e;
+            }
+        };
+        let zero = vec![0.0; y.len()];
+        let sigma = |grid: &CellGrid<NeoHookean>, y: &[f64], j: usize| {
+            grid.stress(j, 0.0, y, &zero).unwrap()
+        };
+        let mut small = y.clone();
+        stretch(&grid, &mut small, 1e-5);
+        let d = (sigma(&grid, &small, 1) - sigma(&grid, &small, 2)).abs();
+        assert!(d > 0.0 && d < 1e-3, "{d}");
+        assert!(grid.segments_to_split(0.0, &small, &zero).is_empty());
+        let mut large = y.clone();
+        stretch(&grid, &mut large, 0.05);
+        // across a merged segment of two cells beside one of one: 4/3 of the difference
+        let d = (sigma(&grid, &large, 1) - sigma(&grid, &large, 2)).abs();
+        assert!(4.0 / 3.0 * d > 4e-3, "{d}");
+        assert_eq!(grid.segments_to_split(0.0, &large, &zero), vec![2]);
+        // a segment merged because it stopped growing stays whole: compress it far into the
+        // law's flat (σ ≪ −σ₀), where it grows at less than 1e-3 of G(0)
+        let mut crushed = y.clone();
+        let xi = grid.dividing.line.layout.xi.clone();
+        for b in 3..=19 {
+            crushed[xi[b]] -= 0.6;
+        }
+        assert!(sigma(&grid, &crushed, 2) < -1.0);
+        assert_eq!(grid.segments_to_split(0.0, &crushed, &zero), vec![2]);
+        grid.coarsen = Some(Coarsening {
+            growth_below: 1e-3,
+            ..grid.coarsen.unwrap()
+        });
+        assert!(grid.segments_to_split(0.0, &crushed, &zero).is_empty());
+    }
+
     /// A merge keeps every other boundary, `l` and `Σ L₀g`, and the drag summed over faces.
     #[test]
     fn a_merge_keeps_the_length_the_grown_length_and_the_drag() {
