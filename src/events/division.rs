@@ -421,7 +421,7 @@ pub(crate) fn check_batch_within(w: f64) -> Result<(), ParamError> {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct CellGridConfig {
-    /// Merge segments growing below this fraction of `G(0)` (none: never merge).
+    /// Merge segments growing below this fraction of `G(0)` (none: not for slow growth).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub merge_below: Option<f64>,
     /// Merge neighbouring segments whose stresses differ by at most this fraction of the

@@ -349,7 +349,8 @@ impl<E: StrainEnergy> CellGrid<E> {
         let (Some(rule), Some(growth)) = (self.coarsen, self.dividing.line.growth()) else {
             return false;
         };
-        growth.rate(sigma).0 < rule.growth_below * growth.rate(0.0).0
+        // (0: no merging for slow growth, even where a law's rate falls below zero)
+        rule.growth_below > 0.0 && growth.rate(sigma).0 < rule.growth_below * growth.rate(0.0).0
     }
 
     /// The largest stress difference at which neighbours merge ([`Coarsening::stress_within`]
