@@ -119,8 +119,9 @@ pub struct Member {
 ///
 /// The first criterion finds cells that have stopped growing (behind a proliferating rim); the
 /// second finds neighbours that grow alike because they bear nearly the same stress (a line
-/// under weak drag, where every cell grows): their members then share one stress at a cost of
-/// at most `stress_within` of the stress scale.
+/// under weak drag, where every cell grows): their members then share one stress, at a cost
+/// of about `stress_within` of the stress scale when they merge and at most four times that
+/// before the segment splits again.
 ///
 /// ```
 /// use celltissue::proliferation::Coarsening;
