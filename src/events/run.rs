@@ -287,11 +287,9 @@ fn with_law<E: StrainEnergy + Clone>(
                 match built {
                     Ok(mut g) => {
                         g.coarsen = grid.coarsening();
-                        let slope = g.dividing.line.growth().map_or(0.0, |l| l.rate(0.0).1);
-                        if grid.merge_stress_within.is_some()
-                            && slope.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
-                        {
+                        if grid.merge_stress_within.is_some() && g.stress_tolerance().is_none() {
                             // the tolerance is a fraction of G(0)/G′(0)
+                            let slope = g.dividing.line.growth().map_or(0.0, |l| l.rate(0.0).1);
                             rec.error = Some(format!(
                                 "division.cell_grid.merge_stress_within needs a growth law \
                                  whose rate rises with stress at zero stress (G′(0) > 0); \

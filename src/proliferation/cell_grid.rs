@@ -344,6 +344,13 @@ impl<E: StrainEnergy> CellGrid<E> {
             .map(|c| c.sigma)
     }
 
+    /// Every segment's stress at `(t, y, ẏ)` (`None` where it does not evaluate).
+    fn stresses(&self, t: f64, y: &[f64], yp: &[f64]) -> Vec<Option<f64>> {
+        (0..self.segments())
+            .map(|i| self.stress(i, t, y, yp))
+            .collect()
+    }
+
     /// Whether a segment at stress `sigma` grows at less than [`CellGrid::coarsen`]'s fraction
     /// of the unstressed rate.
     fn slow_at(&self, sigma: f64) -> bool {
@@ -356,7 +363,7 @@ impl<E: StrainEnergy> CellGrid<E> {
 
     /// The largest stress difference at which neighbours merge ([`Coarsening::stress_within`]
     /// times the growth law's stress scale `G(0)/G′(0)`), if in-phase merging is on.
-    fn stress_tolerance(&self) -> Option<f64> {
+    pub(crate) fn stress_tolerance(&self) -> Option<f64> {
         let within = self.coarsen?.stress_within?;
         let (g0, slope) = self.dividing.line.growth()?.rate(0.0);
         (slope > 0.0).then(|| within * g0 / slope)
@@ -370,7 +377,7 @@ impl<E: StrainEnergy> CellGrid<E> {
             return Vec::new();
         };
         let n = self.segments();
-        let sigma: Vec<Option<f64>> = (0..n).map(|i| self.stress(i, t, y, yp)).collect();
+        let sigma = self.stresses(t, y, yp);
         let tolerance = self.stress_tolerance();
         let qualify = |a: usize, b: usize| match (sigma[a], sigma[b]) {
             (Some(sa), Some(sb)) => {
@@ -409,7 +416,7 @@ impl<E: StrainEnergy> CellGrid<E> {
         let several = |j: usize| self.members[j].as_ref().is_some_and(|m| m.len() >= 2);
         if let Some(tol) = self.stress_tolerance() {
             let n = self.segments();
-            let sigma: Vec<Option<f64>> = (0..n).map(|i| self.stress(i, t, y, yp)).collect();
+            let sigma = self.stresses(t, y, yp);
             let width = |j: usize| self.multiplicity[j] as f64;
             // the stress change across segment j, from its difference to neighbour b
             let span = |j: usize, b: usize| match (sigma[j], sigma[b]) {
