@@ -12,7 +12,8 @@
 //! Run: `cargo run --release --example line_headline -- FAMILY N [THREADS]`, e.g.
 //! `cargo run --release --example line_headline -- macro 1000000 2`. The reference run is not
 //! timed. Prints one markdown table row. `JACOBIAN_AGE=K` sets the timed run's
-//! `SolveSettings::jacobian_age` (scenario key `solver.jacobian_age`; default 50).
+//! `SolveSettings::jacobian_age` (scenario key `solver.jacobian_age`; default 50), and
+//! `NEWTON_ALPHA_BOUND=1` its `SolveSettings::newton_alpha_bound` (`solver.newton_alpha_bound`).
 
 use celltissue::line::build::discrete;
 use celltissue::line::run::{integrate, SolveSettings};
@@ -51,30 +52,18 @@ fn family(name: &str, n: usize) -> (LineConfig, Vec<f64>) {
 /// Stretches and pressures of every cell, one pair per output time.
 type Fields = Vec<(Vec<f64>, Vec<f64>)>;
 
-/// Stretches and pressures at the output times, the solve's wall time and counters (with
-/// `jacobian_age`, else the default Jacobian age).
+/// Stretches and pressures at the output times, the solve's wall time and counters.
 fn solve(
     cfg: &LineConfig,
     t_out: &[f64],
-    rtol: f64,
-    atol: f64,
-    threads: usize,
-    jacobian_age: Option<usize>,
+    settings: &SolveSettings,
 ) -> (Fields, f64, integrators::Stats) {
-    let p = cfg.params(atol);
+    let p = cfg.params(settings.atol);
     let line = discrete(NeoHookean::new(1.0).expect("valid"), &p).expect("valid line");
-    let defaults = SolveSettings::default();
-    let jacobian_age = jacobian_age.unwrap_or(defaults.jacobian_age);
-    let settings = SolveSettings {
-        rtol,
-        atol,
-        threads,
-        jacobian_age,
-        ..defaults
-    };
+    let rtol = settings.rtol;
     let mut prob = ArrayProblem::new(line);
     let start = Instant::now();
-    let traj = integrate(&mut prob, &settings, t_out);
+    let traj = integrate(&mut prob, settings, t_out);
     let wall = start.elapsed().as_secs_f64();
     if let Some(e) = traj.error {
         eprintln!("rtol {rtol:e}: {e}");
@@ -105,17 +94,32 @@ fn main() {
     let n: usize = args.get(1).and_then(|v| v.parse().ok()).unwrap_or(10_000);
     let threads: usize = args.get(2).and_then(|v| v.parse().ok()).unwrap_or(1);
     let (cfg, t_out) = family(name, n);
-    let age = std::env::var("JACOBIAN_AGE")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .filter(|&k: &usize| k >= 1);
-    let (run, wall, s) = solve(&cfg, &t_out, 1e-6, 1e-8, threads, age);
+    let defaults = SolveSettings::default();
+    let timed = SolveSettings {
+        rtol: 1e-6,
+        atol: 1e-8,
+        threads,
+        jacobian_age: std::env::var("JACOBIAN_AGE")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .filter(|&k: &usize| k >= 1)
+            .unwrap_or(defaults.jacobian_age),
+        newton_alpha_bound: std::env::var("NEWTON_ALPHA_BOUND").is_ok_and(|v| v == "1"),
+        ..defaults
+    };
+    let (run, wall, s) = solve(&cfg, &t_out, &timed);
     let ref_rtol: f64 = std::env::var("REF_RTOL")
         .ok()
         .and_then(|v| v.parse().ok())
         .filter(|v: &f64| *v > 0.0 && *v < 1e-6)
         .unwrap_or(1e-10);
-    let (reference, _, _) = solve(&cfg, &t_out, ref_rtol, 1e-2 * ref_rtol, threads, None);
+    let reference_settings = SolveSettings {
+        rtol: ref_rtol,
+        atol: 1e-2 * ref_rtol,
+        threads,
+        ..defaults
+    };
+    let (reference, _, _) = solve(&cfg, &t_out, &reference_settings);
     println!(
         "| {name} | {n} | {threads} | {wall:.3} s | {} | {} | {} | {:.1e} | {:.1e} |",
         s.steps,

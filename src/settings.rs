@@ -50,6 +50,11 @@ pub struct SolveSettings {
     /// of the echo at its default.
     #[serde(skip_serializing_if = "is_default_age")]
     pub jacobian_age: usize,
+    /// BDF only: whether the first Newton iteration after a change of `α` is tested with at
+    /// least the rate that change implies (default `false`;
+    /// [`integrators::BdfOptions::newton_alpha_bound`]). Left out of the echo when false.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub newton_alpha_bound: bool,
     /// Most steps a solve may take; it stops at the next with
     /// [`integrators::ErrorKind::TooManySteps`], keeping what it computed (default 10⁶,
     /// [`integrators::Options::max_steps`]). Left out of the echo at its default.
@@ -79,6 +84,7 @@ impl Default for SolveSettings {
             linear_solver: LinearSolverChoice::Direct,
             threads: 1,
             jacobian_age: integrators::BdfOptions::default().max_jacobian_age,
+            newton_alpha_bound: false,
             max_steps: Options::default().max_steps,
             land_on_outputs: None,
             interpolate_rates: false,
@@ -109,6 +115,7 @@ impl SolveSettings {
             max_steps: self.max_steps,
             bdf: integrators::BdfOptions {
                 max_jacobian_age: self.jacobian_age,
+                newton_alpha_bound: self.newton_alpha_bound,
                 ..Default::default()
             },
             ..Options::default()

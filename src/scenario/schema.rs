@@ -43,6 +43,11 @@ pub(crate) struct RawScenario {
 /// assert_eq!((settings.method.name(), settings.rtol), ("radau", 1e-8));
 /// let bad: SolverSection = toml::from_str("rtol = 2")?;
 /// assert_eq!(bad.validate().unwrap_err().key_name(), Some("solver.rtol"));
+/// // a BDF-only key
+/// let bound: SolverSection = toml::from_str("newton_alpha_bound = true")?;
+/// assert!(bound.validate()?.newton_alpha_bound);
+/// let radau: SolverSection = toml::from_str("method = \"radau\"\nnewton_alpha_bound = true")?;
+/// assert_eq!(radau.validate().unwrap_err().key_name(), Some("solver.newton_alpha_bound"));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 #[derive(Clone, Debug, Deserialize)]
@@ -71,6 +76,9 @@ pub struct SolverSection {
     /// BDF only: steps after which the Newton matrices are refreshed even though Newton
     /// converges, 1 to 10⁶ (default 50).
     pub jacobian_age: Option<usize>,
+    /// BDF only: whether the first Newton iteration after a change of the step's `α` assumes
+    /// at least the convergence rate that change implies (default false: IDA's test).
+    pub newton_alpha_bound: bool,
     /// Most steps a run may take before it stops, saying so, 1 to 10¹² (default 10⁶).
     pub max_steps: Option<u64>,
     /// Whether steps end at every output time instead of interpolating (default: for every
@@ -97,6 +105,7 @@ impl Default for SolverSection {
             newton_factor: IterativeSettings::default().newton_factor,
             threads: 1,
             jacobian_age: None,
+            newton_alpha_bound: false,
             max_steps: None,
             land_on_outputs: None,
             interpolate_rates: false,
@@ -200,6 +209,16 @@ impl SolverSection {
             }
             Some(a) => a,
         };
+        if self.newton_alpha_bound && method.name() != "bdf" {
+            return Err(ScenarioError::key(
+                "solver.newton_alpha_bound",
+                format!(
+                    "applies to method \"bdf\" only, not \"{}\" (remove it from [solver], \
+                     or --unset solver.newton_alpha_bound, to run another method)",
+                    method.name()
+                ),
+            ));
+        }
         let max_steps = match self.max_steps {
             None => SolveSettings::default().max_steps,
             Some(m) if !(1..=MAX_STEPS_LIMIT).contains(&m) => {
@@ -218,6 +237,7 @@ impl SolverSection {
             linear_solver,
             threads: self.threads,
             jacobian_age,
+            newton_alpha_bound: self.newton_alpha_bound,
             max_steps,
             land_on_outputs: self.land_on_outputs,
             interpolate_rates: self.interpolate_rates,

@@ -54,10 +54,20 @@ impl Bdf {
             self.c_fact = alpha;
             self.ss = 20.0;
         }
-        let scale = if alpha == self.c_fact {
-            1.0
+        // The correction is scaled by 2/(1 + r), r = α/α_f, for a matrix factored at α_f. With
+        // `newton_alpha_bound` the first iteration's test assumes the rate ρ_α = |r − 1|/(1 + r)
+        // that this leaves at least (`BdfOptions::newton_alpha_bound`); ρ_α < 1 for r > 0.
+        let (scale, ss_alpha) = if alpha == self.c_fact {
+            (1.0, 0.0)
         } else {
-            2.0 / (1.0 + alpha / self.c_fact)
+            let r = alpha / self.c_fact;
+            let rho = (r - 1.0).abs() / (1.0 + r);
+            let ss_alpha = if sys.opts.bdf.newton_alpha_bound {
+                rho / (1.0 - rho)
+            } else {
+                0.0
+            };
+            (2.0 / (1.0 + r), ss_alpha)
         };
 
         let mut oldnrm = 0.0;
@@ -128,7 +138,12 @@ impl Bdf {
                 }
                 self.ss = rate / (1.0 - rate);
             }
-            if self.ss * delnrm <= EPS_NEWT {
+            let ss = if m == 0 {
+                self.ss.max(ss_alpha)
+            } else {
+                self.ss
+            };
+            if ss * delnrm <= EPS_NEWT {
                 return Ok(());
             }
         }
