@@ -253,7 +253,8 @@ pub struct BdfOptions {
     /// pass the test while leaving an error of the order of the tolerance in the modes the
     /// stiffness dominates. With this set, that test takes the larger of the two rates, and
     /// such a step iterates once more. On a long quasi-static line, whose cell-scale modes are
-    /// just those a cell-unit error norm weighs most, it saves about a quarter of the steps.
+    /// just those a cell-unit error norm weighs most, it saves a sixth to a third of the steps
+    /// (the macroscale line of 10⁶ and 10⁵ cells).
     pub newton_alpha_bound: bool,
 }
 

@@ -54,9 +54,10 @@ impl Bdf {
             self.c_fact = alpha;
             self.ss = 20.0;
         }
-        // The correction is scaled by 2/(1 + r), r = α/α_f, for a matrix factored at α_f. With
-        // `newton_alpha_bound` the first iteration's test assumes the rate ρ_α = |r − 1|/(1 + r)
-        // that this leaves at least (`BdfOptions::newton_alpha_bound`); ρ_α < 1 for r > 0.
+        // The correction is scaled by 2/(1 + r), r = α/α_f, for a matrix factored at α_f. That
+        // leaves the modes one part of the matrix dominates the rate ρ_α = |r − 1|/(1 + r)
+        // (< 1 for r > 0); with `newton_alpha_bound` the first iteration's test assumes at least
+        // that rate (`BdfOptions::newton_alpha_bound`).
         let (scale, ss_alpha) = if alpha == self.c_fact {
             (1.0, 0.0)
         } else {
