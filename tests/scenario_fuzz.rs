@@ -177,6 +177,7 @@ fn key() -> impl Strategy<Value = String> {
             "solver.threads",
             "solver.linear_solver",
             "solver.jacobian_age",
+            "solver.newton_alpha_bound",
             "solver.max_steps",
             "solver.newton_factor",
             "solver.krylov_max_iters",
