@@ -6,7 +6,8 @@
 //! The linear solver is the sparse direct LU unless `LINSOLVE=iterative` (ILU(0) +
 //! BiCGStab stopped by the Newton-aware rule with `newton_factor = KRYLOV_FACTOR`, default
 //! 0.01, or at relative preconditioned residual `KRYLOV_RTOL`, default 1e-8; `KRYLOV_FACTOR=0`
-//! leaves only the latter); `NORM=rms` selects the RMS norm. `FINAL_STATE=path` writes the
+//! leaves only the latter); `NORM=rms` selects the RMS norm; `NEWTON_ALPHA_BOUND=1` sets
+//! `BdfOptions::newton_alpha_bound`. `FINAL_STATE=path` writes the
 //! state at `t_end` as raw little-endian `f64`s (to compare runs).
 //! `FAMILY=macro` runs the macroscale-fixed family instead of the thesis's raw parameters
 //! (`K = 1/(2n)`, ramp time `n`, default `t_end = n`): `n × n` cells then resolve the same tissue
@@ -76,6 +77,10 @@ fn main() {
         atol: 1e-8,
         norm,
         linear_solver,
+        bdf: integrators::BdfOptions {
+            newton_alpha_bound: env("NEWTON_ALPHA_BOUND").is_some_and(|v| v == "1"),
+            ..Default::default()
+        },
         ..Options::default()
     };
     let label = format!("{linear_solver:?}, {norm:?} norm");
