@@ -198,26 +198,12 @@ impl SolverSection {
                 ))
             }
             Some(_) if method.name() != "bdf" => {
-                return Err(ScenarioError::key(
-                    "solver.jacobian_age",
-                    format!(
-                        "applies to method \"bdf\" only, not \"{}\" (remove it from [solver], \
-                         or --unset solver.jacobian_age, to run another method)",
-                        method.name()
-                    ),
-                ))
+                return Err(bdf_only("solver.jacobian_age", method.name()))
             }
             Some(a) => a,
         };
         if self.newton_alpha_bound && method.name() != "bdf" {
-            return Err(ScenarioError::key(
-                "solver.newton_alpha_bound",
-                format!(
-                    "applies to method \"bdf\" only, not \"{}\" (remove it from [solver], \
-                     or --unset solver.newton_alpha_bound, to run another method)",
-                    method.name()
-                ),
-            ));
+            return Err(bdf_only("solver.newton_alpha_bound", method.name()));
         }
         let max_steps = match self.max_steps {
             None => SolveSettings::default().max_steps,
@@ -243,6 +229,17 @@ impl SolverSection {
             interpolate_rates: self.interpolate_rates,
         })
     }
+}
+
+/// The error for a BDF-only `[solver]` key set with another method.
+fn bdf_only(key: &str, method: &str) -> ScenarioError {
+    ScenarioError::key(
+        key,
+        format!(
+            "applies to method \"bdf\" only, not \"{method}\" (remove it from [solver], or \
+             --unset {key}, to run another method)"
+        ),
+    )
 }
 
 /// `[output]`: when to record.
