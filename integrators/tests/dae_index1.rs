@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{opts, residual_fn};
+use common::{opts, opts_bound, residual_fn};
 use integrators::adapters::{Mass, MassProblem};
 use integrators::{MethodKind, Problem, ResidualError, Solver};
 
@@ -82,6 +82,13 @@ fn bdf_index1_dae_matches_closed_form() {
     let sol = Solver::new(MethodKind::Bdf, o)
         .solve(&mut Mass::new(DaeMass), 0.0, &[0.5, 0.3], &t_out)
         .unwrap();
+    check(&sol, &t_out, 1e-6);
+
+    // the same with `newton_alpha_bound`
+    let sol = Solver::new(MethodKind::Bdf, opts_bound(1e-8, 1e-10, true))
+        .solve(&mut dae(), 0.0, &[0.5, 0.3], &t_out)
+        .unwrap();
+    eprintln!("bound: {:?}", sol.stats);
     check(&sol, &t_out, 1e-6);
 }
 

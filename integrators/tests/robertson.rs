@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::opts;
+use common::{opts, opts_bound};
 use common::{Robertson, RobertsonDae};
 use integrators::adapters::Ode;
 use integrators::{MethodKind, Solver};
@@ -27,21 +27,22 @@ fn scaled_err(y: &[f64], rtol: f64) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// With IDA's Newton test and with `newton_alpha_bound`.
 #[test]
 fn bdf_robertson_ode_matches_reference_at_1e11() {
-    for exact in [true, false] {
+    for (exact, bound) in [(true, false), (false, false), (true, true), (false, true)] {
         let mut p = Ode(Robertson {
             exact_jacobian: exact,
         });
         let rtol = 1e-6;
         let t_out = [4e-1, 4e1, 4e4, 4e7, 1e11];
-        let sol = Solver::new(MethodKind::Bdf, opts(rtol, 1e-8))
+        let sol = Solver::new(MethodKind::Bdf, opts_bound(rtol, 1e-8, bound))
             .solve(&mut p, 0.0, &[1.0, 0.0, 0.0], &t_out)
             .unwrap();
         let y = sol.y.last().unwrap();
         let e = scaled_err(y, rtol);
         eprintln!(
-            "ode exact_jac={exact}: y = {y:?}, scaled err {e:.3}, {:?}",
+            "ode exact_jac={exact} bound={bound}: y = {y:?}, scaled err {e:.3}, {:?}",
             sol.stats
         );
         // global error below the tolerance scale (observed ≈ 0.1–0.2)
@@ -65,6 +66,13 @@ fn bdf_robertson_dae_matches_reference_at_1e11() {
     let e = scaled_err(y, rtol);
     eprintln!("dae: y = {y:?}, scaled err {e:.3}, {:?}", sol.stats);
     assert!(e < 1.0, "scaled error {e}");
+    // the same with `newton_alpha_bound`
+    let bounded = Solver::new(MethodKind::Bdf, opts_bound(rtol, 1e-8, true))
+        .solve(&mut RobertsonDae, 0.0, &[1.0, 0.0, 0.0], &[4e10, 1e11])
+        .unwrap();
+    let eb = scaled_err(bounded.y.last().unwrap(), rtol);
+    eprintln!("dae, bound: scaled err {eb:.3}, {:?}", bounded.stats);
+    assert!(eb < 1.0, "scaled error {eb} with the bound");
     // the algebraic constraint holds to round-off
     for yi in &sol.y {
         assert!((yi.iter().sum::<f64>() - 1.0).abs() < 1e-12);

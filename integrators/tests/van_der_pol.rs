@@ -10,17 +10,23 @@
 
 mod common;
 
-use common::opts;
+use common::{opts, opts_bound};
 use common::{VanDerPol, VanDerPolScaled};
 use integrators::adapters::Ode;
 use integrators::{MethodKind, Solver};
 
 const VDPOL_REF: [f64; 2] = [0.1706167732170483e1, -0.8928097010247975e0];
 
+/// With IDA's Newton test and with `newton_alpha_bound`.
 #[test]
 fn bdf_van_der_pol_scaled_matches_test_set_reference() {
-    for (rtol, bound) in [(1e-6, 1e-3), (1e-9, 2e-6)] {
-        let o = opts(rtol, rtol);
+    let cases = [(1e-6, 1e-3), (1e-9, 2e-6)];
+    for ((rtol, bound), alpha_bound) in cases
+        .iter()
+        .map(|&c| (c, false))
+        .chain(cases.iter().map(|&c| (c, true)))
+    {
+        let o = opts_bound(rtol, rtol, alpha_bound);
         let sol = Solver::new(MethodKind::Bdf, o)
             .solve(
                 &mut Ode(VanDerPolScaled { eps: 1e-6 }),
@@ -33,7 +39,10 @@ fn bdf_van_der_pol_scaled_matches_test_set_reference() {
         let err = (y[0] - VDPOL_REF[0])
             .abs()
             .max((y[1] - VDPOL_REF[1]).abs() / VDPOL_REF[1].abs());
-        eprintln!("rtol {rtol:e}: y = {y:?}, err {err:.3e}, {:?}", sol.stats);
+        eprintln!(
+            "rtol {rtol:e}, newton_alpha_bound {alpha_bound}: y = {y:?}, err {err:.3e}, {:?}",
+            sol.stats
+        );
         assert!(err < bound, "rtol {rtol}: error {err}");
     }
 }

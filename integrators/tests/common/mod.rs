@@ -282,6 +282,18 @@ pub fn opts(rtol: f64, atol: f64) -> Options {
     }
 }
 
+/// [`opts`] with BDF's first Newton iteration after a change of α tested with the rate that
+/// change implies ([`integrators::BdfOptions::newton_alpha_bound`]) when `bound` is set.
+pub fn opts_bound(rtol: f64, atol: f64, bound: bool) -> Options {
+    Options {
+        bdf: integrators::BdfOptions {
+            newton_alpha_bound: bound,
+            ..Default::default()
+        },
+        ..opts(rtol, atol)
+    }
+}
+
 /// Max-norm distance.
 pub fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
     assert_eq!(a.len(), b.len());
