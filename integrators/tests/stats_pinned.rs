@@ -11,7 +11,7 @@
 mod common;
 
 use common::{opts, opts_bound};
-use common::{Heat, Robertson, VanDerPolScaled};
+use common::{van_der_pol_scaled_bdf, Heat, Robertson};
 use integrators::adapters::Ode;
 use integrators::{MethodKind, Solver, Stats};
 
@@ -40,10 +40,9 @@ fn check(name: &str, s: &Stats, pinned: [usize; 9]) {
     );
 }
 
-#[test]
-fn pinned_bdf_robertson_1e11() {
-    let o = opts(1e-6, 1e-8);
-    let sol = Solver::new(MethodKind::Bdf, o)
+/// Robertson to t = 1e11 by BDF (exact Jacobian), as `robertson.rs` checks it.
+fn robertson_1e11(o: integrators::Options) -> Stats {
+    Solver::new(MethodKind::Bdf, o)
         .solve(
             &mut Ode(Robertson {
                 exact_jacobian: true,
@@ -52,28 +51,24 @@ fn pinned_bdf_robertson_1e11() {
             &[1.0, 0.0, 0.0],
             &[1e11],
         )
-        .unwrap();
+        .unwrap()
+        .stats
+}
+
+#[test]
+fn pinned_bdf_robertson_1e11() {
     check(
         "robertson",
-        &sol.stats,
+        &robertson_1e11(opts(1e-6, 1e-8)),
         [622, 26, 26, 0, 1022, 32, 133, 1022, 1019],
     );
 }
 
 #[test]
 fn pinned_bdf_van_der_pol_scaled() {
-    let o = opts(1e-6, 1e-6);
-    let sol = Solver::new(MethodKind::Bdf, o)
-        .solve(
-            &mut Ode(VanDerPolScaled { eps: 1e-6 }),
-            0.0,
-            &[2.0, 0.0],
-            &[2.0],
-        )
-        .unwrap();
     check(
         "vdpol",
-        &sol.stats,
+        &van_der_pol_scaled_bdf(opts(1e-6, 1e-6)).stats,
         [1027, 44, 44, 0, 1736, 62, 241, 1736, 1732],
     );
 }
@@ -83,32 +78,14 @@ fn pinned_bdf_van_der_pol_scaled() {
 /// rejections than IDA's test on both; on Van der Pol more Newton iterations.
 #[test]
 fn pinned_bdf_with_the_newton_alpha_bound() {
-    let sol = Solver::new(MethodKind::Bdf, opts_bound(1e-6, 1e-8, true))
-        .solve(
-            &mut Ode(Robertson {
-                exact_jacobian: true,
-            }),
-            0.0,
-            &[1.0, 0.0, 0.0],
-            &[1e11],
-        )
-        .unwrap();
     check(
         "robertson, bound",
-        &sol.stats,
+        &robertson_1e11(opts_bound(1e-6, 1e-8, true)),
         [615, 16, 16, 0, 1010, 32, 119, 1010, 1007],
     );
-    let sol = Solver::new(MethodKind::Bdf, opts_bound(1e-6, 1e-6, true))
-        .solve(
-            &mut Ode(VanDerPolScaled { eps: 1e-6 }),
-            0.0,
-            &[2.0, 0.0],
-            &[2.0],
-        )
-        .unwrap();
     check(
         "vdpol, bound",
-        &sol.stats,
+        &van_der_pol_scaled_bdf(opts_bound(1e-6, 1e-6, true)).stats,
         [983, 20, 20, 0, 1864, 62, 220, 1864, 1860],
     );
 }

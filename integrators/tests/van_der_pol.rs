@@ -10,8 +10,7 @@
 
 mod common;
 
-use common::{opts, opts_bound};
-use common::{VanDerPol, VanDerPolScaled};
+use common::{opts, opts_bound, van_der_pol_scaled_bdf, VanDerPol};
 use integrators::adapters::Ode;
 use integrators::{MethodKind, Solver};
 
@@ -26,15 +25,7 @@ fn bdf_van_der_pol_scaled_matches_test_set_reference() {
         .map(|&c| (c, false))
         .chain(cases.iter().map(|&c| (c, true)))
     {
-        let o = opts_bound(rtol, rtol, alpha_bound);
-        let sol = Solver::new(MethodKind::Bdf, o)
-            .solve(
-                &mut Ode(VanDerPolScaled { eps: 1e-6 }),
-                0.0,
-                &[2.0, 0.0],
-                &[2.0],
-            )
-            .unwrap();
+        let sol = van_der_pol_scaled_bdf(opts_bound(rtol, rtol, alpha_bound));
         let y = &sol.y[0];
         let err = (y[0] - VDPOL_REF[0])
             .abs()

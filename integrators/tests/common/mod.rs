@@ -294,6 +294,19 @@ pub fn opts_bound(rtol: f64, atol: f64, bound: bool) -> Options {
     }
 }
 
+/// The scaled Van der Pol oscillator (ε = 1e-6) from (2, 0) to t = 2 by BDF, as the test set
+/// poses it.
+pub fn van_der_pol_scaled_bdf(o: Options) -> integrators::Solution {
+    integrators::Solver::new(integrators::MethodKind::Bdf, o)
+        .solve(
+            &mut integrators::adapters::Ode(VanDerPolScaled { eps: 1e-6 }),
+            0.0,
+            &[2.0, 0.0],
+            &[2.0],
+        )
+        .unwrap()
+}
+
 /// Max-norm distance.
 pub fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
     assert_eq!(a.len(), b.len());
