@@ -662,6 +662,7 @@ where
                 let sys = System::new(p, opts, &mut run.stats, &mut run.cache);
                 sys.roundoff_ratio(method.y())
             };
+            run.cache.roundoff = ratio;
             if ratio > ROUNDOFF_LIMIT {
                 let t = method.t();
                 run.keep_last(method.y());

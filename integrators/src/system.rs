@@ -121,6 +121,10 @@ pub struct SystemCache {
     /// With a map: [`ErrorMap::effective_atol`] of `atol` (anchors include `rtol·size`);
     /// empty otherwise.
     pub(crate) eatol: Vec<f64>,
+    /// The last [`System::roundoff_ratio`] the driver measured (0 before it has): the weighted
+    /// size of one rounding unit of the tested quantities. A Newton correction no larger
+    /// cannot be resolved in the state ([`System::below_roundoff`]).
+    pub(crate) roundoff: f64,
 }
 
 /// Buffers a finished phase of a solve leaves for the next one (consistent initialisation →
@@ -554,6 +558,38 @@ impl<'a> System<'a> {
         } else {
             self.cache.map.roundoff_ratio(y, &self.cache.eatol, rtol)
         }
+    }
+
+    /// Whether a Newton correction of weighted norm `delnrm` is within the rounding of the
+    /// state: no larger than the round-off ratio the driver last measured
+    /// ([`roundoff_ratio`](Self::roundoff_ratio), before the first step and every
+    /// [`crate::solver::ROUNDOFF_CHECK_EVERY`] steps). Adding such a correction changes the
+    /// state by about an ulp or not at all, so the next correction is as large and a
+    /// contraction test reads rounding as divergence; a method accepts its iterate there
+    /// instead of failing the step. The tight tolerance of a purely algebraic line (K = 0,
+    /// η = 0, rtol 1e-10) failed every first step after a restart that way: its second
+    /// correction was bitwise its first.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options::default(), Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// // before the driver has measured the round-off, nothing counts as below it
+    /// assert!(!sys.below_roundoff(1e-300));
+    /// ```
+    pub fn below_roundoff(&self, delnrm: f64) -> bool {
+        delnrm <= self.cache.roundoff
     }
 
     /// The norm ([`Options::norm`]) of the weighted error vector `v` through the problem's
@@ -1478,6 +1514,12 @@ impl<'a> System<'a> {
                 }
                 lambda *= 0.5;
                 if lambda < INIT_MIN_DAMPING {
+                    if dnorm <= 1.0 {
+                        // No step along the update lowers it, yet it is already within the
+                        // tolerance: the residual is at its rounding floor (a viscous line's ẏ
+                        // near rest at rtol 1e-10 stopped at 1.9e-3 against INIT_TOL).
+                        return Ok(());
+                    }
                     return Err(init_err(
                         format!(
                             "damped Newton could not reduce the residual (weighted update \

@@ -265,6 +265,14 @@ impl Esdirk {
             if newt > 1 {
                 let theta = dyno / dynold;
                 self.theta_max = self.theta_max.max(theta);
+                if theta >= 0.99 && sys.below_roundoff(dyno) {
+                    // no longer contracting, but within the rounding of the state: converged as
+                    // far as the state resolves (`System::below_roundoff`), not diverging
+                    for l in 0..n {
+                        k[l] = (ys[l] - self.zs[l]) / dh;
+                    }
+                    break Ok(Ok(()));
+                }
                 if theta >= 0.99 {
                     break Ok(Err(self.newton_fail(sys, 0.5 * h)));
                 }

@@ -498,6 +498,15 @@ impl Radau5 {
             if !dyno.is_finite() {
                 return Ok(self.newton_fail(sys, 0.5 * h));
             }
+            if newt > 1 && dyno >= 0.99 * dynold && sys.below_roundoff(dyno) {
+                // no longer contracting, but within the rounding of the state: converged as far
+                // as the state resolves (`System::below_roundoff`), not diverging
+                for (a, b) in self.w.iter_mut().zip(&self.dw) {
+                    *a += b;
+                }
+                self.update_z();
+                break;
+            }
             if newt > 1 && newt < nit {
                 let thq = dyno / dynold;
                 if fixed {

@@ -135,6 +135,10 @@ impl Bdf {
             } else {
                 let rate = (delnrm / oldnrm).powf(1.0 / m as f64);
                 if rate > 0.9 {
+                    if sys.below_roundoff(delnrm) {
+                        // the iterate is converged as far as the state resolves it
+                        return Ok(());
+                    }
                     return Err(NewtonFail::NoConvergence(worst(&self.res, &self.nwt)));
                 }
                 self.ss = rate / (1.0 - rate);
