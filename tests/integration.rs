@@ -5,6 +5,7 @@
 mod common;
 
 mod accuracy_contract;
+mod accuracy_contract_fuzz;
 mod array_data;
 mod cli_catalogue;
 mod cli_errors;
