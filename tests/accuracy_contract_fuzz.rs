@@ -1,10 +1,11 @@
-//! The accuracy contract (docs/model.md §8.1) beyond the bundled cases: random lines and
-//! sheets (seeded proptest strategies over the scenario keys: laws, fields, drag, viscosity,
-//! Maxwell branches; on lines prescribed, free, growing, dividing and periodic ends, active
-//! stress; on sheets a free or periodic top, a prescribed or growing free side; external
-//! pressure, the discrete array and the continuum, BDF, Radau IIA and ESDIRK, max and rms
-//! norms), each run at rtol 1e-6 and against Radau IIA and BDF at rtol 1e-10. A stretch
-//! error is relative, over every cell (both directions on a sheet) and three profile times.
+//! The accuracy contract (docs/model.md §8.1) beyond the bundled cases: random lines, sheets
+//! and shear columns (seeded proptest strategies over the scenario keys: laws, fields, drag,
+//! viscosity, Maxwell branches; on lines prescribed, free, growing, dividing and periodic ends,
+//! active stress; on sheets a free or periodic top, a prescribed or growing free side; external
+//! pressure; on columns the force and both forms; the discrete array and the continuum, BDF,
+//! Radau IIA and ESDIRK, max and rms norms), each run at rtol 1e-6 and against Radau IIA and
+//! BDF at rtol 1e-10. A stretch error is relative to the contract's weight, over every cell
+//! (both directions on a sheet, tan θ on a column) and three profile times.
 //!
 //! * A tighter tolerance finishes wherever a looser one did: every case whose rtol 1e-6 run
 //!   finishes also finishes at rtol 1e-10 with Radau IIA and with BDF (two kinds of tight run
@@ -18,7 +19,8 @@
 //!   dilutes it by up to √N, so those are reported, not bounded.
 //!
 //! The default run (part of `cargo test`) draws [`DEFAULT_CASES`] cases of each; the long run
-//! (the lines about 3 minutes; `accuracy_contract_fuzz::random_sheets` for the sheets alone):
+//! (the lines about 3 minutes; `accuracy_contract_fuzz::random_sheets` or `random_shear` for
+//! one kind alone):
 //!
 //! ```sh
 //! CONTRACT_FUZZ_CASES=600 cargo test --release --test integration accuracy_contract_fuzz:: -- --nocapture
@@ -34,14 +36,18 @@ use std::path::Path;
 /// Cases of the default run.
 const DEFAULT_CASES: u32 = 90;
 
+/// Most steps a fuzz run may take (`solver.max_steps`).
+const MAX_STEPS: u64 = 200_000;
+
 /// The bound on the largest stretch error, in units of rtol, for BDF and Radau IIA with the
 /// max norm. The contract is local (each step's error in stretch units within rtol); the
-/// global error it buys is a small multiple of rtol where the line relaxes faster than it is
+/// global error it buys is a small multiple of rtol where the array relaxes faster than it is
 /// driven (within 10·rtol on the families of `accuracy_contract.rs`, asserted there), and
-/// grows where a cell is crushed faster than it relaxes (51·rtol for a cell crushed to
-/// λ = 0.11 under K = 1.1 in 0.06 time units, the worst of 600 cases). This bound separates
-/// that accumulation from a broken error test: the position-based test it replaced erred by
-/// 10³·rtol at the end cells.
+/// grows where a cell is crushed faster than it relaxes (50·rtol for a segment crushed to
+/// λ = 0.11 under K = 1.1 in 0.06 time units, the worst of 600 lines; 86·rtol on a shear column
+/// sliding on weak drag, the worst of 600 columns). This bound separates that accumulation
+/// from a broken error test: the position-based test it replaced erred by 10³·rtol at the end
+/// cells.
 const CONTRACT: f64 = 100.0;
 
 /// A random scenario's text (TOML).
@@ -198,12 +204,48 @@ fn sheet_case() -> impl Strategy<Value = Case> {
         })
 }
 
+/// A random shear column: its cells, law, drag, Kelvin–Voigt viscosity, the force at its
+/// top, the edge form or the thesis's cell-centre form, discrete or continuum.
+fn shear_case() -> impl Strategy<Value = Case> {
+    (
+        (2usize..60, law(), log_uniform(1e-3, 10.0)),
+        prop_oneof![2 => Just(0.0), 1 => log_uniform(1e-3, 10.0)],
+        (0.2f64..2.0, log_uniform(0.2, 50.0)),
+        (
+            prop_oneof![Just("bdf"), Just("esdirk"), Just("radau")],
+            prop_oneof![3 => Just("max"), 1 => Just("rms")],
+        ),
+        prop_oneof![
+            2 => Just("models = [\"discrete\"]\nform = \"edge\"\n".to_string()),
+            1 => Just("models = [\"discrete\"]\nform = \"cell_centre\"\n".to_string()),
+            1 => (2usize..80).prop_map(|n| format!("models = [\"continuum\"]\nnodes = {n}\n")),
+        ],
+    )
+        .prop_map(
+            |((cells, law, k), eta, (force, t), (method, norm), model)| {
+                let text = format!(
+                    "name = \"fuzz\"\n[solver]\nmethod = \"{method}\"\nnorm = \"{norm}\"\n\
+                 [output]\nseries = {{ start = 0, stop = {t}, count = 5 }}\n\
+                 profiles = [{}, {}, {t}]\n[model]\nkind = \"shear\"\n{model}\
+                 cells = {cells}\nlaw = {law}\nk_th = {k}\nforce = {force}\n\
+                 viscosity = {{ model = \"kelvin_voigt\", eta = {eta} }}\n",
+                    t / 4.0,
+                    t / 2.0,
+                );
+                Case { text }
+            },
+        )
+}
+
 /// The scenario's (first) run at `rtol` (atol = rtol/100), with `method` instead of the
 /// case's own when given; `Err` says whether the loader rejected it or the run failed.
 fn run(text: &str, rtol: f64, method: Option<&str>) -> Result<RunRecord, String> {
     let mut sets = vec![
         format!("solver.rtol={rtol}"),
         format!("solver.atol={}", rtol * 1e-2),
+        // a case that crawls (a cell collapsing, a method whose Newton iteration stalls) stops
+        // in seconds instead of minutes; no finishing case here takes 10⁵ steps
+        format!("solver.max_steps={MAX_STEPS}"),
     ];
     if let Some(m) = method {
         sets.push(format!("solver.method=\"{m}\""));
@@ -216,7 +258,8 @@ fn run(text: &str, rtol: f64, method: Option<&str>) -> Result<RunRecord, String>
     }
 }
 
-/// Largest stretch difference over cells and profiles, relative to the reference stretch;
+/// Largest stretch difference over cells and profiles (both directions on a sheet; tan θ on
+/// a shear column), over the contract's weight `|λ| + atol/rtol` (atol = rtol/100 here);
 /// `None` where a profile's cell counts differ (a division on either side of an output).
 fn stretch_error(a: &RunRecord, b: &RunRecord) -> Option<f64> {
     let mut worst = 0.0f64;
@@ -230,7 +273,7 @@ fn stretch_error(a: &RunRecord, b: &RunRecord) -> Option<f64> {
         ];
         for (a, b) in pairs.into_iter().filter_map(|(a, b)| a.zip(b)) {
             for (x, y) in a.iter().zip(b) {
-                worst = worst.max((x - y).abs() / y.abs());
+                worst = worst.max((x - y).abs() / (y.abs() + 1e-2));
             }
         }
     }
@@ -256,7 +299,8 @@ fn tags(text: &str) -> String {
         pick("right_end = "),
     ];
     for (key, tag) in [
-        ("viscosity", "maxwell"),
+        ("maxwell", "maxwell"),
+        ("standard_linear_solid", "maxwell"),
         ("growth", "growth"),
         ("division", "division"),
         ("external_pressure", "pressure"),
@@ -279,22 +323,27 @@ fn tags(text: &str) -> String {
 enum Outcome {
     /// Rejected by the loader (a combination the scenario does not take).
     Rejected,
-    /// The rtol 1e-6 run failed (its message).
-    LooseFailed(String),
+    /// The rtol 1e-6 run failed (its message), and whether Radau IIA at rtol 1e-10 finished.
+    LooseFailed(String, bool),
     /// The rtol 1e-6 run finished and a tight one did not (its message).
     TightFailed(String),
     /// A division fell between an output and the neighbouring step on one side only.
     CellsDiffer,
     /// Largest stretch error of the loose run against Radau IIA at rtol 1e-10, and the gap
     /// between that reference and BDF at rtol 1e-10 (the reference's trust: two methods
-    /// whose errors differ in kind agree), relative.
+    /// whose errors differ in kind agree), both over the contract's weight.
     Measured { error: f64, reference_gap: f64 },
 }
 
+/// Runs one case: at rtol 1e-6 with its own method, then (if that finished, or to tell the
+/// kind of its failure) Radau IIA and BDF at rtol 1e-10.
 fn outcome(text: &str) -> Outcome {
     let loose = match run(text, 1e-6, None) {
         Err(e) if e.starts_with("rejected") => return Outcome::Rejected,
-        Err(e) => return Outcome::LooseFailed(e),
+        Err(e) => {
+            let tight_finishes = run(text, 1e-10, Some("radau")).is_ok();
+            return Outcome::LooseFailed(e, tight_finishes);
+        }
         Ok(r) => r,
     };
     let tight =
@@ -325,11 +374,31 @@ fn sweep(strategy: impl Strategy<Value = Case>) -> Vec<(u32, String, String, Out
         },
         TestRng::deterministic_rng(RngAlgorithm::ChaCha),
     );
+    // `CONTRACT_FUZZ_FROM=k` runs only the cases from the k-th on (the earlier ones are drawn
+    // and dropped, so case numbers stay those of the full sweep), and names each as it starts
+    let from: u32 = std::env::var("CONTRACT_FUZZ_FROM")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(0);
     (0..n)
-        .map(|k| {
+        .filter_map(|k| {
             let c = strategy.new_tree(&mut runner).expect("a case").current();
+            if k < from {
+                return None;
+            }
+            if from > 0 {
+                println!("case {k} [{}] starts\n{}", tags(&c.text), c.text);
+            }
+            let started = std::time::Instant::now();
             let o = outcome(&c.text);
-            (k, tags(&c.text), c.text, o)
+            if started.elapsed().as_secs_f64() > 10.0 {
+                println!(
+                    "case {k} [{}] took {:.0?}",
+                    tags(&c.text),
+                    started.elapsed()
+                );
+            }
+            Some((k, tags(&c.text), c.text, o))
         })
         .collect()
 }
@@ -341,12 +410,27 @@ fn check(cases: Vec<(u32, String, String, Outcome)>) {
     let mut broken = vec![];
     let mut by_kind: std::collections::BTreeMap<String, Vec<f64>> = Default::default();
     let (mut rejected, mut loose_failed, mut untrusted, mut differ) = (0, 0, 0, 0);
+    let (mut only_tight, mut too_long) = (0, 0);
     for (k, tags, text, o) in &cases {
         match o {
             Outcome::Rejected => rejected += 1,
-            Outcome::LooseFailed(e) => {
+            Outcome::LooseFailed(e, false) => {
                 loose_failed += 1;
-                println!("case {k} [{tags}]: fails at rtol 1e-6 as well: {e}");
+                println!("case {k} [{tags}]: fails at rtol 1e-6 and 1e-10: {e}");
+            }
+            Outcome::LooseFailed(e, true) => {
+                only_tight += 1;
+                println!(
+                    "case {k} [{tags}]: fails at rtol 1e-6 but finishes at 1e-10 (Radau IIA): {e}\n{text}"
+                );
+            }
+            Outcome::TightFailed(e) if e.contains("maximum number of steps") => {
+                // a tolerance near what the state resolves costs far more steps (docs/model.md
+                // §8.1): reported, as the cap on the fuzz's runs is not the scenario's
+                too_long += 1;
+                println!(
+                    "case {k} [{tags}]: a rtol 1e-10 run needs more than {MAX_STEPS} steps: {e}"
+                );
             }
             Outcome::TightFailed(e) => broken.push(format!(
                 "case {k} [{tags}]: finishes at rtol 1e-6, not tighter: {e}\n{text}"
@@ -379,11 +463,13 @@ fn check(cases: Vec<(u32, String, String, Outcome)>) {
         }
     }
     println!(
-        "{} cases: {rejected} rejected by the loader, {loose_failed} failing at every tolerance \
-         (physics: a cell crushed, chains locked), {differ} with a division at an output, \
-         {untrusted} whose references part",
+        "{} cases: {rejected} rejected by the loader, {loose_failed} failing at rtol 1e-6 and \
+         1e-10 (a cell collapsing, chains locking), {only_tight} failing at rtol 1e-6 only, \
+         {too_long} whose rtol 1e-10 run passes {MAX_STEPS} steps, {differ} with a division at \
+         an output, {untrusted} whose references part",
         cases.len()
     );
+    let measured: usize = by_kind.values().map(Vec::len).sum();
     for (kind, mut r) in by_kind {
         r.sort_by(f64::total_cmp);
         let q = |f: f64| r[((r.len() - 1) as f64 * f).round() as usize];
@@ -396,6 +482,12 @@ fn check(cases: Vec<(u32, String, String, Outcome)>) {
             r.iter().filter(|&&x| x > 10.0).count()
         );
     }
+    // the sweep measures most of what it draws, or it checks nothing
+    assert!(
+        measured * 10 >= cases.len() * 8,
+        "only {measured} of {} cases measured",
+        cases.len()
+    );
     assert!(broken.is_empty(), "{}", broken.join("\n\n"));
 }
 
@@ -407,4 +499,9 @@ fn random_lines_hold_the_contract_and_a_tighter_tolerance_always_finishes() {
 #[test]
 fn random_sheets_hold_the_contract_and_a_tighter_tolerance_always_finishes() {
     check(sweep(sheet_case()));
+}
+
+#[test]
+fn random_shear_columns_hold_the_contract_and_a_tighter_tolerance_always_finishes() {
+    check(sweep(shear_case()));
 }
