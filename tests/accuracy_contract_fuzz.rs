@@ -50,12 +50,6 @@ const MAX_STEPS: u64 = 200_000;
 /// cells.
 const CONTRACT: f64 = 100.0;
 
-/// A random scenario's text (TOML).
-#[derive(Debug, Clone)]
-struct Case {
-    text: String,
-}
-
 /// A cell law and its parameters (a `law` table).
 fn law() -> impl Strategy<Value = String> {
     prop_oneof![
@@ -136,7 +130,7 @@ fn drive() -> impl Strategy<Value = String> {
 /// A random line scenario: 2–59 cells (or 2–39 continuum segments), its law, μ field, drag
 /// (zero for half the prescribed ends), area exponent, dissipation, drive, external
 /// pressure, end time, method and norm.
-fn case() -> impl Strategy<Value = Case> {
+fn case() -> impl Strategy<Value = String> {
     (
         (2usize..60, law(), field(0.3, 3.0)),
         (prop_oneof![Just(0.0), log_uniform(1e-6, 10.0)], prop_oneof![Just(0.0), Just(1.0)]),
@@ -162,13 +156,13 @@ fn case() -> impl Strategy<Value = Case> {
                 t / 4.0,
                 t / 2.0,
             );
-            Case { text }
+            text
         })
 }
 
 /// A random sheet scenario: a few cells each way, either top, the side prescribed or (growing)
 /// free, Kelvin–Voigt or Maxwell cells, the discrete sheet or its continuum.
-fn sheet_case() -> impl Strategy<Value = Case> {
+fn sheet_case() -> impl Strategy<Value = String> {
     let side = prop_oneof![
         3 => (-0.3f64..0.3, log_uniform(0.1, 10.0)).prop_map(|(k1, tr)| format!(
             "k1 = {k1}\nramp = {{ kind = \"exponential\", t_ramp = {tr} }}\n"
@@ -200,13 +194,13 @@ fn sheet_case() -> impl Strategy<Value = Case> {
                 t / 4.0,
                 t / 2.0,
             );
-            Case { text }
+            text
         })
 }
 
 /// A random shear column: its cells, law, drag, Kelvin–Voigt viscosity, the force at its
 /// top, the edge form or the thesis's cell-centre form, discrete or continuum.
-fn shear_case() -> impl Strategy<Value = Case> {
+fn shear_case() -> impl Strategy<Value = String> {
     (
         (2usize..60, law(), log_uniform(1e-3, 10.0)),
         prop_oneof![2 => Just(0.0), 1 => log_uniform(1e-3, 10.0)],
@@ -232,7 +226,7 @@ fn shear_case() -> impl Strategy<Value = Case> {
                     t / 4.0,
                     t / 2.0,
                 );
-                Case { text }
+                text
             },
         )
 }
@@ -361,7 +355,7 @@ fn outcome(text: &str) -> Outcome {
 }
 
 /// The sweep's findings over `strategy`: each case's index, tags, text and outcome.
-fn sweep(strategy: impl Strategy<Value = Case>) -> Vec<(u32, String, String, Outcome)> {
+fn sweep(strategy: impl Strategy<Value = String>) -> Vec<(u32, String, String, Outcome)> {
     let n: u32 = std::env::var("CONTRACT_FUZZ_CASES")
         .ok()
         .and_then(|v| v.parse().ok())
@@ -382,23 +376,19 @@ fn sweep(strategy: impl Strategy<Value = Case>) -> Vec<(u32, String, String, Out
         .unwrap_or(0);
     (0..n)
         .filter_map(|k| {
-            let c = strategy.new_tree(&mut runner).expect("a case").current();
+            let text = strategy.new_tree(&mut runner).expect("a case").current();
             if k < from {
                 return None;
             }
             if from > 0 {
-                println!("case {k} [{}] starts\n{}", tags(&c.text), c.text);
+                println!("case {k} [{}] starts\n{}", tags(&text), text);
             }
             let started = std::time::Instant::now();
-            let o = outcome(&c.text);
+            let o = outcome(&text);
             if started.elapsed().as_secs_f64() > 10.0 {
-                println!(
-                    "case {k} [{}] took {:.0?}",
-                    tags(&c.text),
-                    started.elapsed()
-                );
+                println!("case {k} [{}] took {:.0?}", tags(&text), started.elapsed());
             }
-            Some((k, tags(&c.text), c.text, o))
+            Some((k, tags(&text), text, o))
         })
         .collect()
 }
