@@ -203,6 +203,21 @@ fn ogden() {
     }
 }
 
+#[test]
+fn ogden_shear_keeps_its_digits_at_large_amounts_of_shear() {
+    // A term with α < 0 reads λ₋ ≈ 1/T. As the difference √(1 + T²/4) − T/2 it lost about T²ε
+    // of its value (1e-8 at T = 10⁴), and a shear column whose top cell softens without bound
+    // failed its Newton iterations on that noise. With α = −2, λ₊⁻² + λ₋⁻² = λ₊² + λ₋² = T² + 2
+    // (λ₊λ₋ = 1, λ₊ − λ₋ = T), so μ = −1 gives Ŵ = T²/2: τ = T and dτ/dT = 1 exactly, with
+    // no principal stretch in the answer.
+    let law = Ogden::new(vec![(-1.0, -2.0)]).unwrap();
+    for t in [1e2, 1e4, 1e6, -1e4] {
+        let want = ShearResponse { tau: t, dtau: 1.0 };
+        check_shear(&format!("Ogden α = −2, T={t}"), law.shear(t), want);
+        check_shear(&format!("Ogden α = −2 AD, T={t}"), ad::shear(&law, t), want);
+    }
+}
+
 /// `(ψ₄, dψ₄/dI₄)` of the HGO fibre term; zero for `I₄ ≤ 1`.
 fn psi4(k1: f64, k2: f64, i4: f64) -> (f64, f64) {
     let e = i4 - 1.0;

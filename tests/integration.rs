@@ -49,6 +49,7 @@ mod line_uniform_polynomial_ramp;
 mod locking_energies;
 mod maxwell_sls;
 mod methods_on_cell_models;
+mod methods_on_growing_viscous_sheets;
 mod mode_tethered_line;
 #[cfg(feature = "hdf5")]
 mod output_hdf5;
@@ -66,6 +67,7 @@ mod scenario_fuzz;
 mod scenario_outputs;
 mod scenario_validation;
 mod shear_fibre_law;
+mod shear_sliding_columns;
 mod shear_validation;
 mod sheet_external_pressure;
 mod sheet_growth;

@@ -96,13 +96,36 @@ pub fn sheet<E: StrainEnergy + ?Sized>(law: &E, l1: f64, l2: f64) -> SheetRespon
 /// ```
 #[inline]
 pub fn shear<E: StrainEnergy + ?Sized>(law: &E, t: f64) -> ShearResponse {
-    let t = Dual2_64::from_re(t).derivative();
-    let root = (t * t * 0.25 + 1.0).sqrt();
-    let half = t * 0.5;
-    let w = law.energy([root + half, root - half, Dual2_64::from_re(1.0)]);
+    let (lp, lm) = shear_stretches(Dual2_64::from_re(t).derivative());
+    let w = law.energy([lp, lm, Dual2_64::from_re(1.0)]);
     ShearResponse {
         tau: w.v1,
         dtau: w.v2,
+    }
+}
+
+/// The principal in-plane stretches `(λ₊, λ₋) = (√(1+T²/4) + T/2, √(1+T²/4) − T/2)` of a simple
+/// shear `T`, the smaller one taken as the reciprocal of the larger (`λ₊λ₋ = 1`): as a
+/// difference it loses its digits as `|T|` grows (relative error about `T²ε`, 1e-8 at
+/// `T = 10⁴`), and with them the stress and its derivative that a law reading `λ₋` (Ogden
+/// with `α < 0`) computes from it.
+///
+/// ```
+/// use celltissue::energy::ad::shear_stretches;
+/// let (lp, lm) = shear_stretches(1e4f64);
+/// assert!((lp * lm - 1.0).abs() < 1e-15 && (lm - 1e-4).abs() < 1e-12);
+/// let (lp, lm) = shear_stretches(-0.75f64); // T < 0 swaps them: λ₊ = 1/2, λ₋ = 2
+/// assert!((lp - 0.5).abs() < 1e-15 && (lm - 2.0).abs() < 1e-15);
+/// ```
+pub fn shear_stretches<D: DualNum<Primitive = f64> + Copy>(t: D) -> (D, D) {
+    let root = (t * t * 0.25 + 1.0).sqrt();
+    let half = t * 0.5;
+    if t.re() >= 0.0 {
+        let big = root + half;
+        (big, big.recip())
+    } else {
+        let big = root - half;
+        (big.recip(), big)
     }
 }
 
@@ -122,8 +145,7 @@ pub fn shear<E: StrainEnergy + ?Sized>(law: &E, t: f64) -> ShearResponse {
 /// assert!((ad::shear_pressure(&gent, 1.0) - 1.5).abs() < 1e-12);
 /// ```
 pub fn shear_pressure<E: StrainEnergy + ?Sized>(law: &E, t: f64) -> f64 {
-    let s = (1.0 + 0.25 * t * t).sqrt();
-    let (lp, lm) = (s + 0.5 * t, s - 0.5 * t);
+    let (lp, lm) = shear_stretches(t);
     let d = |i: usize| {
         let mut l = [Dual64::from(lp), Dual64::from(lm), Dual64::from(1.0)];
         l[i].eps = 1.0;

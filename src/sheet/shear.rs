@@ -518,6 +518,26 @@ impl<E: StrainEnergy> CellArray for ShearCellCentre<E> {
         Pattern::Dense
     }
 
+    /// Centre `k` tested through its difference with centre `k − 1`, which is
+    /// `γ₀ (T_k + T_{k−1})/2`, the mean shear of the two cells; the first centre (`γ₀ T₁/2`
+    /// above the fixed base) is an anchor of half a cell height. The tests are then
+    /// translation invariant, as the edge form's are, instead of measuring centres that slide
+    /// far against `rtol·|x_c|` (docs/model.md §8.1). The exact `T_k` is an alternating sum
+    /// over every centre below it, which no two-term row expresses: a cell-to-cell alternation
+    /// of the shear errors is seen only through the anchor.
+    fn error_map(&self) -> Option<integrators::ErrorMap> {
+        use integrators::Row;
+        let rows = (0..self.params.cells)
+            .map(|k| match k {
+                0 => Row::Anchor {
+                    size: 0.5 * self.params.gamma0,
+                },
+                _ => Row::Difference { partner: k - 1 },
+            })
+            .collect();
+        integrators::ErrorMap::from_rows(rows).ok()
+    }
+
     fn residual<S: Scalar>(
         &self,
         _t: f64,

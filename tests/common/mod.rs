@@ -125,3 +125,30 @@ pub fn profile_gap(
         .map(|(x, y)| ((x - y) / y).abs())
         .fold(0.0, f64::max)
 }
+
+/// Runs the first run of scenario `text` with `method`, `norm` and `rtol` (atol = rtol/100)
+/// set over the file's own, at most `max_steps` steps; the run must finish.
+pub fn run_with(
+    text: &str,
+    method: &str,
+    norm: &str,
+    rtol: f64,
+    max_steps: usize,
+) -> celltissue::observe::RunRecord {
+    let sets = [
+        format!("solver.method=\"{method}\""),
+        format!("solver.norm=\"{norm}\""),
+        format!("solver.rtol={rtol}"),
+        format!("solver.atol={}", rtol * 1e-2),
+        format!("solver.max_steps={max_steps}"),
+    ];
+    let s = celltissue::scenario::load_str(text, std::path::Path::new("case.toml"), &sets)
+        .expect("scenario loads");
+    let rec = celltissue::scenario::execute::run_spec(&s.runs[0]);
+    assert!(
+        rec.error.is_none(),
+        "{method} {norm} rtol {rtol}: {:?}",
+        rec.error
+    );
+    rec
+}

@@ -25,7 +25,9 @@
 //!   `rtol' = 0.1·rtol^(2/3)`, `atol' = atol·rtol'/rtol` (the estimate is of an embedded
 //!   3rd-order solution; this calibration makes the global error track `rtol`);
 //! * dense output (`y` and `ẏ`) is the collocation polynomial of the last step, which also
-//!   provides the Newton starting values of the next step.
+//!   provides the Newton starting values of the next step; a first step or a retry, which has
+//!   no such polynomial, starts from `Z_i = c_i h ẏ_n` (stage rates `ẏ_n`) instead of RADAU5's
+//!   `Z = 0`, which is an O(1) distance in rate from `ẏ_n` for problems nonlinear in `ẏ`.
 //!
 //! With [`crate::Options::fixed_step`] set, steps are exactly of that size and no error estimate is
 //! computed (used to measure the order of accuracy, 5 on ODEs; the stage order is 3, so stiff or
@@ -408,7 +410,17 @@ impl Radau5 {
 
         // Starting values.
         if self.first || self.reject || !self.has_cont {
-            self.z.iter_mut().for_each(|v| *v = 0.0);
+            // No usable collocation polynomial: start on the line through y_n with slope ẏ_n,
+            // Z_i = c_i h ẏ_n, whose stage rates are ẏ_n exactly (A⁻¹c = 1). RADAU5's Z = 0
+            // starts every stage rate at 0, an O(1) distance from ẏ_n however short the step,
+            // which the simplified Newton (∂F/∂ẏ frozen at ẏ_n) crosses slowly when F is
+            // nonlinear in ẏ (e.g. growth read from a viscous stress).
+            for i in 0..3 {
+                let ch = self.k.c[i] * h;
+                for (z, yp) in self.z[i * n..(i + 1) * n].iter_mut().zip(&self.yp) {
+                    *z = ch * yp;
+                }
+            }
         } else {
             let q = h / self.h_old;
             let mut out = std::mem::take(&mut self.tmp);
