@@ -114,7 +114,7 @@ pub fn shear<E: StrainEnergy + ?Sized>(law: &E, t: f64) -> ShearResponse {
 /// use celltissue::energy::ad::shear_stretches;
 /// let (lp, lm) = shear_stretches(1e4f64);
 /// assert!((lp * lm - 1.0).abs() < 1e-15 && (lm - 1e-4).abs() < 1e-12);
-/// let (lp, lm) = shear_stretches(-0.75f64); // T < 0 swaps them: λ₊ = 1/2, λ₋ = 2
+/// let (lp, lm) = shear_stretches(-1.5f64); // T < 0 swaps them: λ₊ = 1/2, λ₋ = 2
 /// assert!((lp - 0.5).abs() < 1e-15 && (lm - 2.0).abs() < 1e-15);
 /// ```
 pub fn shear_stretches<D: DualNum<Primitive = f64> + Copy>(t: D) -> (D, D) {
