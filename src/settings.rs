@@ -55,6 +55,13 @@ pub struct SolveSettings {
     /// [`integrators::BdfOptions::newton_alpha_bound`]). Left out of the echo when false.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub newton_alpha_bound: bool,
+    /// BDF only: the highest order it may select, 1 to 5 (default 5,
+    /// [`integrators::BdfOptions::max_order`]). Orders 3–5 are not A-stable: on weakly damped
+    /// oscillatory modes (a ring of Maxwell cells under periodic active stress) they can
+    /// amplify what the error test lets through (docs/model.md §8.1). Left out of the echo at
+    /// its default.
+    #[serde(skip_serializing_if = "is_default_order")]
+    pub max_order: usize,
     /// Most steps a solve may take; it stops at the next with
     /// [`integrators::ErrorKind::TooManySteps`], keeping what it computed (default 10⁶,
     /// [`integrators::Options::max_steps`]). Left out of the echo at its default.
@@ -85,6 +92,7 @@ impl Default for SolveSettings {
             threads: 1,
             jacobian_age: integrators::BdfOptions::default().max_jacobian_age,
             newton_alpha_bound: false,
+            max_order: integrators::BdfOptions::default().max_order,
             max_steps: Options::default().max_steps,
             land_on_outputs: None,
             interpolate_rates: false,
@@ -116,6 +124,7 @@ impl SolveSettings {
             bdf: integrators::BdfOptions {
                 max_jacobian_age: self.jacobian_age,
                 newton_alpha_bound: self.newton_alpha_bound,
+                max_order: self.max_order,
                 ..Default::default()
             },
             ..Options::default()
@@ -127,6 +136,10 @@ impl SolveSettings {
 
 fn is_default_max_steps(m: &usize) -> bool {
     *m == Options::default().max_steps
+}
+
+fn is_default_order(q: &usize) -> bool {
+    *q == integrators::BdfOptions::default().max_order
 }
 
 fn is_default_age(a: &usize) -> bool {

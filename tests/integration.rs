@@ -50,6 +50,7 @@ mod locking_energies;
 mod maxwell_sls;
 mod methods_on_cell_models;
 mod methods_on_growing_viscous_sheets;
+mod methods_on_sweep_finds;
 mod mode_tethered_line;
 #[cfg(feature = "hdf5")]
 mod output_hdf5;

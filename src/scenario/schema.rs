@@ -48,6 +48,10 @@ pub(crate) struct RawScenario {
 /// assert!(bound.validate()?.newton_alpha_bound);
 /// let radau: SolverSection = toml::from_str("method = \"radau\"\nnewton_alpha_bound = true")?;
 /// assert_eq!(radau.validate().unwrap_err().key_name(), Some("solver.newton_alpha_bound"));
+/// let order: SolverSection = toml::from_str("max_order = 2")?;
+/// assert_eq!(order.validate()?.max_order, 2);
+/// let six: SolverSection = toml::from_str("max_order = 6")?;
+/// assert_eq!(six.validate().unwrap_err().key_name(), Some("solver.max_order"));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 #[derive(Clone, Debug, Deserialize)]
@@ -79,6 +83,8 @@ pub struct SolverSection {
     /// BDF only: whether the first Newton iteration after a change of the step's `α` assumes
     /// at least the convergence rate that change implies (default false: IDA's test).
     pub newton_alpha_bound: bool,
+    /// BDF only: the highest order it may select, 1 to 5 (default 5).
+    pub max_order: Option<usize>,
     /// Most steps a run may take before it stops, saying so, 1 to 10¹² (default 10⁶).
     pub max_steps: Option<u64>,
     /// Whether steps end at every output time instead of interpolating (default: for every
@@ -106,6 +112,7 @@ impl Default for SolverSection {
             threads: 1,
             jacobian_age: None,
             newton_alpha_bound: false,
+            max_order: None,
             max_steps: None,
             land_on_outputs: None,
             interpolate_rates: false,
@@ -205,6 +212,19 @@ impl SolverSection {
         if self.newton_alpha_bound && method.name() != "bdf" {
             return Err(bdf_only("solver.newton_alpha_bound", method.name()));
         }
+        let max_order = match self.max_order {
+            None => SolveSettings::default().max_order,
+            Some(q) if !(1..=5).contains(&q) => {
+                return Err(ScenarioError::key(
+                    "solver.max_order",
+                    format!("= {q} must be from 1 to 5 (BDF's orders)"),
+                ))
+            }
+            Some(_) if method.name() != "bdf" => {
+                return Err(bdf_only("solver.max_order", method.name()))
+            }
+            Some(q) => q,
+        };
         let max_steps = match self.max_steps {
             None => SolveSettings::default().max_steps,
             Some(m) if !(1..=MAX_STEPS_LIMIT).contains(&m) => {
@@ -224,6 +244,7 @@ impl SolverSection {
             threads: self.threads,
             jacobian_age,
             newton_alpha_bound: self.newton_alpha_bound,
+            max_order,
             max_steps,
             land_on_outputs: self.land_on_outputs,
             interpolate_rates: self.interpolate_rates,
