@@ -22,7 +22,7 @@
 //!   dilutes it by up to √N, so those are reported, not bounded.
 //!
 //! The default run (part of `cargo test`) draws [`DEFAULT_CASES`] cases of each; the long run
-//! (about 30 s in all; `accuracy_contract_fuzz::random_sheets` or `random_shear` for
+//! (about 50 s in all; `accuracy_contract_fuzz::random_sheets` or `random_shear` for
 //! one kind alone):
 //!
 //! ```sh
@@ -120,10 +120,24 @@ fn drive() -> impl Strategy<Value = String> {
                 "right_end = \"prescribed\"\nk1 = {k1}\nramp = \"{ramp}\"\nt_ramp = {tr}\n"
             )),
         1 => (-0.3f64..0.3).prop_map(|f| format!("right_end = \"free\"\nforce = {f}\n")),
-        1 => (
+        1 => (log_uniform(0.03, 1.0), prop_oneof![Just(""), Just("division = { rule = \"area\", max_cells = 150 }\n")])
+            .prop_map(|(s0, div)| format!(
+                "right_end = \"free\"\ngrowth = {{ sigma0 = {s0} }}\n{div}"
+            )),
+        1 => (0.2f64..1.5, 0.0f64..3.0).prop_map(|(b, w)| format!(
+            "right_end = \"periodic\"\nactive = {{ beta = -{b}, omega = {w} }}\n"
+        )),
+    ]
+}
+
+/// How a dividing line is driven: a free end of growing cells dividing by the area rule (the
+/// continuum on the cell-number grid for a third of them), or a ring of dividing cells inside
+/// its fixed circumference.
+fn division_drive() -> impl Strategy<Value = String> {
+    prop_oneof![
+        (
             log_uniform(0.03, 1.0),
             prop_oneof![
-                Just(""),
                 Just("division = { rule = \"area\", max_cells = 150 }\n"),
                 // the continuum on the cell-number grid (the discrete line ignores the key)
                 Just("division = { rule = \"area\", max_cells = 150, cell_grid = { merge_below = 1e-3 } }\n"),
@@ -132,13 +146,9 @@ fn drive() -> impl Strategy<Value = String> {
             .prop_map(|(s0, div)| format!(
                 "right_end = \"free\"\ngrowth = {{ sigma0 = {s0} }}\n{div}"
             )),
-        // a ring of growing, dividing cells inside its fixed circumference
-        1 => log_uniform(0.03, 10.0).prop_map(|s0| format!(
+        log_uniform(0.03, 10.0).prop_map(|s0| format!(
             "right_end = \"periodic\"\ngrowth = {{ sigma0 = {s0} }}\n\
              division = {{ rule = \"area\", max_cells = 150 }}\n"
-        )),
-        1 => (0.2f64..1.5, 0.0f64..3.0).prop_map(|(b, w)| format!(
-            "right_end = \"periodic\"\nactive = {{ beta = -{b}, omega = {w} }}\n"
         )),
     ]
 }
@@ -151,27 +161,56 @@ fn case() -> impl Strategy<Value = String> {
         2..60,
         prop_oneof![Just(0.0), log_uniform(1e-6, 10.0)].boxed(),
         prop_oneof![Just("bdf"), Just("esdirk"), Just("radau")].boxed(),
+        drive().boxed(),
     )
+}
+
+/// A random dividing line or ring of 2–59 cells (the continuum on the cell-number grid, or
+/// on a plain grid), with the line's laws, fields, drag, dissipation and extras.
+fn division_case() -> impl Strategy<Value = String> {
+    line_case(
+        2..60,
+        log_uniform(1e-6, 10.0).boxed(),
+        prop_oneof![Just("bdf"), Just("esdirk"), Just("radau")].boxed(),
+        division_drive().boxed(),
+    )
+    .prop_map(|text| {
+        // the proliferating continuum has no ring (the loader says so): rings run discrete
+        match text.split_once("models = [\"continuum\"]\nnodes = ") {
+            Some((head, tail)) if text.contains("\"periodic\"") => {
+                let rest = tail.split_once('\n').map_or("", |(_, r)| r);
+                format!("{head}models = [\"discrete\"]\n{rest}")
+            }
+            _ => text,
+        }
+    })
 }
 
 /// A random line Dormand–Prince can run: 2–11 cells (or segments) on strong drag,
 /// K ∈ [1, 10), where the line is not stiff unless its cells are (a stiff case stops early
 /// and says so, and is not counted).
 fn dopri_case() -> impl Strategy<Value = String> {
-    line_case(2..12, log_uniform(1.0, 10.0).boxed(), Just("dopri").boxed())
+    line_case(
+        2..12,
+        log_uniform(1.0, 10.0).boxed(),
+        Just("dopri").boxed(),
+        drive().boxed(),
+    )
 }
 
-/// A random line with `cells` cells (or segments), drag `drag` and method `method`.
+/// A random line with `cells` cells (or segments), drag `drag`, method `method` and drive
+/// `drive`.
 fn line_case(
     cells: std::ops::Range<usize>,
     drag: BoxedStrategy<f64>,
     method: BoxedStrategy<&'static str>,
+    drive: BoxedStrategy<String>,
 ) -> impl Strategy<Value = String> {
     (
         (cells.clone(), law(), field(0.3, 3.0)),
         (drag, prop_oneof![Just(0.0), Just(1.0)]),
         dissipation(false),
-        drive(),
+        drive,
         prop_oneof![3 => Just(String::new()), 1 => (-0.5f64..0.5).prop_map(|p| format!("external_pressure = {p}\n"))],
         log_uniform(0.2, 20.0),
         method,
@@ -570,6 +609,11 @@ fn check(cases: Vec<(u32, String, String, Outcome)>) {
 #[test]
 fn random_lines_hold_the_contract_and_a_tighter_tolerance_always_finishes() {
     check(sweep(case()));
+}
+
+#[test]
+fn random_dividing_lines_and_rings_hold_the_contract() {
+    check(sweep(division_case()));
 }
 
 #[test]
