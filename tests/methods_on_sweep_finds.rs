@@ -14,9 +14,15 @@
 //!   order 3 by 12.5 and up to order 2 by 22; Radau IIA (A-stable) by 0.05.
 //!   `solver.max_order` holds BDF to a lower order.
 //!
+//! * **A ring of 56 Maxwell cells under periodic active stress on weak drag** (K = 1e-3), which
+//!   the sweep leaves out because its references part: Radau IIA and ESDIRK agree on it, BDF
+//!   does not converge to their answer as rtol falls (not yet traced).
+//!
 //! What is asserted: Dormand–Prince within 10·rtol at rtol 1e-6 and 1e-8 (its 17 steps at
 //! 1e-6 pinned); Radau IIA within 10·rtol and BDF up to order 2 within the sweep's 100·rtol
-//! on the ring. BDF at its defaults there is printed, not held (docs/limitations.md).
+//! on the 48-cell ring; Radau IIA within 10·rtol on the weak-drag ring. BDF at its defaults on
+//! the 48-cell ring is printed, not held (docs/limitations.md); on the weak-drag ring its
+//! convergence is an ignored test that fails today.
 
 use crate::common::run_with;
 use celltissue::observe::RunRecord;
@@ -57,6 +63,25 @@ m = 1
 viscosity = { model = "maxwell", mu_m = 0.26962109758271674, eta_m = 0.2911361482530659 }
 right_end = "periodic"
 active = { beta = -1.0419252930248777, omega = 1.7604522059148997 }
+"#;
+
+/// 56 Maxwell cells on a ring under periodic active stress on weak drag (K = 1e-3).
+const WEAK_DRAG_RING: &str = r#"
+name = "weak_drag_ring"
+[output]
+series = { start = 0, stop = 0.2533246160070447, count = 5 }
+profiles = [0.06333115400176118, 0.12666230800352235, 0.2533246160070447]
+[model]
+kind = "line"
+models = ["discrete"]
+cells = 56
+law = { law = "mooney_rivlin", c1 = 0.4604310902163216, c2 = 0.06677580980126056 }
+mu = 1.075863626414524
+K = 0.001
+m = 0
+viscosity = { model = "maxwell", mu_m = 0.10347824968212428, eta_m = 0.3463518195820288 }
+right_end = "periodic"
+active = { beta = -0.6291458305765706, omega = 1.4747332705452298 }
 "#;
 
 /// Largest stretch error over every cell and profile, over the contract's weight
@@ -107,4 +132,32 @@ fn bdf_held_to_order_two_and_radau_stay_off_the_ring_s_zigzag() {
         "bdf up to order 5 (not held): {:.0}·rtol",
         stretch_error(&default, &reference) / 1e-6
     );
+}
+
+#[test]
+fn radau_on_a_weak_drag_maxwell_ring_holds_the_contract() {
+    // Radau IIA at rtol 1e-12 is the reference: at 1e-8 and 1e-10, and with 20 000 steps
+    // forced by outputs, it agrees within 2e-8, and ESDIRK at 1e-12 within 9e-8. At rtol 1e-6 it
+    // erred by 247·rtol while its first steps started from stage rates 0.
+    let reference = run_with(WEAK_DRAG_RING, "radau", "max", 1e-12, 100_000);
+    let e = stretch_error(
+        &run_with(WEAK_DRAG_RING, "radau", "max", 1e-6, 100_000),
+        &reference,
+    );
+    println!("radau rtol 1e-6: {:.1}·rtol", e / 1e-6);
+    assert!(e <= 10.0 * 1e-6, "{e:e}");
+}
+
+#[test]
+#[ignore = "open: BDF does not converge to the one-step methods' answer on this ring (docs/model.md §8.1)"]
+fn bdf_on_a_weak_drag_maxwell_ring_converges_to_the_one_step_methods() {
+    // measured: 2.4e-6 at rtol 1e-10 and 6.9e-6 at 1e-12 against Radau IIA at 1e-12
+    let reference = run_with(WEAK_DRAG_RING, "radau", "max", 1e-12, 100_000);
+    for rtol in [1e-8, 1e-10] {
+        let e = stretch_error(
+            &run_with(WEAK_DRAG_RING, "bdf", "max", rtol, 1_000_000),
+            &reference,
+        );
+        assert!(e <= 10.0 * rtol, "rtol {rtol}: {e:e}");
+    }
 }
