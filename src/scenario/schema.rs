@@ -196,35 +196,26 @@ impl SolverSection {
                 ),
             ));
         }
-        let jacobian_age = match self.jacobian_age {
-            None => SolveSettings::default().jacobian_age,
-            Some(a) if !(1..=1_000_000).contains(&a) => {
-                return Err(ScenarioError::key(
-                    "solver.jacobian_age",
-                    format!("= {a} must be from 1 to 1000000 (steps)"),
-                ))
-            }
-            Some(_) if method.name() != "bdf" => {
-                return Err(bdf_only("solver.jacobian_age", method.name()))
-            }
-            Some(a) => a,
+        let bdf = |key: &str, value: Option<usize>, default: usize, max: usize, unit: &str| {
+            bdf_count(key, value, default, max, unit, method.name())
         };
+        let jacobian_age = bdf(
+            "solver.jacobian_age",
+            self.jacobian_age,
+            SolveSettings::default().jacobian_age,
+            1_000_000,
+            "steps",
+        )?;
         if self.newton_alpha_bound && method.name() != "bdf" {
             return Err(bdf_only("solver.newton_alpha_bound", method.name()));
         }
-        let max_order = match self.max_order {
-            None => SolveSettings::default().max_order,
-            Some(q) if !(1..=5).contains(&q) => {
-                return Err(ScenarioError::key(
-                    "solver.max_order",
-                    format!("= {q} must be from 1 to 5 (BDF's orders)"),
-                ))
-            }
-            Some(_) if method.name() != "bdf" => {
-                return Err(bdf_only("solver.max_order", method.name()))
-            }
-            Some(q) => q,
-        };
+        let max_order = bdf(
+            "solver.max_order",
+            self.max_order,
+            SolveSettings::default().max_order,
+            5,
+            "BDF's orders",
+        )?;
         let max_steps = match self.max_steps {
             None => SolveSettings::default().max_steps,
             Some(m) if !(1..=MAX_STEPS_LIMIT).contains(&m) => {
@@ -249,6 +240,27 @@ impl SolverSection {
             land_on_outputs: self.land_on_outputs,
             interpolate_rates: self.interpolate_rates,
         })
+    }
+}
+
+/// A BDF-only count key (`value`, `default` when absent), from 1 to `max` (`unit` names what
+/// it counts), set with method `method`.
+fn bdf_count(
+    key: &str,
+    value: Option<usize>,
+    default: usize,
+    max: usize,
+    unit: &str,
+    method: &str,
+) -> Result<usize, ScenarioError> {
+    match value {
+        None => Ok(default),
+        Some(v) if !(1..=max).contains(&v) => Err(ScenarioError::key(
+            key,
+            format!("= {v} must be from 1 to {max} ({unit})"),
+        )),
+        Some(_) if method != "bdf" => Err(bdf_only(key, method)),
+        Some(v) => Ok(v),
     }
 }
 
