@@ -6,7 +6,7 @@
 //!   per stage on a contraction rate measured up to 16 steps before, while the viscous mass
 //!   matrix drifted with the stretches: 124·rtol at rtol 1e-6, proportional to rtol, unseen by
 //!   its error estimate (which reads the same stage derivatives). The rate is now measured at
-//!   every step when `∂F/∂ẏ` is not the identity: 0.003·rtol, in 17 steps instead of 27.
+//!   every step when `∂F/∂ẏ` is not the identity: 0.004·rtol, in 17 steps instead of 27.
 //! * **BDF on a ring of Maxwell cells under periodic active stress** (48 cells): orders 3–5 are
 //!   not A-stable (BDF5's stability wedge is 51°), and on the ring's weakly damped oscillatory
 //!   cell-to-cell mode they amplify what the error test lets through into a zigzag: at

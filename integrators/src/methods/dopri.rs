@@ -377,7 +377,7 @@ impl Dopri5 {
         // every step: it grows as the frozen J1 drifts from the state's, and a rate measured
         // steps ago let one iteration per stage pass with an error no estimate sees (a
         // Kelvin–Voigt line on a polynomial ramp erred by 124·rtol; measured every step,
-        // 0.003·rtol, in 17 steps instead of 27).
+        // 0.004·rtol, in 17 steps instead of 27).
         if !self.identity || self.steps_since_measure >= REMEASURE_EVERY {
             self.measured = false;
         }
