@@ -29,6 +29,7 @@
 //! CONTRACT_FUZZ_CASES=600 cargo test --release --test integration accuracy_contract_fuzz:: -- --nocapture
 //! ```
 
+use crate::common::stretch_error;
 use celltissue::observe::RunRecord;
 use celltissue::scenario::{execute::run_spec, load_str};
 use proptest::prelude::*;
@@ -345,28 +346,6 @@ fn run_set(
         Some(e) => Err(format!("failed: {e}")),
         None => Ok(r),
     }
-}
-
-/// Largest stretch difference over cells and profiles (both directions on a sheet; tan θ on
-/// a shear column), over the contract's weight `|λ| + atol/rtol` (atol = rtol/100 here);
-/// `None` where a profile's cell counts differ (a division on either side of an output).
-fn stretch_error(a: &RunRecord, b: &RunRecord) -> Option<f64> {
-    let mut worst = 0.0f64;
-    for (p, q) in a.profiles.iter().zip(&b.profiles) {
-        if p.stretch.len() != q.stretch.len() {
-            return None;
-        }
-        let pairs = [
-            (Some(&p.stretch), Some(&q.stretch)),
-            (p.extra.get("stretch_y"), q.extra.get("stretch_y")),
-        ];
-        for (a, b) in pairs.into_iter().filter_map(|(a, b)| a.zip(b)) {
-            for (x, y) in a.iter().zip(b) {
-                worst = worst.max((x - y).abs() / (y.abs() + 1e-2));
-            }
-        }
-    }
-    Some(worst)
 }
 
 /// A BDF case's largest stretch error / rtol at rtol 1e-6 with BDF held to order 2, against

@@ -152,3 +152,28 @@ pub fn run_with(
     );
     rec
 }
+
+/// Largest stretch difference over cells and profiles (both directions on a sheet; tan θ on
+/// a shear column), over the contract's weight `|λ| + atol/rtol` (atol = rtol/100 here);
+/// `None` where a profile's cell counts differ (a division on either side of an output).
+pub fn stretch_error(
+    a: &celltissue::observe::RunRecord,
+    b: &celltissue::observe::RunRecord,
+) -> Option<f64> {
+    let mut worst = 0.0f64;
+    for (p, q) in a.profiles.iter().zip(&b.profiles) {
+        if p.stretch.len() != q.stretch.len() {
+            return None;
+        }
+        let pairs = [
+            (Some(&p.stretch), Some(&q.stretch)),
+            (p.extra.get("stretch_y"), q.extra.get("stretch_y")),
+        ];
+        for (a, b) in pairs.into_iter().filter_map(|(a, b)| a.zip(b)) {
+            for (x, y) in a.iter().zip(b) {
+                worst = worst.max((x - y).abs() / (y.abs() + 1e-2));
+            }
+        }
+    }
+    Some(worst)
+}
