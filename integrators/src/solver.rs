@@ -461,8 +461,14 @@ impl<O> Run<'_, O> {
                 if rates && !algebraic {
                     // (a failure leaves the interpolated ẏ, as a failed projection does)
                     let mut sys = System::new(p, opts, &mut self.stats, &mut self.cache);
-                    let _ =
-                        sys.rates_from_state(to, &self.ybuf, &mut self.ypbuf, &mut self.rates_lu);
+                    let h = m.t() - m.t_prev();
+                    let _ = sys.rates_from_state(
+                        to,
+                        &self.ybuf,
+                        &mut self.ypbuf,
+                        &mut self.rates_lu,
+                        h,
+                    );
                 } else if rates || algebraic {
                     let (y0, yp0) = (self.ybuf.clone(), self.ypbuf.clone());
                     let mut sys = System::new(p, opts, &mut self.stats, &mut self.cache);
@@ -775,6 +781,7 @@ where
                     fired,
                     g: g_star,
                     post,
+                    ahead,
                 } = match located {
                     Ok(v) => v,
                     Err(e) => return Err(run.fail(e, t, None)),
@@ -838,7 +845,7 @@ where
                     EventAction::Continue => {
                         a = ts;
                         g_prev = g_star;
-                        mask_fired(&mut g_prev, &fired, &post);
+                        mask_fired(&mut g_prev, &fired, &post, &ahead);
                         run.event_bufs = [ye, ype, ynew, ypnew];
                         continue;
                     }
@@ -901,7 +908,7 @@ where
                         if let Err(e) = eval_events(p, ts, &ynew, &mut g_prev) {
                             return Err(run.fail(e, ts, None));
                         }
-                        mask_fired(&mut g_prev, &fired, &post);
+                        mask_fired(&mut g_prev, &fired, &post, &ahead);
                         run.sol.t_last = ts;
                         run.sol.y_last.clone_from(&ynew);
                         run.emit_at(p, ts, &ynew, &ypnew);

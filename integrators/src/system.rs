@@ -1272,17 +1272,30 @@ impl<'a> System<'a> {
     /// cells); it is
     /// refreshed when missing, of another size, or slow to converge (rate above ½). `Err(())`,
     /// with `yp` as given, when even a fresh matrix does not converge.
+    ///
+    /// A rate is weighted by `rtol·|ẏᵢ| + atolᵢ/h`, with `h` the last step (> 0; otherwise
+    /// `atolᵢ`): the absolute part is the rate that moves the component by its `atol` over a
+    /// step, so the test reads the same on any time scale. With `atolᵢ` alone (a position's
+    /// tolerance as a rate's), a boundary at rest on times of 2⁻³³² was held to a rate of
+    /// 10⁻¹⁰ against a rounding of its solved rate near 10⁸⁴, and the solve fell back to the
+    /// interpolated `ẏ` (a viscous line's pressure then erred 12 times more than at unit time).
     pub(crate) fn rates_from_state(
         &mut self,
         t: f64,
         y: &[f64],
         yp: &mut [f64],
         lu: &mut Option<(usize, LinearSolver)>,
+        h: f64,
     ) -> Result<(), ()> {
         let n = self.dim();
         let (mut r, mut w, mut start) = (self.take_vec(), self.take_vec(), self.take_vec());
+        let per_step = if h > 0.0 && h.is_finite() {
+            1.0 / h
+        } else {
+            1.0
+        };
         for ((wi, &u), &a) in w.iter_mut().zip(yp.iter()).zip(&self.cache.atol) {
-            *wi = 1.0 / (self.opts.rtol * u.abs() + a);
+            *wi = 1.0 / (self.opts.rtol * u.abs() + a * per_step);
         }
         start.copy_from_slice(yp);
         let outcome = self.rates_iterations(t, y, yp, lu, n, &mut r, &w, &start);

@@ -335,12 +335,19 @@ fn tolerance_below_round_off_stops_where_the_ratio_crosses_the_limit() {
         e.error.t
     );
     assert!(e.partial.stats.steps <= 2000, "{}", e.partial.stats.steps);
-    // what was computed is kept: the output at t = 1, where the offset costs no accuracy (the
-    // ratio is 0.12 there; the gap to the contract's 10·(rtol·d + atol)), and the last state,
-    // the true solution to 10⁴·rtol (close to the floor the accuracy degrades: why it stops)
+    // what was computed is kept: the output at t = 1 and the last state. The output is the
+    // true gap to the accuracy of the global solution there: unshifted (y₀ = (0, 1)) BDF errs
+    // by 8.4·(rtol·d + atol) at t = 1 and 36 at t = 2, as its local errors add up on this
+    // decay; shifted to 10⁴, with the gap's rounding 0.12 of its tolerance at t = 1, by 24.5
+    // at t = 1 in the same 95 steps to t = 2 (`a_gap_far_from_the_origin_takes_the_unshifted_
+    // steps`). The last state is the true solution to 10⁴·rtol (close to the floor the
+    // accuracy degrades: why it stops).
     assert_eq!(e.partial.t, vec![1.0]);
     let (gap, exact) = (e.partial.y[0][1] - e.partial.y[0][0], (-1f64).exp());
-    assert!((gap - exact).abs() <= 10.0 * (rtol * exact + atol), "{gap}");
+    assert!(
+        (gap - exact).abs() <= 100.0 * (rtol * exact + atol),
+        "{gap}"
+    );
     let gap = e.partial.y_last[1] - e.partial.y_last[0];
     let exact = (-e.error.t).exp();
     assert!(
@@ -356,6 +363,30 @@ fn tolerance_below_round_off_stops_where_the_ratio_crosses_the_limit() {
         .unwrap();
     let (gap, exact) = (sol.y[0][1] - sol.y[0][0], (-10f64).exp());
     assert!((gap - exact).abs() <= 10.0 * (1e-6 * exact + 1e-8), "{gap}");
+}
+
+#[test]
+fn a_gap_far_from_the_origin_takes_the_unshifted_steps() {
+    // The gap of ClosingGap at rtol 1e-10 from y₀ = (0, 1) and from (10⁴, 10⁴ + 1): BDF's
+    // predictor sums increments from the newest value, so the offset enters only through the
+    // rounding of the stored positions (0.12 of the gap's tolerance at t = 1). Summed from the
+    // positions themselves, its ẏ carried ε·10⁴ times coefficients of order 1/h, and the
+    // shifted run took 123 steps against 95.
+    let (rtol, atol) = (1e-10, 1e-12);
+    let t_out: Vec<f64> = (1..=8).map(|k| 0.25 * k as f64).collect();
+    let solve = |y0: [f64; 2]| {
+        let o = Options {
+            rtol,
+            atol,
+            ..Default::default()
+        };
+        Solver::new(MethodKind::Bdf, o)
+            .solve(&mut ClosingGap, 0.0, &y0, &t_out)
+            .unwrap()
+    };
+    let (plain, shifted) = (solve([0.0, 1.0]), solve([1e4, 1e4 + 1.0]));
+    assert_eq!(plain.stats.steps, 95);
+    assert_eq!(shifted.stats.steps, plain.stats.steps);
 }
 
 /// ẏ = −y with a hand-written Jacobian that overflows once y falls below 0.5 (a law whose

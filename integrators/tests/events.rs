@@ -132,6 +132,77 @@ fn continue_does_not_refire_the_same_root() {
     assert!((sol.y[1][0] - (-3f64).exp()).abs() < 1e-8);
 }
 
+/// `ẏ = 1` from 0 with events `y − rᵢ` (`Continue`), recording each call's fired list.
+struct Thresholds {
+    roots: Vec<f64>,
+    calls: Vec<(f64, Vec<usize>)>,
+}
+
+impl Problem for Thresholds {
+    fn dim(&self) -> usize {
+        1
+    }
+    fn residual(
+        &mut self,
+        _t: f64,
+        _y: &[f64],
+        yp: &[f64],
+        r: &mut [f64],
+    ) -> Result<(), ResidualError> {
+        r[0] = yp[0] - 1.0;
+        Ok(())
+    }
+    fn num_events(&self) -> usize {
+        self.roots.len()
+    }
+    fn events(&mut self, _t: f64, y: &[f64], g: &mut [f64]) {
+        for (g, r) in g.iter_mut().zip(&self.roots) {
+            *g = y[0] - r;
+        }
+    }
+    fn handle_event(
+        &mut self,
+        t: f64,
+        fired: &[usize],
+        _y: &mut Vec<f64>,
+        _yp: &[f64],
+    ) -> Result<EventAction, ResidualError> {
+        self.calls.push((t, fired.to_vec()));
+        Ok(EventAction::Continue)
+    }
+}
+
+#[test]
+fn roots_within_the_event_tolerance_fire_together_once() {
+    // two roots a fraction of event_tol (1e-12 on this span) apart, at positions that put the
+    // root finder's final bracket anywhere between them: one event firing both, never again
+    let tol = Options::default().event_tol;
+    for r in [0.3, 0.7, 1.1, 1.9, 2.5] {
+        for frac in [0.05, 0.3, 0.6, 0.95] {
+            let mut p = Thresholds {
+                roots: vec![r, r + frac * tol],
+                calls: vec![],
+            };
+            Solver::new(MethodKind::Bdf, tight())
+                .solve(&mut p, 0.0, &[0.0], &[3.0])
+                .unwrap();
+            assert_eq!(p.calls.len(), 1, "r = {r}, δ = {frac}·tol: {:?}", p.calls);
+            assert_eq!(p.calls[0].1, vec![0, 1], "r = {r}, δ = {frac}·tol");
+            assert!((p.calls[0].0 - r).abs() <= 2.0 * tol, "{:?}", p.calls);
+        }
+    }
+    // three tolerances apart they are two events, in order
+    let mut p = Thresholds {
+        roots: vec![1.0, 1.0 + 3.0 * tol],
+        calls: vec![],
+    };
+    Solver::new(MethodKind::Bdf, tight())
+        .solve(&mut p, 0.0, &[0.0], &[3.0])
+        .unwrap();
+    let fired: Vec<Vec<usize>> = p.calls.iter().map(|c| c.1.clone()).collect();
+    assert_eq!(fired, vec![vec![0], vec![1]], "{:?}", p.calls);
+}
+
 /// Bouncing ball: h'' = −g, bounce with restitution e when h crosses 0 downwards.
 struct Ball {
     e: f64,

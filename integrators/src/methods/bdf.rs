@@ -310,11 +310,15 @@ impl Bdf {
         let mut out = Items {
             list: [(&[][..], 0.0, 0.0); NC],
             len: 0,
+            // the values' sums over increments from the newest (the derivative item, last, as is)
+            base: self.vals.front().map(|v| &v[..]),
+            deriv: false,
         };
         for j in (0..=m).filter(|&j| ca[j] != 0.0 || cb[j] != 0.0) {
             let v: &[f64] = if j < m { &self.vals[j] } else { &self.yp0 };
             out.list[out.len] = (v, ca[j], cb[j]);
             out.len += 1;
+            out.deriv = j == m;
         }
         out
     }
@@ -367,7 +371,7 @@ impl Bdf {
         let mut dp = [0.0; NC];
         interp_coeffs(&z[..len], t, &mut p, &mut dp);
         let items = self.items(&p, &dp, m);
-        let items = items.as_slice();
+        let items = &items;
         let y0 = &self.vals[0][..];
         let n = y.len();
         let mid = split_point(n, self.parallel);
@@ -451,6 +455,8 @@ impl Bdf {
         let mut out = [Items {
             list: [(&[][..], 0.0, 0.0); NC],
             len: 0,
+            base: None,
+            deriv: false,
         }; MAX_NORMS];
         for (o, &m) in out.iter_mut().zip(orders) {
             let (z, len) = self.nodes(m + 1);
@@ -486,6 +492,7 @@ impl Bdf {
         debug_assert_eq!(self.ypred.len(), n);
         items[0].list[0] = (&self.ypred[..], 1.0, 0.0);
         items[0].len = 1;
+        (items[0].base, items[0].deriv) = (None, false);
         let items = &items[..orders.len()];
         let ewt = self.ewt();
         let mid = split_point(n, self.parallel);
@@ -513,8 +520,7 @@ impl Bdf {
     /// failure report of a step that failed its error test).
     fn worst_error(&self, k: usize, t_new: f64) -> Option<usize> {
         let items = self.order_items(&[k], t_new);
-        let pred =
-            |i: usize| -> f64 { items[0].as_slice().iter().map(|&(v, c, _)| c * v[i]).sum() };
+        let pred = |i: usize| -> f64 { items[0].at(i).0 };
         worst_of(
             self.ycur
                 .iter()

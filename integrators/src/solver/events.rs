@@ -43,6 +43,9 @@ pub(super) struct Located {
     pub(super) g: Vec<f64>,
     /// Sign of each function just after its crossing.
     pub(super) post: Vec<f64>,
+    /// The fired functions whose root lies just after `t` (within the tolerance): still on
+    /// their pre-crossing side at `t`, so the driver treats them as zero after the event.
+    pub(super) ahead: Vec<usize>,
 }
 
 /// Locates the earliest sign change in `(a, b]` on the dense output.
@@ -62,6 +65,9 @@ pub(super) fn locate<P: Problem>(
     ybuf.resize(n, 0.0);
     ypbuf.resize(n, 0.0);
     let mut gm = Vec::new();
+    // the step's end, for the roots just after the final bracket (below)
+    let end = b;
+    let g_end = gb.clone();
     // Illinois weights on the retained endpoint values
     let (mut wa, mut wb) = (1.0f64, 1.0f64);
     let mut last_side = 0i8; // -1: a retained last time, +1: b retained
@@ -126,8 +132,25 @@ pub(super) fn locate<P: Problem>(
             last_side = 1;
         }
     }
-    let fired: Vec<usize> = (0..ga.len()).filter(|&i| fires(ga[i], gb[i])).collect();
-    let post: Vec<f64> = (0..ga.len())
+    // Roots within the tolerance of each other fire together, wherever the final bracket's
+    // end falls between them: the functions that change sign in (t*, t* + tol] fire too
+    // (cells of a uniform line reach their division threshold 5e-13 apart by rounding; split
+    // over two events, the second restart made their lineages part by 2.6e-7 in time).
+    let tol_eff = tol.max(4.0 * f64::EPSILON * a.abs().max(b.abs()));
+    let reach = (b + tol_eff).min(end);
+    let g_reach = if reach <= b {
+        None
+    } else if reach == end {
+        Some(g_end)
+    } else {
+        m.interpolate(reach, ybuf, ypbuf);
+        eval_events(p, reach, ybuf, &mut gm)?;
+        (gm.len() == ga.len()).then_some(gm)
+    };
+    let mut fired = Vec::new();
+    let mut ahead = Vec::new();
+    // the sign just after each crossing (for a function fired ahead, the other side of t*'s)
+    let mut post: Vec<f64> = (0..ga.len())
         .map(|i| {
             if gb[i] != 0.0 {
                 gb[i].signum()
@@ -136,18 +159,34 @@ pub(super) fn locate<P: Problem>(
             }
         })
         .collect();
+    for i in 0..ga.len() {
+        if fires(ga[i], gb[i]) {
+            fired.push(i);
+        } else if g_reach.as_ref().is_some_and(|g| fires(gb[i], g[i])) {
+            fired.push(i);
+            ahead.push(i);
+            post[i] = -gb[i].signum();
+        }
+    }
     Ok(Located {
         t: b,
         fired,
         g: gb,
         post,
+        ahead,
     })
 }
 
-/// Masks fired functions that sit at zero or on their post-crossing side after an event.
-pub(super) fn mask_fired(g: &mut [f64], fired: &[usize], post: &[f64]) {
+/// Masks fired functions that sit at zero or on their post-crossing side after an event, and
+/// those fired just ahead of their root (`ahead`), so that no root fires twice.
+pub(super) fn mask_fired(g: &mut [f64], fired: &[usize], post: &[f64], ahead: &[usize]) {
     for &i in fired {
         if i < g.len() && i < post.len() && (g[i] == 0.0 || g[i].signum() == post[i]) {
+            g[i] = 0.0;
+        }
+    }
+    for &i in ahead {
+        if i < g.len() {
             g[i] = 0.0;
         }
     }

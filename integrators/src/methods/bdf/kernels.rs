@@ -85,7 +85,7 @@ pub(super) fn split_point(n: usize, parallel: crate::Parallelism) -> usize {
 /// and the weights' outputs are that range's slices, the history vectors, `y0` (the newest,
 /// for the weights) and the weights' inputs are whole vectors.
 pub(super) fn poly_blocks(
-    items: &[(&[f64], f64, f64)],
+    items: &Items<'_>,
     y0: &[f64],
     lo: usize,
     y: &mut [f64],
@@ -97,14 +97,21 @@ pub(super) fn poly_blocks(
     while s < n {
         let e = (s + BLK).min(n);
         let (yb, ypb) = (&mut y[s..e], &mut yp[s..e]);
-        if items.is_empty() {
+        if items.len == 0 {
             yb.fill(0.0);
             ypb.fill(0.0);
         } else {
-            for_each_sum(items, lo + s, e - s, |i, a, b| {
-                yb[i] = a;
-                ypb[i] = b;
-            });
+            for_each_sum(
+                items.as_slice(),
+                items.base,
+                items.deriv,
+                lo + s,
+                e - s,
+                |i, a, b| {
+                    yb[i] = a;
+                    ypb[i] = b;
+                },
+            );
         }
         if let Some(w) = weights.as_mut() {
             w.pred[s..e].copy_from_slice(yb);
@@ -226,7 +233,7 @@ fn map_norm_blocks(
                     } else {
                         // a partner outside the buffers: its error recomputed from the history
                         let p = (i as i64 - off) as usize;
-                        ycur[p] - it.as_slice().iter().map(|&(v, c, _)| c * v[p]).sum::<f64>()
+                        ycur[p] - it.at(p).0
                     };
                     q[i - s] = (buf[k] - partner) * w;
                 }
@@ -255,7 +262,9 @@ fn error_block(it: &Items<'_>, ycur: &[f64], b0: usize, out: &mut [f64]) {
         return;
     }
     let y = &ycur[b0..e];
-    for_each_sum(list, b0, out.len(), |i, sum, _| out[i] = y[i] - sum);
+    for_each_sum(list, it.base, it.deriv, b0, out.len(), |i, sum, _| {
+        out[i] = y[i] - sum
+    });
 }
 
 /// Calls `emit(i, Σ a·v[lo + i], Σ b·v[lo + i])` for `i in 0..len` over the items `(v, a, b)`
@@ -264,32 +273,51 @@ fn error_block(it: &Items<'_>, ycur: &[f64], b0: usize, out: &mut [f64]) {
 /// through a buffer. One pass with every coefficient in a register instead: the buffer's
 /// loads and stores per item were most of the predictor's and the error norms' cost
 /// (measured on the raw Chapter 2 line at N = 1000). An unused second sum is not computed.
+///
+/// With a `base` `r` (whole vector) the sums are `r + Σ a·(v − r)` and `Σ b·(v − r)` over
+/// the values (see [`Items`]), plus `a·v`, `b·v` of a last derivative item if `deriv`: equal
+/// to the plain sums when the values' coefficients sum to 1 and 0, as an interpolant's do.
 #[inline(always)]
 fn for_each_sum(
     list: &[(&[f64], f64, f64)],
+    base: Option<&[f64]>,
+    deriv: bool,
     lo: usize,
     len: usize,
     emit: impl FnMut(usize, f64, f64),
 ) {
-    match list.len() {
-        1 => sums::<1>(list, lo, len, emit),
-        2 => sums::<2>(list, lo, len, emit),
-        3 => sums::<3>(list, lo, len, emit),
-        4 => sums::<4>(list, lo, len, emit),
-        5 => sums::<5>(list, lo, len, emit),
-        6 => sums::<6>(list, lo, len, emit),
-        7 => sums::<7>(list, lo, len, emit),
-        8 => sums::<8>(list, lo, len, emit),
-        m => unreachable!("{m} history items (at most {NC})"),
+    // the kind of sum as a constant, so each inner loop is branch-free: 0 plain, 1 every item
+    // from the base, 2 the values from the base and the last item (a derivative) as is
+    macro_rules! dispatch {
+        ($kind:literal) => {
+            match list.len() {
+                1 => sums::<1, $kind>(list, base, lo, len, emit),
+                2 => sums::<2, $kind>(list, base, lo, len, emit),
+                3 => sums::<3, $kind>(list, base, lo, len, emit),
+                4 => sums::<4, $kind>(list, base, lo, len, emit),
+                5 => sums::<5, $kind>(list, base, lo, len, emit),
+                6 => sums::<6, $kind>(list, base, lo, len, emit),
+                7 => sums::<7, $kind>(list, base, lo, len, emit),
+                8 => sums::<8, $kind>(list, base, lo, len, emit),
+                m => unreachable!("{m} history items (at most {NC})"),
+            }
+        };
+    }
+    match (base, deriv) {
+        (None, _) => dispatch!(0),
+        (Some(_), false) => dispatch!(1),
+        (Some(_), true) => dispatch!(2),
     }
 }
 
-/// [`for_each_sum`] with the number of items `M` known at compile time (the index runs over
+/// [`for_each_sum`] with the number of items `M` and the kind of sum `KIND` (0 plain, 1 from
+/// the base, 2 from the base but for the last item) known at compile time (the index runs over
 /// `M` slices at once, hence the indexed loop).
 #[inline(always)]
 #[allow(clippy::needless_range_loop)]
-fn sums<const M: usize>(
+fn sums<const M: usize, const KIND: u8>(
     list: &[(&[f64], f64, f64)],
+    base: Option<&[f64]>,
     lo: usize,
     len: usize,
     mut emit: impl FnMut(usize, f64, f64),
@@ -297,15 +325,37 @@ fn sums<const M: usize>(
     let vs: [&[f64]; M] = std::array::from_fn(|j| &list[j].0[lo..lo + len]);
     let a: [f64; M] = std::array::from_fn(|j| list[j].1);
     let b: [f64; M] = std::array::from_fn(|j| list[j].2);
+    if KIND == 0 {
+        for i in 0..len {
+            let x0 = vs[0][i];
+            let (mut sa, mut sb) = (a[0] * x0, b[0] * x0);
+            for j in 1..M {
+                let x = vs[j][i];
+                sa += a[j] * x;
+                sb += b[j] * x;
+            }
+            emit(i, sa, sb);
+        }
+        return;
+    }
+    let r = &base.expect("a base for this kind of sum")[lo..lo + len];
+    // the items taken from the base: all, or all but the last
+    let nv = if KIND == 2 { M - 1 } else { M };
     for i in 0..len {
-        let x0 = vs[0][i];
+        let ri = r[i];
+        let x0 = if nv > 0 { vs[0][i] - ri } else { vs[0][i] };
         let (mut sa, mut sb) = (a[0] * x0, b[0] * x0);
-        for j in 1..M {
-            let x = vs[j][i];
+        for j in 1..nv {
+            let x = vs[j][i] - ri;
             sa += a[j] * x;
             sb += b[j] * x;
         }
-        emit(i, sa, sb);
+        if KIND == 2 && M > 1 {
+            let x = vs[M - 1][i];
+            sa += a[M - 1] * x;
+            sb += b[M - 1] * x;
+        }
+        emit(i, ri + sa, sb);
     }
 }
 
@@ -459,16 +509,39 @@ pub(super) struct Weights<'a> {
     pub(super) map: &'a ErrorMap,
 }
 
-/// Up to `NC` history vectors with their coefficients (see `Bdf::items`).
+/// Up to `NC` history vectors with their coefficients (see `Bdf::items`), and the base the
+/// sums are taken from.
+///
+/// With a `base` (the newest history value `y₀`, when every item is a history value) the
+/// sums are `y₀ + Σ a·(v − y₀)` and `Σ b·(v − y₀)`: an interpolant's value coefficients sum
+/// to 1 and its derivative coefficients to 0, so this is `Σ a·v`, `Σ b·v`, with the rounding
+/// of the increments `v − y₀` instead of the values. Taken from the values, an order-5
+/// predictor's `Σ|b|` ≈ 10²/h multiplied the rounding of positions far from the origin
+/// into its `ẏ`, i.e. into the equation every step solves (`ẏ = ẏ_pred + α(y − y_pred)`):
+/// on a ring of 56 Maxwell cells under active stress at K = 10⁻³ that noise, of order
+/// ε·|x| per step and independent of the tolerance, seeded a cell-to-cell zigzag that BDF
+/// orders 3–5 carried to 10⁻⁸ at r_tol 10⁻¹² (`tests/methods_on_sweep_finds.rs`).
 #[derive(Clone, Copy)]
 pub(super) struct Items<'s> {
     pub(super) list: [(&'s [f64], f64, f64); NC],
     pub(super) len: usize,
+    pub(super) base: Option<&'s [f64]>,
+    /// Whether the last item is the derivative item `ẏ₀` (summed as is, not from the base).
+    pub(super) deriv: bool,
 }
 
 impl<'s> Items<'s> {
     pub(super) fn as_slice(&self) -> &[(&'s [f64], f64, f64)] {
         &self.list[..self.len]
+    }
+
+    /// `(Σ a·v[i], Σ b·v[i])` at one component, as [`for_each_sum`] takes them.
+    pub(super) fn at(&self, i: usize) -> (f64, f64) {
+        let mut out = (0.0, 0.0);
+        for_each_sum(self.as_slice(), self.base, self.deriv, i, 1, |_, a, b| {
+            out = (a, b)
+        });
+        out
     }
 }
 
@@ -540,25 +613,42 @@ mod tests {
                     )
                 })
                 .collect();
-            // one pass per item through buffers, the first product written
-            let mut want_a = vec![0.0; len];
-            let mut want_b = vec![0.0; len];
-            for (j, &(v, a, b)) in list.iter().enumerate() {
-                for i in 0..len {
-                    let (pa, pb) = (a * v[lo + i], b * v[lo + i]);
-                    if j == 0 {
-                        (want_a[i], want_b[i]) = (pa, pb);
-                    } else {
-                        want_a[i] += pa;
-                        want_b[i] += pb;
+            // one pass per item through buffers, the first product written; with a base,
+            // over the increments from it, the base added to the first sum at the end
+            let base = &vecs[NC - 1];
+            for (with_base, deriv) in [(false, false), (true, false), (true, true)] {
+                let r = |i: usize| if with_base { base[lo + i] } else { 0.0 };
+                let mut want_a = vec![0.0; len];
+                let mut want_b = vec![0.0; len];
+                for (j, &(v, a, b)) in list.iter().enumerate() {
+                    for i in 0..len {
+                        let value = !(deriv && j == m - 1);
+                        let d = if with_base && value {
+                            v[lo + i] - r(i)
+                        } else {
+                            v[lo + i]
+                        };
+                        let (pa, pb) = (a * d, b * d);
+                        if j == 0 {
+                            (want_a[i], want_b[i]) = (pa, pb);
+                        } else {
+                            want_a[i] += pa;
+                            want_b[i] += pb;
+                        }
                     }
                 }
-            }
-            let mut got = vec![(f64::NAN, f64::NAN); len];
-            for_each_sum(&list, lo, len, |i, a, b| got[i] = (a, b));
-            for i in 0..len {
-                assert_eq!(got[i].0.to_bits(), want_a[i].to_bits(), "m={m} i={i}");
-                assert_eq!(got[i].1.to_bits(), want_b[i].to_bits(), "m={m} i={i}");
+                if with_base {
+                    for (i, w) in want_a.iter_mut().enumerate() {
+                        *w += r(i);
+                    }
+                }
+                let mut got = vec![(f64::NAN, f64::NAN); len];
+                let b = with_base.then_some(&base[..]);
+                for_each_sum(&list, b, deriv, lo, len, |i, a, b| got[i] = (a, b));
+                for i in 0..len {
+                    assert_eq!(got[i].0.to_bits(), want_a[i].to_bits(), "m={m} i={i}");
+                    assert_eq!(got[i].1.to_bits(), want_b[i].to_bits(), "m={m} i={i}");
+                }
             }
         }
     }

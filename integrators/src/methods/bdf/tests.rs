@@ -66,7 +66,12 @@ fn split_vector_passes_match_the_whole_pass() {
     list[0] = (&h0[..], 1.7, 0.4);
     list[1] = (&h1[..], -0.9, -1.3);
     list[2] = (&h2[..], 0.2, 0.9);
-    let items = Items { list, len: 3 };
+    let items = Items {
+        list,
+        len: 3,
+        base: None,
+        deriv: false,
+    };
     let atol = vec![1e-6; n];
     let alg: Vec<bool> = (0..n).map(|i| i % 5 == 0).collect();
     // the identity and a line's cell map (anchor + differences with the previous
@@ -102,8 +107,8 @@ fn split_vector_passes_match_the_whole_pass() {
                 rtol: 1e-3,
                 map: &map,
             };
-            poly_blocks(items.as_slice(), &h0, 0, y1, yp1, Some(w(p1, n1, e1)));
-            poly_blocks(items.as_slice(), &h0, mid, y2, yp2, Some(w(p2, n2, e2)));
+            poly_blocks(&items, &h0, 0, y1, yp1, Some(w(p1, n1, e1)));
+            poly_blocks(&items, &h0, mid, y2, yp2, Some(w(p2, n2, e2)));
             // the stored predictor is the predictor
             assert_eq!(pred, y);
             (y, yp, nw, ew)
@@ -112,7 +117,20 @@ fn split_vector_passes_match_the_whole_pass() {
         let split = run(BLK);
         assert_eq!(whole, split);
         let ycur = vec_of(0.5);
-        let norm_items = [Items { list, len: 3 }, Items { list, len: 2 }];
+        let norm_items = [
+            Items {
+                list,
+                len: 3,
+                base: None,
+                deriv: false,
+            },
+            Items {
+                list,
+                len: 2,
+                base: None,
+                deriv: false,
+            },
+        ];
         for norm in [ErrorNorm::Max, ErrorNorm::Rms] {
             let a = norm_blocks(&norm_items, &ycur, &whole.3, norm, &map, 0, n);
             let mut a1 = norm_blocks(&norm_items, &ycur, &whole.3, norm, &map, 0, BLK);
@@ -200,7 +218,20 @@ fn map_sweeps_match_the_row_definition() {
     list[0] = (&h0[..], 1.7, 0.4);
     list[1] = (&h1[..], -0.9, -1.3);
     list[2] = (&h2[..], 0.2, 0.9);
-    let items = [Items { list, len: 3 }, Items { list, len: 2 }];
+    let items = [
+        Items {
+            list,
+            len: 3,
+            base: None,
+            deriv: false,
+        },
+        Items {
+            list,
+            len: 2,
+            base: None,
+            deriv: false,
+        },
+    ];
     let (rtol, atol) = (1e-3, vec![1e-6; n]);
     let eatol = map.effective_atol(&atol, rtol);
     // weights: rtol·|y_i − y_p| + atol, rtol·size + atol, rtol·|y_i| + atol
@@ -254,21 +285,31 @@ fn the_stored_predictor_gives_the_history_predictor_error_norm_bitwise() {
     with_zero[0] = (&h0[..], 1.7, 0.4);
     with_zero[1] = (&h1[..], 0.0, -1.3);
     with_zero[2] = (&h2[..], 0.2, 0.9);
+    // (both lists' sums over increments from the newest value, as `Bdf::items` builds them)
     let predict_items = Items {
         list: with_zero,
         len: 3,
+        base: Some(&h0[..]),
+        deriv: false,
     };
     let mut own = [(&[][..], 0.0, 0.0); NC];
     own[0] = (&h0[..], 1.7, 0.0);
     own[1] = (&h2[..], 0.2, 0.0);
-    let error_items = Items { list: own, len: 2 };
+    let error_items = Items {
+        list: own,
+        len: 2,
+        base: Some(&h0[..]),
+        deriv: false,
+    };
     let (mut y, mut yp) = (vec![0.0; n], vec![0.0; n]);
-    poly_blocks(predict_items.as_slice(), &h0, 0, &mut y, &mut yp, None);
+    poly_blocks(&predict_items, &h0, 0, &mut y, &mut yp, None);
     let mut stored = [(&[][..], 0.0, 0.0); NC];
     stored[0] = (&y[..], 1.0, 0.0);
     let stored_items = Items {
         list: stored,
         len: 1,
+        base: None,
+        deriv: false,
     };
     let w: Vec<f64> = (0..n).map(|i| 1.0 + 0.01 * i as f64).collect();
     let mut rows = vec![crate::Row::Anchor { size: 2.0 }];
