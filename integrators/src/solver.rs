@@ -24,13 +24,17 @@
 //! * A function *fires* when it changes sign between two points, including a change to exactly
 //!   zero from a nonzero value. A function that is exactly zero at the earlier point does not fire
 //!   when it leaves zero.
-//! * The located time `t*` is the right end of the final bracket, so the fired functions already
-//!   have their post-crossing sign (or are zero) at `t*`. Functions whose roots lie within
-//!   `event_tol` of each other fire together (indices in increasing order).
+//! * The located time `t*` is the right end of the final bracket, so the functions whose root
+//!   lies in it already have their post-crossing sign (or are zero) at `t*`. Functions whose
+//!   roots lie within `event_tol` of each other fire together (indices in increasing order):
+//!   those whose root lies in `(t*, t* + event_tol]` fire with the event too, still on their
+//!   pre-crossing side at `t*`.
 //! * After an event, each fired function that is zero or still has its post-crossing sign at the
 //!   (possibly modified) state is treated as exactly zero until it moves away from zero, so the
 //!   same root never fires twice (a bouncing ball left at height `-1e-15` does not bounce again
-//!   immediately). A function reset to its pre-crossing side fires normally at its next crossing.
+//!   immediately); so is each function fired ahead of its root, which would otherwise cross just
+//!   after the event. A function reset to its pre-crossing side fires normally at its next
+//!   crossing.
 //! * [`EventAction::Continue`]: the step is kept and the rest of it is searched for further
 //!   events; changes the handler made to `y` are ignored.
 //! * [`EventAction::Modified`] / [`EventAction::Resized`]: the step after `t*` is discarded, the

@@ -1,5 +1,15 @@
 use super::*;
 
+/// The first `len` items of `list`, summed as they are (no base, no derivative item).
+fn plain(list: [(&[f64], f64, f64); NC], len: usize) -> Items<'_> {
+    Items {
+        list,
+        len,
+        base: None,
+        deriv: false,
+    }
+}
+
 #[test]
 fn interpolation_reproduces_polynomials() {
     // cubic through 4 nodes: exact value and derivative
@@ -66,12 +76,7 @@ fn split_vector_passes_match_the_whole_pass() {
     list[0] = (&h0[..], 1.7, 0.4);
     list[1] = (&h1[..], -0.9, -1.3);
     list[2] = (&h2[..], 0.2, 0.9);
-    let items = Items {
-        list,
-        len: 3,
-        base: None,
-        deriv: false,
-    };
+    let items = plain(list, 3);
     let atol = vec![1e-6; n];
     let alg: Vec<bool> = (0..n).map(|i| i % 5 == 0).collect();
     // the identity and a line's cell map (anchor + differences with the previous
@@ -117,20 +122,7 @@ fn split_vector_passes_match_the_whole_pass() {
         let split = run(BLK);
         assert_eq!(whole, split);
         let ycur = vec_of(0.5);
-        let norm_items = [
-            Items {
-                list,
-                len: 3,
-                base: None,
-                deriv: false,
-            },
-            Items {
-                list,
-                len: 2,
-                base: None,
-                deriv: false,
-            },
-        ];
+        let norm_items = [plain(list, 3), plain(list, 2)];
         for norm in [ErrorNorm::Max, ErrorNorm::Rms] {
             let a = norm_blocks(&norm_items, &ycur, &whole.3, norm, &map, 0, n);
             let mut a1 = norm_blocks(&norm_items, &ycur, &whole.3, norm, &map, 0, BLK);
@@ -218,20 +210,7 @@ fn map_sweeps_match_the_row_definition() {
     list[0] = (&h0[..], 1.7, 0.4);
     list[1] = (&h1[..], -0.9, -1.3);
     list[2] = (&h2[..], 0.2, 0.9);
-    let items = [
-        Items {
-            list,
-            len: 3,
-            base: None,
-            deriv: false,
-        },
-        Items {
-            list,
-            len: 2,
-            base: None,
-            deriv: false,
-        },
-    ];
+    let items = [plain(list, 3), plain(list, 2)];
     let (rtol, atol) = (1e-3, vec![1e-6; n]);
     let eatol = map.effective_atol(&atol, rtol);
     // weights: rtol·|y_i − y_p| + atol, rtol·size + atol, rtol·|y_i| + atol
@@ -305,12 +284,7 @@ fn the_stored_predictor_gives_the_history_predictor_error_norm_bitwise() {
     poly_blocks(&predict_items, &h0, 0, &mut y, &mut yp, None);
     let mut stored = [(&[][..], 0.0, 0.0); NC];
     stored[0] = (&y[..], 1.0, 0.0);
-    let stored_items = Items {
-        list: stored,
-        len: 1,
-        base: None,
-        deriv: false,
-    };
+    let stored_items = plain(stored, 1);
     let w: Vec<f64> = (0..n).map(|i| 1.0 + 0.01 * i as f64).collect();
     let mut rows = vec![crate::Row::Anchor { size: 2.0 }];
     rows.extend((1..n).map(|i| crate::Row::Difference { partner: i - 1 }));
