@@ -114,8 +114,10 @@ fn macroscale_stretch_error_is_a_few_rtol_at_100_and_10000_cells() {
 /// local error (BENCHMARKS.md, "What sets the macroscale line's step count"). With the bound,
 /// the first iteration's test assumes the rate the change of α implies. Against the rtol 1e-10
 /// (N = 10⁴) and 1e-8 (N = 10⁵) references, both runs hold the contract, and the bounded one
-/// takes fewer steps and Newton iterations. The counters of both are pinned:
-/// (steps, Newton iterations, factorisations).
+/// takes fewer steps: 138 against 162 at N = 10⁴ (and 196 Newton iterations against 213), 169
+/// against 173 at N = 10⁵, where it takes 247 Newton iterations against 226 (before BDF's
+/// predictor summed increments, the unbounded run took 209 steps there). The counters of
+/// both are pinned: (steps, Newton iterations, factorisations).
 #[test]
 fn the_newton_alpha_bound_saves_steps_on_the_macroscale_line_within_the_contract() {
     let run = |cfg: &LineConfig, s: &SolveSettings, t_out: &[f64]| {
@@ -128,8 +130,8 @@ fn the_newton_alpha_bound_saves_steps_on_the_macroscale_line_within_the_contract
         (lam, (st.steps, st.newton_iterations, st.factorizations))
     };
     let pinned = [
-        (10_000usize, 1e-10, (144, 213, 52), (141, 196, 42)),
-        (100_000, 1e-8, (209, 265, 49), (148, 215, 43)),
+        (10_000usize, 1e-10, (162, 213, 44), (138, 196, 44)),
+        (100_000, 1e-8, (173, 226, 49), (169, 247, 49)),
     ];
     for (n, rtol_ref, ida, bounded) in pinned {
         let nf = n as f64;
@@ -151,7 +153,7 @@ fn the_newton_alpha_bound_saves_steps_on_the_macroscale_line_within_the_contract
             e_plain <= 1e-5 && e_bound <= 1e-5,
             "N = {n}: {e_plain:e}, {e_bound:e}"
         );
-        assert!(c_bound.0 < c_plain.0 && c_bound.1 < c_plain.1, "N = {n}");
+        assert!(c_bound.0 < c_plain.0, "N = {n}");
         assert_eq!(
             (c_plain, c_bound),
             (ida, bounded),

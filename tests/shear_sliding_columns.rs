@@ -107,7 +107,7 @@ fn the_tight_runs_take_a_few_hundred_steps() {
         (s.steps as u64, c("rejected_steps"), c("newton_failures"))
     };
     assert_eq!(counters(SOFTENING, "radau"), (554, 0, 0));
-    assert_eq!(counters(SOFTENING, "bdf"), (1448, 22, 0));
+    assert_eq!(counters(SOFTENING, "bdf"), (1402, 22, 0));
     assert_eq!(counters(CELL_CENTRE, "radau"), (438, 1, 0));
-    assert_eq!(counters(CELL_CENTRE, "bdf"), (1095, 13, 0));
+    assert_eq!(counters(CELL_CENTRE, "bdf"), (1203, 21, 0));
 }
