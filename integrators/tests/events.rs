@@ -78,13 +78,30 @@ fn event_located_within_1e_10_and_stop() {
     assert_eq!(sol.events[0].action, EventAction::Stop);
 }
 
-/// Exact dense output: `ẏ = 1` so y = t and the interpolant is exact; the root of y − c must be
-/// found to the event tolerance.
-struct Ramp {
-    c: f64,
+/// Event functions of `y`, written into `g`.
+type EventFns = Box<dyn Fn(f64, &mut [f64])>;
+
+/// `ẏ = 1` from 0 (so `y = t`) with `n` event functions of `y` and a fixed action, recording
+/// each call's time and fired list.
+struct UnitRate {
+    n: usize,
+    events: EventFns,
+    action: EventAction,
+    calls: Vec<(f64, Vec<usize>)>,
 }
 
-impl Problem for Ramp {
+impl UnitRate {
+    fn new(n: usize, action: EventAction, events: impl Fn(f64, &mut [f64]) + 'static) -> Self {
+        Self {
+            n,
+            events: Box::new(events),
+            action,
+            calls: vec![],
+        }
+    }
+}
+
+impl Problem for UnitRate {
     fn dim(&self) -> usize {
         1
     }
@@ -99,19 +116,39 @@ impl Problem for Ramp {
         Ok(())
     }
     fn num_events(&self) -> usize {
-        2
+        self.n
     }
     fn events(&mut self, _t: f64, y: &[f64], g: &mut [f64]) {
-        g[0] = (y[0] - self.c).powi(3) + 1e-3 * (y[0] - self.c);
-        g[1] = y[0] - 10.0;
+        (self.events)(y[0], g);
+    }
+    fn handle_event(
+        &mut self,
+        t: f64,
+        fired: &[usize],
+        _y: &mut Vec<f64>,
+        _yp: &[f64],
+    ) -> Result<EventAction, ResidualError> {
+        self.calls.push((t, fired.to_vec()));
+        Ok(self.action.clone())
     }
 }
 
 #[test]
 fn event_location_to_1e_10_on_exact_dense_output() {
+    // y = t, so the interpolant is exact and the root of the first function must be found to
+    // the event tolerance
     let c = std::f64::consts::LN_2;
     let sol = Solver::new(MethodKind::Bdf, Options::default())
-        .solve(&mut Ramp { c }, 0.0, &[0.0], &[5.0])
+        .solve(
+            // a root at c where the function is flat (slope 1e-3), and one beyond the span
+            &mut UnitRate::new(2, EventAction::Stop, move |y, g| {
+                g[0] = (y - c).powi(3) + 1e-3 * (y - c);
+                g[1] = y - 10.0;
+            }),
+            0.0,
+            &[0.0],
+            &[5.0],
+        )
         .unwrap();
     let te = sol.events[0].t;
     eprintln!("t* - c = {:e}", te - c);
@@ -132,44 +169,13 @@ fn continue_does_not_refire_the_same_root() {
     assert!((sol.y[1][0] - (-3f64).exp()).abs() < 1e-8);
 }
 
-/// `ẏ = 1` from 0 with events `y − rᵢ` (`Continue`), recording each call's fired list.
-struct Thresholds {
-    roots: Vec<f64>,
-    calls: Vec<(f64, Vec<usize>)>,
-}
-
-impl Problem for Thresholds {
-    fn dim(&self) -> usize {
-        1
-    }
-    fn residual(
-        &mut self,
-        _t: f64,
-        _y: &[f64],
-        yp: &[f64],
-        r: &mut [f64],
-    ) -> Result<(), ResidualError> {
-        r[0] = yp[0] - 1.0;
-        Ok(())
-    }
-    fn num_events(&self) -> usize {
-        self.roots.len()
-    }
-    fn events(&mut self, _t: f64, y: &[f64], g: &mut [f64]) {
-        for (g, r) in g.iter_mut().zip(&self.roots) {
-            *g = y[0] - r;
+/// Events `y − rᵢ` on `y = t`, each call continuing.
+fn thresholds(roots: Vec<f64>) -> UnitRate {
+    UnitRate::new(roots.len(), EventAction::Continue, move |y, g| {
+        for (g, r) in g.iter_mut().zip(&roots) {
+            *g = y - r;
         }
-    }
-    fn handle_event(
-        &mut self,
-        t: f64,
-        fired: &[usize],
-        _y: &mut Vec<f64>,
-        _yp: &[f64],
-    ) -> Result<EventAction, ResidualError> {
-        self.calls.push((t, fired.to_vec()));
-        Ok(EventAction::Continue)
-    }
+    })
 }
 
 #[test]
@@ -179,10 +185,7 @@ fn roots_within_the_event_tolerance_fire_together_once() {
     let tol = Options::default().event_tol;
     for r in [0.3, 0.7, 1.1, 1.9, 2.5] {
         for frac in [0.05, 0.3, 0.6, 0.95] {
-            let mut p = Thresholds {
-                roots: vec![r, r + frac * tol],
-                calls: vec![],
-            };
+            let mut p = thresholds(vec![r, r + frac * tol]);
             Solver::new(MethodKind::Bdf, tight())
                 .solve(&mut p, 0.0, &[0.0], &[3.0])
                 .unwrap();
@@ -192,10 +195,7 @@ fn roots_within_the_event_tolerance_fire_together_once() {
         }
     }
     // three tolerances apart they are two events, in order
-    let mut p = Thresholds {
-        roots: vec![1.0, 1.0 + 3.0 * tol],
-        calls: vec![],
-    };
+    let mut p = thresholds(vec![1.0, 1.0 + 3.0 * tol]);
     Solver::new(MethodKind::Bdf, tight())
         .solve(&mut p, 0.0, &[0.0], &[3.0])
         .unwrap();
