@@ -512,8 +512,9 @@ pub(super) struct Weights<'a> {
 /// Up to `NC` history vectors with their coefficients (see `Bdf::items`), and the base the
 /// sums are taken from.
 ///
-/// With a `base` (the newest history value `y₀`, when every item is a history value) the
-/// sums are `y₀ + Σ a·(v − y₀)` and `Σ b·(v − y₀)`: an interpolant's value coefficients sum
+/// With a `base` (the newest history value `y₀`; `Bdf::items` always sets it, the error test's
+/// stored-predictor list has none) the sums over the history values are `y₀ + Σ a·(v − y₀)`
+/// and `Σ b·(v − y₀)`, a last derivative item (`deriv`) added as is: an interpolant's value coefficients sum
 /// to 1 and its derivative coefficients to 0, so this is `Σ a·v`, `Σ b·v`, with the rounding
 /// of the increments `v − y₀` instead of the values. Taken from the values, an order-5
 /// predictor's `Σ|b|` ≈ 10²/h multiplied the rounding of positions far from the origin
