@@ -56,10 +56,10 @@ pub struct SolveSettings {
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub newton_alpha_bound: bool,
     /// BDF only: the highest order it may select, 1 to 5 (default 5,
-    /// [`integrators::BdfOptions::max_order`]). Orders 3–5 are not A-stable: on weakly damped
-    /// oscillatory modes (a ring of Maxwell cells under periodic active stress) they can
-    /// amplify what the error test lets through (docs/model.md §8.1). Left out of the echo at
-    /// its default.
+    /// [`integrators::BdfOptions::max_order`]). Orders 3–5 damp a cell-to-cell zigzag least:
+    /// where the model itself grows one (a ring of Maxwell cells whose active stress softens
+    /// them), they put the most of their error into it (docs/model.md §8.1). Left out of the
+    /// echo at its default.
     #[serde(skip_serializing_if = "is_default_order")]
     pub max_order: usize,
     /// Most steps a solve may take; it stops at the next with
