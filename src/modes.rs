@@ -274,6 +274,7 @@ pub fn run_mode<M: Mode>(
         error: None,
         notes: Vec::new(),
         reference: None,
+        accuracy_check: None,
     };
     if let Err(e) = out.check() {
         rec.error = Some(e.to_string());

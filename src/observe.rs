@@ -289,6 +289,60 @@ pub struct RunRecord {
     /// prescribed end; see [`crate::line::analytic`]), at the requested times.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reference: Option<AnalyticReference>,
+    /// The run compared with itself at a tenfold tighter tolerance, where `solver.accuracy_check`
+    /// asks for it ([`crate::scenario::accuracy_check`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub accuracy_check: Option<AccuracyCheck>,
+}
+
+/// A run against the same run at a tighter tolerance (`solver.accuracy_check`): the largest
+/// differences over the cells and profiles of the two, an estimate of the run's own error
+/// where its error falls with the tolerance (docs/model.md §8.1).
+///
+/// ```
+/// use celltissue::observe::AccuracyCheck;
+/// let c = AccuracyCheck { rtol: 1e-7, atol: 1e-9, steps: 180, profiles_compared: 3,
+///     stretch_difference: 2.0e-6, stretch_over_rtol: 2.0, t: 1.0, cell: 7,
+///     pressure_difference: 5.0e-6, ..Default::default() };
+/// let json = serde_json::to_value(&c)?;
+/// assert_eq!(json["stretch_over_rtol"], 2.0);
+/// assert!(json.get("profiles_skipped").is_none()); // 0 is left out
+/// # Ok::<(), serde_json::Error>(())
+/// ```
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct AccuracyCheck {
+    /// The tighter run's relative tolerance (the run's over the check's factor).
+    pub rtol: f64,
+    /// The tighter run's absolute tolerance.
+    pub atol: f64,
+    /// The tighter run's steps.
+    pub steps: usize,
+    /// Profiles compared: those where both runs hold the same cells or points.
+    pub profiles_compared: usize,
+    /// Profiles left out because the two runs hold different cells there (a division on
+    /// either side of the output time). Left out when 0.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub profiles_skipped: usize,
+    /// Largest stretch difference in the contract's weight, |Δλ| / (|λ| + atol/rtol) with the
+    /// run's tolerances and the tighter run's λ (both directions on a sheet; tan θ on a shear
+    /// column).
+    pub stretch_difference: f64,
+    /// [`Self::stretch_difference`] over the run's rtol: the contract holds the run's own
+    /// error to 10.
+    pub stretch_over_rtol: f64,
+    /// Profile time of the largest stretch difference.
+    pub t: f64,
+    /// Cell or grid point (from 0) of the largest stretch difference.
+    pub cell: usize,
+    /// Largest pressure difference, |Δp| / (|p| + atol/rtol).
+    pub pressure_difference: f64,
+    /// Why the tighter run could not be compared, if it failed (the other fields are then 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub failed: Option<String>,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 impl RunRecord {
@@ -301,7 +355,7 @@ impl RunRecord {
     /// let mut rec = RunRecord { label: "discrete".into(), model: ModelKind::Discrete,
     ///     parameters: serde_json::json!({"K": 1.0}), series: Default::default(),
     ///     profiles: vec![Profile::default()], stats: RunStats { steps: 7, ..Default::default() },
-    ///     divisions: vec![], error: None, notes: vec![], reference: None };
+    ///     divisions: vec![], error: None, notes: vec![], reference: None, accuracy_check: None };
     /// let light = rec.without_data();
     /// assert!(light.profiles.is_empty() && light.stats.steps == 7 && light.label == "discrete");
     /// ```
@@ -317,6 +371,7 @@ impl RunRecord {
             error: self.error.clone(),
             notes: self.notes.clone(),
             reference: None,
+            accuracy_check: self.accuracy_check.clone(),
         }
     }
 }

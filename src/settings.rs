@@ -77,6 +77,12 @@ pub struct SolveSettings {
     /// [`integrators::Options::interpolate_rates`]). Left out of the echo when false.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub interpolate_rates: bool,
+    /// Whether each run is repeated at a tenfold tighter `rtol` and `atol` and compared with
+    /// it, cell by cell, at the profile times (default `false`; the comparison is the record's
+    /// [`crate::observe::RunRecord::accuracy_check`], see [`crate::scenario::accuracy_check`]).
+    /// Left out of the echo when false.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub accuracy_check: bool,
 }
 
 impl Default for SolveSettings {
@@ -96,6 +102,7 @@ impl Default for SolveSettings {
             max_steps: Options::default().max_steps,
             land_on_outputs: None,
             interpolate_rates: false,
+            accuracy_check: false,
         }
     }
 }

@@ -4,6 +4,7 @@
 
 mod common;
 
+mod accuracy_check_estimates;
 mod accuracy_contract;
 mod accuracy_contract_fuzz;
 mod array_data;

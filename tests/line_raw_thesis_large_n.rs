@@ -127,6 +127,7 @@ fn length_driven_through_zero_names_the_cell_and_keeps_the_partial_run() {
         error: None,
         notes: Vec::new(),
         reference: None,
+        accuracy_check: None,
     };
     run_model(line, &SolveSettings::default(), &times, &mut rec);
     let msg = rec

@@ -74,7 +74,7 @@ active = { beta = -1.0419252930248777, omega = 1.7604522059148997 }
 "#;
 
 /// 56 Maxwell cells on a ring under periodic active stress on weak drag (K = 1e-3).
-const WEAK_DRAG_RING: &str = r#"
+pub const WEAK_DRAG_RING: &str = r#"
 name = "weak_drag_ring"
 [output]
 series = { start = 0, stop = 0.2533246160070447, count = 5 }
@@ -226,7 +226,7 @@ fn drag_one_ulp_up(text: &str, k: f64) -> String {
 }
 
 /// `text` with its active stress slope `beta = from` replaced by `to`.
-fn with_beta(text: &str, from: &str, to: f64) -> String {
+pub fn with_beta(text: &str, from: &str, to: f64) -> String {
     let key = format!("beta = {from},");
     assert!(text.contains(&key), "{key}");
     text.replace(&key, &format!("beta = {to:?},"))

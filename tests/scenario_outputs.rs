@@ -71,6 +71,7 @@ fn fake(spec: &RunSpec) -> RunRecord {
         error: None,
         notes: Vec::new(),
         reference: None,
+        accuracy_check: None,
     };
     execute::finish(spec, &mut rec);
     rec

@@ -211,6 +211,32 @@ impl Run {
         Ok(Some(d))
     }
 
+    /// The run against itself at a tenfold tighter tolerance, where `solver.accuracy_check`
+    /// asked for it, else None: a dict with `"rtol"`, `"atol"` and `"steps"` of the tighter run,
+    /// `"profiles_compared"`, `"profiles_skipped"`, the largest `"stretch_difference"` (over
+    /// the contract's weight |λ| + atol/rtol), `"stretch_over_rtol"` (the contract holds it to
+    /// 10), its `"t"` and `"cell"`, the largest `"pressure_difference"`, and `"failed"` (the
+    /// tighter run's error, or None).
+    #[getter]
+    fn accuracy_check<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(c) = &self.rec.accuracy_check else {
+            return Ok(None);
+        };
+        let d = PyDict::new(py);
+        d.set_item("rtol", c.rtol)?;
+        d.set_item("atol", c.atol)?;
+        d.set_item("steps", c.steps)?;
+        d.set_item("profiles_compared", c.profiles_compared)?;
+        d.set_item("profiles_skipped", c.profiles_skipped)?;
+        d.set_item("stretch_difference", c.stretch_difference)?;
+        d.set_item("stretch_over_rtol", c.stretch_over_rtol)?;
+        d.set_item("t", c.t)?;
+        d.set_item("cell", c.cell)?;
+        d.set_item("pressure_difference", c.pressure_difference)?;
+        d.set_item("failed", c.failed.as_deref())?;
+        Ok(Some(d))
+    }
+
     /// The solver's message if the run failed (the record holds what was computed before),
     /// else None.
     #[getter]

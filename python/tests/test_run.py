@@ -158,6 +158,17 @@ def test_keyboard_interrupt_stops_a_long_run_promptly():
     assert celltissue.run("fig2_5", set=SMALL_FIG2_5)[0].error is None
 
 
+def test_an_accuracy_check_compares_each_run_with_a_tighter_one():
+    runs = celltissue.run("fig2_5", set={**SMALL_FIG2_5, "solver.accuracy_check": True})
+    for r in runs:
+        c = r.accuracy_check
+        assert c["rtol"] == 1e-7 and c["atol"] == 1e-9 and c["failed"] is None
+        assert c["profiles_compared"] == len(r.profiles) and c["profiles_skipped"] == 0
+        assert 0 < c["stretch_over_rtol"] <= 10 and c["steps"] > r.stats["steps"]
+        assert 0 <= c["cell"] < len(r.profiles[0]["stretch"]) and r.notes == []
+    assert celltissue.run("fig2_5", set=SMALL_FIG2_5)[0].accuracy_check is None
+
+
 def test_a_run_that_reaches_its_cell_cap_notes_it():
     scenario = {
         "name": "cap",

@@ -7,7 +7,7 @@ use super::{merge, BAD_INPUT, OK, RUN_FAILED};
 use crate::observe::{RunRecord, Summary};
 use crate::output::{self, finite, interrupt};
 use crate::scenario::parallel::{run_parallel, Shard};
-use crate::scenario::{self, execute};
+use crate::scenario::{self, accuracy_check, execute};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use integrators::interrupt::Interrupt;
 use std::io::IsTerminal as _;
@@ -187,10 +187,19 @@ pub fn run(
                             format!("[{k}/{total}] {}: as `{of}` (not solved again)", rec.label)
                         }
                         None => format!(
-                            "[{k}/{total}] {}: {} steps, {:.3} s{}",
+                            "[{k}/{total}] {}: {} steps, {:.3} s{}{}",
                             rec.label,
                             rec.stats.steps,
                             rec.stats.wall_seconds,
+                            rec.accuracy_check
+                                .as_ref()
+                                .filter(|c| c.failed.is_none())
+                                .map(|c| format!(
+                                    "; at rtol {}: {:.2}·rtol",
+                                    integrators::error::short_number(c.rtol),
+                                    c.stretch_over_rtol
+                                ))
+                                .unwrap_or_default(),
                             rec.error
                                 .as_ref()
                                 .map(|e| format!(" — FAILED: {e}"))
@@ -450,6 +459,11 @@ pub fn write_outputs(
             written.plots.len(),
             out.display()
         );
+    }
+    for r in &summary.runs {
+        if let Some(w) = r.accuracy_check.as_ref().and_then(accuracy_check::verdict) {
+            eprintln!("warning: {}: {w}", r.label);
+        }
     }
     let code = report_failures(&summary.runs, interrupted);
     if code != OK {

@@ -202,6 +202,7 @@ pub fn run_proliferation(
         error: None,
         notes: Vec::new(),
         reference: None,
+        accuracy_check: None,
     };
     if let Err(e) = cfg.validate() {
         rec.error = Some(e.to_string());

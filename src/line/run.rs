@@ -311,6 +311,7 @@ pub fn run_line(
         error: None,
         notes: Vec::new(),
         reference: None,
+        accuracy_check: None,
     };
     if let Err(e) = cfg.validate() {
         rec.error = Some(e.to_string());
@@ -376,7 +377,7 @@ fn run_with_law<E: StrainEnergy + Clone>(
 /// let line = discrete(celltissue::NeoHookean::new(1.0).unwrap(), &LineParams::unit_cells(6)).unwrap();
 /// let mut rec = RunRecord { label: "six cells".into(), model: ModelKind::Discrete,
 ///     parameters: serde_json::Value::Null, series: Default::default(), profiles: vec![],
-///     stats: Default::default(), divisions: vec![], error: None, notes: vec![], reference: None };
+///     stats: Default::default(), divisions: vec![], error: None, notes: vec![], reference: None, accuracy_check: None };
 /// let times = OutputTimes { series: vec![0.0, 1.0], profiles: vec![1.0] };
 /// let problem = run_model(line, &SolveSettings::default(), &times, &mut rec);
 /// assert!(rec.error.is_none());

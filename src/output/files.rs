@@ -38,6 +38,9 @@ struct RunEntry<'a> {
     /// The analytic reference's label and series (its profiles are in the `.npz`).
     #[serde(skip_serializing_if = "Option::is_none")]
     reference: Option<ReferenceEntry<'a>>,
+    /// The run against itself at a tighter tolerance (`solver.accuracy_check`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    accuracy_check: &'a Option<crate::observe::AccuracyCheck>,
 }
 
 /// A run's analytic reference as written to `summary.json`.
@@ -74,7 +77,7 @@ fn is_shear(rec: &RunRecord) -> bool {
 /// let mut rec = RunRecord { label: "r".into(), model: ModelKind::Discrete,
 ///     parameters: serde_json::json!({"kind": "shear"}), series: Series::default(),
 ///     profiles: vec![], stats: RunStats::default(), divisions: vec![], error: None, notes: vec![],
-///     reference: None };
+///     reference: None, accuracy_check: None };
 /// let names: Vec<String> = celltissue::output::files::series_columns(&rec)
 ///     .into_iter().map(|c| c.0).collect();
 /// assert_eq!(names, ["t", "max_pressure", "min_pressure", "max_tan_theta", "min_tan_theta"]);
@@ -107,7 +110,7 @@ pub fn series_columns(rec: &RunRecord) -> Vec<(String, &Vec<f64>)> {
 /// use celltissue::output::files::profile_field_name;
 /// let rec = RunRecord { label: "discrete N=10".into(), model: ModelKind::Discrete,
 ///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
-///     stats: RunStats::default(), divisions: vec![], error: None, notes: vec![], reference: None };
+///     stats: RunStats::default(), divisions: vec![], error: None, notes: vec![], reference: None, accuracy_check: None };
 /// assert_eq!(profile_field_name(&rec, "stretch"), "stretch"); // a line keeps its names
 /// ```
 pub fn profile_field_name<'a>(rec: &RunRecord, field: &'a str) -> &'a str {
@@ -165,7 +168,7 @@ pub fn clean_parameters(p: &serde_json::Value) -> serde_json::Value {
 /// let run = |label: &str| RunRecord {
 ///     label: label.into(), model: ModelKind::Discrete, parameters: serde_json::Value::Null,
 ///     series: Default::default(), profiles: vec![], stats: Default::default(), divisions: vec![], error: None, notes: vec![],
-///     reference: None,
+///     reference: None, accuracy_check: None,
 /// };
 /// let s = Summary { scenario: "demo".into(), runs: vec![run("discrete"), run("continuum")] };
 /// assert_eq!(celltissue::output::files::npz_names(&s), ["run_discrete.npz", "run_continuum.npz"]);
@@ -239,7 +242,7 @@ fn write(path: &Path, text: &str) -> Result<PathBuf, OutputError> {
 /// use celltissue::observe::*;
 /// let rec = RunRecord { label: "discrete".into(), model: ModelKind::Discrete,
 ///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
-///     stats: RunStats::default(), divisions: vec![], error: None, notes: vec![], reference: None };
+///     stats: RunStats::default(), divisions: vec![], error: None, notes: vec![], reference: None, accuracy_check: None };
 /// let summary = Summary { scenario: "demo".into(), runs: vec![rec] };
 /// let dir = std::env::temp_dir().join(format!("ct_summary_doc_{}", std::process::id()));
 /// std::fs::create_dir_all(&dir).unwrap();
@@ -286,6 +289,7 @@ pub(crate) fn write_summary_with(
                     label: &x.label,
                     series: &x.series,
                 }),
+                accuracy_check: &r.accuracy_check,
             })
             .collect(),
     };
@@ -337,7 +341,7 @@ pub fn series_csv(rec: &RunRecord) -> String {
 /// use celltissue::observe::*;
 /// let mut rec = RunRecord { label: "discrete".into(), model: ModelKind::Discrete,
 ///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
-///     stats: RunStats::default(), divisions: vec![], error: None, notes: vec![], reference: None };
+///     stats: RunStats::default(), divisions: vec![], error: None, notes: vec![], reference: None, accuracy_check: None };
 /// rec.profiles.push(Profile { t: 1.0, x_ref: vec![0.5, 1.5], x: vec![0.45, 1.35],
 ///                             stretch: vec![0.9, 0.9], pressure: vec![1.2, 1.2], ..Default::default() });
 /// let csv = celltissue::output::files::profiles_csv(&rec);
@@ -391,7 +395,7 @@ pub fn profiles_csv(rec: &RunRecord) -> String {
 /// use celltissue::observe::{DivisionRecord, ModelKind, RunRecord};
 /// let mut rec = RunRecord { label: "discrete".into(), model: ModelKind::Discrete, parameters: Default::default(),
 ///     series: Default::default(), profiles: vec![], stats: Default::default(), divisions: vec![], error: None, notes: vec![],
-///     reference: None,
+///     reference: None, accuracy_check: None,
 /// };
 /// rec.divisions.push(DivisionRecord { t: 2.5, parent: 7, x: 6.5, x_over_length: 0.5, cells_after: 11,
 ///                                     age: Some(2.5), cell: Some(6), daughters: Some([10, 11]) });
@@ -470,7 +474,7 @@ pub(crate) fn profile_rows(rec: &RunRecord) -> usize {
 ///     label: label.into(), model: ModelKind::Discrete, parameters: serde_json::Value::Null,
 ///     series: Default::default(),
 ///     profiles: vec![Profile { t: 1.0, x_ref: vec![0.0; cells], ..Default::default() }; 3],
-///     stats: Default::default(), divisions: vec![], error: None, notes: vec![], reference: None,
+///     stats: Default::default(), divisions: vec![], error: None, notes: vec![], reference: None, accuracy_check: None,
 /// };
 /// let s = Summary { scenario: "demo".into(), runs: vec![run("small", 100), run("big", 100_000)] };
 /// let out = celltissue::output::files::left_out(&s);

@@ -11,7 +11,7 @@ use crate::observe::{AnalyticReference, RunRecord, Summary};
 /// use celltissue::output::finite::first_non_finite;
 /// let mut rec = RunRecord { label: "r".into(), model: ModelKind::Discrete,
 ///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
-///     stats: RunStats::default(), divisions: vec![], error: None, notes: vec![], reference: None };
+///     stats: RunStats::default(), divisions: vec![], error: None, notes: vec![], reference: None, accuracy_check: None };
 /// assert_eq!(first_non_finite(&rec), None);
 /// rec.profiles.push(Profile { t: 1.0, stretch: vec![1.0, f64::NAN], ..Default::default() });
 /// assert_eq!(first_non_finite(&rec).unwrap(), "profiles[0].stretch[1]");
@@ -102,7 +102,7 @@ fn reference_non_finite(r: &AnalyticReference) -> Option<String> {
 /// let mut rec = RunRecord { label: "r".into(), model: ModelKind::Discrete,
 ///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
 ///     stats: RunStats::default(), divisions: vec![], error: None, notes: vec![],
-///     reference: None };
+///     reference: None, accuracy_check: None };
 /// rec.series.t = vec![0.0, 1.0];
 /// rec.series.length = vec![1.0, f64::NAN];
 /// rec.series.max_pressure = vec![1.0, 1.0];
@@ -201,7 +201,7 @@ pub struct NonFiniteError {
 /// use celltissue::output::finite::check_summary;
 /// let mut rec = RunRecord { label: "r".into(), model: ModelKind::Discrete,
 ///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
-///     stats: RunStats::default(), divisions: vec![], error: None, notes: vec![], reference: None };
+///     stats: RunStats::default(), divisions: vec![], error: None, notes: vec![], reference: None, accuracy_check: None };
 /// rec.reference = Some(AnalyticReference {
 ///     label: "exact".into(),
 ///     series: ReferenceSeries { t: vec![1.0], max_pressure: vec![f64::INFINITY], min_stretch: vec![0.9] },

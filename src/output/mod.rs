@@ -44,7 +44,7 @@ use std::path::{Path, PathBuf};
 /// let s = load_str(text, "n.toml".as_ref(), &[])?;
 /// let mut rec = RunRecord { label: "discrete".into(), model: ModelKind::Discrete,
 ///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
-///     stats: RunStats::default(), divisions: vec![], error: None, notes: vec![], reference: None };
+///     stats: RunStats::default(), divisions: vec![], error: None, notes: vec![], reference: None, accuracy_check: None };
 /// rec.series.t = vec![f64::NAN];
 /// let summary = Summary { scenario: "n".into(), runs: vec![rec] };
 /// // a NaN is refused before anything is written

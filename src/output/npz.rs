@@ -163,7 +163,7 @@ pub(crate) fn members(rec: &RunRecord) -> BTreeMap<String, Member> {
 /// use celltissue::output::npz::write_npz;
 /// let mut rec = RunRecord { label: "r".into(), model: ModelKind::Discrete,
 ///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
-///     stats: RunStats::default(), divisions: vec![], error: None, notes: vec![], reference: None };
+///     stats: RunStats::default(), divisions: vec![], error: None, notes: vec![], reference: None, accuracy_check: None };
 /// rec.series.t = vec![0.0, 1.0];
 /// let mut bytes = std::io::Cursor::new(Vec::new());
 /// write_npz(&rec, &mut bytes).unwrap();
@@ -220,7 +220,7 @@ pub fn write_npz<W: Write + Seek>(rec: &RunRecord, w: W) -> io::Result<()> {
 /// use celltissue::output::npz::{member_names, write_npz_file};
 /// let rec = RunRecord { label: "r".into(), model: ModelKind::Discrete,
 ///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
-///     stats: RunStats::default(), divisions: vec![], error: None, notes: vec![], reference: None };
+///     stats: RunStats::default(), divisions: vec![], error: None, notes: vec![], reference: None, accuracy_check: None };
 /// let path = std::env::temp_dir().join(format!("celltissue_doc_{}.npz", std::process::id()));
 /// write_npz_file(&path, &rec).unwrap();
 /// assert!(path.exists() && member_names(&rec).contains(&"series/t".to_string()));
@@ -242,7 +242,7 @@ pub fn write_npz_file(path: &Path, rec: &RunRecord) -> io::Result<()> {
 /// let mut rec = RunRecord { label: "r".into(), model: ModelKind::Discrete,
 ///     parameters: serde_json::json!({}), series: Series::default(), profiles: vec![],
 ///     stats: RunStats::default(), divisions: vec![], error: None, notes: vec![],
-///     reference: None };
+///     reference: None, accuracy_check: None };
 /// rec.series.t = vec![0.0, 1.0];
 /// let names = celltissue::output::npz::member_names(&rec);
 /// assert!(names.contains(&"series/t".to_string()));

@@ -42,6 +42,11 @@ pub fn run_spec(spec: &RunSpec) -> RunRecord {
     finish(spec, &mut rec);
     rec.notes.extend(continuum_is_the_discrete_line(spec));
     rec.notes.extend(thesis_scheme_samples_jumps(spec));
+    if spec.solver.accuracy_check && rec.error.is_none() {
+        let (check, note) = super::accuracy_check::check(spec, &rec);
+        rec.accuracy_check = Some(check);
+        rec.notes.extend(note);
+    }
     rec
 }
 
@@ -129,6 +134,7 @@ fn failed(spec: &RunSpec, error: String) -> RunRecord {
         error: Some(error),
         notes: Vec::new(),
         reference: None,
+        accuracy_check: None,
     }
 }
 

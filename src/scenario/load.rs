@@ -351,6 +351,11 @@ pub fn resolve(table: toml::Table) -> Result<Scenario, ScenarioError> {
         };
         let section = parse_model(&one.model).map_err(ctx)?;
         super::roundoff::check_section(&section, &solver).map_err(ctx)?;
+        if solver.accuracy_check {
+            let tight = super::accuracy_check::tightened(&solver);
+            super::roundoff::check_section_for(&section, &tight, super::roundoff::Asker::Check)
+                .map_err(ctx)?;
+        }
         super::impulse::check_section(&section, &solver).map_err(ctx)?;
         super::growth_stress::check_section(&section, &solver).map_err(ctx)?;
         if solver.linear_solver != LinearSolverChoice::Direct

@@ -26,6 +26,7 @@
 //! [`load()`] turns it into a [`Scenario`] whose [`RunSpec`]s are all validated before anything
 //! runs; [`execute`] runs them.
 
+pub mod accuracy_check;
 pub mod bundled;
 pub mod error;
 pub mod execute;

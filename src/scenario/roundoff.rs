@@ -94,22 +94,58 @@ pub fn check_line(
     rtol: f64,
     atol: f64,
 ) -> Result<(), ScenarioError> {
+    check_line_for(lengths, rtol, atol, Asker::Run)
+}
+
+/// Who asks for a tolerance: the run itself, or the accuracy check's run at a tenth of it
+/// (`solver.accuracy_check`, [`super::accuracy_check::tightened`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Asker {
+    /// The run, at `solver.rtol` and `solver.atol`.
+    Run,
+    /// The accuracy check's tighter run.
+    Check,
+}
+
+/// [`check_line`] for `asker`: the check's error names `solver.accuracy_check` and the
+/// run's tolerances that would let its run go.
+fn check_line_for(
+    lengths: impl IntoIterator<Item = f64>,
+    rtol: f64,
+    atol: f64,
+    asker: Asker,
+) -> Result<(), ScenarioError> {
     let c = line_ratio(lengths, rtol, atol);
     if c.ratio <= ROUNDOFF_LIMIT {
         return Ok(());
     }
     let tol = rtol + atol;
+    let needed = tol * c.ratio / ROUNDOFF_LIMIT;
+    let (key, lead, would) = match asker {
+        Asker::Run => (
+            "solver.rtol",
+            format!("= {rtol:e} (with atol = {atol:e}) asks"),
+            "would run".to_string(),
+        ),
+        Asker::Check => (
+            "solver.accuracy_check",
+            format!("= true runs each run again at rtol = {rtol:e}, atol = {atol:e}, which ask"),
+            format!(
+                "would run, i.e. the run's rtol + atol ≥ {:.1e} (or leave the check out)",
+                needed * super::accuracy_check::FACTOR
+            ),
+        ),
+    };
     Err(ScenarioError::key(
-        "solver.rtol",
+        key,
         format!(
-            "= {rtol:e} (with atol = {atol:e}) asks for stretches finer than the positions \
-             resolve: cell {} ends at X = {:.6e}, where a difference of two positions is \
-             known only to {:.1e} of the cell's length against the stretch tolerance \
-             rtol + atol = {tol:.1e}; rtol + atol ≥ {:.1e} would run",
+            "{lead} for stretches finer than the positions resolve: cell {} ends at X = {:.6e}, \
+             where a difference of two positions is known only to {:.1e} of the cell's length \
+             against the stretch tolerance rtol + atol = {tol:.1e}; rtol + atol ≥ {needed:.1e} \
+             {would}",
             c.cell,
             c.x,
             c.ratio * tol,
-            tol * c.ratio / ROUNDOFF_LIMIT
         ),
     ))
 }
@@ -135,9 +171,22 @@ pub fn check_section(
     section: &super::model::ModelSection,
     solver: &crate::settings::SolveSettings,
 ) -> Result<(), ScenarioError> {
+    check_section_for(section, solver, Asker::Run)
+}
+
+/// [`check_section`] for `asker` at `solver`'s tolerances: with [`Asker::Check`], `solver`
+/// is the check's run and the error names `solver.accuracy_check`.
+pub fn check_section_for(
+    section: &super::model::ModelSection,
+    solver: &crate::settings::SolveSettings,
+    asker: Asker,
+) -> Result<(), ScenarioError> {
     use super::model::ModelConfig;
     use crate::observe::ModelKind;
     let (rtol, atol) = (solver.rtol, solver.atol);
+    let check_line = |lengths: &mut dyn Iterator<Item = f64>, rtol, atol| {
+        check_line_for(lengths, rtol, atol, asker)
+    };
     let line = match &section.config {
         ModelConfig::Line(c) => &**c,
         ModelConfig::Proliferating(p) => &p.line,
@@ -151,7 +200,7 @@ pub fn check_section(
                         .grid
                         .unwrap_or((2 * c.cells_x.min(1 << 40), 2 * c.cells_y.min(1 << 40))),
                 };
-                check_line(std::iter::repeat_n(1.0, n.max(m)), rtol, atol)?;
+                check_line(&mut std::iter::repeat_n(1.0, n.max(m)), rtol, atol)?;
             }
             return Ok(());
         }
@@ -159,15 +208,19 @@ pub fn check_section(
     };
     for model in &section.models {
         match (model, &line.ref_lengths) {
-            (ModelKind::Discrete, Some(v)) => check_line(v.iter().copied(), rtol, atol)?,
+            (ModelKind::Discrete, Some(v)) => check_line(&mut v.iter().copied(), rtol, atol)?,
             (ModelKind::Discrete, None) => check_line(
-                std::iter::repeat_n(line.cell_length, line.cells),
+                &mut std::iter::repeat_n(line.cell_length, line.cells),
                 rtol,
                 atol,
             )?,
             (ModelKind::Continuum, _) => {
                 let n = section.nodes.unwrap_or(line.cells).max(1);
-                check_line(std::iter::repeat_n(line.l0() / n as f64, n), rtol, atol)?
+                check_line(
+                    &mut std::iter::repeat_n(line.l0() / n as f64, n),
+                    rtol,
+                    atol,
+                )?
             }
         }
     }

@@ -93,6 +93,9 @@ pub struct SolverSection {
     /// Whether outputs that read rates keep the interpolated ones (default false: solved from
     /// each output's state).
     pub interpolate_rates: bool,
+    /// Whether each run is repeated at a tenfold tighter `rtol` and `atol` and compared with
+    /// it at the profile times (default false).
+    pub accuracy_check: bool,
 }
 
 /// Largest `solver.max_steps` (10¹²): beyond any run that could finish.
@@ -116,6 +119,7 @@ impl Default for SolverSection {
             max_steps: None,
             land_on_outputs: None,
             interpolate_rates: false,
+            accuracy_check: false,
         }
     }
 }
@@ -239,6 +243,7 @@ impl SolverSection {
             max_steps,
             land_on_outputs: self.land_on_outputs,
             interpolate_rates: self.interpolate_rates,
+            accuracy_check: self.accuracy_check,
         })
     }
 }

@@ -357,5 +357,6 @@ fn record(
         error: r.error,
         notes: Vec::new(),
         reference: None,
+        accuracy_check: None,
     }
 }

@@ -1,0 +1,126 @@
+//! `solver.accuracy_check`: a run compared with itself at a tenfold tighter tolerance
+//! (`celltissue::scenario::accuracy_check`), checked against each run's error from an
+//! independent reference (Radau IIA at rtol 1e-12):
+//!
+//! * on a ring of Maxwell cells that does not amplify perturbations (β = −0.5), the check's
+//!   difference is within a factor 2 of BDF's error at rtol 1e-6 and 1e-8, and within the
+//!   contract, so no note;
+//! * on the same ring at β = −0.63, which amplifies a one-ulp change of K to 3e-8
+//!   (`methods_on_sweep_finds`), BDF at rtol 1e-8 errs by 86·rtol and the check reads past
+//!   the contract and says so;
+//! * a dividing line compares every profile where both runs hold the same cells;
+//! * a check whose tighter run the positions cannot resolve is rejected before anything runs.
+
+use crate::common::{self, run_with};
+use crate::methods_on_sweep_finds::{with_beta, WEAK_DRAG_RING};
+use celltissue::observe::AccuracyCheck;
+
+/// `text` with `solver.accuracy_check = true` (the text has no `[solver]` table).
+fn checked(text: &str) -> String {
+    assert!(!text.contains("[solver]"));
+    text.replace("[output]", "[solver]\naccuracy_check = true\n[output]")
+}
+
+fn check_of(rec: &celltissue::observe::RunRecord) -> &AccuracyCheck {
+    rec.accuracy_check.as_ref().expect("the run was checked")
+}
+
+#[test]
+fn the_check_reads_bdf_s_error_on_a_ring_that_does_not_amplify() {
+    let ring = with_beta(WEAK_DRAG_RING, "-0.6291458305765706", -0.5);
+    let reference = run_with(&ring, "radau", "max", 1e-12, 100_000);
+    let mut steps = Vec::new();
+    for rtol in [1e-6, 1e-8] {
+        let rec = run_with(&checked(&ring), "bdf", "max", rtol, 1_000_000);
+        let error = common::stretch_error(&rec, &reference).expect("same cells") / rtol;
+        let c = check_of(&rec);
+        println!(
+            "rtol {rtol:e}: error {error:.2}·rtol, check {:.2}·rtol ({} steps at rtol {:e})",
+            c.stretch_over_rtol, c.steps, c.rtol
+        );
+        // measured: 2.5 against 1.96, 2.9 against 3.2
+        assert!(
+            c.stretch_over_rtol >= error / 2.0 && c.stretch_over_rtol <= 2.0 * error,
+            "rtol {rtol:e}: check {} against error {error}",
+            c.stretch_over_rtol
+        );
+        assert_eq!((c.rtol, c.atol), (rtol / 10.0, rtol * 1e-3));
+        assert_eq!(
+            (c.profiles_compared, c.profiles_skipped, &c.failed),
+            (3, 0, &None)
+        );
+        assert!(rec.notes.is_empty(), "{:?}", rec.notes);
+        steps.push(c.steps);
+    }
+    assert_eq!(steps, [1_245, 2_433]);
+}
+
+#[test]
+fn the_check_flags_a_ring_that_amplifies_bdf_s_errors() {
+    let reference = run_with(WEAK_DRAG_RING, "radau", "max", 1e-12, 100_000);
+    let rec = run_with(&checked(WEAK_DRAG_RING), "bdf", "max", 1e-8, 1_000_000);
+    let error = common::stretch_error(&rec, &reference).expect("same cells") / 1e-8;
+    let c = check_of(&rec);
+    println!(
+        "error {error:.1}·rtol, check {:.1}·rtol",
+        c.stretch_over_rtol
+    );
+    assert!(error > 10.0, "{error}");
+    assert!(c.stretch_over_rtol > 10.0, "{c:?}");
+    assert_eq!(rec.notes.len(), 1, "{:?}", rec.notes);
+    assert!(
+        rec.notes[0].contains("past the accuracy contract's 10·rtol"),
+        "{:?}",
+        rec.notes
+    );
+}
+
+#[test]
+fn a_dividing_line_is_compared_where_both_runs_hold_the_same_cells() {
+    // ten cells dividing at ages 1, 2, 3: the profiles fall between divisions
+    let text = r#"
+name = "dividing"
+[solver]
+accuracy_check = true
+[output]
+series = [0, 1, 2, 3]
+profiles = [0.5, 1.5, 2.5]
+[model]
+kind = "line"
+models = ["discrete"]
+cells = 10
+right_end = "free"
+K = 0.1
+growth = { sigma0 = 10.0 }
+division = { rule = "age", period = 1.0 }
+"#;
+    let s = celltissue::scenario::load_str(text, "d.toml".as_ref(), &[]).expect("loads");
+    let rec = celltissue::scenario::execute::run_spec(&s.runs[0]);
+    assert!(rec.error.is_none(), "{:?}", rec.error);
+    assert_eq!(rec.profiles.last().map(|p| p.stretch.len()), Some(40));
+    let c = check_of(&rec);
+    println!("{c:?}");
+    assert_eq!((c.profiles_compared, c.profiles_skipped), (3, 0));
+    assert!(c.stretch_over_rtol <= 10.0, "{c:?}");
+}
+
+#[test]
+fn a_check_finer_than_the_positions_resolve_is_rejected_before_the_run() {
+    let text = "name = \"big\"\n[output]\nseries = [0, 1]\n[model]\nkind = \"line\"\n\
+                models = [\"discrete\"]\ncells = 4000";
+    let sets = |rtol: f64| {
+        [
+            format!("solver.rtol={rtol}"),
+            format!("solver.atol={}", rtol * 1e-2),
+            "solver.accuracy_check=true".to_string(),
+        ]
+    };
+    // rtol 1e-11 runs alone; its check's run at 1e-12 would test the far cells' rounding
+    let e = celltissue::scenario::load_str(text, "big.toml".as_ref(), &sets(1e-11)).unwrap_err();
+    assert_eq!(e.key_name(), Some("solver.accuracy_check"), "{e}");
+    assert!(
+        e.to_string().contains("the run's rtol + atol ≥ 7.1e-11"),
+        "{e}"
+    );
+    assert!(celltissue::scenario::load_str(text, "big.toml".as_ref(), &sets(1e-10)).is_ok());
+}
