@@ -5,7 +5,7 @@
 //! * on a ring of Maxwell cells that does not amplify perturbations (β = −0.5), the check's
 //!   difference is within a factor 2 of BDF's error at rtol 1e-6 and 1e-8, and within the
 //!   contract, so no note;
-//! * on the same ring at β = −0.63, which amplifies a one-ulp change of K to 3e-8
+//! * on the same ring at β = −0.63, which amplifies a one-ulp change of K to a few 1e-8
 //!   (`methods_on_sweep_finds`), BDF at rtol 1e-8 errs by 86·rtol and the check reads past
 //!   the contract and says so;
 //! * a dividing line compares every profile where both runs hold the same cells;

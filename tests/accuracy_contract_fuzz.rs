@@ -17,7 +17,7 @@
 //!   reference wherever the reference is itself trustworthy, i.e. the two rtol 1e-10 runs
 //!   agree within a tenth of the loose run's rtol (on a ring of Maxwell cells under periodic
 //!   active stress on weak drag they part by 1.5e-7: the ring amplifies a one-ulp change of K
-//!   to 3e-8, docs/model.md §8.1). The sweep prints the distribution of error / rtol per method and norm; ESDIRK's
+//!   to a few 1e-8, docs/model.md §8.1). The sweep prints the distribution of error / rtol per method and norm; ESDIRK's
 //!   error grows like rtol^{2/3} (BENCHMARKS.md, "Methods on cell models") and the rms norm
 //!   dilutes it by up to √N, so those are reported, not bounded.
 //!

@@ -17,7 +17,7 @@
 //!
 //! * **A ring of 56 Maxwell cells under periodic active stress on weak drag** (K = 1e-3), which
 //!   the sweep leaves out because its references part. It amplifies a one-ulp change of K
-//!   to about 4e-8 in the stretches, so no run determines them better than that. BDF's
+//!   to a few 1e-8 in the stretches, so no run determines them better than that. BDF's
 //!   predictor summed the history's positions, and the rounding of its `ẏ` (ε·|x| times
 //!   coefficients of 10²/h at order 5, every step, whatever the tolerance) grew at orders 3–5
 //!   into a zigzag: BDF did not converge as rtol fell. Summed over increments from the newest
@@ -140,9 +140,9 @@ fn bdf_held_to_order_two_and_radau_stay_off_the_ring_s_zigzag() {
 #[test]
 fn bdf_s_error_on_the_maxwell_ring_follows_the_ring_s_own_amplification() {
     // The sweep's ring (β = −1.04) amplifies a one-ulp change of K 5 000-fold over the run
-    // (2e-14 at t = 0.03, 1.1e-10 at t = 1.62, a cell-to-cell zigzag growing about e^(7t) at
+    // (3e-14 at t = 0.03, 1–2e-10 at t = 1.68, a cell-to-cell zigzag growing about e^(7t) at
     // the end), and BDF up to order 5 errs there by 818·rtol, its error the same zigzag growing
-    // at the same rate from t ≈ 0.9. With the slope β = −0.9 the change grows to 4e-12 and BDF
+    // at the same rate from t ≈ 0.9. With the slope β = −0.9 the change grows to 4–9e-12 and BDF
     // errs by 82·rtol; with β = −0.7 it stays near 4e-13 and BDF holds the contract (6.9·rtol).
     let amplification = |text: &str| {
         let reference = run_with(text, "radau", "max", 1e-12, 100_000);
@@ -208,7 +208,7 @@ fn bdf_on_a_weak_drag_maxwell_ring_converges_to_the_one_step_methods() {
         );
     }
     // measured: 86, 1 701 and 11 354·rtol, i.e. 8.6e-7, 1.7e-7 and 1.1e-8 relative; the last
-    // is within what a one-ulp change of K moves the reference (about 4e-8, the test below).
+    // is within what a one-ulp change of K moves the reference (a few 1e-8, the test below).
     // Held: the error falls at each tighter tolerance, and tenfold over the four decades.
     for w in errors.windows(2) {
         assert!(w[1] < w[0], "errors {errors:?}");
@@ -235,9 +235,10 @@ pub fn with_beta(text: &str, from: &str, to: f64) -> String {
 #[test]
 fn the_weak_drag_ring_amplifies_a_one_ulp_change_of_its_drag() {
     // The active stress's slope bβ/2 (b up to 2) is a negative stiffness; at β = −0.63 the
-    // wave's cells lose their net stiffness, and a perturbation grows from 3e-14 at t = 0.0025
-    // to 1.5e-7 at t = 0.08 (in the stretch, outputs every 0.0025): the stretches are not
-    // determined by the data to better than about 1e-8, whatever the method or tolerance.
+    // wave's cells lose their net stiffness, and a perturbation grows from 6e-14 at t = 0.0025
+    // to 3.6e-8 at t = 0.08 (in the stretch, outputs every 0.0025): the stretches are not
+    // determined by the data to better than a few 1e-8, whatever the method or tolerance.
+    // Measured at the profiles: 1.5e-8 and 3.4e-8 in two builds whose rounding differed.
     // At β = −0.5 the same change stays at the stretches' rounding.
     let measure = |text: &str| {
         let reference = run_with(text, "radau", "max", 1e-12, 100_000);
@@ -249,7 +250,7 @@ fn the_weak_drag_ring_amplifies_a_one_ulp_change_of_its_drag() {
     println!(
         "one ulp of K moves the stretches by {unstable:.1e} (β = −0.63), {stable:.1e} (β = −0.5)"
     );
-    assert!(unstable >= 1e-8, "{unstable:e}");
+    assert!(unstable >= 1e-9, "{unstable:e}");
     assert!(stable <= 1e-12, "{stable:e}");
 }
 

@@ -43,8 +43,10 @@ fn linear_2x2_matches_exact_solution_with_dense_output() {
         "{:?}",
         run.stats
     );
-    // cost pin (measured 98 steps: RADAU5's embedded order-3 estimate is conservative here)
-    assert!(run.stats.steps <= 110, "{:?}", run.stats);
+    // cost pin (measured 138 steps; 98 while the estimate was tested against RADAU5's
+    // 0.1·rtol^(2/3) rather than at most 10·rtol: the embedded order-3 estimate is conservative
+    // on this non-stiff problem)
+    assert!(run.stats.steps <= 150, "{:?}", run.stats);
 }
 
 #[test]
