@@ -392,7 +392,11 @@ fn tags(text: &str) -> String {
     if text.contains("\nK = 0\n") {
         t.push("K=0".into());
     }
-    if !text.contains("eta = 0\n") && !text.contains("eta = 0 }") && text.contains("eta = ") {
+    // a line's own `eta = …`, or the Kelvin–Voigt viscosity table's (not the active stress's
+    // `beta = …` nor a Maxwell branch's `eta_m = …`)
+    let viscous = text.lines().any(|l| l.starts_with("eta = ") && l != "eta = 0")
+        || (text.contains("\"kelvin_voigt\"") && !text.contains("eta = 0 }"));
+    if viscous {
         t.push("kelvin-voigt".into());
     }
     t.join(",")
