@@ -303,7 +303,8 @@ pub struct RunRecord {
 /// use celltissue::observe::AccuracyCheck;
 /// let c = AccuracyCheck { rtol: 1e-7, atol: 1e-9, steps: 180, profiles_compared: 3,
 ///     stretch_difference: 2.0e-6, stretch_over_rtol: 2.0, t: 1.0, cell: 7,
-///     pressure_difference: 5.0e-6, ..Default::default() };
+///     pressure_difference: 5.0e-6, series_times_compared: 11, series_stretch_over_rtol: 1.5,
+///     series_t: 0.5, ..Default::default() };
 /// let json = serde_json::to_value(&c)?;
 /// assert_eq!(json["stretch_over_rtol"], 2.0);
 /// assert!(json.get("profiles_skipped").is_none()); // 0 is left out
@@ -336,6 +337,18 @@ pub struct AccuracyCheck {
     pub cell: usize,
     /// Largest pressure difference, |Δp| / (|p| + atol/rtol).
     pub pressure_difference: f64,
+    /// Series times compared: those where both runs' smallest and largest stretch are finite.
+    /// Left out when 0.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub series_times_compared: usize,
+    /// Largest difference of the series' smallest and largest stretch (`min_stretch`,
+    /// `max_stretch`; tan θ on a shear column) over rtol, in the same weight: the check at every
+    /// series time, of the extremes only.
+    #[serde(default)]
+    pub series_stretch_over_rtol: f64,
+    /// Series time of the largest series difference.
+    #[serde(default)]
+    pub series_t: f64,
     /// Why the tighter run could not be compared, if it failed (the other fields are then 0).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub failed: Option<String>,

@@ -78,7 +78,8 @@ pub struct SolveSettings {
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub interpolate_rates: bool,
     /// Whether each run is repeated at a tenfold tighter `rtol` and `atol` and compared with
-    /// it, cell by cell, at the profile times (default `false`; the comparison is the record's
+    /// it, cell by cell at the profile times and in the stretch extremes at the series times
+    /// (default `false`; the comparison is the record's
     /// [`crate::observe::RunRecord::accuracy_check`], see [`crate::scenario::accuracy_check`]).
     /// Left out of the echo when false.
     #[serde(skip_serializing_if = "std::ops::Not::not")]

@@ -394,7 +394,9 @@ fn tags(text: &str) -> String {
     }
     // a line's own `eta = …`, or the Kelvin–Voigt viscosity table's (not the active stress's
     // `beta = …` nor a Maxwell branch's `eta_m = …`)
-    let viscous = text.lines().any(|l| l.starts_with("eta = ") && l != "eta = 0")
+    let viscous = text
+        .lines()
+        .any(|l| l.starts_with("eta = ") && l != "eta = 0")
         || (text.contains("\"kelvin_voigt\"") && !text.contains("eta = 0 }"));
     if viscous {
         t.push("kelvin-voigt".into());

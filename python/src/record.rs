@@ -215,8 +215,10 @@ impl Run {
     /// asked for it, else None: a dict with `"rtol"`, `"atol"` and `"steps"` of the tighter run,
     /// `"profiles_compared"`, `"profiles_skipped"`, the largest `"stretch_difference"` (over
     /// the contract's weight |λ| + atol/rtol), `"stretch_over_rtol"` (the contract holds it to
-    /// 10), its `"t"` and `"cell"`, the largest `"pressure_difference"`, and `"failed"` (the
-    /// tighter run's error, or None).
+    /// 10), its `"t"` and `"cell"`, the largest `"pressure_difference"`, the same for the
+    /// series' smallest and largest stretch (`"series_times_compared"`,
+    /// `"series_stretch_over_rtol"`, `"series_t"`), and `"failed"` (the tighter run's error,
+    /// or None).
     #[getter]
     fn accuracy_check<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
         let Some(c) = &self.rec.accuracy_check else {
@@ -233,6 +235,9 @@ impl Run {
         d.set_item("t", c.t)?;
         d.set_item("cell", c.cell)?;
         d.set_item("pressure_difference", c.pressure_difference)?;
+        d.set_item("series_times_compared", c.series_times_compared)?;
+        d.set_item("series_stretch_over_rtol", c.series_stretch_over_rtol)?;
+        d.set_item("series_t", c.series_t)?;
         d.set_item("failed", c.failed.as_deref())?;
         Ok(Some(d))
     }

@@ -166,6 +166,7 @@ def test_an_accuracy_check_compares_each_run_with_a_tighter_one():
         assert c["profiles_compared"] == len(r.profiles) and c["profiles_skipped"] == 0
         assert 0 < c["stretch_over_rtol"] <= 10 and c["steps"] > r.stats["steps"]
         assert 0 <= c["cell"] < len(r.profiles[0]["stretch"]) and r.notes == []
+        assert c["series_times_compared"] == len(r.series["t"]) and c["series_stretch_over_rtol"] <= 10
     assert celltissue.run("fig2_5", set=SMALL_FIG2_5)[0].accuracy_check is None
 
 

@@ -197,7 +197,7 @@ pub fn run(
                                 .map(|c| format!(
                                     "; at rtol {}: {:.2}·rtol",
                                     integrators::error::short_number(c.rtol),
-                                    c.stretch_over_rtol
+                                    c.stretch_over_rtol.max(c.series_stretch_over_rtol)
                                 ))
                                 .unwrap_or_default(),
                             rec.error

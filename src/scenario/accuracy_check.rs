@@ -1,5 +1,6 @@
 //! The accuracy check (`solver.accuracy_check = true`): each run repeated at a tenfold tighter
-//! tolerance and compared with itself, cell by cell, at the profile times.
+//! tolerance and compared with itself, cell by cell at the profile times and in the smallest
+//! and largest stretch at every series time.
 //!
 //! The accuracy contract (docs/model.md §8.1) bounds each step's error in cell units. What a
 //! run's stretches err by in the end also depends on what the model does with those errors:
@@ -88,28 +89,45 @@ pub fn verdict(c: &AccuracyCheck) -> Option<String> {
             "the accuracy check could not compare: the same run at rtol {tight} failed: {e}"
         ));
     }
-    if c.profiles_compared == 0 {
+    if c.profiles_compared == 0 && c.series_times_compared == 0 {
         return Some(format!(
             "the accuracy check compared nothing: the run at rtol {tight} holds other cells at \
-             every profile time, or the run has no profiles"
+             every profile time and no series time has finite stretches in both, or the run \
+             records neither"
         ));
     }
-    (c.stretch_over_rtol > CONTRACT).then(|| {
+    let past = if c.stretch_over_rtol > CONTRACT {
         format!(
-            "the same run at rtol {tight} differs by {:.0}·rtol in the stretch of cell {} at \
-             t = {}, past the accuracy contract's {CONTRACT}·rtol: this run's stretches may err \
-             by as much (a model that amplifies perturbations does this; docs/limitations.md)",
+            "{:.0}·rtol in the stretch of cell {} at t = {}",
             c.stretch_over_rtol,
             c.cell,
-            // four significant digits, written as briefly as they allow
-            format!("{:.3e}", c.t).parse::<f64>().unwrap_or(c.t)
+            brief(c.t)
         )
-    })
+    } else if c.series_stretch_over_rtol > CONTRACT {
+        format!(
+            "{:.0}·rtol in the smallest or largest stretch at t = {}",
+            c.series_stretch_over_rtol,
+            brief(c.series_t)
+        )
+    } else {
+        return None;
+    };
+    Some(format!(
+        "the same run at rtol {tight} differs by {past}, past the accuracy contract's \
+         {CONTRACT}·rtol: this run's stretches may err by as much (a model that amplifies \
+         perturbations does this; docs/limitations.md)"
+    ))
+}
+
+/// Four significant digits, written as briefly as they allow.
+fn brief(t: f64) -> f64 {
+    format!("{t:.3e}").parse::<f64>().unwrap_or(t)
 }
 
 /// The largest differences of `run` (at `rtol`, `atol`) from `tight` over the profiles where
-/// both hold the same cells, each over the contract's weight `|value| + atol/rtol` of the
-/// tighter run's value; non-finite values are left out. `rtol` and `atol` of the result are
+/// both hold the same cells, and of the series' smallest and largest stretch at every series
+/// time, each over the contract's weight `|value| + atol/rtol` of the tighter run's value;
+/// non-finite values are left out. `rtol` and `atol` of the result are
 /// the run's over [`FACTOR`]; its `steps` are left at 0.
 ///
 /// ```
@@ -126,7 +144,7 @@ pub fn verdict(c: &AccuracyCheck) -> Option<String> {
 /// let run = record(vec![0.9, 1.100001]);
 /// let tight = record(vec![0.9, 1.1]);
 /// let c = compare(&run, &tight, 1e-6, 1e-8);
-/// assert_eq!((c.cell, c.profiles_compared), (1, 1));
+/// assert_eq!((c.cell, c.profiles_compared, c.series_times_compared), (1, 1, 0));
 /// assert!((c.stretch_over_rtol - 1e-6 / (1.1 + 1e-2) / 1e-6).abs() < 1e-6);
 /// ```
 pub fn compare(run: &RunRecord, tight: &RunRecord, rtol: f64, atol: f64) -> AccuracyCheck {
@@ -154,6 +172,24 @@ pub fn compare(run: &RunRecord, tight: &RunRecord, rtol: f64, atol: f64) -> Accu
         }
     }
     c.stretch_over_rtol = c.stretch_difference / rtol;
+    let (a, b) = (&run.series, &tight.series);
+    for (i, t) in a.t.iter().enumerate().take(b.t.len()) {
+        let at = |s: &[f64]| s.get(i).copied().filter(|v| v.is_finite());
+        let pairs = [
+            (at(&a.min_stretch), at(&b.min_stretch)),
+            (at(&a.max_stretch), at(&b.max_stretch)),
+        ];
+        if pairs.iter().any(|(x, y)| x.is_none() || y.is_none()) {
+            continue;
+        }
+        c.series_times_compared += 1;
+        for (x, y) in pairs.into_iter().filter_map(|(x, y)| x.zip(y)) {
+            let d = (x - y).abs() / (y.abs() + floor) / rtol;
+            if d > c.series_stretch_over_rtol {
+                (c.series_stretch_over_rtol, c.series_t) = (d, *t);
+            }
+        }
+    }
     c
 }
 
@@ -220,6 +256,31 @@ mod tests {
         assert_eq!((c.t, c.cell), (2.0, 1));
         assert!((c.stretch_over_rtol - 3.0 / 1.01).abs() < 1e-6, "{c:?}");
         assert!(verdict(&c).is_none());
+    }
+
+    #[test]
+    fn the_series_extremes_are_compared_at_every_series_time() {
+        let series = |min: &[f64], max: &[f64]| crate::observe::Series {
+            t: vec![0.0, 1.0, 2.0],
+            min_stretch: min.to_vec(),
+            max_stretch: max.to_vec(),
+            ..Default::default()
+        };
+        let mut run = record(vec![]);
+        run.series = series(&[1.0, 0.9 + 2e-5, f64::NAN], &[1.0, 1.1, 1.2]);
+        let mut tight = record(vec![]);
+        tight.series = series(&[1.0, 0.9, 0.8], &[1.0, 1.1, 1.2]);
+        let c = compare(&run, &tight, 1e-6, 1e-8);
+        assert_eq!((c.series_times_compared, c.series_t), (2, 1.0));
+        assert!(
+            (c.series_stretch_over_rtol - 2e-5 / 0.91 / 1e-6).abs() < 1e-6,
+            "{c:?}"
+        );
+        let note = verdict(&c).expect("past the contract");
+        assert!(
+            note.contains("22·rtol in the smallest or largest stretch at t = 1"),
+            "{note}"
+        );
     }
 
     #[test]

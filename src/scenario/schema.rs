@@ -94,7 +94,7 @@ pub struct SolverSection {
     /// each output's state).
     pub interpolate_rates: bool,
     /// Whether each run is repeated at a tenfold tighter `rtol` and `atol` and compared with
-    /// it at the profile times (default false).
+    /// it at the profile and series times (default false).
     pub accuracy_check: bool,
 }
 
