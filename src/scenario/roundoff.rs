@@ -176,6 +176,22 @@ pub fn check_section(
 
 /// [`check_section`] for `asker` at `solver`'s tolerances: with [`Asker::Check`], `solver`
 /// is the check's run and the error names `solver.accuracy_check`.
+///
+/// ```
+/// use celltissue::scenario::accuracy_check::tightened;
+/// use celltissue::scenario::model::parse_model;
+/// use celltissue::scenario::roundoff::{check_section_for, Asker};
+/// use celltissue::scenario::schema::SolverSection;
+/// let model: toml::Table = toml::from_str("kind = \"line\"\ncells = 4000")?;
+/// let section = parse_model(&model)?;
+/// let run: SolverSection = toml::from_str("rtol = 1e-11\natol = 1e-13")?;
+/// let run = run.validate()?;
+/// assert!(check_section_for(&section, &run, Asker::Run).is_ok());
+/// // the check's run at rtol 1e-12 would test the far cells' rounding
+/// let e = check_section_for(&section, &tightened(&run), Asker::Check).unwrap_err();
+/// assert_eq!(e.key_name(), Some("solver.accuracy_check"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn check_section_for(
     section: &super::model::ModelSection,
     solver: &crate::settings::SolveSettings,
