@@ -8,6 +8,8 @@
 //! * on the same ring at β = −0.63, which amplifies a one-ulp change of K to a few 1e-8
 //!   (`methods_on_sweep_finds`), BDF at rtol 1e-8 errs by 86·rtol and the check reads past
 //!   the contract and says so;
+//! * Fig 2.5's line at K = 10 adds up its steps' errors early in its ramp (48·rtol in the
+//!   smallest stretch at t = 0.07, between its profiles): the check reads it in the series;
 //! * a dividing line compares every profile where both runs hold the same cells;
 //! * a check whose tighter run the positions cannot resolve is rejected before anything runs.
 
@@ -70,6 +72,61 @@ fn the_check_flags_a_ring_that_amplifies_bdf_s_errors() {
     assert_eq!(rec.notes.len(), 1, "{:?}", rec.notes);
     assert!(
         rec.notes[0].contains("past the accuracy contract's 10·rtol"),
+        "{:?}",
+        rec.notes
+    );
+}
+
+/// Fig 2.5's discrete line at K = 10 (`models/fig2_5.toml`) at rtol `rtol`, with the check.
+fn fig2_5_at_k_10(rtol: f64, check: bool) -> celltissue::observe::RunRecord {
+    let f = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/fig2_5.toml");
+    let sets = [
+        "sweep.values=[10]".to_string(),
+        "model.models=[\"discrete\"]".to_string(),
+        format!("solver.rtol={rtol}"),
+        format!("solver.atol={}", rtol * 1e-2),
+        format!("solver.accuracy_check={check}"),
+    ];
+    let s = celltissue::scenario::load(&f, &sets).expect("loads");
+    let rec = celltissue::scenario::execute::run_spec(&s.runs[0]);
+    assert!(rec.error.is_none(), "{:?}", rec.error);
+    rec
+}
+
+#[test]
+fn the_check_reads_the_error_that_fig2_5_adds_up_early_in_its_ramp() {
+    // At K = 10 the end cell relaxes over a few time units while the ramp moves the end ten
+    // cell lengths per unit time at first: the steps' local errors add up. At the profiles
+    // (t = 0, 1, 10, 1000) the error is 0.9·rtol; in the smallest stretch at t = 0.07 it is
+    // 48·rtol, and the check reads 43.
+    let rec = fig2_5_at_k_10(1e-6, true);
+    let reference = fig2_5_at_k_10(1e-10, false);
+    let (a, b) = (&rec.series, &reference.series);
+    let (error, at) = (0..b.t.len())
+        .map(|i| {
+            let e = |x: &[f64], y: &[f64]| (x[i] - y[i]).abs() / (y[i].abs() + 1e-2) / 1e-6;
+            (
+                e(&a.min_stretch, &b.min_stretch).max(e(&a.max_stretch, &b.max_stretch)),
+                b.t[i],
+            )
+        })
+        .fold((0.0, 0.0), |w, x| if x.0 > w.0 { x } else { w });
+    let c = check_of(&rec);
+    println!(
+        "series error {error:.1}·rtol at t = {at}; check {:.1}·rtol at t = {}, profiles {:.2}",
+        c.series_stretch_over_rtol, c.series_t, c.stretch_over_rtol
+    );
+    assert!(error > 10.0, "{error}");
+    assert!(
+        c.series_stretch_over_rtol >= error / 2.0 && c.series_stretch_over_rtol <= 2.0 * error,
+        "check {} against error {error}",
+        c.series_stretch_over_rtol
+    );
+    assert_eq!(c.series_times_compared, b.t.len());
+    assert!(
+        rec.notes
+            .iter()
+            .any(|n| n.contains("smallest or largest stretch")),
         "{:?}",
         rec.notes
     );

@@ -165,8 +165,13 @@ def test_an_accuracy_check_compares_each_run_with_a_tighter_one():
         assert c["rtol"] == 1e-7 and c["atol"] == 1e-9 and c["failed"] is None
         assert c["profiles_compared"] == len(r.profiles) and c["profiles_skipped"] == 0
         assert 0 < c["stretch_over_rtol"] <= 10 and c["steps"] > r.stats["steps"]
-        assert 0 <= c["cell"] < len(r.profiles[0]["stretch"]) and r.notes == []
-        assert c["series_times_compared"] == len(r.series["t"]) and c["series_stretch_over_rtol"] <= 10
+        assert 0 <= c["cell"] < len(r.profiles[0]["stretch"])
+        assert c["series_times_compared"] == len(r.series["t"])
+        # a note exactly where a difference passes the contract's 10·rtol: at K = 10 the steps'
+        # errors add up early in the ramp (docs/limitations.md)
+        past = max(c["stretch_over_rtol"], c["series_stretch_over_rtol"]) > 10
+        assert past == bool(r.notes), (r.label, c, r.notes)
+        assert past == (r.label == "continuum K=10"), (r.label, c)
     assert celltissue.run("fig2_5", set=SMALL_FIG2_5)[0].accuracy_check is None
 
 

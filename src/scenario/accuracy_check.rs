@@ -4,8 +4,10 @@
 //!
 //! The accuracy contract (docs/model.md §8.1) bounds each step's error in cell units. What a
 //! run's stretches err by in the end also depends on what the model does with those errors:
-//! one that amplifies perturbations (a ring whose active stress softens its cells,
-//! docs/limitations.md) grows them far past rtol, and no error test sees it. Where a run's
+//! they add up where a cell is driven faster than it relaxes (Fig 2.5 at K = 10 early in its
+//! ramp: 48·rtol), and a model that amplifies perturbations (a ring whose active stress
+//! softens its cells) grows them far past rtol (docs/limitations.md); no error test sees
+//! either. Where a run's
 //! error falls with the tolerance, its difference from the same run at rtol/10 estimates that
 //! error; a difference past the contract's 10·rtol is reported as a note on the run and a
 //! warning of the command line. [`super::execute::run_spec`] calls [`check`] after a run that
@@ -114,8 +116,9 @@ pub fn verdict(c: &AccuracyCheck) -> Option<String> {
     };
     Some(format!(
         "the same run at rtol {tight} differs by {past}, past the accuracy contract's \
-         {CONTRACT}·rtol: this run's stretches may err by as much (a model that amplifies \
-         perturbations does this; docs/limitations.md)"
+         {CONTRACT}·rtol: this run's stretches may err by as much (the steps' errors add up \
+         where cells are driven faster than they relax, and a model that amplifies \
+         perturbations grows them; docs/limitations.md)"
     ))
 }
 
