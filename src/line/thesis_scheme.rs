@@ -243,6 +243,26 @@ impl<E: StrainEnergy> CellArray for ThesisLine<E> {
         Some(vec![self.atol_cell * self.dx; self.dim()])
     }
 
+    /// The nodes tested through their segments' stretches, as a cell array's boundaries are
+    /// (docs/model.md §8.1): the node next to the wall against one segment, every other one
+    /// as the difference with the node before it, and the last one, before the prescribed
+    /// end, also on its own.
+    fn error_map(&self) -> Option<integrators::ErrorMap> {
+        use integrators::{ErrorMap, Row};
+        let dim = self.dim();
+        let rows = (0..dim)
+            .map(|k| match k {
+                0 => Row::Anchor { size: self.dx },
+                _ => Row::Difference { partner: k - 1 },
+            })
+            .collect();
+        let map = ErrorMap::from_rows(rows).ok()?;
+        match dim {
+            0 => Some(map),
+            _ => map.with_end(dim - 1, self.dx).ok(),
+        }
+    }
+
     fn algebraic(&self) -> Vec<bool> {
         (1..self.nodes() - 1)
             .map(|i| self.k[i] == 0.0 && self.eta[i] == 0.0)
