@@ -180,6 +180,9 @@ fn the_thesis_scheme_holds_the_contract_in_its_segments_stretches() {
             "n = {nodes}: {} steps, profile {profile:.2}·rtol, series {series:.2}·rtol",
             rec.stats.steps
         );
-        assert!(profile <= 10.0 && series <= 10.0, "n = {nodes}: {profile}, {series}");
+        assert!(
+            profile <= 10.0 && series <= 10.0,
+            "n = {nodes}: {profile}, {series}"
+        );
     }
 }
