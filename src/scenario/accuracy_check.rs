@@ -48,6 +48,18 @@ pub fn tightened(solver: &SolveSettings) -> SolveSettings {
 /// Runs `spec` at the [`tightened`] settings and compares `rec` (the run at `spec`'s own)
 /// with it; the note says what a reader of the run should know: a difference past
 /// [`CONTRACT`]·rtol, a check run that failed, or nothing compared.
+///
+/// ```
+/// use celltissue::scenario::{accuracy_check, execute, load_str};
+/// let text = "name = \"c\"\n[output]\nseries = [0, 1]\nprofiles = [1]\n[model]\n\
+///             kind = \"line\"\nmodels = [\"discrete\"]\ncells = 8\nK = 1";
+/// let s = load_str(text, "c.toml".as_ref(), &[])?;
+/// let rec = execute::run_spec(&s.runs[0]); // without the check
+/// let (c, note) = accuracy_check::check(&s.runs[0], &rec);
+/// assert_eq!((c.rtol, c.profiles_compared, c.series_times_compared), (1e-7, 1, 2));
+/// assert!(c.stretch_over_rtol <= accuracy_check::CONTRACT && note.is_none());
+/// # Ok::<(), celltissue::scenario::ScenarioError>(())
+/// ```
 pub fn check(spec: &RunSpec, rec: &RunRecord) -> (AccuracyCheck, Option<String>) {
     let solver = tightened(&spec.solver);
     let tight_spec = RunSpec {
