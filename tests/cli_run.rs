@@ -503,3 +503,44 @@ fn the_thesis_scheme_says_it_reads_jumping_fields_at_its_nodes() {
     let (_, v) = run_text("thesis_smooth", &text(smooth));
     assert!(v["runs"][1].get("notes").is_none());
 }
+
+/// `solver.accuracy_check`: every run's reading in `summary.json`, and a run past the
+/// contract's 10·rtol warned of on stderr with exit 0 (Fig 2.5's line at K = 10 early in its
+/// ramp, docs/limitations.md); a run within it leaves no note.
+#[test]
+fn the_accuracy_check_is_written_and_a_run_past_the_contract_warned_of() {
+    let text = |k: &str| {
+        format!(
+            "name = \"c\"\n[solver]\naccuracy_check = true\n[output]\n\
+             series = {{ start = 1e-3, stop = 10, count = 41, spacing = \"log\", zero = true }}\n\
+             profiles = [1, 10]\n[model]\nkind = \"line\"\nmodels = [\"discrete\"]\ncells = 100\n\
+             k1 = 0.1\nramp = \"exponential\"\nt_ramp = 1.0\nK = {k}\n"
+        )
+    };
+    let (_, v, stderr) = run_text_stderr("check_past", &text("10"));
+    let c = &v["runs"][0]["accuracy_check"];
+    assert_eq!(
+        (c["rtol"].as_f64(), c["profiles_compared"].as_u64()),
+        (Some(1e-7), Some(2))
+    );
+    assert!(
+        c["series_stretch_over_rtol"].as_f64().unwrap() > 10.0,
+        "{c}"
+    );
+    assert!(
+        stderr.contains("warning: discrete: the same run at rtol 1e-7 differs by"),
+        "{stderr}"
+    );
+    assert!(v["runs"][0]["notes"][0]
+        .as_str()
+        .unwrap()
+        .contains("past the accuracy contract"));
+    let (_, v, stderr) = run_text_stderr("check_within", &text("0.01"));
+    let c = &v["runs"][0]["accuracy_check"];
+    assert!(
+        c["series_stretch_over_rtol"].as_f64().unwrap() <= 10.0,
+        "{c}"
+    );
+    assert!(!stderr.contains("warning"), "{stderr}");
+    assert!(v["runs"][0].get("notes").is_none());
+}
