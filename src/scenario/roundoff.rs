@@ -200,7 +200,8 @@ pub fn check_section_for(
     use super::model::ModelConfig;
     use crate::observe::ModelKind;
     let (rtol, atol) = (solver.rtol, solver.atol);
-    let check_line = |lengths: &mut dyn Iterator<Item = f64>, rtol, atol| {
+    // `check_line` for this asker
+    let check = |lengths: &mut dyn Iterator<Item = f64>, rtol, atol| {
         check_line_for(lengths, rtol, atol, asker)
     };
     let line = match &section.config {
@@ -216,7 +217,7 @@ pub fn check_section_for(
                         .grid
                         .unwrap_or((2 * c.cells_x.min(1 << 40), 2 * c.cells_y.min(1 << 40))),
                 };
-                check_line(&mut std::iter::repeat_n(1.0, n.max(m)), rtol, atol)?;
+                check(&mut std::iter::repeat_n(1.0, n.max(m)), rtol, atol)?;
             }
             return Ok(());
         }
@@ -224,15 +225,15 @@ pub fn check_section_for(
     };
     for model in &section.models {
         match (model, &line.ref_lengths) {
-            (ModelKind::Discrete, Some(v)) => check_line(&mut v.iter().copied(), rtol, atol)?,
-            (ModelKind::Discrete, None) => check_line(
+            (ModelKind::Discrete, Some(v)) => check(&mut v.iter().copied(), rtol, atol)?,
+            (ModelKind::Discrete, None) => check(
                 &mut std::iter::repeat_n(line.cell_length, line.cells),
                 rtol,
                 atol,
             )?,
             (ModelKind::Continuum, _) => {
                 let n = section.nodes.unwrap_or(line.cells).max(1);
-                check_line(
+                check(
                     &mut std::iter::repeat_n(line.l0() / n as f64, n),
                     rtol,
                     atol,
