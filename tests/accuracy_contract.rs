@@ -114,10 +114,12 @@ fn macroscale_stretch_error_is_a_few_rtol_at_100_and_10000_cells() {
 /// local error (BENCHMARKS.md, "What sets the macroscale line's step count"). With the bound,
 /// the first iteration's test assumes the rate the change of α implies. Against the rtol 1e-10
 /// (N = 10⁴) and 1e-8 (N = 10⁵) references, both runs hold the contract, and the bounded one
-/// takes fewer steps: 138 against 162 at N = 10⁴ (and 196 Newton iterations against 213), 169
-/// against 173 at N = 10⁵, where it takes 247 Newton iterations against 226 (before BDF's
-/// predictor summed increments, the unbounded run took 209 steps there). The counters of
-/// both are pinned: (steps, Newton iterations, factorisations).
+/// takes fewer steps: 131 against 167 at N = 10⁴ (and 194 Newton iterations against 221), 137
+/// against 205 at N = 10⁵ (209 Newton iterations against 266). These step counts scatter by
+/// ±20 % under small changes of the error test: scaling the weight of the end cell's term
+/// alone by 0.95, 0.9, 0.85 or 0.8 gave 250, 212, 203 and 195 unbounded steps at N = 10⁵
+/// (173 at 1, which was pinned before that cell was held to its own stretch). The counters
+/// of both are pinned: (steps, Newton iterations, factorisations).
 #[test]
 fn the_newton_alpha_bound_saves_steps_on_the_macroscale_line_within_the_contract() {
     let run = |cfg: &LineConfig, s: &SolveSettings, t_out: &[f64]| {
@@ -130,8 +132,8 @@ fn the_newton_alpha_bound_saves_steps_on_the_macroscale_line_within_the_contract
         (lam, (st.steps, st.newton_iterations, st.factorizations))
     };
     let pinned = [
-        (10_000usize, 1e-10, (162, 213, 44), (138, 196, 44)),
-        (100_000, 1e-8, (173, 226, 49), (169, 247, 49)),
+        (10_000usize, 1e-10, (167, 221, 47), (131, 194, 40)),
+        (100_000, 1e-8, (205, 266, 53), (137, 209, 46)),
     ];
     for (n, rtol_ref, ida, bounded) in pinned {
         let nf = n as f64;
@@ -339,7 +341,8 @@ impl<P: Problem> Problem for Shifted<P> {
         if self.position_relative {
             return None;
         }
-        self.inner.error_map()
+        // the wall and the prescribed end move with the positions
+        self.inner.error_map().map(|m| m.translated(self.shift))
     }
     fn algebraic(&self) -> Vec<bool> {
         self.inner.algebraic()

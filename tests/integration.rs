@@ -21,6 +21,7 @@ mod division_restart;
 mod division_thesis;
 mod division_viscous_cells;
 mod docs_snippets_parse;
+mod end_cells_held_to_their_own_stretch;
 mod energy_checks;
 mod energy_closed_forms;
 mod energy_expression_fig2_5;

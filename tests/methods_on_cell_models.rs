@@ -5,8 +5,13 @@
 //! The error is the largest relative difference in stretch and in pressure over every cell and
 //! profile time.
 //!
-//! What is asserted: BDF and Radau IIA land within 10·rtol in stretch and pressure everywhere
-//! (measured: BDF 0.2–2.3·rtol at 1e-6; Radau IIA at most 0.5·rtol); every method's errors
+//! What is asserted: BDF and Radau IIA land within 10·rtol in stretch everywhere, and within
+//! 20·rtol in pressure, which is μ/λ² and so doubles a relative stretch error (measured: BDF
+//! 0.1–1.1·rtol in stretch at 1e-6 and up to 6.6·rtol at 1e-8, on Fig 2.8 at K = 1, where
+//! its pressure errs by 13·rtol; Radau IIA at most 0.5·rtol). BDF's error there is one draw
+//! from a scatter: over rtol 1e-6 … 1e-12 it errs by 0.9–20·rtol (1.4 at 1e-8 before the
+//! end cell was tested against its own stretch, 6.7 after; both builds scatter alike), at a
+//! compression front inside the line; Radau IIA by 0.02–0.08·rtol. Every method's errors
 //! fall at least 10× from rtol 1e-6 to 1e-8, or to the reference's resolution. Dormand–Prince
 //! runs where the line is not stiff (Fig 2.5 at K = 10) and is held to the same 10·rtol
 //! (measured 0.4–0.7·rtol, in 3 120 steps against BDF's 727 at rtol 1e-6).
@@ -101,10 +106,12 @@ fn check_methods(name: &str, sweep: &str, methods: &[&str]) {
                         es / rtol,
                         ep / rtol
                     );
+                    // the contract bounds stretches; these cells' pressure μ/λ² doubles a
+                    // relative stretch error (|d ln p / d ln λ| = 2), so it is held to twice
                     if method != "esdirk" {
                         assert!(
-                            es <= 10.0 * rtol && ep <= 10.0 * rtol,
-                            "{name} {} bdf rtol {rtol:e}: stretch {es:e}, pressure {ep:e}",
+                            es <= 10.0 * rtol && ep <= 2.0 * 10.0 * rtol,
+                            "{name} {} {method} rtol {rtol:e}: stretch {es:e}, pressure {ep:e}",
                             g.label
                         );
                     }
@@ -179,7 +186,8 @@ fn fig2_5_dopri_stops_early_where_the_line_is_stiff_and_says_why() {
 /// rejections fell from 4 069 to 757 (seed 3; 8 152 → 8 446 steps), Radau IIA's from 1 235 to
 /// 635 (3 564 → 3 805 steps). Starting Radau IIA's first steps and retries from stage rates
 /// ẏₙ instead of 0 then moved its counters to 3 794 / 635 and 3 835 / 664 (lengths within
-/// 2.4e-9 and 1.2e-10 of the reference). The counters are pinned (deterministic), so a cost
+/// 2.4e-9 and 1.2e-10 of the reference), and testing the cell at the wall against its own
+/// stretch to 4 432 / 638 and 4 432 / 636. The counters are pinned (deterministic), so a cost
 /// regression fails.
 #[test]
 fn one_step_methods_divide_a_line_with_random_thresholds() {
@@ -200,7 +208,7 @@ fn one_step_methods_divide_a_line_with_random_thresholds() {
     let reference = run("bdf", "1e-9");
     for (method, pinned) in [
         ("esdirk", [(8446, 757), (8478, 766)]),
-        ("radau", [(3794, 635), (3835, 664)]),
+        ("radau", [(4432, 638), (4432, 636)]),
     ] {
         for ((rec, r), pin) in run(method, "1e-6").iter().zip(&reference).zip(pinned) {
             let last = |x: &RunRecord| (x.series.length[2], x.series.extra["cells"][2]);

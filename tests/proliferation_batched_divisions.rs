@@ -183,7 +183,7 @@ fn ten_thousand_cells_at_a_one_millisecond_window() {
     // run brought forward by up to 1e-3 stopped at t ≈ 16.0014 before BDF's first step after
     // an event kept cutting while its estimate fell (a transient over many time scales, the
     // estimate ∝ h^0.25) until it ran out of retries; it now goes on while the estimate
-    // falls. Measured: 2 472 events, 9 660 steps (0.98 per division), 65 rejected; l(17) =
+    // falls. Measured: 2 472 events, 9 662 steps (0.98 per division), 65 rejected; l(17) =
     // 16 112.324 against 16 113.030 at exact times (−4.4e-5 relative, the window's error;
     // more than the 2 000-cell run's 0.007 δ: it grows with the drag's stress along the
     // line, docs/model.md §2.8). Split at the event
@@ -191,7 +191,7 @@ fn ten_thousand_cells_at_a_one_millisecond_window() {
     // −7.5e-5.
     let r = run(1e-8, &[0.0, 17.0], Some(10_000), 1e-3);
     assert_eq!(r.times.len(), 9_900);
-    assert_eq!((r.events, r.steps, r.rejected), (2_472, 9_660, 65));
+    assert_eq!((r.events, r.steps, r.rejected), (2_472, 9_662, 65));
     let l = *r.lengths.last().unwrap();
     assert!((l / 16_113.030_358 - 1.0).abs() < 5e-5, "l(17) = {l}");
 }

@@ -490,11 +490,14 @@ fn shape_rule_on_two_cell_segments_sees_single_cells() {
 /// Merging those (and splitting a merged segment again once the stress across it exceeds four
 /// tolerances) makes the grid follow the stress profile instead of the cell count. Against the
 /// discrete line at every half time unit (rtol 1e-6). Measured:
-/// - K = 1e-8 to t = 14 (6 400 cells), tolerance 1e-3 of the stress scale: `l` 1.19e-4, `N`
-///   4.3e-4 (one output inside a division wave), 203 segments at the end, 5 685 steps against
-///   the discrete line's 13 273;
+/// - K = 1e-8 to t = 14 (6 400 cells), tolerance 1e-3 of the stress scale: `l` 3.0e-4, `N`
+///   4.3e-4 (one output inside a division wave), 194 segments at the end, 5 518 steps against
+///   the discrete line's 13 273. Which segments merge depends on the integration's path: at
+///   rtol 7e-7, 1.4e-6 and 1e-7 (and at 1e-6 before the cell at the wall was tested against
+///   its own stretch) the grid ends with 203 segments and `l` within 1.19e-4. So `l` is held
+///   to half the merge tolerance, 5e-4, not to the one path's value;
 /// - K = 1e-5 to t = 18 (971 cells), tolerance 1e-2: `l` 3.6e-4, `N` 1.2e-2, 92 segments,
-///   10 913 steps against 31 603; at tolerance 1e-3 both errors fall (`l` 1.05e-5, `N` 1.1e-3).
+///   10 905 steps against 31 569; at tolerance 1e-3 both errors fall (`l` 1.05e-5, `N` 1.1e-3).
 #[test]
 fn in_phase_merging_follows_the_stress_profile_not_the_cell_count() {
     let times = |t_end: f64| -> Vec<f64> {
@@ -525,13 +528,13 @@ fn in_phase_merging_follows_the_stress_profile_not_the_cell_count() {
     };
     let weak = discrete_run(1e-8, &times(14.0), 1e-6);
     let (el, en, segments, steps) = run(1e-8, &weak, 1e-3);
-    assert!(el < 2e-4 && en < 1e-3, "{el} {en}");
+    assert!(el < 5e-4 && en < 1e-3, "{el} {en}");
     // the cost counters: segments for 6 400 cells, and steps
-    assert_eq!((segments, steps), (203, 5689));
+    assert_eq!((segments, steps), (194, 5518));
     let fig3_3 = discrete_run(1e-5, &times(18.0), 1e-6);
     let (el, en, segments, steps) = run(1e-5, &fig3_3, 1e-2);
     assert!(el < 5e-4 && en < 0.02, "{el} {en}");
-    assert_eq!((segments, steps), (92, 10913));
+    assert_eq!((segments, steps), (92, 10905));
     // a tighter tolerance converges on the discrete line
     let (el_tight, en_tight, _, _) = run(1e-5, &fig3_3, 1e-3);
     assert!(

@@ -92,6 +92,48 @@ enum Segment {
     Mixed,
 }
 
+/// A prescribed position `t ↦ X(t)` (a wall, a moving end) that an end row's cell reaches to
+/// ([`ErrorMap::with_end_at`]).
+///
+/// ```
+/// use integrators::error_map::Position;
+/// let wall: Position = std::sync::Arc::new(|_t| 0.0);
+/// assert_eq!(wall(3.0), 0.0);
+/// ```
+pub type Position = std::sync::Arc<dyn Fn(f64) -> f64 + Send + Sync>;
+
+/// One end row of an [`ErrorMap`]: the row whose own error is the stretch error of a cell
+/// with no other unknown end, that cell's reference size, and where its other end is.
+#[derive(Clone)]
+struct End {
+    row: usize,
+    size: f64,
+    at: Option<Position>,
+}
+
+impl std::fmt::Debug for End {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("End")
+            .field("row", &self.row)
+            .field("size", &self.size)
+            .field("at", &self.at.as_ref().map(|_| "Position"))
+            .finish()
+    }
+}
+
+impl PartialEq for End {
+    /// Positions compare by identity (a closure has no value to compare).
+    fn eq(&self, other: &Self) -> bool {
+        self.row == other.row
+            && self.size == other.size
+            && match (&self.at, &other.at) {
+                (None, None) => true,
+                (Some(a), Some(b)) => std::sync::Arc::ptr_eq(a, b),
+                _ => false,
+            }
+    }
+}
+
 /// Per-component description of the quantities the error tests measure (see the
 /// [module](self) docs). Built by a [`crate::Problem`] through
 /// [`crate::Problem::error_map`]; an empty map (the default) is the identity.
@@ -113,12 +155,17 @@ pub struct ErrorMap {
     anchors: Vec<(usize, f64)>,
     /// The largest backward partner offset `i − partner` (0 if none).
     max_back: usize,
-    /// Extra quantities: rows whose own error is also tested against `rtol·size + atol_i`
-    /// (the last cell before a prescribed end), with their sizes.
-    ends: Vec<(usize, f64)>,
-    /// `(row, 1/(rtol·size + atol_row))` of the `ends`, set by
-    /// [`effective_atol`](Self::effective_atol).
+    /// Extra quantities: rows whose own error is also tested on its own (the last cell before
+    /// a prescribed end, the first after a wall), against a fixed size or the distance to a
+    /// prescribed position.
+    ends: Vec<End>,
+    /// `(row, weight)` of the `ends`: `1/(rtol·size + atol_row)`, set by
+    /// [`effective_atol`](Self::effective_atol), and for an end at a prescribed position
+    /// `1/(rtol·|y_row − at(t)| + atol_row)`, set by [`refresh_ends`](Self::refresh_ends).
     end_w: Vec<(usize, f64)>,
+    /// `atol_row` of each of the `ends`, set by [`effective_atol`](Self::effective_atol) for
+    /// [`refresh_ends`](Self::refresh_ends).
+    end_atol: Vec<f64>,
 }
 
 /// Why rows do not make an [`ErrorMap`].
@@ -241,6 +288,7 @@ impl ErrorMap {
             max_back,
             ends: Vec::new(),
             end_w: Vec::new(),
+            end_atol: Vec::new(),
         })
     }
 
@@ -270,8 +318,126 @@ impl ErrorMap {
         if !(size > 0.0 && size.is_finite()) {
             return Err(ErrorMapError::Size { row, size });
         }
-        self.ends.push((row, size));
+        self.ends.push(End {
+            row,
+            size,
+            at: None,
+        });
         Ok(self)
+    }
+
+    /// As [`with_end`](Self::with_end), for a cell whose other end is at the prescribed
+    /// position `at(t)` (a wall, a moving end): the row's own error is tested against
+    /// `rtol·|y_row − at(t)| + atol_row`, i.e. that cell's stretch error against
+    /// `rtol·|λ| + atol/L₀` (the contract of every other cell), not against
+    /// `rtol·size + atol_row` as if its stretch were one. A cell crushed to λ = 0.05 at a
+    /// prescribed end is then held to its own stretch, twenty times tighter. The weight is set
+    /// at each step from the state it starts at ([`refresh_ends`](Self::refresh_ends), which
+    /// the solver calls); `size` (the cell's reference length) serves until the first refresh.
+    ///
+    /// ```
+    /// use integrators::{ErrorMap, ErrorNorm, Row};
+    /// use std::sync::Arc;
+    /// // boundaries x₁, x₂; the end x₃ = l(t) = 3 − t is prescribed
+    /// let map = ErrorMap::from_rows(vec![Row::Anchor { size: 1.0 }, Row::Difference { partner: 0 }])?;
+    /// let mut map = map.with_end_at(1, 1.0, Arc::new(|t| 3.0 - t))?;
+    /// let eatol = map.effective_atol(&[1e-8, 1e-8], 1e-6);
+    /// // at t = 0.9 the last cell is crushed to x₃ − x₂ = 0.1: an error of 1e-7 in x₂ is a
+    /// // stretch error of 1e-6 against rtol·0.1 + atol
+    /// let y = [1.0, 2.0];
+    /// map.refresh_ends(0.9, &y, 1e-6);
+    /// let mut w = [0.0; 2];
+    /// map.weights(&y, &eatol, 1e-6, 0, &mut w);
+    /// let got = map.norm(&[1e-7, 1e-7], &w, ErrorNorm::Max);
+    /// assert!((got - 1e-7 / (1e-6 * 0.1 + 1e-8)).abs() < 1e-9);
+    /// # Ok::<(), integrators::ErrorMapError>(())
+    /// ```
+    pub fn with_end_at(self, row: usize, size: f64, at: Position) -> Result<Self, ErrorMapError> {
+        let mut map = self.with_end(row, size)?;
+        if let Some(end) = map.ends.last_mut() {
+            end.at = Some(at);
+        }
+        Ok(map)
+    }
+
+    /// The same map for the problem with every position moved by `shift`: each prescribed
+    /// position of [`with_end_at`](Self::with_end_at) moves with them, so that the tests stay
+    /// translation invariant (a wrapper that shifts a problem's positions shifts its map so).
+    ///
+    /// ```
+    /// use integrators::{ErrorMap, ErrorNorm, Row};
+    /// use std::sync::Arc;
+    /// let map = ErrorMap::from_rows(vec![Row::Anchor { size: 1.0 }])?.with_end_at(0, 1.0, Arc::new(|_| 2.0))?;
+    /// let (mut a, mut b) = (map.clone(), map.translated(1e3));
+    /// let (ea, eb) = (a.effective_atol(&[1e-8], 1e-6), b.effective_atol(&[1e-8], 1e-6));
+    /// a.refresh_ends(0.0, &[1.5], 1e-6);
+    /// b.refresh_ends(0.0, &[1.5 + 1e3], 1e-6);
+    /// let (mut wa, mut wb) = ([0.0], [0.0]);
+    /// a.weights(&[1.5], &ea, 1e-6, 0, &mut wa);
+    /// b.weights(&[1.5 + 1e3], &eb, 1e-6, 0, &mut wb);
+    /// let (na, nb) = (a.norm(&[1e-7], &wa, ErrorNorm::Max), b.norm(&[1e-7], &wb, ErrorNorm::Max));
+    /// assert!((na - nb).abs() < 1e-9 * na); // the end cell (length 0.5) weighs the same
+    /// # Ok::<(), integrators::ErrorMapError>(())
+    /// ```
+    pub fn translated(mut self, shift: f64) -> Self {
+        for end in &mut self.ends {
+            if let Some(at) = end.at.take() {
+                end.at = Some(std::sync::Arc::new(move |t| at(t) + shift));
+            }
+        }
+        self
+    }
+
+    /// Whether some end row is measured against a prescribed position
+    /// ([`with_end_at`](Self::with_end_at)), so that [`refresh_ends`](Self::refresh_ends)
+    /// has work to do.
+    ///
+    /// ```
+    /// use integrators::{ErrorMap, Row};
+    /// let map = ErrorMap::from_rows(vec![Row::Anchor { size: 1.0 }])?;
+    /// assert!(!map.with_end(0, 1.0)?.has_positions());
+    /// let map = ErrorMap::from_rows(vec![Row::Anchor { size: 1.0 }])?;
+    /// assert!(map.with_end_at(0, 1.0, std::sync::Arc::new(|_| 0.0))?.has_positions());
+    /// # Ok::<(), integrators::ErrorMapError>(())
+    /// ```
+    pub fn has_positions(&self) -> bool {
+        self.ends.iter().any(|e| e.at.is_some())
+    }
+
+    /// Sets the weights of the end rows measured against a prescribed position
+    /// ([`with_end_at`](Self::with_end_at)) from state `y` at time `t`:
+    /// `1/(rtol·|y_row − at(t)| + atol_row)`, with the `atol` last given to
+    /// [`effective_atol`](Self::effective_atol) (which must have been called). O(number of
+    /// end rows). A non-finite distance keeps the last weight.
+    ///
+    /// ```
+    /// use integrators::{ErrorMap, ErrorNorm, Row};
+    /// use std::sync::Arc;
+    /// // one boundary x₁ between a wall at 0 and a fixed end at 2: two cells of size 1
+    /// let map = ErrorMap::from_rows(vec![Row::Own])?
+    ///     .with_end_at(0, 1.0, Arc::new(|_| 0.0))?
+    ///     .with_end_at(0, 1.0, Arc::new(|_| 2.0))?;
+    /// let mut map = map;
+    /// let eatol = map.effective_atol(&[0.0], 1e-6);
+    /// // x₁ = 1.9: the right cell is crushed to 0.1, and its term is the largest
+    /// map.refresh_ends(0.0, &[1.9], 1e-6);
+    /// let mut w = [0.0];
+    /// map.weights(&[1.9], &eatol, 1e-6, 0, &mut w);
+    /// let got = map.norm(&[1e-8], &w, ErrorNorm::Max);
+    /// assert!((got - 1e-8 / (1e-6 * 0.1)).abs() < 1e-6);
+    /// # Ok::<(), integrators::ErrorMapError>(())
+    /// ```
+    pub fn refresh_ends(&mut self, t: f64, y: &[f64], rtol: f64) {
+        let ends = self.ends.iter().zip(&self.end_atol);
+        for ((end, &a), w) in ends.zip(self.end_w.iter_mut()) {
+            if let Some(at) = &end.at {
+                let gap = (y[end.row] - at(t)).abs();
+                let wk = 1.0 / (rtol * gap + a);
+                if wk.is_finite() {
+                    w.1 = wk;
+                }
+            }
+        }
     }
 
     /// Number of rows (0 for the identity map).
@@ -355,8 +521,9 @@ impl ErrorMap {
         self.end_w = self
             .ends
             .iter()
-            .map(|&(i, size)| (i, 1.0 / (rtol * size + atol[i])))
+            .map(|e| (e.row, 1.0 / (rtol * e.size + atol[e.row])))
             .collect();
+        self.end_atol = self.ends.iter().map(|e| atol[e.row]).collect();
         let mut e = atol.to_vec();
         for &(i, size) in &self.anchors {
             e[i] = rtol * size + atol[i];
@@ -882,6 +1049,74 @@ mod tests {
             let a = m.norm(&e, &w0, norm);
             assert!(a > 0.0 && (m.norm(&e2, &w0, norm) - a).abs() <= 1e-8 * a);
         }
+    }
+
+    #[test]
+    fn an_end_at_a_prescribed_position_is_weighed_by_its_distance_and_moves_with_a_shift() {
+        // x₁ (anchor, wall at 0), x₂; the end x₃ = 3 − t is prescribed
+        let wall: Position = std::sync::Arc::new(|_| 0.0);
+        let end: Position = std::sync::Arc::new(|t| 3.0 - t);
+        let map = ErrorMap::from_rows(vec![
+            Row::Anchor { size: 1.0 },
+            Row::Difference { partner: 0 },
+        ])
+        .unwrap()
+        .with_end_at(0, 1.0, wall)
+        .unwrap()
+        .with_end_at(1, 1.0, end)
+        .unwrap();
+        let (rtol, atol) = (1e-6, [1e-8; 2]);
+        let norm_at = |mut m: ErrorMap, t: f64, y: &[f64], e: &[f64]| {
+            let ea = m.effective_atol(&atol, rtol);
+            m.refresh_ends(t, y, rtol);
+            let mut w = [0.0; 2];
+            m.weights(y, &ea, rtol, 0, &mut w);
+            m.norm(e, &w, ErrorNorm::Max)
+        };
+        // at t = 0.9 the end cell is x₃ − x₂ = 0.1 long: e₂ = 1e-7 is a stretch error of 1e-6
+        // against rtol·0.1 + atol, ten times what the fixed-size test read
+        let (y, e) = ([1.0, 2.0], [0.0, 1e-7]);
+        let got = norm_at(map.clone(), 0.9, &y, &e);
+        assert!(
+            (got - 1e-7 / (rtol * 0.1 + 1e-8)).abs() < 1e-9 * got,
+            "{got}"
+        );
+        let fixed = ErrorMap::from_rows(vec![
+            Row::Anchor { size: 1.0 },
+            Row::Difference { partner: 0 },
+        ])
+        .unwrap()
+        .with_end(1, 1.0)
+        .unwrap();
+        assert!(got > 8.0 * norm_at(fixed, 0.9, &y, &e));
+        // the wall cell: x₁ = 0.05 from the wall
+        let got = norm_at(map.clone(), 0.9, &[0.05, 2.0], &[1e-8, 1e-8]);
+        assert!(
+            (got - 1e-8 / (rtol * 0.05 + 1e-8)).abs() < 1e-9 * got,
+            "{got}"
+        );
+        // shifted positions with the translated map: the same norm to rounding
+        let s = 1e6;
+        let shifted = norm_at(map.clone().translated(s), 0.9, &[1.0 + s, 2.0 + s], &e);
+        let plain = norm_at(map.clone(), 0.9, &y, &e);
+        assert!(
+            (shifted - plain).abs() < 1e-6 * plain,
+            "{shifted} vs {plain}"
+        );
+        // a non-finite position keeps the last weight
+        let nan: Position = std::sync::Arc::new(|_| f64::NAN);
+        let mut m = ErrorMap::from_rows(vec![Row::Own])
+            .unwrap()
+            .with_end_at(0, 2.0, nan)
+            .unwrap();
+        let _ = m.effective_atol(&[1e-8], rtol);
+        m.refresh_ends(0.0, &[1.0], rtol);
+        let mut n = 0;
+        m.for_each_end(0, 1, &[1.0], |_, we| {
+            n += 1;
+            assert_eq!(we, 1.0 / (rtol * 2.0 + 1e-8));
+        });
+        assert_eq!(n, 1);
     }
 
     #[test]

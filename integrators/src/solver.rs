@@ -625,6 +625,7 @@ where
     let mut yp = vec![0.0; n];
     {
         let mut sys = System::new(p, opts, &mut run.stats, &mut run.cache);
+        sys.refresh_end_weights(t0, &y);
         if let Err(e) = sys.consistent_init(t0, &mut y, &mut yp) {
             return Err(run.fail_err(e));
         }
@@ -643,6 +644,7 @@ where
     }
     {
         let mut sys = System::new(p, opts, &mut run.stats, &mut run.cache);
+        sys.refresh_end_weights(t0, &y);
         if let Err(e) = method.start(&mut sys, t0, &y, &yp, opts.h0) {
             return Err(run.fail_err(e));
         }
@@ -692,6 +694,7 @@ where
             } else {
                 t_end
             };
+            sys.refresh_end_weights(method.t(), method.y());
             let stepped = method.step(&mut sys, stop);
             run.report_rejections(p);
             match stepped {
@@ -893,6 +896,7 @@ where
                         let mut resumed = false;
                         if resized && p.map_history(ts, &ype, true, &mut ypnew) {
                             let mut sys = System::new(p, opts, &mut run.stats, &mut run.cache);
+                            sys.refresh_end_weights(ts, &ynew);
                             match method.resume(&mut sys, ts, &ynew, &ypnew) {
                                 Ok(r) => resumed = r,
                                 Err(e) => return Err(run.fail_err(e)),
@@ -903,6 +907,7 @@ where
                             ypnew.extend_from_slice(&ype);
                             ypnew.resize(ynew.len(), 0.0);
                             let mut sys = System::new(p, opts, &mut run.stats, &mut run.cache);
+                            sys.refresh_end_weights(ts, &ynew);
                             if let Err(e) = sys.consistent_init(ts, &mut ynew, &mut ypnew) {
                                 run.sol.t_last = ts;
                                 run.sol.y_last = ynew;
@@ -937,6 +942,7 @@ where
                         p.restart_derivative(ts, &ynew, &mut ypnew);
                         let started = {
                             let mut sys = System::new(p, opts, &mut run.stats, &mut run.cache);
+                            sys.refresh_end_weights(ts, &ynew);
                             method.start(&mut sys, ts, &ynew, &ypnew, hint)
                         };
                         if let Err(e) = started {

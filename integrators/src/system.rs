@@ -453,6 +453,36 @@ impl<'a> System<'a> {
         &self.cache.map
     }
 
+    /// Re-weighs the error map's end rows that reach a prescribed position
+    /// ([`ErrorMap::with_end_at`]) at the state `y` a step starts from at `t`; nothing for a
+    /// map without such rows. The solver calls it before each step, so that the last cell
+    /// before a prescribed end is held to its own stretch.
+    ///
+    /// ```
+    /// # use integrators::system::SystemCache;
+    /// # use integrators::{Options, Problem, ResidualError, Stats, System};
+    /// # /// ẏ = −y in residual form, one unknown.
+    /// # struct Decay;
+    /// # impl Problem for Decay {
+    /// #     fn dim(&self) -> usize { 1 }
+    /// #     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], r: &mut [f64]) -> Result<(), ResidualError> {
+    /// #         r[0] = yp[0] + y[0];
+    /// #         Ok(())
+    /// #     }
+    /// # }
+    /// # let (mut p, opts, mut stats) = (Decay, Options { rtol: 1e-6, atol: 1e-8, ..Default::default() }, Stats::default());
+    /// # let mut cache = SystemCache::default();
+    /// # cache.rebuild(&p, &opts).unwrap();
+    /// let mut sys = System::new(&mut p, &opts, &mut stats, &mut cache);
+    /// sys.refresh_end_weights(0.0, &[1.0]); // no map: nothing to do
+    /// assert!(!sys.error_map().has_positions());
+    /// ```
+    pub fn refresh_end_weights(&mut self, t: f64, y: &[f64]) {
+        if self.cache.map.has_positions() {
+            self.cache.map.refresh_ends(t, y, self.opts.rtol);
+        }
+    }
+
     /// The tolerances the weights add to `rtol·|…|`: [`atol`](Self::atol), with an anchor's
     /// `rtol·size` included when the problem has an error map.
     ///

@@ -244,9 +244,9 @@ impl<E: StrainEnergy> CellArray for ThesisLine<E> {
     }
 
     /// The nodes tested through their segments' stretches, as a cell array's boundaries are
-    /// (docs/model.md §8.1): the node next to the wall against one segment, every other one
-    /// as the difference with the node before it, and the last one, before the prescribed
-    /// end, also on its own.
+    /// (docs/model.md §8.1): the node next to the wall against one segment and against its
+    /// distance to the wall, every other one as the difference with the node before it, and
+    /// the last one, before the prescribed end, also against its distance to `l(t)`.
     fn error_map(&self) -> Option<integrators::ErrorMap> {
         use integrators::{ErrorMap, Row};
         let dim = self.dim();
@@ -257,10 +257,18 @@ impl<E: StrainEnergy> CellArray for ThesisLine<E> {
             })
             .collect();
         let map = ErrorMap::from_rows(rows).ok()?;
-        match dim {
-            0 => Some(map),
-            _ => map.with_end(dim - 1, self.dx).ok(),
+        if dim == 0 {
+            return Some(map);
         }
+        let ramp = self.ramp.clone();
+        map.with_end_at(0, self.dx, std::sync::Arc::new(|_| 0.0))
+            .ok()?
+            .with_end_at(
+                dim - 1,
+                self.dx,
+                std::sync::Arc::new(move |t| ramp.eval(t).0),
+            )
+            .ok()
     }
 
     fn algebraic(&self) -> Vec<bool> {

@@ -389,7 +389,8 @@ impl<E: StrainEnergy> CellArray for ShearColumn<E> {
 
     /// Edge `k` tested through its cell's shear `tan θ_k = (x_k − x_{k−1})/h`
     /// (docs/model.md §8.1): differenced with edge `k − 1`; the first edge (above the fixed
-    /// base) is an anchor measured in segment heights.
+    /// base) is an anchor measured in segment heights, and also against its distance to the
+    /// base (the first cell's own shear).
     fn error_map(&self) -> Option<integrators::ErrorMap> {
         use integrators::Row;
         let rows = (0..self.m)
@@ -398,7 +399,14 @@ impl<E: StrainEnergy> CellArray for ShearColumn<E> {
                 _ => Row::Difference { partner: k - 1 },
             })
             .collect();
-        integrators::ErrorMap::from_rows(rows).ok()
+        let map = integrators::ErrorMap::from_rows(rows).ok()?;
+        match self.m {
+            0 => Some(map),
+            // the first cell's shear x₁/h: also against the edge's distance to the base
+            _ => map
+                .with_end_at(0, self.h, std::sync::Arc::new(|_| 0.0))
+                .ok(),
+        }
     }
 }
 

@@ -92,9 +92,11 @@ impl<E: StrainEnergy> CellArray for Line<E> {
 
     /// Positions tested through their cell's stretch (docs/model.md §8.1): boundary `b` is
     /// differenced with boundary `b − 1` when both are unknowns; the first free boundary is an
-    /// anchor measured in lengths of its cell, and the last free boundary before a prescribed
-    /// end also on its own (the stretch error of that end's cell); growth stretches keep their
-    /// own test.
+    /// anchor measured in lengths of its cell, and also against its distance to the wall (the
+    /// stretch error of the first cell); the last free boundary before a prescribed end is
+    /// also tested against its distance to `l(t)` (the stretch error of the end's cell, held
+    /// to that cell's own stretch however crushed it is); growth stretches keep their own
+    /// test.
     fn error_map(&self) -> Option<integrators::ErrorMap> {
         use integrators::Row;
         let n = self.n_cells();
@@ -115,11 +117,23 @@ impl<E: StrainEnergy> CellArray for Line<E> {
             (lay.xi[b], row)
         });
         let mut map = integrators::ErrorMap::from_listed_rows(lay.dim, rows).ok()?;
-        // the last free boundary before a prescribed one: its cell's stretch error is its own
-        for b in 0..n {
-            let k = lay.xi[b];
-            if k != NONE && lay.xi[b + 1] == NONE && !self.right.is_periodic() {
-                map = map.with_end(k, self.cells.l0[b]).ok()?;
+        if self.right.is_periodic() {
+            return Some(map);
+        }
+        // the cells with one end not an unknown (the first, at the wall x₀ = 0; the last, at
+        // the prescribed end l(t)): the other end's own error is their stretch error, tested
+        // against their own stretch
+        if n >= 1 && lay.xi[0] == NONE && lay.xi[1] != NONE {
+            let wall: integrators::error_map::Position = std::sync::Arc::new(|_| 0.0);
+            map = map.with_end_at(lay.xi[1], self.cells.l0[0], wall).ok()?;
+        }
+        if let RightEnd::Prescribed(ramp) = &self.right {
+            let k = n.checked_sub(1).map_or(NONE, |b| lay.xi[b]);
+            if k != NONE {
+                let ramp = ramp.clone();
+                let end: integrators::error_map::Position =
+                    std::sync::Arc::new(move |t| ramp.eval(t).0);
+                map = map.with_end_at(k, self.cells.l0[n - 1], end).ok()?;
             }
         }
         Some(map)

@@ -349,8 +349,10 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
     /// Each face position tested through the stretch of its cell in its own direction
     /// (docs/model.md §8.1): `x_b(j, k)` differenced with `x_b(j − 1, k)`, `y_b(j, k)` with
     /// `y_b(j, k − 1)`; the first free face of each row/column (next to the fixed wall or
-    /// base) is an anchor measured in cell sizes `h_X`, `h_Y`, and the last x-face of each
-    /// row is also tested on its own (the stretch error of the cell at the prescribed edge).
+    /// base) is an anchor measured in cell sizes `h_X`, `h_Y`, and also tested against its
+    /// distance to the wall or base; the last x-face of each row is also tested against its
+    /// distance to `l(t)` (the stretch error of the cell at the prescribed edge, held to that
+    /// cell's own stretch).
     fn error_map(&self) -> Option<integrators::ErrorMap> {
         use integrators::Row;
         let mut rows = vec![Row::Own; self.dim()];
@@ -381,10 +383,28 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
             }
         }
         let mut map = integrators::ErrorMap::from_rows(rows).ok()?;
-        // the faces next to the prescribed edge x_b(n, k): that column's stretch error
-        for k in 1..=self.m {
-            if self.n >= 2 && !self.free_right() {
-                map = map.with_end(self.ix(self.n - 1, k), self.hx).ok()?;
+        // the cells with one side not an unknown: the first column at the wall x = 0, the
+        // first row on the base y = 0 (free top), the last column at the prescribed edge l(t);
+        // the free face's own error is their stretch error, tested against their own stretch
+        let zero: integrators::error_map::Position = std::sync::Arc::new(|_| 0.0);
+        if self.x_is_unknown(1) {
+            for k in 1..=self.m {
+                map = map.with_end_at(self.ix(1, k), self.hx, zero.clone()).ok()?;
+            }
+        }
+        if k0 == 1 {
+            for j in 1..=self.n {
+                map = map.with_end_at(self.iy(j, 1), self.hy, zero.clone()).ok()?;
+            }
+        }
+        if self.n >= 2 && !self.free_right() {
+            let (ramp, l0, k1) = (self.params.ramp, self.l0(), self.params.k1);
+            let edge: integrators::error_map::Position =
+                std::sync::Arc::new(move |t| ramp.length(l0, k1, t));
+            for k in 1..=self.m {
+                map = map
+                    .with_end_at(self.ix(self.n - 1, k), self.hx, edge.clone())
+                    .ok()?;
             }
         }
         Some(map)
