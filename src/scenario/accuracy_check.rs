@@ -5,7 +5,7 @@
 //! The accuracy contract (docs/model.md §8.1) bounds each step's error in cell units. What a
 //! run's stretches err by in the end also depends on what the model does with those errors:
 //! they add up where a cell is driven faster than it relaxes (Fig 2.5 at K = 10 early in its
-//! ramp: 48·rtol), and a model that amplifies perturbations (a ring whose active stress
+//! ramp: 35·rtol), and a model that amplifies perturbations (a ring whose active stress
 //! softens its cells) grows them far past rtol (docs/limitations.md); no error test sees
 //! either. Where a run's
 //! error falls with the tolerance, its difference from the same run at rtol/10 estimates that
