@@ -167,7 +167,8 @@ fn the_newton_alpha_bound_saves_steps_on_the_macroscale_line_within_the_contract
 /// At N = 10⁶ positions reach 10⁶ cell lengths, where rounding alone is ε·10⁶ ≈ 2e-10 of a
 /// cell: a reference at rtol 1e-10 would ask for its own noise (the BDF order then collapses,
 /// as on the raw problem below, and the run took more than 14 minutes), so the reference runs at
-/// rtol 1e-8 (779 steps). Measured: 2.0e-7 at rtol 1e-6 (231 steps).
+/// rtol 1e-8 (779 steps). Measured with `line_headline macro 1000000 2` (BENCHMARKS.md):
+/// 8.7e-8 at rtol 1e-6 (316 steps).
 #[test]
 #[ignore = "N = 10⁶: about 35 s of solving and 0.75 GB"]
 fn macroscale_stretch_error_is_a_few_rtol_at_a_million_cells() {
