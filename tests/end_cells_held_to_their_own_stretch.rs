@@ -22,24 +22,7 @@
 //! stretch at the end is the one-sided difference (3xₙ − 4xₙ₋₁ + xₙ₋₂)/(2 dX), 0.045 where
 //! the end segment is at 0.30: it amplifies the segments' errors about twelvefold (65·rtol).
 
-use celltissue::observe::RunRecord;
-use celltissue::scenario::execute::run_spec;
-use std::path::Path;
-
-/// Runs `models/<name>.toml` with the overrides, one record per run.
-fn runs(name: &str, sets: &[&str]) -> Vec<RunRecord> {
-    let f = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("models/{name}.toml"));
-    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let s = celltissue::scenario::load(&f, &sets).expect("scenario loads");
-    s.runs
-        .iter()
-        .map(|r| {
-            let rec = run_spec(r);
-            assert!(rec.error.is_none(), "{name} {}: {:?}", r.label, rec.error);
-            rec
-        })
-        .collect()
-}
+use crate::common::bundled_runs as runs;
 
 /// The contract's weighted difference of two stretches, in units of rtol.
 fn over_rtol(a: f64, b: f64, rtol: f64, atol: f64) -> f64 {

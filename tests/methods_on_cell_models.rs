@@ -23,27 +23,13 @@
 //! ESDIRK by 5.9·rtol in stretch at t = 0.5 on Fig 2.8 at K = 1e-5, where the steps are long and
 //! their dense output, which no error test checks, carries the error (docs/model.md §8.1).
 
+use crate::common::bundled_runs as runs;
 use celltissue::observe::RunRecord;
 use celltissue::scenario::execute::run_spec;
 use std::path::Path;
 
 /// The reference run's resolution in relative stretch and pressure (rtol 1e-10).
 const FLOOR: f64 = 2e-9;
-
-/// Runs `models/<name>.toml` with the overrides, one record per run (model × sweep value).
-fn runs(name: &str, sets: &[&str]) -> Vec<RunRecord> {
-    let f = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("models/{name}.toml"));
-    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let s = celltissue::scenario::load(&f, &sets).expect("scenario loads");
-    s.runs
-        .iter()
-        .map(|r| {
-            let rec = run_spec(r);
-            assert!(rec.error.is_none(), "{name} {}: {:?}", r.label, rec.error);
-            rec
-        })
-        .collect()
-}
 
 /// Largest relative difference of stretch and of pressure over every profile.
 fn errors(a: &RunRecord, b: &RunRecord) -> (f64, f64) {

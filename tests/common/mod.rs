@@ -177,3 +177,19 @@ pub fn stretch_error(
     }
     Some(worst)
 }
+
+/// Runs the bundled `models/<name>.toml` with the `--set`-style overrides, one record per run
+/// (model × sweep value), each asserted to have finished.
+pub fn bundled_runs(name: &str, sets: &[&str]) -> Vec<celltissue::observe::RunRecord> {
+    let f = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("models/{name}.toml"));
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let s = celltissue::scenario::load(&f, &sets).expect("scenario loads");
+    s.runs
+        .iter()
+        .map(|r| {
+            let rec = celltissue::scenario::execute::run_spec(r);
+            assert!(rec.error.is_none(), "{name} {}: {:?}", r.label, rec.error);
+            rec
+        })
+        .collect()
+}
