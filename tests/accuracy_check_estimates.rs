@@ -3,10 +3,10 @@
 //! independent reference (Radau IIA at rtol 1e-12):
 //!
 //! * on a ring of Maxwell cells that does not amplify perturbations (β = −0.5), the check's
-//!   difference is within a factor 2 of BDF's error at rtol 1e-6 and 1e-8, and within the
-//!   contract, so no note;
+//!   difference is within a factor 2 of BDF's error at rtol 1e-6 and 1e-8, and the run has a
+//!   note exactly where the difference passes the contract;
 //! * on the same ring at β = −0.63, which amplifies a one-ulp change of K to a few 1e-8
-//!   (`methods_on_sweep_finds`), BDF at rtol 1e-8 errs by 86·rtol and the check reads past
+//!   (`methods_on_sweep_finds`), BDF at rtol 1e-8 errs by 67·rtol and the check reads past
 //!   the contract and says so;
 //! * Fig 2.5's line at K = 10 adds up its steps' errors early in its ramp (35·rtol in the
 //!   smallest stretch at t = 0.07, between its profiles): the check reads it in the series;
@@ -40,7 +40,9 @@ fn the_check_reads_bdf_s_error_on_a_ring_that_does_not_amplify() {
             "rtol {rtol:e}: error {error:.2}·rtol, check {:.2}·rtol ({} steps at rtol {:e})",
             c.stretch_over_rtol, c.steps, c.rtol
         );
-        // measured: 2.5 against 1.96, 2.9 against 3.2
+        // measured: error 4.35 against a check of 3.84, 13.1 against 12.1 (2.5 against 1.96,
+        // 2.9 against 3.2 before the ring's seam cell was tested in its own stretch: BDF's
+        // error on this ring scatters with its step sequence, methods_on_sweep_finds)
         assert!(
             c.stretch_over_rtol >= error / 2.0 && c.stretch_over_rtol <= 2.0 * error,
             "rtol {rtol:e}: check {} against error {error}",
@@ -51,10 +53,11 @@ fn the_check_reads_bdf_s_error_on_a_ring_that_does_not_amplify() {
             (c.profiles_compared, c.profiles_skipped, &c.failed),
             (3, 0, &None)
         );
-        assert!(rec.notes.is_empty(), "{:?}", rec.notes);
+        let past = c.stretch_over_rtol > celltissue::scenario::accuracy_check::CONTRACT;
+        assert_eq!(rec.notes.is_empty(), !past, "{:?}", rec.notes);
         steps.push(c.steps);
     }
-    assert_eq!(steps, [1_245, 2_433]);
+    assert_eq!(steps, [1_297, 2_484]);
 }
 
 #[test]

@@ -109,6 +109,9 @@ struct End {
     row: usize,
     size: f64,
     at: Option<Position>,
+    /// A seam ([`ErrorMap::with_seam`]): the cell's other end is this component moved by
+    /// `offset`, and the tested quantity is the difference of the two errors.
+    seam: Option<(usize, f64)>,
 }
 
 impl std::fmt::Debug for End {
@@ -117,6 +120,7 @@ impl std::fmt::Debug for End {
             .field("row", &self.row)
             .field("size", &self.size)
             .field("at", &self.at.as_ref().map(|_| "Position"))
+            .field("seam", &self.seam)
             .finish()
     }
 }
@@ -126,6 +130,7 @@ impl PartialEq for End {
     fn eq(&self, other: &Self) -> bool {
         self.row == other.row
             && self.size == other.size
+            && self.seam == other.seam
             && match (&self.at, &other.at) {
                 (None, None) => true,
                 (Some(a), Some(b)) => std::sync::Arc::ptr_eq(a, b),
@@ -322,8 +327,56 @@ impl ErrorMap {
             row,
             size,
             at: None,
+            seam: None,
         });
         Ok(self)
+    }
+
+    /// Also tests the cell between component `partner` and component `row` moved by `offset`
+    /// (a ring's seam cell, from its last free boundary `partner` to the image `x₀ + P` of its
+    /// first, `row`): the quantity `e_row − e_partner`, its length error, against
+    /// `rtol·|y_row + offset − y_partner| + atol_row`, as every other cell is — a cell that no
+    /// [`Row::Difference`] can express, since `row` has its own row already. The weight is set
+    /// at each step from the state it starts at ([`refresh_ends`](Self::refresh_ends)); `size`
+    /// (the cell's reference length) serves until the first refresh.
+    ///
+    /// ```
+    /// use integrators::{ErrorMap, ErrorNorm, Row};
+    /// // a ring of three cells of length 1 (period 3): x₀ anchored, x₁, x₂ through their cells,
+    /// // and the seam cell from x₂ to x₀ + 3
+    /// let map = ErrorMap::from_rows(vec![
+    ///     Row::Anchor { size: 1.0 },
+    ///     Row::Difference { partner: 0 },
+    ///     Row::Difference { partner: 1 },
+    /// ])?;
+    /// let mut map = map.with_seam(0, 2, 1.0, 3.0)?;
+    /// let eatol = map.effective_atol(&[1e-8; 3], 1e-6);
+    /// // the seam cell crushed to 0.1: x₂ = 2.9
+    /// let y = [0.0, 1.45, 2.9];
+    /// map.refresh_ends(0.0, &y, 1e-6);
+    /// let mut w = [0.0; 3];
+    /// map.weights(&y, &eatol, 1e-6, 0, &mut w);
+    /// // x₂ off by 1e-7, every other boundary exact: the seam cell's error dominates
+    /// let got = map.norm(&[0.0, 0.0, 1e-7], &w, ErrorNorm::Max);
+    /// assert!((got - 1e-7 / (1e-6 * 0.1 + 1e-8)).abs() < 1e-9 * got);
+    /// # Ok::<(), integrators::ErrorMapError>(())
+    /// ```
+    pub fn with_seam(
+        self,
+        row: usize,
+        partner: usize,
+        size: f64,
+        offset: f64,
+    ) -> Result<Self, ErrorMapError> {
+        let n = self.back.len();
+        if partner == row || partner >= n || !offset.is_finite() {
+            return Err(ErrorMapError::Partner { row, partner, n });
+        }
+        let mut map = self.with_end(row, size)?;
+        if let Some(end) = map.ends.last_mut() {
+            end.seam = Some((partner, offset));
+        }
+        Ok(map)
     }
 
     /// As [`with_end`](Self::with_end), for a cell whose other end is at the prescribed
@@ -389,8 +442,8 @@ impl ErrorMap {
     }
 
     /// Whether some end row is measured against a prescribed position
-    /// ([`with_end_at`](Self::with_end_at)), so that [`refresh_ends`](Self::refresh_ends)
-    /// has work to do.
+    /// ([`with_end_at`](Self::with_end_at)) or is a seam ([`with_seam`](Self::with_seam)), so
+    /// that [`refresh_ends`](Self::refresh_ends) has work to do.
     ///
     /// ```
     /// use integrators::{ErrorMap, Row};
@@ -401,7 +454,7 @@ impl ErrorMap {
     /// # Ok::<(), integrators::ErrorMapError>(())
     /// ```
     pub fn has_positions(&self) -> bool {
-        self.ends.iter().any(|e| e.at.is_some())
+        self.ends.iter().any(|e| e.at.is_some() || e.seam.is_some())
     }
 
     /// Sets the weights of the end rows measured against a prescribed position
@@ -430,8 +483,12 @@ impl ErrorMap {
     pub fn refresh_ends(&mut self, t: f64, y: &[f64], rtol: f64) {
         let ends = self.ends.iter().zip(&self.end_atol);
         for ((end, &a), w) in ends.zip(self.end_w.iter_mut()) {
-            if let Some(at) = &end.at {
-                let gap = (y[end.row] - at(t)).abs();
+            let gap = match (&end.at, end.seam) {
+                (_, Some((p, offset))) => Some((y[end.row] + offset - y[p]).abs()),
+                (Some(at), None) => Some((y[end.row] - at(t)).abs()),
+                (None, None) => None,
+            };
+            if let Some(gap) = gap {
                 let wk = 1.0 / (rtol * gap + a);
                 if wk.is_finite() {
                     w.1 = wk;
@@ -661,8 +718,9 @@ impl ErrorMap {
             }
         });
         let mut worst = (f64::EPSILON * worst.0, worst.1);
-        for &(i, we) in &self.end_w {
-            let r = f64::EPSILON * y[i].abs() * we;
+        for (end, &(i, we)) in self.ends.iter().zip(&self.end_w) {
+            let partner = end.seam.map_or(0.0, |(p, _)| y[p].abs());
+            let r = f64::EPSILON * (y[i].abs() + partner) * we;
             if r > worst.0 {
                 worst = (r, i);
             }
@@ -770,7 +828,9 @@ impl ErrorMap {
             }
             s.push_slice(norm, q);
         });
-        self.for_each_end(lo, hi, w, |i, we| s.push(norm, v[i] * we));
+        self.for_each_end(lo, hi, w, |i, p, we| {
+            s.push(norm, (v[i] - p.map_or(0.0, |p| v[p])) * we)
+        });
         s
     }
 
@@ -811,20 +871,21 @@ impl ErrorMap {
         }
     }
 
-    /// Calls `f(row, weight)` for the end rows (see [`with_end`](Self::with_end)) in `lo..hi`,
-    /// skipping those where `w` is zero (a suppressed algebraic component); the caller adds
-    /// `error(row)·weight` to its norm.
+    /// Calls `f(row, seam partner, weight)` for the end rows (see [`with_end`](Self::with_end))
+    /// in `lo..hi`, skipping those where `w` is zero (a suppressed algebraic component); the
+    /// caller adds `(error(row) − error(partner))·weight` to its norm (`error(row)·weight`
+    /// without a partner).
     #[inline]
     pub(crate) fn for_each_end(
         &self,
         lo: usize,
         hi: usize,
         w: &[f64],
-        mut f: impl FnMut(usize, f64),
+        mut f: impl FnMut(usize, Option<usize>, f64),
     ) {
-        for &(i, we) in &self.end_w {
+        for (end, &(i, we)) in self.ends.iter().zip(&self.end_w) {
             if (lo..hi).contains(&i) && w[i] != 0.0 {
-                f(i, we);
+                f(i, end.seam.map(|(p, _)| p), we);
             }
         }
     }
@@ -1112,7 +1173,7 @@ mod tests {
         let _ = m.effective_atol(&[1e-8], rtol);
         m.refresh_ends(0.0, &[1.0], rtol);
         let mut n = 0;
-        m.for_each_end(0, 1, &[1.0], |_, we| {
+        m.for_each_end(0, 1, &[1.0], |_, _, we| {
             n += 1;
             assert_eq!(we, 1.0 / (rtol * 2.0 + 1e-8));
         });
@@ -1179,7 +1240,9 @@ mod tests {
                 for (i, &wi) in wfull.iter().enumerate().skip(lo) {
                     want.push(norm, m.quantity(i, &v) * wi);
                 }
-                m.for_each_end(lo, n, &wfull, |i, we| want.push(norm, v[i] * we));
+                m.for_each_end(lo, n, &wfull, |i, p, we| {
+                    want.push(norm, (v[i] - p.map_or(0.0, |p| v[p])) * we)
+                });
                 assert_eq!(
                     got.finish(norm, n).to_bits(),
                     want.finish(norm, n).to_bits(),

@@ -95,8 +95,9 @@ impl<E: StrainEnergy> CellArray for Line<E> {
     /// anchor measured in lengths of its cell, and also against its distance to the wall (the
     /// stretch error of the first cell); the last free boundary before a prescribed end is
     /// also tested against its distance to `l(t)` (the stretch error of the end's cell, held
-    /// to that cell's own stretch however crushed it is); growth stretches keep their own
-    /// test.
+    /// to that cell's own stretch however crushed it is); on a ring the seam cell, from
+    /// `x_{N−1}` to `x₀ + P`, is tested as the difference of its ends' errors
+    /// ([`integrators::ErrorMap::with_seam`]); growth stretches keep their own test.
     fn error_map(&self) -> Option<integrators::ErrorMap> {
         use integrators::Row;
         let n = self.n_cells();
@@ -118,6 +119,24 @@ impl<E: StrainEnergy> CellArray for Line<E> {
         });
         let mut map = integrators::ErrorMap::from_listed_rows(lay.dim, rows).ok()?;
         if self.right.is_periodic() {
+            // the seam cell N, from x_{N−1} to x_N = x₀ + P: no difference row holds it
+            let (first, last) = (lay.xi[0], n.checked_sub(1).map_or(NONE, |b| lay.xi[b]));
+            if n >= 2 && last != NONE {
+                let l0 = self.cells.l0[n - 1];
+                map = if first != NONE {
+                    map.with_seam(first, last, l0, self.period).ok()?
+                } else {
+                    // a gauged ring (x₀ = 0 pinned): cell N ends at P, cell 1 starts at 0
+                    let (period, at_zero) = (self.period, lay.xi[1]);
+                    let end: integrators::error_map::Position =
+                        std::sync::Arc::new(move |_| period);
+                    let wall: integrators::error_map::Position = std::sync::Arc::new(|_| 0.0);
+                    map.with_end_at(last, l0, end)
+                        .ok()?
+                        .with_end_at(at_zero, self.cells.l0[0], wall)
+                        .ok()?
+                };
+            }
             return Some(map);
         }
         // the cells with one end not an unknown (the first, at the wall x₀ = 0; the last, at

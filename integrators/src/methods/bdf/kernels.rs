@@ -242,9 +242,15 @@ fn map_norm_blocks(
                 a.push_slice(&q[..len]);
             }
         }
-        map.for_each_end(s, e, ewt, |i, we| {
-            for (a, buf) in acc.iter_mut().zip(&bufs).take(nord) {
-                a.push(buf[i - b0] * we);
+        map.for_each_end(s, e, ewt, |i, p, we| {
+            for ((a, buf), it) in acc.iter_mut().zip(&bufs).zip(items).take(nord) {
+                // a seam's partner: read from the buffer, or recomputed from the history
+                let partner = match p {
+                    None => 0.0,
+                    Some(p) if (b0..e).contains(&p) => buf[p - b0],
+                    Some(p) => ycur[p] - it.at(p).0,
+                };
+                a.push((buf[i - b0] - partner) * we);
             }
         });
         s = e;

@@ -196,7 +196,10 @@ fn map_sweeps_match_the_row_definition() {
     let mut map = ErrorMap::from_rows(rows.clone())
         .expect("valid rows")
         .with_end(n - 1, 1.5)
-        .expect("valid end");
+        .expect("valid end")
+        // a seam from row 0 (far outside the last block: its error recomputed) to row n − 1
+        .with_seam(n - 1, 0, 1.5, -0.25)
+        .expect("valid seam");
     let vec_of = |k: f64| -> Vec<f64> {
         (0..n)
             .map(|i| (i as f64 * k).sin() + 1.5 * i as f64)
@@ -213,6 +216,8 @@ fn map_sweeps_match_the_row_definition() {
     let items = [plain(list, 3), plain(list, 2)];
     let (rtol, atol) = (1e-3, vec![1e-6; n]);
     let eatol = map.effective_atol(&atol, rtol);
+    map.refresh_ends(0.0, &ycur, rtol);
+    let seam_w = 1.0 / (rtol * (ycur[n - 1] - 0.25 - ycur[0]).abs() + atol[n - 1]);
     // weights: rtol·|y_i − y_p| + atol, rtol·size + atol, rtol·|y_i| + atol
     let mut w = vec![0.0; n];
     map.weights(&ycur, &eatol, rtol, 0, &mut w);
@@ -237,6 +242,7 @@ fn map_sweeps_match_the_row_definition() {
             })
             .collect();
         prods.push(err[n - 1] / (rtol * 1.5 + atol[n - 1]));
+        prods.push((err[n - 1] - err[0]) * seam_w);
         let want = match norm {
             ErrorNorm::Max => prods.iter().fold(0.0f64, |m, x| m.max(x.abs())),
             ErrorNorm::Rms => (prods.iter().map(|x| x * x).sum::<f64>() / n as f64).sqrt(),
