@@ -99,7 +99,8 @@ fn a_softening_column_running_away_holds_the_contract() {
 
 /// The tight runs' counters (rtol 1e-10). The softening column's first cell is tested against
 /// its own shear, as every other cell is (its edge's distance to the base): Radau IIA takes
-/// 1 850 steps there, 1 232 while that cell was tested as if tan θ were one.
+/// 1 850 steps there, 1 232 while that cell was tested as if tan θ were one; on the
+/// cell-centre column, whose first centre is held likewise, 1 239 against 959.
 #[test]
 fn the_tight_runs_take_a_few_hundred_steps() {
     let counters = |text: &str, method: &str| {
@@ -109,6 +110,6 @@ fn the_tight_runs_take_a_few_hundred_steps() {
     };
     assert_eq!(counters(SOFTENING, "radau"), (1850, 1, 0));
     assert_eq!(counters(SOFTENING, "bdf"), (1410, 15, 0));
-    assert_eq!(counters(CELL_CENTRE, "radau"), (959, 1, 0));
+    assert_eq!(counters(CELL_CENTRE, "radau"), (1239, 1, 0));
     assert_eq!(counters(CELL_CENTRE, "bdf"), (1203, 21, 0));
 }

@@ -530,7 +530,8 @@ impl<E: StrainEnergy> CellArray for ShearCellCentre<E> {
     /// `γ₀ (T_k + T_{k−1})/2`, the mean shear of the two cells; the first centre (`γ₀ T₁/2`
     /// above the fixed base) is an anchor of half a cell height. The tests are then
     /// translation invariant, as the edge form's are, instead of measuring centres that slide
-    /// far against `rtol·|x_c|` (docs/model.md §8.1). The exact `T_k` is an alternating sum
+    /// far against `rtol·|x_c|` (docs/model.md §8.1); the first centre is also tested against
+    /// its own distance to the base, as the edge form's first edge is. The exact `T_k` is an alternating sum
     /// over every centre below it, which no two-term row expresses: a cell-to-cell alternation
     /// of the shear errors is seen only through the anchor.
     fn error_map(&self) -> Option<integrators::ErrorMap> {
@@ -543,7 +544,14 @@ impl<E: StrainEnergy> CellArray for ShearCellCentre<E> {
                 _ => Row::Difference { partner: k - 1 },
             })
             .collect();
-        integrators::ErrorMap::from_rows(rows).ok()
+        let map = integrators::ErrorMap::from_rows(rows).ok()?;
+        match self.params.cells {
+            0 => Some(map),
+            // the first centre's height above the base, γ₀T₁/2: also against its own size
+            _ => map
+                .with_end_at(0, 0.5 * self.params.gamma0, std::sync::Arc::new(|_| 0.0))
+                .ok(),
+        }
     }
 
     fn residual<S: Scalar>(
