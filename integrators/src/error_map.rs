@@ -102,6 +102,16 @@ enum Segment {
 /// ```
 pub type Position = std::sync::Arc<dyn Fn(f64) -> f64 + Send + Sync>;
 
+/// A [`Position`] that does not move (a wall, a base, a ring's pinned seam).
+///
+/// ```
+/// use integrators::error_map::fixed;
+/// assert_eq!(fixed(2.5)(10.0), 2.5);
+/// ```
+pub fn fixed(x: f64) -> Position {
+    std::sync::Arc::new(move |_| x)
+}
+
 /// One end row of an [`ErrorMap`]: the row whose own error is the stretch error of a cell
 /// with no other unknown end, that cell's reference size, and where its other end is.
 #[derive(Clone)]
@@ -1115,7 +1125,7 @@ mod tests {
     #[test]
     fn an_end_at_a_prescribed_position_is_weighed_by_its_distance_and_moves_with_a_shift() {
         // x₁ (anchor, wall at 0), x₂; the end x₃ = 3 − t is prescribed
-        let wall: Position = std::sync::Arc::new(|_| 0.0);
+        let wall = fixed(0.0);
         let end: Position = std::sync::Arc::new(|t| 3.0 - t);
         let map = ErrorMap::from_rows(vec![
             Row::Anchor { size: 1.0 },

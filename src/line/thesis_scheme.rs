@@ -261,7 +261,7 @@ impl<E: StrainEnergy> CellArray for ThesisLine<E> {
             return Some(map);
         }
         let ramp = self.ramp.clone();
-        map.with_end_at(0, self.dx, std::sync::Arc::new(|_| 0.0))
+        map.with_end_at(0, self.dx, integrators::error_map::fixed(0.0))
             .ok()?
             .with_end_at(
                 dim - 1,

@@ -404,7 +404,7 @@ impl<E: StrainEnergy> CellArray for ShearColumn<E> {
             0 => Some(map),
             // the first cell's shear x₁/h: also against the edge's distance to the base
             _ => map
-                .with_end_at(0, self.h, std::sync::Arc::new(|_| 0.0))
+                .with_end_at(0, self.h, integrators::error_map::fixed(0.0))
                 .ok(),
         }
     }
@@ -549,7 +549,11 @@ impl<E: StrainEnergy> CellArray for ShearCellCentre<E> {
             0 => Some(map),
             // the first centre's height above the base, γ₀T₁/2: also against its own size
             _ => map
-                .with_end_at(0, 0.5 * self.params.gamma0, std::sync::Arc::new(|_| 0.0))
+                .with_end_at(
+                    0,
+                    0.5 * self.params.gamma0,
+                    integrators::error_map::fixed(0.0),
+                )
                 .ok(),
         }
     }

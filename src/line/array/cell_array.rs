@@ -127,13 +127,10 @@ impl<E: StrainEnergy> CellArray for Line<E> {
                     map.with_seam(first, last, l0, self.period).ok()?
                 } else {
                     // a gauged ring (x₀ = 0 pinned): cell N ends at P, cell 1 starts at 0
-                    let (period, at_zero) = (self.period, lay.xi[1]);
-                    let end: integrators::error_map::Position =
-                        std::sync::Arc::new(move |_| period);
-                    let wall: integrators::error_map::Position = std::sync::Arc::new(|_| 0.0);
-                    map.with_end_at(last, l0, end)
+                    use integrators::error_map::fixed;
+                    map.with_end_at(last, l0, fixed(self.period))
                         .ok()?
-                        .with_end_at(at_zero, self.cells.l0[0], wall)
+                        .with_end_at(lay.xi[1], self.cells.l0[0], fixed(0.0))
                         .ok()?
                 };
             }
@@ -143,7 +140,7 @@ impl<E: StrainEnergy> CellArray for Line<E> {
         // the prescribed end l(t)): the other end's own error is their stretch error, tested
         // against their own stretch
         if n >= 1 && lay.xi[0] == NONE && lay.xi[1] != NONE {
-            let wall: integrators::error_map::Position = std::sync::Arc::new(|_| 0.0);
+            let wall = integrators::error_map::fixed(0.0);
             map = map.with_end_at(lay.xi[1], self.cells.l0[0], wall).ok()?;
         }
         if let RightEnd::Prescribed(ramp) = &self.right {

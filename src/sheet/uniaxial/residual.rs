@@ -386,7 +386,7 @@ impl<E: StrainEnergy> CellArray for UniaxialSheet<E> {
         // the cells with one side not an unknown: the first column at the wall x = 0, the
         // first row on the base y = 0 (free top), the last column at the prescribed edge l(t);
         // the free face's own error is their stretch error, tested against their own stretch
-        let zero: integrators::error_map::Position = std::sync::Arc::new(|_| 0.0);
+        let zero = integrators::error_map::fixed(0.0);
         if self.x_is_unknown(1) {
             for k in 1..=self.m {
                 map = map.with_end_at(self.ix(1, k), self.hx, zero.clone()).ok()?;
