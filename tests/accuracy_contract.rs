@@ -116,8 +116,8 @@ fn macroscale_stretch_error_is_a_few_rtol_at_100_and_10000_cells() {
 /// (N = 10⁴) and 1e-8 (N = 10⁵) references, both runs hold the contract, and the bounded one
 /// takes fewer steps: 131 against 167 at N = 10⁴ (and 194 Newton iterations against 221), 137
 /// against 205 at N = 10⁵ (209 Newton iterations against 266). These step counts scatter by
-/// ±20 % under small changes of the error test: scaling the weight of the end cell's term
-/// alone by 0.95, 0.9, 0.85 or 0.8 gave 250, 212, 203 and 195 unbounded steps at N = 10⁵
+/// ±20 % under small changes of the error test: a scratch build scaling the size of the end
+/// cell's term alone by 0.95, 0.9, 0.85 or 0.8 gave 250, 212, 203 and 195 unbounded steps at N = 10⁵
 /// (173 at 1, which was pinned before that cell was held to its own stretch). The counters
 /// of both are pinned: (steps, Newton iterations, factorisations).
 #[test]
